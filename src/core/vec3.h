@@ -1,0 +1,26 @@
+/* vec3.h — tiny inline helpers for xyz triples stored in flat double arrays. */
+#ifndef Q2N_CORE_VEC3_H
+#define Q2N_CORE_VEC3_H
+
+#include <math.h>
+
+static inline void q2n_v3_sub(double r[3], const double a[3], const double b[3])
+{ r[0] = a[0] - b[0]; r[1] = a[1] - b[1]; r[2] = a[2] - b[2]; }
+static inline void q2n_v3_add(double r[3], const double a[3], const double b[3])
+{ r[0] = a[0] + b[0]; r[1] = a[1] + b[1]; r[2] = a[2] + b[2]; }
+static inline void q2n_v3_axpy(double r[3], double s, const double a[3])
+{ r[0] += s * a[0]; r[1] += s * a[1]; r[2] += s * a[2]; }
+static inline void q2n_v3_scale(double r[3], double s, const double a[3])
+{ r[0] = s * a[0]; r[1] = s * a[1]; r[2] = s * a[2]; }
+static inline double q2n_v3_dot(const double a[3], const double b[3])
+{ return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static inline void q2n_v3_cross(double r[3], const double a[3], const double b[3])
+{
+    double x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2], z = a[0] * b[1] - a[1] * b[0];
+    r[0] = x; r[1] = y; r[2] = z;
+}
+static inline double q2n_v3_norm(const double a[3]) { return sqrt(q2n_v3_dot(a, a)); }
+static inline double q2n_v3_dist(const double a[3], const double b[3])
+{ double d[3]; q2n_v3_sub(d, a, b); return q2n_v3_norm(d); }
+
+#endif

@@ -1,0 +1,120 @@
+/* mesh.h — polygon mesh input and half-edge topology (pipeline stage 1).
+ *
+ * A q2n_mesh owns its vertex positions and faces (CSR layout) and, once built,
+ * a half-edge topology: half-edge h of face f at corner i runs from
+ * face_vert[face_start[f]+i] to face_vert[face_start[f]+(i+1)%n]; the
+ * half-edge index equals that CSR position, so for an all-quad mesh h = 4f+i.
+ * Every constructor validates: manifold edges and vertices, consistent
+ * orientation, no repeated vertex in a face, no zero-length edge, finite
+ * coordinates, at least one face.  Errors name the file and line (OBJ input)
+ * or the element index.  Everything downstream (param, patch, acc, fit,
+ * export) reads meshes through this header only. */
+#ifndef Q2N_MESH_MESH_H
+#define Q2N_MESH_MESH_H
+
+#include <stddef.h>
+
+#include "core/error.h"
+
+typedef struct q2n_mesh {
+    int nv;           /* vertices */
+    int nf;           /* faces */
+    double *pos;      /* 3*nv coordinates, xyz xyz ... */
+    int *face_start;  /* nf+1 offsets into face_vert */
+    int *face_vert;   /* vertex indices of each face, in file order */
+    int *face_line;   /* nf: OBJ line of each face (0 if not from a file) */
+
+    /* half-edge topology (always present after a successful constructor) */
+    int nh;           /* number of half-edges = face_start[nf] */
+    int *he_face;     /* nh: face of each half-edge */
+    int *he_twin;     /* nh: opposite half-edge, -1 on the boundary */
+    int *he_edge;     /* nh: undirected edge index 0..ne-1 */
+    int ne;           /* undirected edges */
+    int *edge_he;     /* ne: one half-edge of each edge (the one with he < twin, or the boundary one) */
+    int *vert_he;     /* nv: first outgoing half-edge of the vertex fan (see q2n_mesh_rotate);
+                         for boundary vertices the outgoing boundary half-edge; -1 if isolated */
+    int *valence;     /* nv: number of incident edges */
+    int *vert_nfaces; /* nv: number of incident faces */
+    unsigned char *vert_boundary; /* nv: 1 on the boundary */
+    int n_boundary_loops;
+    int all_quads;    /* 1 when every face has 4 vertices */
+    char name[256];   /* file name (for messages) */
+} q2n_mesh;
+
+/* Read a Wavefront OBJ file: `v x y z [w]`, `f a b c ...` with a, a/b, a//c, a/b/c forms and
+ * negative (relative) indices; comments, vt, vn, vp, g, o, s, usemtl, mtllib, l ignored.
+ * Fails with Q2N_ERR_IO / PARSE / TOPOLOGY / GEOMETRY and "file:line: reason". */
+q2n_status q2n_mesh_read_obj(const char *path, q2n_mesh **out, q2n_error *err);
+
+/* Same, from a text buffer (name is used in messages). */
+q2n_status q2n_mesh_parse_obj(const char *text, size_t len, const char *name, q2n_mesh **out,
+                              q2n_error *err);
+
+/* Build (and validate) a mesh from borrowed arrays: face k has vertices
+ * face_vert[face_start[k] .. face_start[k+1]-1]. Arrays are copied. */
+q2n_status q2n_mesh_from_arrays(int nv, const double *pos, int nf, const int *face_start,
+                                const int *face_vert, const char *name, q2n_mesh **out,
+                                q2n_error *err);
+
+void q2n_mesh_free(q2n_mesh *m); /* NULL is a no-op */
+
+/* Internal consistency check of the half-edge structure (tests): Q2N_OK or a message. */
+q2n_status q2n_mesh_check(const q2n_mesh *m, q2n_error *err);
+
+/* Write an OBJ (v and f records only), e.g. after subdivision. Atomic (temp file + rename). */
+q2n_status q2n_mesh_write_obj(const q2n_mesh *m, const char *path, q2n_error *err);
+
+/* Bounding-box diagonal length (the scale every relative tolerance uses). */
+double q2n_mesh_bbox_diag(const q2n_mesh *m);
+
+/* Catmull–Clark subdivision, `steps` times (n-gons allowed; boundary edges follow the cubic
+ * B-spline boundary curve, valence-2 boundary vertices stay fixed as corners).  After one step
+ * every face is a quad.  Vertex order: old vertices first (same indices), then one face point per
+ * old face, then one edge point per old edge; face order: each old face's sub-quads in corner order,
+ * the sub-quad at corner i being (v_i, e_i, f, e_{i-1}) so u runs along the old edge i. */
+q2n_status q2n_mesh_subdivide(const q2n_mesh *m, int steps, q2n_mesh **out, q2n_error *err);
+
+/* ---- half-edge navigation (all O(1)) ---- */
+static inline int q2n_he_face(const q2n_mesh *m, int h) { return m->he_face[h]; }
+static inline int q2n_he_twin(const q2n_mesh *m, int h) { return m->he_twin[h]; }
+static inline int q2n_face_size(const q2n_mesh *m, int f) { return m->face_start[f + 1] - m->face_start[f]; }
+static inline int q2n_he_next(const q2n_mesh *m, int h)
+{
+    int f = m->he_face[h], s = m->face_start[f], n = m->face_start[f + 1] - s;
+    return s + (h - s + 1) % n;
+}
+static inline int q2n_he_prev(const q2n_mesh *m, int h)
+{
+    int f = m->he_face[h], s = m->face_start[f], n = m->face_start[f + 1] - s;
+    return s + (h - s + n - 1) % n;
+}
+static inline int q2n_he_origin(const q2n_mesh *m, int h) { return m->face_vert[h]; }
+static inline int q2n_he_dest(const q2n_mesh *m, int h) { return m->face_vert[q2n_he_next(m, h)]; }
+/* Next outgoing half-edge around the origin vertex, counter-clockwise (same side as the face
+ * normal of a counter-clockwise face): twin(prev(h)); -1 when that crosses the boundary. */
+static inline int q2n_mesh_rotate(const q2n_mesh *m, int h)
+{
+    return m->he_twin[q2n_he_prev(m, h)];
+}
+/* Inverse of q2n_mesh_rotate: next(twin(h)); -1 when h is a boundary half-edge. */
+static inline int q2n_mesh_rotate_back(const q2n_mesh *m, int h)
+{
+    int t = m->he_twin[h];
+    return t < 0 ? -1 : q2n_he_next(m, t);
+}
+/* Outgoing half-edge of face f at corner i (the edge v_i -> v_{i+1}). */
+static inline int q2n_face_he(const q2n_mesh *m, int f, int i) { return m->face_start[f] + i; }
+static inline const double *q2n_mesh_vpos(const q2n_mesh *m, int v) { return m->pos + 3 * (size_t)v; }
+
+/* The outgoing half-edge that continues a section polyline straight through vertex dest(h_in)
+ * (h_in arrives at the vertex): the opposite edge at an interior valence-4 vertex, the other
+ * boundary edge at a boundary vertex of valence 3 when h_in is a boundary edge, and the interior
+ * edge... none otherwise.  Returns -1 where the polyline ends (boundary) or is not defined
+ * (extraordinary vertex). */
+int q2n_mesh_continue(const q2n_mesh *m, int h_in);
+
+/* Edge ribbons: chains of pairwise opposite edges of quads.  ribbon[e] in 0..nribbons-1 for each
+ * undirected edge (non-quad faces do not link their edges).  Caller frees *ribbon. */
+q2n_status q2n_mesh_ribbons(const q2n_mesh *m, int **ribbon, int *nribbons, q2n_error *err);
+
+#endif
