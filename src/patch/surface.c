@@ -1,0 +1,189 @@
+/* surface.c — the composite-surface container (see surface.h) and exact evaluation of
+ * tensor-product Bézier patches.  Other patch kinds bring their own evaluator. */
+#include "patch/surface.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct patch {
+    q2n_patch_kind kind;
+    void *data;
+    q2n_patch_eval_fn eval;
+    void (*free_data)(void *);
+    q2n_patch_grid_fn grid; /* optional fast grid evaluator */
+    int du, dv;  /* Bézier degrees */
+    double *cp;  /* Bézier control points */
+} patch;
+
+struct q2n_surface {
+    int n;
+    patch *p;
+};
+
+q2n_surface *q2n_surface_create(int npatches)
+{
+    q2n_surface *s = calloc(1, sizeof *s);
+    if (!s) return NULL;
+    s->n = npatches;
+    s->p = calloc(npatches > 0 ? (size_t)npatches : 1, sizeof *s->p);
+    if (!s->p) { free(s); return NULL; }
+    return s;
+}
+
+static void patch_clear(patch *p)
+{
+    if (p->free_data) p->free_data(p->data);
+    free(p->cp);
+    memset(p, 0, sizeof *p);
+}
+
+void q2n_surface_free(q2n_surface *s)
+{
+    if (!s) return;
+    for (int k = 0; k < s->n; k++) patch_clear(&s->p[k]);
+    free(s->p);
+    free(s);
+}
+
+int q2n_surface_npatches(const q2n_surface *s) { return s->n; }
+
+q2n_patch_kind q2n_surface_kind(const q2n_surface *s, int k)
+{
+    return (k >= 0 && k < s->n) ? s->p[k].kind : Q2N_PATCH_UNCOVERED;
+}
+
+int q2n_surface_count(const q2n_surface *s, q2n_patch_kind kind)
+{
+    int c = 0;
+    for (int k = 0; k < s->n; k++) c += s->p[k].kind == kind;
+    return c;
+}
+
+/* Bernstein polynomials of degree n at t with derivatives up to nder: b[d*(n+1)+i]. */
+static void bernstein(int n, double t, int nder, double *b)
+{
+    double tmp[16][16];
+    /* Derivatives via degree-reduced bases: B^(d)_{n,i} = n!/(n-d)! Σ_j (-1)^(d-j) C(d,j) B_{n-d,i-j}. */
+    for (int m = 0; m <= n; m++) {  /* tmp[m][i] = B_{m,i}(t) */
+        for (int i = 0; i <= m; i++) {
+            if (m == 0) { tmp[0][0] = 1.0; continue; }
+            double a = (i < m) ? (1 - t) * tmp[m - 1][i] : 0.0;
+            double c = (i > 0) ? t * tmp[m - 1][i - 1] : 0.0;
+            tmp[m][i] = a + c;
+        }
+    }
+    for (int d = 0; d <= nder; d++) {
+        double fall = 1;
+        for (int q = 0; q < d; q++) fall *= n - q;
+        for (int i = 0; i <= n; i++) {
+            double acc = 0;
+            if (d <= n) {
+                int binom = 1;
+                for (int j = 0; j <= d; j++) {
+                    int idx = i - j, m = n - d;
+                    double bb = (idx >= 0 && idx <= m) ? tmp[m][idx] : 0.0;
+                    acc += (((d - j) & 1) ? -1.0 : 1.0) * binom * bb;
+                    binom = binom * (d - j) / (j + 1);
+                }
+            }
+            b[d * (n + 1) + i] = fall * acc;
+        }
+    }
+}
+
+static void bezier_eval(const patch *p, double u, double v, int nder, double *out)
+{
+    double bu[3 * 16], bv[3 * 16];
+    static const int ord[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+    int nout = nder == 0 ? 1 : nder == 1 ? 3 : 6;
+    bernstein(p->du, u, nder, bu);
+    bernstein(p->dv, v, nder, bv);
+    for (int o = 0; o < nout; o++) {
+        const double *a = bu + ord[o][0] * (p->du + 1), *b = bv + ord[o][1] * (p->dv + 1);
+        double r[3] = {0, 0, 0};
+        for (int j = 0; j <= p->dv; j++) {
+            for (int i = 0; i <= p->du; i++) {
+                const double *c = p->cp + 3 * (j * (p->du + 1) + i);
+                double w = a[i] * b[j];
+                r[0] += w * c[0]; r[1] += w * c[1]; r[2] += w * c[2];
+            }
+        }
+        memcpy(out + 3 * o, r, sizeof r);
+    }
+}
+
+q2n_status q2n_surface_eval(const q2n_surface *s, int k, double u, double v, int nder, double *out)
+{
+    if (k < 0 || k >= s->n || nder < 0 || nder > 2) return Q2N_ERR_ARG;
+    const patch *p = &s->p[k];
+    switch (p->kind) {
+    case Q2N_PATCH_BEZIER: bezier_eval(p, u, v, nder, out); return Q2N_OK;
+    case Q2N_PATCH_UNCOVERED: return Q2N_ERR_ARG;
+    default: return p->eval(p->data, u, v, nder, out);
+    }
+}
+
+q2n_status q2n_surface_eval_grid(const q2n_surface *s, int k, int nu, const double *us, int nv,
+                                 const double *vs, double *out)
+{
+    if (k < 0 || k >= s->n) return Q2N_ERR_ARG;
+    const patch *p = &s->p[k];
+    if (p->kind == Q2N_PATCH_UNCOVERED) return Q2N_ERR_ARG;
+    if (p->grid) return p->grid(p->data, nu, us, nv, vs, out);
+    for (int j = 0; j < nv; j++)
+        for (int i = 0; i < nu; i++) {
+            q2n_status st = q2n_surface_eval(s, k, us[i], vs[j], 1, out + 9 * ((size_t)j * nu + i));
+            if (st) return st;
+        }
+    return Q2N_OK;
+}
+
+q2n_status q2n_surface_set_bezier(q2n_surface *s, int k, int du, int dv, const double *cp)
+{
+    if (k < 0 || k >= s->n || du < 1 || dv < 1 || du > 15 || dv > 15) return Q2N_ERR_ARG;
+    size_t n = 3 * (size_t)(du + 1) * (dv + 1);
+    double *c = malloc(n * sizeof *c);
+    if (!c) return Q2N_ERR_NOMEM;
+    memcpy(c, cp, n * sizeof *c);
+    patch_clear(&s->p[k]);
+    s->p[k].kind = Q2N_PATCH_BEZIER;
+    s->p[k].du = du;
+    s->p[k].dv = dv;
+    s->p[k].cp = c;
+    return Q2N_OK;
+}
+
+int q2n_surface_bezier(const q2n_surface *s, int k, int *du, int *dv, const double **cp)
+{
+    if (q2n_surface_kind(s, k) != Q2N_PATCH_BEZIER) return 0;
+    *du = s->p[k].du;
+    *dv = s->p[k].dv;
+    *cp = s->p[k].cp;
+    return 1;
+}
+
+q2n_status q2n_surface_set_patch(q2n_surface *s, int k, q2n_patch_kind kind, void *data,
+                                 q2n_patch_eval_fn eval, void (*free_data)(void *))
+{
+    if (k < 0 || k >= s->n || !eval || kind == Q2N_PATCH_BEZIER || kind == Q2N_PATCH_UNCOVERED)
+        return Q2N_ERR_ARG;
+    patch_clear(&s->p[k]);
+    s->p[k].kind = kind;
+    s->p[k].data = data;
+    s->p[k].eval = eval;
+    s->p[k].free_data = free_data;
+    return Q2N_OK;
+}
+
+const void *q2n_surface_patch_data(const q2n_surface *s, int k)
+{
+    return (k >= 0 && k < s->n) ? s->p[k].data : NULL;
+}
+
+q2n_status q2n_surface_set_patch_grid(q2n_surface *s, int k, q2n_patch_grid_fn grid)
+{
+    if (k < 0 || k >= s->n || s->p[k].kind == Q2N_PATCH_UNCOVERED || s->p[k].kind == Q2N_PATCH_BEZIER)
+        return Q2N_ERR_ARG;
+    s->p[k].grid = grid;
+    return Q2N_OK;
+}
