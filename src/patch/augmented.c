@@ -1,0 +1,368 @@
+/* augmented.c — regular augmented patches: stencil gathering on the half-edge mesh (with the
+ * extrapolated layer of seed 003 §3.1 for open meshes) and evaluation of eq. (10)–(11) with
+ * first and second partial derivatives.
+ *
+ * Evaluation: every class in spline.h has ψ_i(x; d) = Σ_r B_r(x/D) C_ri(d) with D = d_s.  On the
+ * patch x = u δ00(v) and D = δ00(v), so x/D = u exactly: the u-direction functions are
+ * Σ_r B_r(u) C_ri(d(v)), with C depending on v only through the blended intervals.  C is
+ * evaluated on jets in v (core/jet.h), which yields ∂/∂v and ∂²/∂v² of the coefficients
+ * exactly; symmetrically for the v-direction functions.  The patch is then a short sum. */
+#include "patch/augmented.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/vec3.h"
+
+#define MAXW Q2N_SPLINE_MAXW
+
+/* ---------------------------------------------------------------- stencil gathering */
+
+/* A grid cell (face f with its corner r at the cell's lower-left); f = -1: absent. */
+typedef struct cell { int f, r; } cell;
+
+typedef struct grid {
+    int w, h;
+    cell c[MAXW - 1][MAXW - 1];        /* [cj][ci], cell (ci,cj) spans grid points ci..ci+1 */
+    int vid[MAXW][MAXW];               /* [j][i] mesh vertex or -1 */
+    int known[MAXW][MAXW];
+    double P[MAXW][MAXW][3];
+    int hedge[MAXW][MAXW - 1];         /* edge (i..i+1, j): mesh edge id or -1 */
+    int vedge[MAXW - 1][MAXW];         /* edge (i, j..j+1) */
+} grid;
+
+static int corner_vertex(const q2n_mesh *m, cell c, int q) /* q: 0 LL, 1 LR, 2 UR, 3 UL */
+{
+    return m->face_vert[m->face_start[c.f] + (c.r + q) % 4];
+}
+
+/* Neighbour cell across side s of c (0 bottom, 1 right, 2 top, 3 left); f = -1 if none. */
+static cell cross(const q2n_mesh *m, cell c, int s, int *nonquad)
+{
+    cell out = {-1, 0};
+    int he = q2n_face_he(m, c.f, (c.r + s) % 4);
+    int t = m->he_twin[he];
+    if (t < 0) return out;
+    int g = m->he_face[t];
+    if (q2n_face_size(m, g) != 4) { *nonquad = 1; return out; }
+    int idx = t - m->face_start[g];
+    /* the twin is side (s+2) of the neighbour cell: r' + s + 2 = idx (mod 4) */
+    out.f = g;
+    out.r = ((idx - s - 2) % 4 + 8) % 4;
+    return out;
+}
+
+static int vertex_grid_regular(const q2n_mesh *m, int v)
+{
+    if (m->vert_boundary[v]) return m->vert_nfaces[v] <= 2;
+    return m->valence[v] == 4;
+}
+
+/* Fill the cells by breadth-first walking from the face; 0 if the neighbourhood is not a grid. */
+static int gather_cells(const q2n_mesh *m, int f, grid *G)
+{
+    int n = G->w - 1, off = G->h - 1; /* cell ci at index ci + off */
+    int qi[(MAXW - 1) * (MAXW - 1)], qj[(MAXW - 1) * (MAXW - 1)], head = 0, tail = 0, nonquad = 0;
+    static const int dx[4] = {0, 1, 0, -1}, dy[4] = {-1, 0, 1, 0};
+    int seen[MAXW - 1][MAXW - 1] = {{0}};
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) G->c[j][i].f = -1;
+    G->c[off][off].f = f;
+    G->c[off][off].r = 0;
+    seen[off][off] = 1;
+    qi[tail] = off, qj[tail++] = off;
+    while (head < tail) {
+        int i = qi[head], j = qj[head++];
+        for (int s = 0; s < 4; s++) {
+            int ni = i + dx[s], nj = j + dy[s];
+            if (ni < 0 || nj < 0 || ni >= n || nj >= n) continue;
+            cell nc = cross(m, G->c[j][i], s, &nonquad);
+            if (nonquad) return 0;
+            if (seen[nj][ni]) {
+                if (nc.f != G->c[nj][ni].f || (nc.f >= 0 && nc.r != G->c[nj][ni].r)) return 0;
+                continue;
+            }
+            seen[nj][ni] = 1;
+            G->c[nj][ni] = nc;
+            if (nc.f >= 0) qi[tail] = ni, qj[tail++] = nj;
+        }
+    }
+    return 1;
+}
+
+/* Grid points and edges from the cells; consistency of shared corners. */
+static int assign_points(const q2n_mesh *m, grid *G)
+{
+    int n = G->w - 1;
+    static const int qx[4] = {0, 1, 1, 0}, qy[4] = {0, 0, 1, 1};
+    for (int j = 0; j < G->w; j++)
+        for (int i = 0; i < G->w; i++) {
+            G->vid[j][i] = -1;
+            if (i < n) G->hedge[j][i] = -1;
+            if (j < n) G->vedge[j][i] = -1;
+        }
+    for (int cj = 0; cj < n; cj++)
+        for (int ci = 0; ci < n; ci++) {
+            cell c = G->c[cj][ci];
+            if (c.f < 0) continue;
+            for (int q = 0; q < 4; q++) {
+                int v = corner_vertex(m, c, q), *slot = &G->vid[cj + qy[q]][ci + qx[q]];
+                if (*slot >= 0 && *slot != v) return 0;
+                *slot = v;
+            }
+            int base = m->face_start[c.f];
+            G->hedge[cj][ci] = m->he_edge[base + (c.r + 0) % 4];
+            G->vedge[cj][ci + 1] = m->he_edge[base + (c.r + 1) % 4];
+            G->hedge[cj + 1][ci] = m->he_edge[base + (c.r + 2) % 4];
+            G->vedge[cj][ci] = m->he_edge[base + (c.r + 3) % 4];
+        }
+    /* every grid-interior vertex (whose 3x3 neighbourhood lies in the grid) must be regular */
+    for (int j = 1; j < G->w - 1; j++)
+        for (int i = 1; i < G->w - 1; i++)
+            if (G->vid[j][i] < 0 || !vertex_grid_regular(m, G->vid[j][i])) return 0;
+    return 1;
+}
+
+/* Linear extrapolation across the boundary (seed 003 §3.1): a missing point is 2a - b where a, b
+ * are the next two points inward on its grid line, rows before columns, in passes so that the
+ * result does not depend on visiting order. */
+static int extrapolate(const q2n_mesh *m, grid *G)
+{
+    int w = G->w, missing = 0;
+    for (int j = 0; j < w; j++)
+        for (int i = 0; i < w; i++) {
+            G->known[j][i] = G->vid[j][i] >= 0;
+            if (G->known[j][i]) memcpy(G->P[j][i], q2n_mesh_vpos(m, G->vid[j][i]), 3 * sizeof(double));
+            else missing++;
+        }
+    while (missing > 0) {
+        int filled[MAXW][MAXW] = {{0}}, progress = 0;
+        for (int j = 0; j < w; j++)
+            for (int i = 0; i < w; i++) {
+                if (G->known[j][i]) continue;
+                static const int dirs[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+                for (int d = 0; d < 4; d++) {
+                    int ai = i + dirs[d][0], aj = j + dirs[d][1];
+                    int bi = i + 2 * dirs[d][0], bj = j + 2 * dirs[d][1];
+                    if (bi < 0 || bj < 0 || bi >= w || bj >= w) continue;
+                    if (!G->known[aj][ai] || !G->known[bj][bi]) continue;
+                    for (int c = 0; c < 3; c++) G->P[j][i][c] = 2 * G->P[aj][ai][c] - G->P[bj][bi][c];
+                    filled[j][i] = 1;
+                    break;
+                }
+            }
+        for (int j = 0; j < w; j++)
+            for (int i = 0; i < w; i++)
+                if (filled[j][i]) G->known[j][i] = 1, missing--, progress = 1;
+        if (!progress) return 0;
+    }
+    return 1;
+}
+
+/* Interval of a grid edge: the mesh edge's interval when the edge is real; for an extrapolated
+ * edge |Δp|^α of the extrapolated points, except in the mean parametrization, where it takes the
+ * (ribbon-averaged) interval of the nearest real edge of its ribbon — the same column pair in
+ * the nearest row — or else of its section line, so faces stay rectangles. */
+static double grid_interval(const grid *G, int horizontal, int i, int j, const double *edge_iv,
+                            const q2n_param_options *popt)
+{
+    int w = G->w;
+    int e = horizontal ? G->hedge[j][i] : G->vedge[j][i];
+    if (e >= 0) return edge_iv[e];
+    const double *a = G->P[j][i], *b = horizontal ? G->P[j][i + 1] : G->P[j + 1][i];
+    if (popt->method != Q2N_PARAM_MEAN) return q2n_param_interval(a, b, q2n_param_alpha(popt));
+    for (int dist = 1; dist < w; dist++) {
+        for (int sgn = -1; sgn <= 1; sgn += 2) { /* same ribbon: shift across the edge direction */
+            int jj = horizontal ? j + sgn * dist : j, ii = horizontal ? i : i + sgn * dist;
+            if (jj < 0 || ii < 0 || (horizontal && (jj >= w)) || (!horizontal && ii >= w)) continue;
+            int ee = horizontal ? G->hedge[jj][ii] : G->vedge[jj][ii];
+            if (ee >= 0) return edge_iv[ee];
+        }
+    }
+    for (int dist = 1; dist < w; dist++) {
+        for (int sgn = -1; sgn <= 1; sgn += 2) { /* same section line */
+            int jj = horizontal ? j : j + sgn * dist, ii = horizontal ? i + sgn * dist : i;
+            if (jj < 0 || ii < 0 || (horizontal && ii >= w - 1) || (!horizontal && jj >= w - 1)) continue;
+            int ee = horizontal ? G->hedge[jj][ii] : G->vedge[jj][ii];
+            if (ee >= 0) return edge_iv[ee];
+        }
+    }
+    return q2n_param_interval(a, b, q2n_param_alpha(popt));
+}
+
+int q2n_augmented_setup(const q2n_mesh *m, int f, const q2n_spline_class *cls,
+                        const q2n_param_options *popt, const double *edge_iv,
+                        q2n_augmented_patch *out)
+{
+    grid G;
+    if (q2n_face_size(m, f) != 4) return 0;
+    G.w = cls->w;
+    G.h = cls->w / 2;
+    if (!gather_cells(m, f, &G) || !assign_points(m, &G) || !extrapolate(m, &G)) return 0;
+    int w = G.w, h = G.h;
+    memset(out, 0, sizeof *out);
+    out->cls = cls;
+    out->w = w;
+    for (int j = 0; j < w; j++)
+        for (int i = 0; i < w; i++) {
+            memcpy(out->P + 3 * (j * w + i), G.P[j][i], 3 * sizeof(double));
+            out->vid[j * w + i] = G.vid[j][i];
+        }
+    for (int r = 0; r < 2; r++)
+        for (int i = 0; i < w - 1; i++) {
+            out->drow[r][i] = grid_interval(&G, 1, i, h - 1 + r, edge_iv, popt);
+            out->ecol[r][i] = grid_interval(&G, 0, h - 1 + r, i, edge_iv, popt);
+        }
+    return 1;
+}
+
+/* ---------------------------------------------------------------- evaluation */
+
+/* Coefficients of the u-direction functions at v (jets in v) — eq. (8a) blended intervals. */
+static void u_coeffs(const q2n_augmented_patch *p, double v, q2n_jet *C)
+{
+    q2n_jet d[MAXW];
+    for (int i = 0; i < p->w - 1; i++) d[i] = q2n_spline_blend(p->cls->k, p->drow[0][i], p->drow[1][i], v);
+    q2n_spline_coeffs(p->cls, d, C);
+}
+
+static void v_coeffs(const q2n_augmented_patch *p, double u, q2n_jet *C)
+{
+    q2n_jet e[MAXW];
+    for (int j = 0; j < p->w - 1; j++) e[j] = q2n_spline_blend(p->cls->k, p->ecol[0][j], p->ecol[1][j], u);
+    q2n_spline_coeffs(p->cls, e, C);
+}
+
+/* Fundamental functions and their partials in (own, cross) variables:
+ * F[0]=ψ, F[1]=∂own, F[2]=∂cross, F[3]=∂own², F[4]=∂own∂cross, F[5]=∂cross². */
+static void combine(int w, int nb, const double *B, const q2n_jet *C, int nder, double F[6][MAXW])
+{
+    for (int i = 0; i < w; i++) {
+        double a[6] = {0, 0, 0, 0, 0, 0};
+        for (int r = 0; r < nb; r++) {
+            const q2n_jet c = C[r * w + i];
+            a[0] += B[r] * c.c[0];
+            if (nder >= 1) { a[1] += B[nb + r] * c.c[0]; a[2] += B[r] * c.c[1]; }
+            if (nder >= 2) {
+                a[3] += B[2 * nb + r] * c.c[0];
+                a[4] += B[nb + r] * c.c[1];
+                a[5] += B[r] * 2.0 * c.c[2];
+            }
+        }
+        for (int q = 0; q < 6; q++) F[q][i] = a[q];
+    }
+}
+
+/* S and partials from ψ (u-direction, F[.] in (u,v)) and φ (v-direction, G[.] in (v,u)). */
+static void assemble(const q2n_augmented_patch *p, int nder, double F[6][MAXW], double Gv[6][MAXW],
+                     double *out)
+{
+    int w = p->w, nout = nder == 0 ? 1 : nder == 1 ? 3 : 6;
+    /* partials of φ re-indexed to (u,v) order: φ, φ_u, φ_v, φ_uu, φ_uv, φ_vv */
+    const double *phi[6] = {Gv[0], Gv[2], Gv[1], Gv[5], Gv[4], Gv[3]};
+    /* Leibniz: S_ab = Σ C(a,a') C(b,b') ψ_{a'b'} φ_{a-a',b-b'}; table of (ψ index, φ index, factor) */
+    static const int terms[6][6][3] = {
+        {{0, 0, 1}},
+        {{1, 0, 1}, {0, 1, 1}},
+        {{2, 0, 1}, {0, 2, 1}},
+        {{3, 0, 1}, {1, 1, 2}, {0, 3, 1}},
+        {{4, 0, 1}, {1, 2, 1}, {2, 1, 1}, {0, 4, 1}},
+        {{5, 0, 1}, {2, 2, 2}, {0, 5, 1}}};
+    static const int nterms[6] = {1, 2, 2, 3, 4, 3};
+    for (int o = 0; o < nout; o++) {
+        double r[3] = {0, 0, 0};
+        for (int t = 0; t < nterms[o]; t++) {
+            const double *A = F[terms[o][t][0]], *Bp = phi[terms[o][t][1]];
+            double fac = terms[o][t][2];
+            for (int j = 0; j < w; j++) {
+                double row[3] = {0, 0, 0};
+                for (int i = 0; i < w; i++) q2n_v3_axpy(row, A[i], p->P + 3 * (j * w + i));
+                q2n_v3_axpy(r, fac * Bp[j], row);
+            }
+        }
+        memcpy(out + 3 * o, r, sizeof r);
+    }
+}
+
+void q2n_augmented_eval(const q2n_augmented_patch *p, double u, double v, int nder, double *out)
+{
+    int w = p->w, nb = p->cls->nb;
+    q2n_jet Cu[Q2N_SPLINE_MAXB * MAXW], Cv[Q2N_SPLINE_MAXB * MAXW];
+    double Bu[4 * Q2N_SPLINE_MAXB], Bv[4 * Q2N_SPLINE_MAXB], F[6][MAXW], Gv[6][MAXW];
+    u_coeffs(p, v, Cu);
+    v_coeffs(p, u, Cv);
+    p->cls->basis(u, nder, Bu);
+    p->cls->basis(v, nder, Bv);
+    combine(w, nb, Bu, Cu, nder, F);
+    combine(w, nb, Bv, Cv, nder, Gv);
+    assemble(p, nder, F, Gv, out);
+}
+
+static q2n_status eval_cb(const void *data, double u, double v, int nder, double *out)
+{
+    q2n_augmented_eval(data, u, v, nder, out);
+    return Q2N_OK;
+}
+
+/* Grid fast path: the v-direction coefficients depend on u only and the u-direction ones on v
+ * only, so they are computed once per column and once per row. */
+static q2n_status eval_grid_cb(const void *data, int nu, const double *us, int nv, const double *vs,
+                               double *out)
+{
+    const q2n_augmented_patch *p = data;
+    int w = p->w, nb = p->cls->nb;
+    /* per column: the v-direction coefficients (depend on u) and B(u) */
+    q2n_jet *Cv = malloc((size_t)nu * Q2N_SPLINE_MAXB * MAXW * sizeof *Cv);
+    double *Bu = malloc((size_t)nu * 2 * Q2N_SPLINE_MAXB * sizeof *Bu);
+    if (!Cv || !Bu) { free(Cv); free(Bu); return Q2N_ERR_NOMEM; }
+    for (int a = 0; a < nu; a++) {
+        v_coeffs(p, us[a], Cv + (size_t)a * Q2N_SPLINE_MAXB * MAXW);
+        p->cls->basis(us[a], 1, Bu + (size_t)a * 2 * nb);
+    }
+    for (int b = 0; b < nv; b++) {
+        q2n_jet Cu[Q2N_SPLINE_MAXB * MAXW];
+        double Bv[4 * Q2N_SPLINE_MAXB];
+        u_coeffs(p, vs[b], Cu);
+        p->cls->basis(vs[b], 1, Bv);
+        for (int a = 0; a < nu; a++) {
+            double F[6][MAXW], Gv[6][MAXW];
+            combine(w, nb, Bu + (size_t)a * 2 * nb, Cu, 1, F);
+            combine(w, nb, Bv, Cv + (size_t)a * Q2N_SPLINE_MAXB * MAXW, 1, Gv);
+            assemble(p, 1, F, Gv, out + 9 * ((size_t)b * nu + a));
+        }
+    }
+    free(Cv);
+    free(Bu);
+    return Q2N_OK;
+}
+
+static void free_patch(void *d) { free(d); }
+
+q2n_status q2n_augmented_build(const q2n_mesh *m, const q2n_augmented_options *opt,
+                               const double *edge_iv, q2n_surface **out, q2n_error *err)
+{
+    const q2n_spline_class *cls = opt->cls ? opt->cls : q2n_spline_class_find("D5C2P2S4");
+    double *own = NULL;
+    q2n_status st;
+    if (!edge_iv) {
+        if ((st = q2n_param_edge_intervals(m, &opt->param, &own, err))) return st;
+        edge_iv = own;
+    }
+    q2n_surface *s = q2n_surface_create(m->nf);
+    if (!s) { free(own); return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (surface)"); }
+    for (int f = 0; f < m->nf; f++) {
+        q2n_augmented_patch tmp, *p;
+        if (!q2n_augmented_setup(m, f, cls, &opt->param, edge_iv, &tmp)) continue;
+        if (!(p = malloc(sizeof *p))) {
+            q2n_surface_free(s); free(own);
+            return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (patch %d)", f);
+        }
+        *p = tmp;
+        q2n_surface_set_patch(s, f, Q2N_PATCH_AUGMENTED, p, eval_cb, free_patch);
+        q2n_surface_set_patch_grid(s, f, eval_grid_cb);
+    }
+    free(own);
+    *out = s;
+    return Q2N_OK;
+}

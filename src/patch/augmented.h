@@ -1,0 +1,47 @@
+/* augmented.h — regular augmented interpolatory patches (seed 003 §3, eq. (7)–(11)).
+ *
+ * For a face whose w x w vertex grid exists (every grid-interior vertex has valence 4, or is a
+ * boundary vertex with at most two faces; open meshes get the extrapolated layer of §3.1),
+ * the patch is S(u,v) = Σ_ij p_ij ψ_i(u δ00(v); d(v)) ψ_j(v ε00(u); e(u)), with local
+ * parameter vectors d(v), e(u) blended by the local parametrization functions δ, ε of degree
+ * 2k+1 (eq. 7–8).  Faces without such a grid are left uncovered here (extraordinary regions,
+ * see coons_gregory.h). */
+#ifndef Q2N_PATCH_AUGMENTED_H
+#define Q2N_PATCH_AUGMENTED_H
+
+#include "mesh/mesh.h"
+#include "param/param.h"
+#include "patch/surface.h"
+#include "spline/spline.h"
+
+typedef struct q2n_augmented_options {
+    const q2n_spline_class *cls; /* NULL: D5C2P2S4 */
+    q2n_param_options param;
+} q2n_augmented_options;
+
+/* Per-patch data (read-only view, for tests and the extraordinary-patch builder). */
+typedef struct q2n_augmented_patch {
+    const q2n_spline_class *cls;
+    int w;
+    double P[3 * Q2N_SPLINE_MAXW * Q2N_SPLINE_MAXW]; /* grid p_ij, i (along u) fastest; grid index
+                                                        g = -w/2+1 .. w/2 at array index g+w/2-1 */
+    int vid[Q2N_SPLINE_MAXW * Q2N_SPLINE_MAXW];      /* mesh vertex of each grid point, -1: extrapolated */
+    double drow[2][Q2N_SPLINE_MAXW];                 /* d_{i,0}, d_{i,1}: intervals of rows v=0, v=1 */
+    double ecol[2][Q2N_SPLINE_MAXW];                 /* e_{0,j}, e_{1,j}: intervals of columns u=0, u=1 */
+} q2n_augmented_patch;
+
+/* Build a surface with one patch per face; regular faces get augmented patches, the others
+ * stay Q2N_PATCH_UNCOVERED.  edge_iv: per-edge intervals (q2n_param_edge_intervals) or NULL to
+ * compute them from opt->param. */
+q2n_status q2n_augmented_build(const q2n_mesh *m, const q2n_augmented_options *opt,
+                               const double *edge_iv, q2n_surface **out, q2n_error *err);
+
+/* Try to set up the regular patch of face f; returns 1 on success, 0 if the face is not regular. */
+int q2n_augmented_setup(const q2n_mesh *m, int f, const q2n_spline_class *cls,
+                        const q2n_param_options *popt, const double *edge_iv,
+                        q2n_augmented_patch *out);
+
+/* Evaluate a patch (same output layout as q2n_surface_eval). */
+void q2n_augmented_eval(const q2n_augmented_patch *p, double u, double v, int nder, double *out);
+
+#endif
