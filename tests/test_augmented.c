@@ -1,0 +1,223 @@
+/* test_augmented.c — regular augmented patches (seed 003 §3) against independent references:
+ *  - every mesh vertex interpolated (corners = mesh vertices), relative to the bbox diagonal;
+ *  - first and second partial derivatives vs central finite differences;
+ *  - Proposition 1: a patch boundary equals the univariate spline of its section polyline,
+ *    the polyline found by walking the mesh (q2n_mesh_continue), not by the patch's stencil;
+ *  - Proposition 2: cross-boundary derivatives of neighbours satisfy eq. (13)-(14) for r <= k,
+ *    with the scaling Δ built from the mesh's edge intervals (eq. 7, 14);
+ *  - the mean parametrization gives rectangles (tensor-product patches: δ constant). */
+#include "check.h"
+#include "meshgen.h"
+#include "core/vec3.h"
+#include "param/param.h"
+#include "patch/augmented.h"
+
+static const int side_corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+
+/* Map (t along side c in the half-edge direction, s inward) to (u,v). */
+static void side_uv(int c, double t, double s, double *u, double *v)
+{
+    switch (c) {
+    case 0: *u = t, *v = s; break;
+    case 1: *u = 1 - s, *v = t; break;
+    case 2: *u = 1 - t, *v = 1 - s; break;
+    default: *u = s, *v = 1 - t; break;
+    }
+}
+
+/* r-th inward cross derivative (r = 0..2) on side c at t. */
+static void cross_deriv(const q2n_surface *S, int f, int c, double t, int r, double out[3])
+{
+    double u, v, e[Q2N_EVAL_MAX];
+    side_uv(c, t, 0, &u, &v);
+    q2n_surface_eval(S, f, u, v, 2, e);
+    int across_v = (c % 2) == 0, sign = (c == 1 || c == 2) ? -1 : 1;
+    const double *src = r == 0 ? e : r == 1 ? e + (across_v ? Q2N_EV_V : Q2N_EV_U)
+                                            : e + (across_v ? Q2N_EV_VV : Q2N_EV_UU);
+    double sg = r == 1 ? sign : 1;
+    q2n_v3_scale(out, sg, src);
+}
+
+/* Local parametrization function across side c of face f at t: blend of the intervals of
+ * the two face edges leaving the side's ends (eq. 7), computed from the mesh. */
+static double cross_delta(const q2n_mesh *m, const double *iv, int k, int f, int c, double t)
+{
+    int h = q2n_face_he(m, f, c);
+    int a = m->he_edge[q2n_he_prev(m, h)], b = m->he_edge[q2n_he_next(m, h)];
+    double o[4];
+    q2n_spline_blend_derivs(k, iv[a], iv[b], t, o); /* edge at the side's start, then at its end */
+    return o[0];
+}
+
+typedef struct stats { double interp, fd1, fd2, prop1, prop2; int covered, edges; } stats;
+
+static void check_mesh(const char *label, const q2n_mesh *m, const char *clsname, q2n_param_method pm,
+                       int expect_all, stats *st)
+{
+    q2n_augmented_options opt = {q2n_spline_class_find(clsname), {pm, -1}};
+    q2n_surface *S = NULL;
+    q2n_error err;
+    double *iv = NULL;
+    memset(st, 0, sizeof *st);
+    CHECK(q2n_param_edge_intervals(m, &opt.param, &iv, &err) == Q2N_OK, "intervals %s", label);
+    CHECK(q2n_augmented_build(m, &opt, NULL, &S, &err) == Q2N_OK, "build %s: %s", label, err.message);
+    if (!S || !iv) { free(iv); return; }
+    double diag = q2n_mesh_bbox_diag(m);
+    int k = opt.cls->k;
+    st->covered = q2n_surface_count(S, Q2N_PATCH_AUGMENTED);
+    if (expect_all) CHECK(st->covered == m->nf, "%s: %d of %d faces covered", label, st->covered, m->nf);
+    unsigned seed = 3;
+    for (int f = 0; f < m->nf; f++) {
+        if (q2n_surface_kind(S, f) != Q2N_PATCH_AUGMENTED) continue;
+        for (int c = 0; c < 4; c++) { /* interpolation of the corners */
+            double e[Q2N_EVAL_MAX];
+            q2n_surface_eval(S, f, side_corner[c][0], side_corner[c][1], 0, e);
+            const double *p = q2n_mesh_vpos(m, m->face_vert[m->face_start[f] + c]);
+            st->interp = fmax(st->interp, q2n_v3_dist(e, p) / diag);
+        }
+        for (int t = 0; t < 2; t++) { /* finite differences */
+            double u = 0.05 + 0.9 * mg_rnd(&seed), v = 0.05 + 0.9 * mg_rnd(&seed), hh = 1e-5;
+            double e[Q2N_EVAL_MAX], a[Q2N_EVAL_MAX], b[Q2N_EVAL_MAX], c2[Q2N_EVAL_MAX], d2[Q2N_EVAL_MAX];
+            q2n_surface_eval(S, f, u, v, 2, e);
+            q2n_surface_eval(S, f, u - hh, v, 2, a);
+            q2n_surface_eval(S, f, u + hh, v, 2, b);
+            q2n_surface_eval(S, f, u, v - hh, 2, c2);
+            q2n_surface_eval(S, f, u, v + hh, 2, d2);
+            double scale = fmax(q2n_v3_norm(e + 3), q2n_v3_norm(e + 6));
+            for (int q = 0; q < 3; q++) {
+                st->fd1 = fmax(st->fd1, fabs((b[q] - a[q]) / (2 * hh) - e[3 + q]) / scale);
+                st->fd1 = fmax(st->fd1, fabs((d2[q] - c2[q]) / (2 * hh) - e[6 + q]) / scale);
+                st->fd2 = fmax(st->fd2, fabs((b[3 + q] - a[3 + q]) / (2 * hh) - e[9 + q]) / scale);
+                st->fd2 = fmax(st->fd2, fabs((b[6 + q] - a[6 + q]) / (2 * hh) - e[12 + q]) / scale);
+                st->fd2 = fmax(st->fd2, fabs((d2[3 + q] - c2[3 + q]) / (2 * hh) - e[12 + q]) / scale);
+                st->fd2 = fmax(st->fd2, fabs((d2[6 + q] - c2[6 + q]) / (2 * hh) - e[15 + q]) / scale);
+            }
+        }
+    }
+    /* Proposition 1 on closed section polylines walked through the mesh */
+    const q2n_spline_class *cls = opt.cls;
+    double alpha = q2n_param_alpha(&opt.param);
+    for (int f = 0; f < m->nf && pm != Q2N_PARAM_MEAN; f++) {
+        if (q2n_surface_kind(S, f) != Q2N_PATCH_AUGMENTED) continue;
+        int h0 = q2n_face_he(m, f, 0), h = h0, n = 0, cap = m->nh + 1;
+        double *pts = malloc(3 * (size_t)cap * sizeof *pts), *ivs = malloc((size_t)cap * sizeof *ivs);
+        do {
+            memcpy(pts + 3 * n++, q2n_mesh_vpos(m, q2n_he_origin(m, h)), 3 * sizeof(double));
+            h = q2n_mesh_continue(m, h);
+        } while (h >= 0 && h != h0 && n < cap);
+        if (h == h0 && n >= cls->w) {
+            for (int j = 0; j < n; j++) ivs[j] = q2n_param_interval(pts + 3 * j, pts + 3 * ((j + 1) % n), alpha);
+            for (int t = 0; t <= 8; t++) {
+                double u = t / 8.0, ref[3], e[Q2N_EVAL_MAX];
+                q2n_spline_curve_eval(cls, n, 3, pts, ivs, 1, 0, u * ivs[0], 0, ref);
+                q2n_surface_eval(S, f, u, 0, 0, e);
+                st->prop1 = fmax(st->prop1, q2n_v3_dist(ref, e) / diag);
+            }
+        }
+        free(pts);
+        free(ivs);
+    }
+    /* Proposition 2 across every interior edge between two regular patches */
+    for (int hA = 0; hA < m->nh; hA++) {
+        int hB = m->he_twin[hA];
+        if (hB < 0 || hB < hA) continue;
+        int fA = m->he_face[hA], fB = m->he_face[hB];
+        if (q2n_surface_kind(S, fA) != Q2N_PATCH_AUGMENTED || q2n_surface_kind(S, fB) != Q2N_PATCH_AUGMENTED)
+            continue;
+        int cA = hA - m->face_start[fA], cB = hB - m->face_start[fB];
+        st->edges++;
+        for (int t = 0; t <= 8; t++) {
+            double tA = t / 8.0, tB = 1 - tA;
+            double dA = cross_delta(m, iv, k, fA, cA, tA), dB = cross_delta(m, iv, k, fB, cB, tB);
+            double rA[3], rB[3];
+            for (int r = 0; r <= k && r <= 2; r++) {
+                cross_deriv(S, fA, cA, tA, r, rA);
+                cross_deriv(S, fB, cB, tB, r, rB);
+                /* eq. (13): ∂^r_s S_A / δ_A^r = (-1)^r ∂^r_s S_B / δ_B^r  (s inward on each side) */
+                double sa = pow(dA, -r), sb = (r % 2 ? -1 : 1) * pow(dB, -r), res[3], sc;
+                for (int q = 0; q < 3; q++) res[q] = sa * rA[q] - sb * rB[q];
+                sc = fmax(fmax(q2n_v3_norm(rA) * fabs(sa), q2n_v3_norm(rB) * fabs(sb)), 1e-300);
+                if (r == 0) sc = diag;
+                st->prop2 = fmax(st->prop2, q2n_v3_norm(res) / sc);
+            }
+        }
+    }
+    printf("%-28s %-9s %-11s faces %4d/%-4d interp %.1e  fd1 %.1e fd2 %.1e  prop1 %.1e  prop2 %.1e (%d edges)\n",
+           label, clsname, q2n_param_method_name(pm), st->covered, m->nf, st->interp, st->fd1, st->fd2,
+           st->prop1, st->prop2, st->edges);
+    CHECK(st->interp <= 1e-12, "%s: vertex interpolation %.3g", label, st->interp);
+    CHECK(st->fd1 <= 1e-6, "%s: first derivatives vs FD %.3g", label, st->fd1);
+    CHECK(st->fd2 <= 1e-5, "%s: second derivatives vs FD %.3g", label, st->fd2);
+    CHECK(st->prop1 <= 1e-12, "%s: Proposition 1 %.3g", label, st->prop1);
+    CHECK(st->prop2 <= 1e-9, "%s: Proposition 2 %.3g", label, st->prop2);
+    free(iv);
+    q2n_surface_free(S);
+}
+
+/* The mean parametrization yields tensor-product patches: along every edge the cross
+ * parametrization function is constant, so Proposition 2 holds with Δ = 1 ... and the patch's
+ * opposite intervals agree. */
+static void check_mean_rectangles(const q2n_mesh *m)
+{
+    q2n_param_options po = {Q2N_PARAM_MEAN, -1};
+    const q2n_spline_class *cls = q2n_spline_class_find("D5C2P2S4");
+    double *iv = NULL;
+    q2n_error err;
+    CHECK(q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK, "mean intervals");
+    double worst = 0;
+    for (int f = 0; f < m->nf; f++) {
+        q2n_augmented_patch p;
+        if (!q2n_augmented_setup(m, f, cls, &po, iv, &p)) continue;
+        for (int i = 0; i < p.w - 1; i++) {
+            worst = fmax(worst, fabs(p.drow[0][i] - p.drow[1][i]));
+            worst = fmax(worst, fabs(p.ecol[0][i] - p.ecol[1][i]));
+        }
+    }
+    CHECK(worst < 1e-14, "mean parametrization: faces are rectangles (%.3g)", worst);
+    free(iv);
+}
+
+int main(void)
+{
+    stats st;
+    static const char *const shared_regular[] = {"osd_catmark_torus.obj", "gismo_octtorus.obj",
+                                                 "osd_catmark_flap.obj", "osd_catmark_tent.obj",
+                                                 "osd_catmark_square_hedit0.obj", "gismo_octtorus_hole.obj"};
+    for (size_t i = 0; i < sizeof shared_regular / sizeof *shared_regular; i++) {
+        const char *path = chk_shared_mesh(shared_regular[i]);
+        if (!path) { SKIP("%s: ../shared/meshes absent", shared_regular[i]); continue; }
+        q2n_mesh *m = NULL;
+        q2n_error err;
+        CHECK(q2n_mesh_read_obj(path, &m, &err) == Q2N_OK, "read %s: %s", path, err.message);
+        if (!m) continue;
+        int all = strstr(path, "hole") == NULL;
+        check_mesh(shared_regular[i], m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, all, &st);
+        check_mesh(shared_regular[i], m, "D3C1P2S4", Q2N_PARAM_CENTRIPETAL, all, &st);
+        check_mesh(shared_regular[i], m, "D5C2P2S4", Q2N_PARAM_MEAN, all, &st);
+        if (!all) CHECK(st.covered > 0 && st.covered < m->nf, "partial coverage reported");
+        check_mean_rectangles(m);
+        q2n_mesh_free(m);
+    }
+    for (unsigned seed = 1; seed <= 3; seed++) { /* randomly perturbed tori */
+        q2n_mesh *m = mg_torus(12, 8, 3.0, 1.0, 0.15, 1, seed);
+        CHECK(m != NULL, "torus");
+        if (!m) continue;
+        char label[64];
+        snprintf(label, sizeof label, "perturbed torus #%u", seed);
+        for (const q2n_spline_class *const *c = q2n_spline_classes(); *c; c++)
+            check_mesh(label, m, (*c)->name, Q2N_PARAM_CENTRIPETAL, 1, &st);
+        check_mesh(label, m, "D5C2P2S4", Q2N_PARAM_CHORDAL, 1, &st);
+        check_mesh(label, m, "D5C2P2S4", Q2N_PARAM_MEAN, 1, &st);
+        q2n_mesh_free(m);
+    }
+    q2n_mesh *g = mg_grid(6, 5, 9); /* open regular grid: extrapolated layer */
+    CHECK(g != NULL, "grid");
+    if (g) {
+        for (const q2n_spline_class *const *c = q2n_spline_classes(); *c; c++)
+            check_mesh("open grid 6x5", g, (*c)->name, Q2N_PARAM_CENTRIPETAL, 1, &st);
+        check_mesh("open grid 6x5", g, "D5C2P2S4", Q2N_PARAM_MEAN, 1, &st);
+        check_mean_rectangles(g);
+        q2n_mesh_free(g);
+    }
+    CHECK_DONE("test_augmented");
+}
