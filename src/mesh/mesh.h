@@ -56,6 +56,12 @@ q2n_status q2n_mesh_from_arrays(int nv, const double *pos, int nf, const int *fa
                                 const int *face_vert, const char *name, q2n_mesh **out,
                                 q2n_error *err);
 
+/* Same as q2n_mesh_from_arrays, with the source line of each face (face_line[k] > 0, or NULL)
+ * so that validation errors read "name:LINE: reason"; face_line is copied into the mesh. */
+q2n_status q2n_mesh_from_arrays_lines(int nv, const double *pos, int nf, const int *face_start,
+                                      const int *face_vert, const int *face_line, const char *name,
+                                      q2n_mesh **out, q2n_error *err);
+
 void q2n_mesh_free(q2n_mesh *m); /* NULL is a no-op */
 
 /* Internal consistency check of the half-edge structure (tests): Q2N_OK or a message. */
@@ -106,11 +112,12 @@ static inline int q2n_mesh_rotate_back(const q2n_mesh *m, int h)
 static inline int q2n_face_he(const q2n_mesh *m, int f, int i) { return m->face_start[f] + i; }
 static inline const double *q2n_mesh_vpos(const q2n_mesh *m, int v) { return m->pos + 3 * (size_t)v; }
 
-/* The outgoing half-edge that continues a section polyline straight through vertex dest(h_in)
- * (h_in arrives at the vertex): the opposite edge at an interior valence-4 vertex, the other
- * boundary edge at a boundary vertex of valence 3 when h_in is a boundary edge, and the interior
- * edge... none otherwise.  Returns -1 where the polyline ends (boundary) or is not defined
- * (extraordinary vertex). */
+/* The outgoing half-edge that continues a section polyline straight through vertex v = dest(h_in)
+ * (h_in arrives at v):
+ *   - v interior of valence 4: the opposite outgoing edge, two rotations away from twin(h_in);
+ *   - v on the boundary with valence 3 and h_in a boundary half-edge: the other boundary edge
+ *     (the outgoing boundary half-edge vert_he[v]);
+ *   - otherwise -1: the polyline ends there (boundary) or is not defined (extraordinary vertex). */
 int q2n_mesh_continue(const q2n_mesh *m, int h_in);
 
 /* Edge ribbons: chains of pairwise opposite edges of quads.  ribbon[e] in 0..nribbons-1 for each

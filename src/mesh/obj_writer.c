@@ -1,0 +1,80 @@
+/* obj_writer.c — writes a q2n_mesh as OBJ (`v` and `f` records only, coordinates as %.17g so
+ * that reading the file back gives the same doubles).  Atomic: the data go to PATH.tmp.XXXXXX
+ * (mkstemp, same directory) which is renamed over PATH only after a successful close, so a
+ * reader never sees a half-written file.  Numbers are formatted in the "C" locale. */
+#include "mesh/mesh.h"
+
+#include <errno.h>
+#include <locale.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static int write_records(const q2n_mesh *m, FILE *fp)
+{
+    for (int v = 0; v < m->nv; v++) {
+        const double *p = q2n_mesh_vpos(m, v);
+        if (fprintf(fp, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]) < 0) return -1;
+    }
+    for (int f = 0; f < m->nf; f++) {
+        if (fputc('f', fp) == EOF) return -1;
+        for (int i = m->face_start[f]; i < m->face_start[f + 1]; i++)
+            if (fprintf(fp, " %d", m->face_vert[i] + 1) < 0) return -1;
+        if (fputc('\n', fp) == EOF) return -1;
+    }
+    return 0;
+}
+
+q2n_status q2n_mesh_write_obj(const q2n_mesh *m, const char *path, q2n_error *err)
+{
+    if (!m || !path) return q2n_error_set(err, Q2N_ERR_ARG, "write_obj: NULL argument");
+    size_t n = strlen(path);
+    char *tmp = malloc(n + 12);
+    if (!tmp) return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", path);
+    memcpy(tmp, path, n);
+    memcpy(tmp + n, ".tmp.XXXXXX", 12);
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: %s", tmp, strerror(errno));
+        free(tmp);
+        return st;
+    }
+    (void)fchmod(fd, 0644); /* mkstemp creates 0600; an exported mesh is an ordinary file */
+    FILE *fp = fdopen(fd, "w");
+    if (!fp) {
+        q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: %s", tmp, strerror(errno));
+        close(fd);
+        unlink(tmp);
+        free(tmp);
+        return st;
+    }
+    locale_t cloc = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0), old = (locale_t)0;
+    if (cloc) old = uselocale(cloc);
+    int bad = write_records(m, fp);
+    if (cloc) {
+        uselocale(old);
+        freelocale(cloc);
+    }
+    int saved = errno;
+    if (fflush(fp) != 0 && !bad) bad = -1, saved = errno;
+    if (fclose(fp) != 0 && !bad) bad = -1, saved = errno;
+    if (!bad && rename(tmp, path) != 0) {
+        saved = errno;
+        unlink(tmp);
+        q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: rename failed: %s", path,
+                                      strerror(saved));
+        free(tmp);
+        return st;
+    }
+    if (bad) {
+        unlink(tmp);
+        q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: write failed: %s", path,
+                                      strerror(saved));
+        free(tmp);
+        return st;
+    }
+    free(tmp);
+    return Q2N_OK;
+}
