@@ -1,0 +1,358 @@
+/* export_common.c — shared by the IGES and STEP writers: text buffer, real formatting, atomic
+ * output, model validation and the B-rep topology (see export_internal.h). */
+#include "iges/export_internal.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/vec3.h"
+
+/* ---------------------------------------------------------------- text buffer */
+
+static int strbuf_reserve(q2n_strbuf *b, size_t extra)
+{
+    if (b->oom) return 0;
+    if (b->len + extra + 1 <= b->cap) return 1;
+    size_t cap = b->cap ? b->cap : 4096;
+    while (cap < b->len + extra + 1) cap *= 2;
+    char *p = realloc(b->data, cap);
+    if (!p) { b->oom = 1; return 0; }
+    b->data = p;
+    b->cap = cap;
+    return 1;
+}
+
+void q2n_strbuf_putn(q2n_strbuf *b, const char *s, size_t n)
+{
+    if (!strbuf_reserve(b, n)) return;
+    memcpy(b->data + b->len, s, n);
+    b->len += n;
+    b->data[b->len] = '\0';
+}
+
+void q2n_strbuf_puts(q2n_strbuf *b, const char *s) { q2n_strbuf_putn(b, s, strlen(s)); }
+void q2n_strbuf_putc(q2n_strbuf *b, char c) { q2n_strbuf_putn(b, &c, 1); }
+
+void q2n_strbuf_printf(q2n_strbuf *b, const char *fmt, ...)
+{
+    char small[256];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(small, sizeof small, fmt, ap);
+    va_end(ap);
+    if (n < 0) { b->oom = 1; return; }
+    if ((size_t)n < sizeof small) { q2n_strbuf_putn(b, small, (size_t)n); return; }
+    if (!strbuf_reserve(b, (size_t)n)) return;
+    va_start(ap, fmt);
+    vsnprintf(b->data + b->len, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    b->len += (size_t)n;
+}
+
+void q2n_strbuf_free(q2n_strbuf *b)
+{
+    free(b->data);
+    b->data = NULL;
+    b->len = b->cap = 0;
+}
+
+/* ---------------------------------------------------------------- numbers */
+
+void q2n_export_fmt_real(char out[Q2N_REAL_CHARS], double x)
+{
+    char tmp[Q2N_REAL_CHARS];
+    snprintf(tmp, sizeof tmp, "%.17g", x);
+    /* the C locale may use ',' as decimal separator: normalise, then split mantissa/exponent */
+    char mant[Q2N_REAL_CHARS], *e;
+    for (char *c = tmp; *c; c++)
+        if (*c == ',') *c = '.';
+    e = strpbrk(tmp, "eE");
+    size_t ml = e ? (size_t)(e - tmp) : strlen(tmp);
+    memcpy(mant, tmp, ml);
+    mant[ml] = '\0';
+    if (!strchr(mant, '.')) { mant[ml] = '.'; mant[ml + 1] = '\0'; }
+    if (e) snprintf(out, Q2N_REAL_CHARS, "%sE%s", mant, e + 1);
+    else snprintf(out, Q2N_REAL_CHARS, "%s", mant);
+}
+
+/* ---------------------------------------------------------------- files and strings */
+
+q2n_status q2n_export_write_atomic(const char *path, const char *buf, size_t len, q2n_error *err)
+{
+    size_t pl = strlen(path);
+    char *tmp = malloc(pl + 5);
+    if (!tmp) return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", path);
+    memcpy(tmp, path, pl);
+    memcpy(tmp + pl, ".tmp", 5);
+    FILE *f = fopen(tmp, "wb");
+    if (!f) {
+        free(tmp);
+        return q2n_error_set(err, Q2N_ERR_IO, "%s: cannot open %s.tmp for writing", path, path);
+    }
+    int ok = fwrite(buf, 1, len, f) == len;
+    ok = (fflush(f) == 0) && ok;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        remove(tmp);
+        free(tmp);
+        return q2n_error_set(err, Q2N_ERR_IO, "%s: write or rename failed", path);
+    }
+    free(tmp);
+    return Q2N_OK;
+}
+
+q2n_status q2n_export_check_string(const char *s, const char *what, q2n_error *err)
+{
+    if (!s) return Q2N_OK;
+    size_t n = strlen(s);
+    if (n > 64) return q2n_error_set(err, Q2N_ERR_ARG, "export: %s longer than 64 characters", what);
+    for (size_t i = 0; i < n; i++)
+        if (s[i] < 0x20 || s[i] > 0x7e || s[i] == '\'' || s[i] == '\\')
+            return q2n_error_set(err, Q2N_ERR_ARG,
+                                 "export: %s has a character that is not printable ASCII (or a quote/backslash) "
+                                 "at position %zu", what, i);
+    return Q2N_OK;
+}
+
+void q2n_export_basename(const char *path, char *out, size_t cap)
+{
+    const char *b = strrchr(path, '/');
+    b = b ? b + 1 : path;
+    const char *dot = strrchr(b, '.');
+    size_t n = dot && dot != b ? (size_t)(dot - b) : strlen(b);
+    size_t k = 0;
+    for (size_t i = 0; i < n && k + 1 < cap && k < 64; i++) {
+        char c = b[i];
+        out[k++] = (c >= 0x20 && c <= 0x7e && c != '\'' && c != '\\') ? c : '_';
+    }
+    out[k] = '\0';
+}
+
+int q2n_export_knot_mults(const double *knots, int n, double *kn, int *mult)
+{
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        if (m > 0 && knots[i] == kn[m - 1]) mult[m - 1]++;
+        else { kn[m] = knots[i]; mult[m] = 1; m++; }
+    }
+    return m;
+}
+
+/* ---------------------------------------------------------------- patch sides */
+
+void q2n_export_curve_free(q2n_export_curve *c)
+{
+    if (!c) return;
+    free(c->knots);
+    free(c->cp);
+    free(c->weights);
+    c->knots = c->cp = c->weights = NULL;
+}
+
+q2n_status q2n_export_side_curve(const q2n_bspline_surface *s, int side, q2n_export_curve *c)
+{
+    /* side 0: row j = 0; 2: row j = ncp_v-1 (along u); 1: column i = ncp_u-1; 3: column i = 0 (along v) */
+    int along_u = side == 0 || side == 2;
+    int n = along_u ? s->ncp_u : s->ncp_v, deg = along_u ? s->deg_u : s->deg_v;
+    const double *kn = along_u ? s->knots_u : s->knots_v;
+    c->deg = deg;
+    c->ncp = n;
+    c->knots = malloc(sizeof(double) * (size_t)(n + deg + 1));
+    c->cp = malloc(sizeof(double) * 3 * (size_t)n);
+    c->weights = s->weights ? malloc(sizeof(double) * (size_t)n) : NULL;
+    if (!c->knots || !c->cp || (s->weights && !c->weights)) {
+        q2n_export_curve_free(c);
+        return Q2N_ERR_NOMEM;
+    }
+    memcpy(c->knots, kn, sizeof(double) * (size_t)(n + deg + 1));
+    for (int a = 0; a < n; a++) {
+        int i, j;
+        if (along_u) { i = a; j = side == 0 ? 0 : s->ncp_v - 1; }
+        else { j = a; i = side == 1 ? s->ncp_u - 1 : 0; }
+        size_t k = (size_t)j * (size_t)s->ncp_u + (size_t)i;
+        memcpy(c->cp + 3 * a, s->cp + 3 * k, 3 * sizeof(double));
+        if (c->weights) c->weights[a] = s->weights[k];
+    }
+    return Q2N_OK;
+}
+
+/* Point of patch k on side i at parameter t along the half-edge's direction (origin -> dest):
+ * side 0: (t,0), 1: (1,t), 2: (1-t,1), 3: (0,1-t). */
+static void side_point(const q2n_bspline_surface *s, int side, double t, double p[3])
+{
+    static const double o[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    static const double d[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    q2n_bspline_eval(s, o[side][0] + t * d[side][0], o[side][1] + t * d[side][1], p, NULL, NULL);
+}
+
+/* ---------------------------------------------------------------- topology */
+
+void q2n_export_topo_free(q2n_export_topo *t)
+{
+    if (!t) return;
+    if (t->edge_curve)
+        for (int e = 0; e < t->ne; e++) q2n_export_curve_free(&t->edge_curve[e]);
+    free(t->edge_curve);
+    free(t->vpos);
+    free(t->vused);
+    free(t->edge_v);
+    free(t->he_sense);
+    free(t->face_comp);
+    free(t->comp_closed);
+    memset(t, 0, sizeof *t);
+}
+
+static int uf_find(int *parent, int x)
+{
+    while (parent[x] != x) { parent[x] = parent[parent[x]]; x = parent[x]; }
+    return x;
+}
+
+static q2n_status check_model(const q2n_nurbs_model *m, q2n_error *err)
+{
+    if (!m || !m->mesh || !m->patches) return q2n_error_set(err, Q2N_ERR_ARG, "export: empty model");
+    const q2n_mesh *me = m->mesh;
+    if (m->n != me->nf)
+        return q2n_error_set(err, Q2N_ERR_ARG, "export: %d patches for %d mesh faces", m->n, me->nf);
+    for (int f = 0; f < me->nf; f++) {
+        if (q2n_face_size(me, f) != 4)
+            return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "export: face %d has %d vertices (quads only)", f,
+                                 q2n_face_size(me, f));
+        q2n_error e2;
+        if (q2n_bspline_check(&m->patches[f], &e2) != Q2N_OK)
+            return q2n_error_set(err, Q2N_ERR_ARG, "export: patch %d: %s", f, e2.message);
+    }
+    if (!(m->tol_abs >= 0.0) || !isfinite(m->tol_abs))
+        return q2n_error_set(err, Q2N_ERR_ARG, "export: tolerance %g is not a finite value >= 0", m->tol_abs);
+    return Q2N_OK;
+}
+
+/* Both patches of every interior edge must agree along it (samples t = j/8) and every corner must
+ * sit on its vertex's first-seen position, within the resolution. */
+static q2n_status check_watertight(const q2n_nurbs_model *m, q2n_export_topo *t, q2n_error *err)
+{
+    const q2n_mesh *me = m->mesh;
+    double tol = 10.0 * t->resolution;
+    for (int e = 0; e < me->ne; e++) {
+        int h = me->edge_he[e], g = me->he_twin[h];
+        if (g < 0) continue;
+        int fh = me->he_face[h], fg = me->he_face[g];
+        int sh = h - me->face_start[fh], sg = g - me->face_start[fg];
+        for (int j = 0; j <= 8; j++) {
+            double a[3], b[3];
+            side_point(&m->patches[fh], sh, j / 8.0, a);
+            side_point(&m->patches[fg], sg, 1.0 - j / 8.0, b);
+            double d = q2n_v3_dist(a, b);
+            if (!(d <= tol))
+                return q2n_error_set(err, Q2N_ERR_GEOMETRY,
+                                     "export: edge %d (faces %d and %d) is not watertight: the two patch "
+                                     "boundaries differ by %.3g at t = %g (resolution %.3g)", e, fh, fg, d, j / 8.0,
+                                     t->resolution);
+        }
+    }
+    for (int h = 0; h < me->nh; h++) {
+        int f = me->he_face[h], side = h - me->face_start[f], v = me->face_vert[h];
+        double p[3];
+        side_point(&m->patches[f], side, 0.0, p);
+        double d = q2n_v3_dist(p, t->vpos + 3 * v);
+        if (!(d <= tol))
+            return q2n_error_set(err, Q2N_ERR_GEOMETRY,
+                                 "export: patch corners at vertex %d differ by %.3g (face %d corner %d)", v, d, f, side);
+    }
+    return Q2N_OK;
+}
+
+static double model_bbox_diag(const q2n_nurbs_model *m, double *max_coord)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, mc = 0.0;
+    for (int k = 0; k < m->n; k++) {
+        const q2n_bspline_surface *s = &m->patches[k];
+        for (int i = 0; i < s->ncp_u * s->ncp_v; i++)
+            for (int c = 0; c < 3; c++) {
+                double x = s->cp[3 * i + c];
+                lo[c] = fmin(lo[c], x);
+                hi[c] = fmax(hi[c], x);
+                mc = fmax(mc, fabs(x));
+            }
+    }
+    *max_coord = mc;
+    double d[3];
+    q2n_v3_sub(d, hi, lo);
+    return q2n_v3_norm(d);
+}
+
+q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q2n_error *err)
+{
+    memset(t, 0, sizeof *t);
+    q2n_status st = check_model(m, err);
+    if (st != Q2N_OK) return st;
+    const q2n_mesh *me = m->mesh;
+    t->nv = me->nv; t->ne = me->ne; t->nf = me->nf;
+    double diag = model_bbox_diag(m, &t->max_coord);
+    t->resolution = m->tol_abs > 0.0 ? m->tol_abs : 1e-9 * (diag > 0.0 ? diag : 1.0);
+    t->vpos = calloc(3 * (size_t)me->nv, sizeof(double));
+    t->vused = calloc((size_t)me->nv, sizeof(int));
+    t->edge_curve = calloc((size_t)me->ne, sizeof(q2n_export_curve));
+    t->edge_v = malloc(sizeof(int) * 2 * (size_t)me->ne);
+    t->he_sense = malloc(sizeof(int) * (size_t)me->nh);
+    t->face_comp = malloc(sizeof(int) * (size_t)me->nf);
+    int *parent = malloc(sizeof(int) * (size_t)me->nf);
+    if (!t->vpos || !t->vused || !t->edge_curve || !t->edge_v || !t->he_sense || !t->face_comp || !parent) {
+        free(parent);
+        q2n_export_topo_free(t);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "export: out of memory (%d faces)", me->nf);
+    }
+    /* vertices: the corner of the first patch that uses each vertex */
+    for (int h = 0; h < me->nh; h++) {
+        int v = me->face_vert[h], f = me->he_face[h];
+        if (t->vused[v]) continue;
+        t->vused[v] = 1;
+        side_point(&m->patches[f], h - me->face_start[f], 0.0, t->vpos + 3 * v);
+    }
+    st = check_watertight(m, t, err);
+    /* edges: the boundary of the patch of edge_he[e], in that patch's parameter direction */
+    for (int e = 0; e < me->ne && st == Q2N_OK; e++) {
+        int h = me->edge_he[e], f = me->he_face[h], side = h - me->face_start[f];
+        if (q2n_export_side_curve(&m->patches[f], side, &t->edge_curve[e]) != Q2N_OK)
+            st = q2n_error_set(err, Q2N_ERR_NOMEM, "export: out of memory (edge %d)", e);
+        int fwd = side < 2; /* sides 0, 1 run along u / v increasing = origin -> dest */
+        t->edge_v[2 * e] = fwd ? q2n_he_origin(me, h) : q2n_he_dest(me, h);
+        t->edge_v[2 * e + 1] = fwd ? q2n_he_dest(me, h) : q2n_he_origin(me, h);
+    }
+    for (int h = 0; h < me->nh && st == Q2N_OK; h++)
+        t->he_sense[h] = q2n_he_origin(me, h) == t->edge_v[2 * me->he_edge[h]];
+    /* connected components (union-find over interior edges), numbered in face order */
+    for (int f = 0; f < me->nf; f++) parent[f] = f;
+    for (int h = 0; h < me->nh; h++) {
+        int g = me->he_twin[h];
+        if (g < 0) continue;
+        int a = uf_find(parent, me->he_face[h]), b = uf_find(parent, me->he_face[g]);
+        if (a != b) parent[a > b ? a : b] = a < b ? a : b;
+    }
+    for (int f = 0; f < me->nf; f++) t->face_comp[f] = -1;
+    int *root_comp = parent; /* reuse: map roots to component numbers in a second array */
+    int *rc = malloc(sizeof(int) * (size_t)me->nf);
+    t->comp_closed = malloc(sizeof(int) * (size_t)me->nf);
+    if (!rc || !t->comp_closed) {
+        free(rc); free(parent);
+        q2n_export_topo_free(t);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "export: out of memory (%d faces)", me->nf);
+    }
+    for (int f = 0; f < me->nf; f++) rc[f] = -1;
+    for (int f = 0; f < me->nf; f++) {
+        int r = uf_find(root_comp, f);
+        if (rc[r] < 0) { rc[r] = t->ncomp; t->comp_closed[t->ncomp] = 1; t->ncomp++; }
+        t->face_comp[f] = rc[r];
+    }
+    for (int h = 0; h < me->nh; h++)
+        if (me->he_twin[h] < 0) t->comp_closed[t->face_comp[me->he_face[h]]] = 0;
+    t->all_closed = 1;
+    for (int c = 0; c < t->ncomp; c++) t->all_closed &= t->comp_closed[c];
+    free(rc);
+    free(parent);
+    if (st != Q2N_OK) q2n_export_topo_free(t);
+    return st;
+}

@@ -1,0 +1,80 @@
+/* export_internal.h — what the IGES and STEP writers share (not public): a growable text buffer,
+ * the exchange-format real formatter, atomic file output, and the B-rep topology both formats
+ * write (one edge curve per mesh edge taken from a patch boundary, one vertex per mesh vertex,
+ * connected components and whether each is closed). */
+#ifndef Q2N_IGES_EXPORT_INTERNAL_H
+#define Q2N_IGES_EXPORT_INTERNAL_H
+
+#include <stddef.h>
+
+#include "iges/export.h"
+
+/* ---- text buffer: appends never fail visibly; `oom` is checked once at the end ---- */
+typedef struct q2n_strbuf {
+    char *data;
+    size_t len, cap;
+    int oom;
+} q2n_strbuf;
+
+void q2n_strbuf_putn(q2n_strbuf *b, const char *s, size_t n);
+void q2n_strbuf_puts(q2n_strbuf *b, const char *s);
+void q2n_strbuf_putc(q2n_strbuf *b, char c);
+void q2n_strbuf_printf(q2n_strbuf *b, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+void q2n_strbuf_free(q2n_strbuf *b);
+
+/* A real as %.17g (round-trips exactly), made valid for IGES and STEP: always a '.', exponent 'E'
+ * (e.g. 1 -> "1.", 1e-05 -> "1.E-05", -0.25 -> "-0.25").  Independent of the C locale. */
+#define Q2N_REAL_CHARS 40
+void q2n_export_fmt_real(char out[Q2N_REAL_CHARS], double x);
+
+/* Write buf to path atomically (path.tmp, then rename); removes path.tmp on failure. */
+q2n_status q2n_export_write_atomic(const char *path, const char *buf, size_t len, q2n_error *err);
+
+/* Validate strings from the options (printable ASCII, <= 64 chars); NULL is fine. */
+q2n_status q2n_export_check_string(const char *s, const char *what, q2n_error *err);
+/* Base name of path without directory and extension into out (for product names). */
+void q2n_export_basename(const char *path, char *out, size_t cap);
+
+/* ---- B-rep topology shared by both writers ---- */
+typedef struct q2n_export_curve {
+    int deg, ncp;
+    double *knots;   /* ncp + deg + 1 */
+    double *cp;      /* 3 * ncp */
+    double *weights; /* ncp or NULL */
+} q2n_export_curve;
+
+typedef struct q2n_export_topo {
+    int nv, ne, nf;
+    double *vpos;          /* 3*nv: vertex positions (patch corners) */
+    int *vused;            /* nv: 1 when a face uses the vertex */
+    q2n_export_curve *edge_curve; /* ne: edge e's curve, parameter 0 at edge_v[2e], 1 at edge_v[2e+1] */
+    int *edge_v;           /* 2*ne */
+    int *he_sense;         /* nh: 1 when half-edge h runs along its edge curve's direction */
+    int *face_comp;        /* nf: connected component of each face */
+    int ncomp;
+    int *comp_closed;      /* ncomp: 1 when the component has no boundary edge */
+    int all_closed;        /* every component closed (=> solids) */
+    double max_coord;      /* largest |coordinate| of any control point (IGES global field 20) */
+    double resolution;     /* tol_abs, or 1e-9 * bbox diagonal when tol_abs <= 0 */
+} q2n_export_topo;
+
+/* Checks the model (n == nf, all quads, every patch passes q2n_bspline_check, the two patches of
+ * each interior edge agree along it within the resolution, shared corners agree) and builds the
+ * topology.  Errors name the face / edge. */
+q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q2n_error *err);
+void q2n_export_topo_free(q2n_export_topo *t);
+
+/* Boundary curve of patch k along side i (0: v=0, 1: u=1, 2: v=1, 3: u=0), in the patch's own
+ * parameter direction (u or v increasing).  Arrays malloc'ed into c. */
+q2n_status q2n_export_side_curve(const q2n_bspline_surface *s, int side, q2n_export_curve *c);
+void q2n_export_curve_free(q2n_export_curve *c);
+
+/* Distinct knots and multiplicities of a knot vector (STEP's form): returns the count; kn, mult
+ * hold at least n entries. */
+int q2n_export_knot_mults(const double *knots, int n, double *kn, int *mult);
+
+#endif

@@ -1,0 +1,394 @@
+/* iges_writer.c — IGES 5.3 writer for a q2n_nurbs_model (US PRO/IPO-100, 1996).
+ *
+ * File layout (§2.1): fixed 80-column records; columns 1-72 data, 73 the section letter
+ * (S, G, D, P, T), 74-80 the sequence number.  Directory entries (§2.2.4) are two records of ten
+ * 8-column fields; parameter data (§2.2.5) uses columns 1-64 with the entity's directory pointer
+ * in columns 66-72.  Entities written, in this order:
+ *   128 Rational B-Spline Surface (§4.24), one per patch, in patch order (DE 1, 3, 5, ...);
+ * unless iges_plain, the shared-edge B-rep of §4.139-4.149 after them:
+ *   126 Rational B-Spline Curve (§4.23), one per mesh edge (the patch boundary);
+ *   502 Vertex List form 1, 504 Edge List form 1 (one each);
+ *   508 Loop form 1 (4 edges, no parameter-space curves: receivers compute them), 510 Face
+ *   form 1, one per patch; 514 Shell (form 1 closed, 2 open) per connected component; 186
+ *   Manifold Solid B-Rep Object per closed component.
+ * Only the top-level entities (128s when plain, otherwise 186 / open 514) are independent;
+ * the rest are physically dependent (status digits 3-4 = 01). */
+#include "iges/export_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { IGES_PCOLS = 64, IGES_GCOLS = 72 };
+
+typedef struct iges_ent {
+    int type, form, dependent;
+    int pstart, pcount;   /* first parameter record and number of records */
+} iges_ent;
+
+/* Parameter writer: tokens are packed into 64-column records and never split (a %.17g real is
+ * at most 25 characters).  The token before the next one gets ',', the last one ';'. */
+typedef struct iges_pw {
+    q2n_strbuf *b;
+    int line_len;       /* characters in the current record */
+    int pseq;           /* last P sequence number written */
+    int de;             /* directory pointer of the entity being written */
+    char pending[Q2N_REAL_CHARS + 8];
+    int has_pending;
+} iges_pw;
+
+static void pw_end_line(iges_pw *w)
+{
+    for (int i = w->line_len; i < IGES_PCOLS; i++) q2n_strbuf_putc(w->b, ' ');
+    q2n_strbuf_printf(w->b, " %7dP%7d\n", w->de, ++w->pseq);
+    w->line_len = 0;
+}
+
+static void pw_flush(iges_pw *w, char delim)
+{
+    if (!w->has_pending) return;
+    int n = (int)strlen(w->pending) + 1;
+    if (w->line_len + n > IGES_PCOLS) pw_end_line(w);
+    q2n_strbuf_puts(w->b, w->pending);
+    q2n_strbuf_putc(w->b, delim);
+    w->line_len += n;
+    w->has_pending = 0;
+}
+
+static void pw_token(iges_pw *w, const char *s)
+{
+    pw_flush(w, ',');
+    snprintf(w->pending, sizeof w->pending, "%s", s);
+    w->has_pending = 1;
+}
+
+static void pw_int(iges_pw *w, int x)
+{
+    char s[16];
+    snprintf(s, sizeof s, "%d", x);
+    pw_token(w, s);
+}
+
+static void pw_real(iges_pw *w, double x)
+{
+    char s[Q2N_REAL_CHARS];
+    q2n_export_fmt_real(s, x);
+    pw_token(w, s);
+}
+
+static void pw_begin(iges_pw *w, iges_ent *e, int de)
+{
+    w->de = de;
+    w->line_len = 0;
+    w->has_pending = 0;
+    e->pstart = w->pseq + 1;
+    pw_int(w, e->type);
+}
+
+static void pw_end(iges_pw *w, iges_ent *e)
+{
+    pw_flush(w, ';');
+    if (w->line_len > 0) pw_end_line(w);
+    e->pcount = w->pseq - e->pstart + 1;
+}
+
+/* 128: K1, K2, M1, M2, PROP1..5, knots S, knots T, weights, control points (u fastest), U0, U1, V0, V1 */
+static void write_128(iges_pw *w, const q2n_bspline_surface *s)
+{
+    int nu = s->ncp_u, nv = s->ncp_v;
+    pw_int(w, nu - 1); pw_int(w, nv - 1);
+    pw_int(w, s->deg_u); pw_int(w, s->deg_v);
+    pw_int(w, 0); pw_int(w, 0);                  /* not closed in u, v */
+    pw_int(w, s->weights ? 0 : 1);               /* PROP3: 1 = polynomial (all weights equal) */
+    pw_int(w, 0); pw_int(w, 0);                  /* not periodic */
+    for (int i = 0; i < nu + s->deg_u + 1; i++) pw_real(w, s->knots_u[i]);
+    for (int i = 0; i < nv + s->deg_v + 1; i++) pw_real(w, s->knots_v[i]);
+    size_t n = (size_t)nu * (size_t)nv;
+    for (size_t k = 0; k < n; k++) pw_real(w, s->weights ? s->weights[k] : 1.0);
+    for (size_t k = 0; k < n; k++)
+        for (int c = 0; c < 3; c++) pw_real(w, s->cp[3 * k + c]);
+    pw_real(w, s->knots_u[s->deg_u]); pw_real(w, s->knots_u[nu]);
+    pw_real(w, s->knots_v[s->deg_v]); pw_real(w, s->knots_v[nv]);
+}
+
+/* 126: K, M, PROP1..4, knots, weights, control points, V0, V1, unit normal (unused: not planar) */
+static void write_126(iges_pw *w, const q2n_export_curve *c)
+{
+    pw_int(w, c->ncp - 1); pw_int(w, c->deg);
+    pw_int(w, 0); pw_int(w, 0);                  /* not planar, not closed */
+    pw_int(w, c->weights ? 0 : 1);               /* polynomial */
+    pw_int(w, 0);                                /* not periodic */
+    for (int i = 0; i < c->ncp + c->deg + 1; i++) pw_real(w, c->knots[i]);
+    for (int i = 0; i < c->ncp; i++) pw_real(w, c->weights ? c->weights[i] : 1.0);
+    for (int i = 0; i < 3 * c->ncp; i++) pw_real(w, c->cp[i]);
+    pw_real(w, c->knots[c->deg]); pw_real(w, c->knots[c->ncp]);
+    pw_real(w, 0.0); pw_real(w, 0.0); pw_real(w, 0.0);
+}
+
+/* Hollerith string nHxxx (§2.2.2.4) */
+static void hollerith(char *out, size_t cap, const char *s)
+{
+    snprintf(out, cap, "%zuH%s", strlen(s), s);
+}
+
+/* Global section (§2.2.4): 26 fields packed into 72-column G records. */
+static void write_global(q2n_strbuf *b, const q2n_export_options *opt, const char *name, const q2n_export_topo *t)
+{
+    char f[26][160];
+    int nf = 0;
+    hollerith(f[nf++], sizeof f[0], ",");                       /* 1 parameter delimiter */
+    hollerith(f[nf++], sizeof f[0], ";");                       /* 2 record delimiter */
+    hollerith(f[nf++], sizeof f[0], name);                      /* 3 product id (sender) */
+    hollerith(f[nf++], sizeof f[0], name);                      /* 4 file name */
+    hollerith(f[nf++], sizeof f[0], "quad2nurbs");              /* 5 native system */
+    hollerith(f[nf++], sizeof f[0], "quad2nurbs IGES writer");  /* 6 preprocessor version */
+    snprintf(f[nf++], sizeof f[0], "32");                       /* 7 integer bits */
+    snprintf(f[nf++], sizeof f[0], "308");                      /* 8-11 float ranges: IEEE double */
+    snprintf(f[nf++], sizeof f[0], "15");
+    snprintf(f[nf++], sizeof f[0], "308");
+    snprintf(f[nf++], sizeof f[0], "15");
+    hollerith(f[nf++], sizeof f[0], name);                      /* 12 product id (receiver) */
+    snprintf(f[nf++], sizeof f[0], "1.");                       /* 13 model space scale */
+    snprintf(f[nf++], sizeof f[0], "%d", opt->units == Q2N_UNITS_IN ? 1 : 2); /* 14 units flag */
+    hollerith(f[nf++], sizeof f[0], opt->units == Q2N_UNITS_IN ? "INCH" : "MM"); /* 15 units name */
+    snprintf(f[nf++], sizeof f[0], "1");                        /* 16 line weight gradations */
+    q2n_export_fmt_real(f[nf++], 0.0);                          /* 17 max line width: unused */
+    if (opt->timestamp) hollerith(f[nf++], sizeof f[0], opt->timestamp); /* 18 date of generation */
+    else f[nf++][0] = '\0';                                     /*    omitted: deterministic output */
+    q2n_export_fmt_real(f[nf++], t->resolution);                /* 19 minimum resolution */
+    q2n_export_fmt_real(f[nf++], t->max_coord);                 /* 20 max coordinate value */
+    hollerith(f[nf++], sizeof f[0], opt->author ? opt->author : "");          /* 21 author */
+    hollerith(f[nf++], sizeof f[0], opt->organization ? opt->organization : ""); /* 22 organization */
+    snprintf(f[nf++], sizeof f[0], "11");                       /* 23 version: 5.3 */
+    snprintf(f[nf++], sizeof f[0], "0");                        /* 24 drafting standard: none */
+    f[nf++][0] = '\0';                                          /* 25 model date: omitted */
+    f[nf++][0] = '\0';                                          /* 26 protocol: none */
+    /* a Hollerith "0H" is not valid: empty strings are written as defaulted (empty) fields */
+    for (int i = 0; i < nf; i++)
+        if (strcmp(f[i], "0H") == 0) f[i][0] = '\0';
+    int len = 0, seq = 0;
+    for (int i = 0; i < nf; i++) {
+        int n = (int)strlen(f[i]) + 1;
+        if (len + n > IGES_GCOLS) {
+            for (; len < IGES_GCOLS; len++) q2n_strbuf_putc(b, ' ');
+            q2n_strbuf_printf(b, "G%7d\n", ++seq);
+            len = 0;
+        }
+        q2n_strbuf_puts(b, f[i]);
+        q2n_strbuf_putc(b, i == nf - 1 ? ';' : ',');
+        len += n;
+    }
+    for (; len < IGES_GCOLS; len++) q2n_strbuf_putc(b, ' ');
+    q2n_strbuf_printf(b, "G%7d\n", ++seq);
+}
+
+static void write_directory(q2n_strbuf *b, const iges_ent *ents, int n)
+{
+    for (int k = 0; k < n; k++) {
+        const iges_ent *e = &ents[k];
+        /* status: blank 00, subordinate 00/01, entity use 00 (geometry), hierarchy 00 */
+        q2n_strbuf_printf(b, "%8d%8d%8d%8d%8d%8d%8d%8d00%02d0000D%7d\n", e->type, e->pstart, 0, 0, 0, 0, 0, 0,
+                          e->dependent ? 1 : 0, 2 * k + 1);
+        q2n_strbuf_printf(b, "%8d%8d%8d%8d%8d%8s%8s%8s%8dD%7d\n", e->type, 0, 0, e->pcount, e->form, "", "", "", 0,
+                          2 * k + 2);
+    }
+}
+
+/* Entity indices of the B-rep part; DE pointer of index k is 2k+1. */
+typedef struct iges_layout {
+    int n128, c126, i502, i504, c508, c510, c514, c186, nent;
+} iges_layout;
+
+static iges_layout layout(const q2n_export_topo *t, int plain)
+{
+    iges_layout L;
+    int nclosed = 0;
+    for (int c = 0; c < t->ncomp; c++) nclosed += t->comp_closed[c];
+    L.n128 = t->nf;
+    if (plain) { L.nent = t->nf; L.c126 = L.i502 = L.i504 = L.c508 = L.c510 = L.c514 = L.c186 = L.nent; return L; }
+    L.c126 = L.n128;
+    L.i502 = L.c126 + t->ne;
+    L.i504 = L.i502 + 1;
+    L.c508 = L.i504 + 1;
+    L.c510 = L.c508 + t->nf;
+    L.c514 = L.c510 + t->nf;
+    L.c186 = L.c514 + t->ncomp;
+    L.nent = L.c186 + nclosed;
+    return L;
+}
+
+#define DE(k) (2 * (k) + 1)
+
+static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q2n_nurbs_model *m,
+                       const q2n_export_topo *t)
+{
+    const q2n_mesh *me = m->mesh;
+    for (int e = 0; e < t->ne; e++) {
+        iges_ent *en = &ents[L->c126 + e];
+        *en = (iges_ent){126, 0, 1, 0, 0};
+        pw_begin(w, en, DE(L->c126 + e));
+        write_126(w, &t->edge_curve[e]);
+        pw_end(w, en);
+    }
+    /* 502: all mesh vertices (index v+1); unused ones are harmless but keep the numbering simple */
+    iges_ent *vl = &ents[L->i502];
+    *vl = (iges_ent){502, 1, 1, 0, 0};
+    pw_begin(w, vl, DE(L->i502));
+    pw_int(w, t->nv);
+    for (int i = 0; i < 3 * t->nv; i++) pw_real(w, t->vpos[i]);
+    pw_end(w, vl);
+    /* 504: edge e (index e+1) = curve, start vertex, end vertex */
+    iges_ent *el = &ents[L->i504];
+    *el = (iges_ent){504, 1, 1, 0, 0};
+    pw_begin(w, el, DE(L->i504));
+    pw_int(w, t->ne);
+    for (int e = 0; e < t->ne; e++) {
+        pw_int(w, DE(L->c126 + e));
+        pw_int(w, DE(L->i502)); pw_int(w, t->edge_v[2 * e] + 1);
+        pw_int(w, DE(L->i502)); pw_int(w, t->edge_v[2 * e + 1] + 1);
+    }
+    pw_end(w, el);
+    /* 508 loops: edge type 0, list, index, orientation (1 = along the curve), 0 p-curves */
+    for (int f = 0; f < t->nf; f++) {
+        iges_ent *en = &ents[L->c508 + f];
+        *en = (iges_ent){508, 1, 1, 0, 0};
+        pw_begin(w, en, DE(L->c508 + f));
+        pw_int(w, 4);
+        for (int i = 0; i < 4; i++) {
+            int h = q2n_face_he(me, f, i);
+            pw_int(w, 0); pw_int(w, DE(L->i504)); pw_int(w, me->he_edge[h] + 1);
+            pw_int(w, t->he_sense[h]); pw_int(w, 0);
+        }
+        pw_end(w, en);
+    }
+    /* 510 faces: surface, one loop, outer-loop flag 1 */
+    for (int f = 0; f < t->nf; f++) {
+        iges_ent *en = &ents[L->c510 + f];
+        *en = (iges_ent){510, 1, 1, 0, 0};
+        pw_begin(w, en, DE(L->c510 + f));
+        pw_int(w, DE(f)); pw_int(w, 1); pw_int(w, 1); pw_int(w, DE(L->c508 + f));
+        pw_end(w, en);
+    }
+    /* 514 shells per component (faces agree with their surfaces: flag 1); 186 for closed ones */
+    int k186 = L->c186;
+    for (int c = 0; c < t->ncomp; c++) {
+        int n = 0;
+        for (int f = 0; f < t->nf; f++) n += t->face_comp[f] == c;
+        iges_ent *en = &ents[L->c514 + c];
+        *en = (iges_ent){514, t->comp_closed[c] ? 1 : 2, t->comp_closed[c], 0, 0};
+        pw_begin(w, en, DE(L->c514 + c));
+        pw_int(w, n);
+        for (int f = 0; f < t->nf; f++)
+            if (t->face_comp[f] == c) { pw_int(w, DE(L->c510 + f)); pw_int(w, 1); }
+        pw_end(w, en);
+        if (!t->comp_closed[c]) continue;
+        iges_ent *so = &ents[k186];
+        *so = (iges_ent){186, 0, 0, 0, 0};
+        pw_begin(w, so, DE(k186));
+        pw_int(w, DE(L->c514 + c)); pw_int(w, 1); pw_int(w, 0);
+        pw_end(w, so);
+        k186++;
+    }
+}
+
+static q2n_status iges_build(const q2n_nurbs_model *m, const q2n_export_topo *t, const q2n_export_options *opt,
+                             const char *name, q2n_strbuf *out)
+{
+    iges_layout L = layout(t, opt->iges_plain);
+    iges_ent *ents = calloc((size_t)L.nent, sizeof(iges_ent));
+    q2n_strbuf pb = {0}, b = {0};
+    if (!ents) return Q2N_ERR_NOMEM;
+    iges_pw w = {&pb, 0, 0, 0, {0}, 0};
+    for (int f = 0; f < t->nf; f++) {
+        ents[f] = (iges_ent){128, 0, !opt->iges_plain, 0, 0};
+        pw_begin(&w, &ents[f], DE(f));
+        write_128(&w, &m->patches[f]);
+        pw_end(&w, &ents[f]);
+    }
+    if (!opt->iges_plain) write_brep(&w, ents, &L, m, t);
+
+    /* Start section: one line of free text */
+    char start[80];
+    snprintf(start, sizeof start, "quad2nurbs: %d B-spline surface(s), one per mesh face", t->nf);
+    q2n_strbuf_printf(&b, "%-72.72sS%7d\n", start, 1);
+    size_t g0 = b.len;
+    write_global(&b, opt, name, t);
+    int gcount = (int)((b.len - g0) / 81);
+    write_directory(&b, ents, L.nent);
+    q2n_strbuf_putn(&b, pb.data ? pb.data : "", pb.len);
+    q2n_strbuf_printf(&b, "S%7dG%7dD%7dP%7d%40sT%7d\n", 1, gcount, 2 * L.nent, w.pseq, "", 1);
+    int oom = b.oom || pb.oom;
+    q2n_strbuf_free(&pb);
+    free(ents);
+    *out = b;
+    return oom ? Q2N_ERR_NOMEM : Q2N_OK;
+}
+
+static q2n_status iges_text(const q2n_nurbs_model *m, const q2n_export_options *opts, const char *path,
+                            q2n_strbuf *out, q2n_error *err)
+{
+    q2n_export_options def = {0};
+    const q2n_export_options *opt = opts ? opts : &def;
+    memset(out, 0, sizeof *out);
+    q2n_status st;
+    if ((st = q2n_export_check_string(opt->author, "author", err)) != Q2N_OK) return st;
+    if ((st = q2n_export_check_string(opt->organization, "organization", err)) != Q2N_OK) return st;
+    if ((st = q2n_export_check_string(opt->timestamp, "timestamp", err)) != Q2N_OK) return st;
+    if ((st = q2n_export_check_string(opt->name, "name", err)) != Q2N_OK) return st;
+    if (opt->units != Q2N_UNITS_MM && opt->units != Q2N_UNITS_IN)
+        return q2n_error_set(err, Q2N_ERR_ARG, "export: unknown units %d", (int)opt->units);
+    char name[72];
+    if (opt->name) snprintf(name, sizeof name, "%s", opt->name);
+    else q2n_export_basename(path ? path : "quad2nurbs", name, sizeof name);
+    q2n_export_topo t;
+    if ((st = q2n_export_topo_build(m, &t, err)) != Q2N_OK) return st;
+    st = iges_build(m, &t, opt, name, out);
+    q2n_export_topo_free(&t);
+    if (st != Q2N_OK) {
+        q2n_strbuf_free(out);
+        return q2n_error_set(err, st, "%s: out of memory while writing IGES", path ? path : "IGES");
+    }
+    return Q2N_OK;
+}
+
+q2n_status q2n_export_iges_text(const q2n_nurbs_model *m, const q2n_export_options *opts, char **text,
+                                size_t *len, q2n_error *err)
+{
+    q2n_strbuf b;
+    q2n_status st = iges_text(m, opts, NULL, &b, err);
+    *text = st == Q2N_OK ? b.data : NULL;
+    *len = st == Q2N_OK ? b.len : 0;
+    return st;
+}
+
+q2n_status q2n_export_iges(const q2n_nurbs_model *m, const q2n_export_options *opts, const char *path,
+                           q2n_error *err)
+{
+    q2n_strbuf b;
+    q2n_status st = iges_text(m, opts, path, &b, err);
+    if (st == Q2N_OK) st = q2n_export_write_atomic(path, b.data, b.len, err);
+    q2n_strbuf_free(&b);
+    return st;
+}
+
+static int ends_with_ci(const char *s, const char *suf)
+{
+    size_t n = strlen(s), k = strlen(suf);
+    if (k > n) return 0;
+    for (size_t i = 0; i < k; i++) {
+        char a = s[n - k + i], c = suf[i];
+        if (a >= 'A' && a <= 'Z') a = (char)(a - 'A' + 'a');
+        if (a != c) return 0;
+    }
+    return 1;
+}
+
+q2n_status q2n_export_file(const q2n_nurbs_model *m, const q2n_export_options *opts, const char *path,
+                           q2n_error *err)
+{
+    if (!path) return q2n_error_set(err, Q2N_ERR_ARG, "export: no output path");
+    if (ends_with_ci(path, ".igs") || ends_with_ci(path, ".iges")) return q2n_export_iges(m, opts, path, err);
+    if (ends_with_ci(path, ".step") || ends_with_ci(path, ".stp")) return q2n_export_step(m, opts, path, err);
+    return q2n_error_set(err, Q2N_ERR_ARG, "%s: unknown output format (use .igs, .iges, .step or .stp)", path);
+}

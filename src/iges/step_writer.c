@@ -1,0 +1,353 @@
+/* step_writer.c — STEP AP214 (ISO 10303-21 exchange structure) writer for a q2n_nurbs_model.
+ *
+ * Entity graph (ISO 10303-42 topology/geometry, AP214 product structure):
+ *   patch  -> B_SPLINE_SURFACE_WITH_KNOTS (complex rational form when weights are given)
+ *   edge   -> EDGE_CURVE(VERTEX_POINT, VERTEX_POINT, B_SPLINE_CURVE_WITH_KNOTS, .T.), one per mesh edge
+ *   face   -> ADVANCED_FACE((FACE_OUTER_BOUND(EDGE_LOOP(4 ORIENTED_EDGEs), .T.)), surface, .T.)
+ *   comp.  -> CLOSED_SHELL -> MANIFOLD_SOLID_BREP (all components closed) or
+ *             OPEN_SHELL / CLOSED_SHELL -> SHELL_BASED_SURFACE_MODEL
+ *   root   -> ADVANCED_BREP_SHAPE_REPRESENTATION / MANIFOLD_SURFACE_SHAPE_REPRESENTATION in a
+ *             GEOMETRIC_REPRESENTATION_CONTEXT with units and GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT,
+ *             tied to PRODUCT / PRODUCT_DEFINITION by SHAPE_DEFINITION_REPRESENTATION.
+ * The face loop runs v0 -> v1 -> v2 -> v3, counter-clockwise about Su x Sv, so every face keeps
+ * the surface's sense and the mesh orientation becomes the shell orientation. */
+#include "iges/export_internal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct step_out {
+    q2n_strbuf b;
+    int next_id;
+} step_out;
+
+static int step_begin(step_out *o)
+{
+    int id = o->next_id++;
+    q2n_strbuf_printf(&o->b, "#%d=", id);
+    return id;
+}
+
+static void put_real(q2n_strbuf *b, double x)
+{
+    char s[Q2N_REAL_CHARS];
+    q2n_export_fmt_real(s, x);
+    q2n_strbuf_puts(b, s);
+}
+
+static int step_point(step_out *o, const double p[3])
+{
+    int id = step_begin(o);
+    q2n_strbuf_puts(&o->b, "CARTESIAN_POINT('',(");
+    for (int c = 0; c < 3; c++) {
+        if (c) q2n_strbuf_putc(&o->b, ',');
+        put_real(&o->b, p[c]);
+    }
+    q2n_strbuf_puts(&o->b, "));\n");
+    return id;
+}
+
+static void put_id_list(q2n_strbuf *b, const int *ids, int n)
+{
+    q2n_strbuf_putc(b, '(');
+    for (int i = 0; i < n; i++) q2n_strbuf_printf(b, i ? ",#%d" : "#%d", ids[i]);
+    q2n_strbuf_putc(b, ')');
+}
+
+/* "(mults),(knots)" of a clamped knot vector */
+static int put_knots(q2n_strbuf *b, const double *knots, int n, int want_mults)
+{
+    double *kn = malloc(sizeof(double) * (size_t)n);
+    int *mu = malloc(sizeof(int) * (size_t)n);
+    if (!kn || !mu) { free(kn); free(mu); b->oom = 1; return 0; }
+    int m = q2n_export_knot_mults(knots, n, kn, mu);
+    q2n_strbuf_putc(b, '(');
+    for (int i = 0; i < m; i++) {
+        if (i) q2n_strbuf_putc(b, ',');
+        if (want_mults) q2n_strbuf_printf(b, "%d", mu[i]);
+        else put_real(b, kn[i]);
+    }
+    q2n_strbuf_putc(b, ')');
+    free(kn);
+    free(mu);
+    return m;
+}
+
+/* B_SPLINE_CURVE_WITH_KNOTS (or the rational complex entity) through fresh CARTESIAN_POINTs */
+static int step_curve(step_out *o, const q2n_export_curve *c)
+{
+    int *pts = malloc(sizeof(int) * (size_t)c->ncp);
+    if (!pts) { o->b.oom = 1; return 0; }
+    for (int i = 0; i < c->ncp; i++) pts[i] = step_point(o, c->cp + 3 * i);
+    int id = step_begin(o);
+    q2n_strbuf *b = &o->b;
+    int nk = c->ncp + c->deg + 1;
+    if (!c->weights) {
+        q2n_strbuf_printf(b, "B_SPLINE_CURVE_WITH_KNOTS('',%d,", c->deg);
+        put_id_list(b, pts, c->ncp);
+        q2n_strbuf_puts(b, ",.UNSPECIFIED.,.F.,.F.,");
+        put_knots(b, c->knots, nk, 1);
+        q2n_strbuf_putc(b, ',');
+        put_knots(b, c->knots, nk, 0);
+        q2n_strbuf_puts(b, ",.UNSPECIFIED.);\n");
+    } else {
+        /* complex instance: partial entity types in alphabetical order (ISO 10303-21 §11.2.5.3) */
+        q2n_strbuf_printf(b, "(BOUNDED_CURVE()B_SPLINE_CURVE(%d,", c->deg);
+        put_id_list(b, pts, c->ncp);
+        q2n_strbuf_puts(b, ",.UNSPECIFIED.,.F.,.F.)B_SPLINE_CURVE_WITH_KNOTS(");
+        put_knots(b, c->knots, nk, 1);
+        q2n_strbuf_putc(b, ',');
+        put_knots(b, c->knots, nk, 0);
+        q2n_strbuf_puts(b, ",.UNSPECIFIED.)CURVE()GEOMETRIC_REPRESENTATION_ITEM()RATIONAL_B_SPLINE_CURVE((");
+        for (int i = 0; i < c->ncp; i++) {
+            if (i) q2n_strbuf_putc(b, ',');
+            put_real(b, c->weights[i]);
+        }
+        q2n_strbuf_puts(b, "))REPRESENTATION_ITEM(''));\n");
+    }
+    free(pts);
+    return id;
+}
+
+/* B_SPLINE_SURFACE_WITH_KNOTS: control_points_list is a list over u of lists over v. */
+static int step_surface(step_out *o, const q2n_bspline_surface *s)
+{
+    size_t ncp = (size_t)s->ncp_u * (size_t)s->ncp_v;
+    int *pts = malloc(sizeof(int) * ncp);
+    if (!pts) { o->b.oom = 1; return 0; }
+    for (size_t k = 0; k < ncp; k++) pts[k] = step_point(o, s->cp + 3 * k);
+    int id = step_begin(o);
+    q2n_strbuf *b = &o->b;
+    int rational = s->weights != NULL;
+    if (rational) q2n_strbuf_printf(b, "(BOUNDED_SURFACE()B_SPLINE_SURFACE(%d,%d,(", s->deg_u, s->deg_v);
+    else q2n_strbuf_printf(b, "B_SPLINE_SURFACE_WITH_KNOTS('',%d,%d,(", s->deg_u, s->deg_v);
+    for (int i = 0; i < s->ncp_u; i++) {
+        q2n_strbuf_puts(b, i ? ",(" : "(");
+        for (int j = 0; j < s->ncp_v; j++)
+            q2n_strbuf_printf(b, j ? ",#%d" : "#%d", pts[(size_t)j * (size_t)s->ncp_u + (size_t)i]);
+        q2n_strbuf_putc(b, ')');
+    }
+    q2n_strbuf_puts(b, rational ? "),.UNSPECIFIED.,.F.,.F.,.F.)B_SPLINE_SURFACE_WITH_KNOTS("
+                                : "),.UNSPECIFIED.,.F.,.F.,.F.,");
+    put_knots(b, s->knots_u, s->ncp_u + s->deg_u + 1, 1);
+    q2n_strbuf_putc(b, ',');
+    put_knots(b, s->knots_v, s->ncp_v + s->deg_v + 1, 1);
+    q2n_strbuf_putc(b, ',');
+    put_knots(b, s->knots_u, s->ncp_u + s->deg_u + 1, 0);
+    q2n_strbuf_putc(b, ',');
+    put_knots(b, s->knots_v, s->ncp_v + s->deg_v + 1, 0);
+    if (!rational) {
+        q2n_strbuf_puts(b, ",.UNSPECIFIED.);\n");
+    } else {
+        q2n_strbuf_puts(b, ",.UNSPECIFIED.)GEOMETRIC_REPRESENTATION_ITEM()RATIONAL_B_SPLINE_SURFACE((");
+        for (int i = 0; i < s->ncp_u; i++) {
+            q2n_strbuf_puts(b, i ? ",(" : "(");
+            for (int j = 0; j < s->ncp_v; j++) {
+                if (j) q2n_strbuf_putc(b, ',');
+                put_real(b, s->weights[(size_t)j * (size_t)s->ncp_u + (size_t)i]);
+            }
+            q2n_strbuf_putc(b, ')');
+        }
+        q2n_strbuf_puts(b, "))REPRESENTATION_ITEM('')SURFACE());\n");
+    }
+    free(pts);
+    return id;
+}
+
+static void step_header(step_out *o, const q2n_export_options *opt, const char *name)
+{
+    q2n_strbuf *b = &o->b;
+    q2n_strbuf_puts(b, "ISO-10303-21;\nHEADER;\n");
+    q2n_strbuf_puts(b, "FILE_DESCRIPTION(('quad2nurbs NURBS surfaces, one face per mesh face'),'2;1');\n");
+    q2n_strbuf_printf(b, "FILE_NAME('%s','%s',('%s'),('%s'),'quad2nurbs','quad2nurbs','');\n", name,
+                      opt->timestamp ? opt->timestamp : "", opt->author ? opt->author : "",
+                      opt->organization ? opt->organization : "");
+    q2n_strbuf_puts(b, "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\nDATA;\n");
+}
+
+/* Product structure, units and the representation context; returns the context id and the
+ * PRODUCT_DEFINITION_SHAPE id in *pds. */
+static int step_context(step_out *o, const q2n_export_options *opt, const char *name, double resolution, int *pds)
+{
+    q2n_strbuf *b = &o->b;
+    int app = step_begin(o);
+    q2n_strbuf_puts(b, "APPLICATION_CONTEXT('core data for automotive mechanical design processes');\n");
+    int apd = step_begin(o);
+    q2n_strbuf_printf(b, "APPLICATION_PROTOCOL_DEFINITION('international standard','automotive_design',2000,#%d);\n",
+                      app);
+    (void)apd;
+    int pc = step_begin(o);
+    q2n_strbuf_printf(b, "PRODUCT_CONTEXT('',#%d,'mechanical');\n", app);
+    int prod = step_begin(o);
+    q2n_strbuf_printf(b, "PRODUCT('%s','%s','',(#%d));\n", name, name, pc);
+    int prc = step_begin(o);
+    q2n_strbuf_printf(b, "PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#%d));\n", prod);
+    (void)prc;
+    int pdf = step_begin(o);
+    q2n_strbuf_printf(b, "PRODUCT_DEFINITION_FORMATION('','',#%d);\n", prod);
+    int pdc = step_begin(o);
+    q2n_strbuf_printf(b, "PRODUCT_DEFINITION_CONTEXT('part definition',#%d,'design');\n", app);
+    int pd = step_begin(o);
+    q2n_strbuf_printf(b, "PRODUCT_DEFINITION('design','',#%d,#%d);\n", pdf, pdc);
+    *pds = step_begin(o);
+    q2n_strbuf_printf(b, "PRODUCT_DEFINITION_SHAPE('','',#%d);\n", pd);
+
+    int len_unit = step_begin(o);
+    q2n_strbuf_puts(b, "(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n");
+    if (opt->units == Q2N_UNITS_IN) {
+        int lmu = step_begin(o);
+        q2n_strbuf_printf(b, "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),#%d);\n", len_unit);
+        int dim = step_begin(o);
+        q2n_strbuf_puts(b, "DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n");
+        len_unit = step_begin(o);
+        q2n_strbuf_printf(b, "(CONVERSION_BASED_UNIT('INCH',#%d)LENGTH_UNIT()NAMED_UNIT(#%d));\n", lmu, dim);
+    }
+    int ang = step_begin(o);
+    q2n_strbuf_puts(b, "(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n");
+    int sol = step_begin(o);
+    q2n_strbuf_puts(b, "(NAMED_UNIT(*)SI_UNIT($,.STERADIAN.)SOLID_ANGLE_UNIT());\n");
+    int unc = step_begin(o);
+    q2n_strbuf_puts(b, "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(");
+    put_real(b, resolution);
+    q2n_strbuf_printf(b, "),#%d,'distance_accuracy_value','fit tolerance');\n", len_unit);
+    int ctx = step_begin(o);
+    q2n_strbuf_printf(b, "(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#%d))"
+                         "GLOBAL_UNIT_ASSIGNED_CONTEXT((#%d,#%d,#%d))REPRESENTATION_CONTEXT('%s','3D'));\n",
+                      unc, len_unit, ang, sol, name);
+    return ctx;
+}
+
+static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t, const q2n_export_options *opt,
+                             const char *name, q2n_strbuf *out)
+{
+    const q2n_mesh *me = m->mesh;
+    step_out o = {{NULL, 0, 0, 0}, 1};
+    int *vid = calloc((size_t)t->nv, sizeof(int));
+    int *eid = malloc(sizeof(int) * (size_t)t->ne);
+    int *fid = malloc(sizeof(int) * (size_t)t->nf);
+    int *shell = malloc(sizeof(int) * (size_t)t->ncomp);
+    int *list = malloc(sizeof(int) * (size_t)(t->nf > t->ncomp ? t->nf : t->ncomp));
+    if (!vid || !eid || !fid || !shell || !list) o.b.oom = 1;
+    int pds = 0, ctx = 0;
+    if (!o.b.oom) {
+        step_header(&o, opt, name);
+        ctx = step_context(&o, opt, name, t->resolution, &pds);
+    }
+    for (int v = 0; v < t->nv && !o.b.oom; v++) {
+        if (!t->vused[v]) continue;
+        int p = step_point(&o, t->vpos + 3 * v);
+        vid[v] = step_begin(&o);
+        q2n_strbuf_printf(&o.b, "VERTEX_POINT('',#%d);\n", p);
+    }
+    for (int e = 0; e < t->ne && !o.b.oom; e++) {
+        int c = step_curve(&o, &t->edge_curve[e]);
+        eid[e] = step_begin(&o);
+        q2n_strbuf_printf(&o.b, "EDGE_CURVE('',#%d,#%d,#%d,.T.);\n", vid[t->edge_v[2 * e]], vid[t->edge_v[2 * e + 1]], c);
+    }
+    for (int f = 0; f < t->nf && !o.b.oom; f++) {
+        int srf = step_surface(&o, &m->patches[f]), oe[4];
+        for (int i = 0; i < 4; i++) {
+            int h = q2n_face_he(me, f, i);
+            oe[i] = step_begin(&o);
+            q2n_strbuf_printf(&o.b, "ORIENTED_EDGE('',*,*,#%d,%s);\n", eid[me->he_edge[h]], t->he_sense[h] ? ".T." : ".F.");
+        }
+        int loop = step_begin(&o);
+        q2n_strbuf_puts(&o.b, "EDGE_LOOP('',");
+        put_id_list(&o.b, oe, 4);
+        q2n_strbuf_puts(&o.b, ");\n");
+        int bound = step_begin(&o);
+        q2n_strbuf_printf(&o.b, "FACE_OUTER_BOUND('',#%d,.T.);\n", loop);
+        fid[f] = step_begin(&o);
+        q2n_strbuf_printf(&o.b, "ADVANCED_FACE('',(#%d),#%d,.T.);\n", bound, srf);
+    }
+    for (int c = 0; c < t->ncomp && !o.b.oom; c++) {
+        int n = 0;
+        for (int f = 0; f < t->nf; f++)
+            if (t->face_comp[f] == c) list[n++] = fid[f];
+        shell[c] = step_begin(&o);
+        q2n_strbuf_puts(&o.b, t->comp_closed[c] ? "CLOSED_SHELL('',": "OPEN_SHELL('',");
+        put_id_list(&o.b, list, n);
+        q2n_strbuf_puts(&o.b, ");\n");
+    }
+    if (!o.b.oom) {
+        int origin_pt = step_point(&o, (const double[3]){0, 0, 0});
+        int dz = step_begin(&o);
+        q2n_strbuf_puts(&o.b, "DIRECTION('',(0.,0.,1.));\n");
+        int dx = step_begin(&o);
+        q2n_strbuf_puts(&o.b, "DIRECTION('',(1.,0.,0.));\n");
+        int ax = step_begin(&o);
+        q2n_strbuf_printf(&o.b, "AXIS2_PLACEMENT_3D('',#%d,#%d,#%d);\n", origin_pt, dz, dx);
+        int rep;
+        if (t->all_closed) {
+            for (int c = 0; c < t->ncomp; c++) {
+                list[c] = step_begin(&o);
+                q2n_strbuf_printf(&o.b, "MANIFOLD_SOLID_BREP('',#%d);\n", shell[c]);
+            }
+            rep = step_begin(&o);
+            q2n_strbuf_printf(&o.b, "ADVANCED_BREP_SHAPE_REPRESENTATION('%s',(#%d", name, ax);
+            for (int c = 0; c < t->ncomp; c++) q2n_strbuf_printf(&o.b, ",#%d", list[c]);
+        } else {
+            int sbsm = step_begin(&o);
+            q2n_strbuf_puts(&o.b, "SHELL_BASED_SURFACE_MODEL('',");
+            put_id_list(&o.b, shell, t->ncomp);
+            q2n_strbuf_puts(&o.b, ");\n");
+            rep = step_begin(&o);
+            q2n_strbuf_printf(&o.b, "MANIFOLD_SURFACE_SHAPE_REPRESENTATION('%s',(#%d,#%d", name, ax, sbsm);
+        }
+        q2n_strbuf_printf(&o.b, "),#%d);\n", ctx);
+        step_begin(&o);
+        q2n_strbuf_printf(&o.b, "SHAPE_DEFINITION_REPRESENTATION(#%d,#%d);\n", pds, rep);
+        q2n_strbuf_puts(&o.b, "ENDSEC;\nEND-ISO-10303-21;\n");
+    }
+    free(vid); free(eid); free(fid); free(shell); free(list);
+    *out = o.b;
+    return o.b.oom ? Q2N_ERR_NOMEM : Q2N_OK;
+}
+
+static q2n_status step_text(const q2n_nurbs_model *m, const q2n_export_options *opts, const char *path,
+                            q2n_strbuf *out, q2n_error *err)
+{
+    q2n_export_options def = {0};
+    const q2n_export_options *opt = opts ? opts : &def;
+    memset(out, 0, sizeof *out);
+    q2n_status st;
+    if ((st = q2n_export_check_string(opt->author, "author", err)) != Q2N_OK) return st;
+    if ((st = q2n_export_check_string(opt->organization, "organization", err)) != Q2N_OK) return st;
+    if ((st = q2n_export_check_string(opt->timestamp, "timestamp", err)) != Q2N_OK) return st;
+    if ((st = q2n_export_check_string(opt->name, "name", err)) != Q2N_OK) return st;
+    if (opt->units != Q2N_UNITS_MM && opt->units != Q2N_UNITS_IN)
+        return q2n_error_set(err, Q2N_ERR_ARG, "export: unknown units %d", (int)opt->units);
+    char name[72];
+    if (opt->name) snprintf(name, sizeof name, "%s", opt->name);
+    else q2n_export_basename(path ? path : "quad2nurbs", name, sizeof name);
+    q2n_export_topo t;
+    if ((st = q2n_export_topo_build(m, &t, err)) != Q2N_OK) return st;
+    st = step_build(m, &t, opt, name, out);
+    q2n_export_topo_free(&t);
+    if (st != Q2N_OK) {
+        q2n_strbuf_free(out);
+        return q2n_error_set(err, st, "%s: out of memory while writing STEP", path ? path : "STEP");
+    }
+    return Q2N_OK;
+}
+
+q2n_status q2n_export_step_text(const q2n_nurbs_model *m, const q2n_export_options *opts, char **text,
+                                size_t *len, q2n_error *err)
+{
+    q2n_strbuf b;
+    q2n_status st = step_text(m, opts, NULL, &b, err);
+    *text = st == Q2N_OK ? b.data : NULL;
+    *len = st == Q2N_OK ? b.len : 0;
+    return st;
+}
+
+q2n_status q2n_export_step(const q2n_nurbs_model *m, const q2n_export_options *opts, const char *path,
+                           q2n_error *err)
+{
+    q2n_strbuf b;
+    q2n_status st = step_text(m, opts, path, &b, err);
+    if (st == Q2N_OK) st = q2n_export_write_atomic(path, b.data, b.len, err);
+    q2n_strbuf_free(&b);
+    return st;
+}
