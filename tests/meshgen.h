@@ -9,6 +9,10 @@
 
 #include "mesh/mesh.h"
 
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
 static double mg_rnd(unsigned *s) { *s = *s * 1103515245u + 12345u; return ((*s >> 8) & 0xffff) / 65536.0; }
 
 /* Torus with n x m quads (radii R, r); vertices jittered by up to jitter*r when jitter > 0;

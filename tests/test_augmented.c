@@ -129,7 +129,7 @@ static void check_mesh(const char *label, const q2n_mesh *m, const char *clsname
         for (int t = 0; t <= 8; t++) {
             double tA = t / 8.0, tB = 1 - tA;
             double dA = cross_delta(m, iv, k, fA, cA, tA), dB = cross_delta(m, iv, k, fB, cB, tB);
-            double rA[3], rB[3];
+            double rA[3], rB[3], first = 0;
             for (int r = 0; r <= k && r <= 2; r++) {
                 cross_deriv(S, fA, cA, tA, r, rA);
                 cross_deriv(S, fB, cB, tB, r, rB);
@@ -138,6 +138,8 @@ static void check_mesh(const char *label, const q2n_mesh *m, const char *clsname
                 for (int q = 0; q < 3; q++) res[q] = sa * rA[q] - sb * rB[q];
                 sc = fmax(fmax(q2n_v3_norm(rA) * fabs(sa), q2n_v3_norm(rB) * fabs(sb)), 1e-300);
                 if (r == 0) sc = diag;
+                if (r == 1) first = sc;
+                if (r == 2) sc = fmax(sc, first * first / diag); /* flat regions: curvature ~ 0 */
                 st->prop2 = fmax(st->prop2, q2n_v3_norm(res) / sc);
             }
         }

@@ -117,10 +117,11 @@ static int assign_points(const q2n_mesh *m, grid *G)
             G->hedge[cj + 1][ci] = m->he_edge[base + (c.r + 2) % 4];
             G->vedge[cj][ci] = m->he_edge[base + (c.r + 3) % 4];
         }
-    /* every grid-interior vertex (whose 3x3 neighbourhood lies in the grid) must be regular */
+    /* every grid-interior mesh vertex (whose 3x3 neighbourhood lies in the grid) must be
+     * regular; missing ones lie beyond the boundary and are extrapolated */
     for (int j = 1; j < G->w - 1; j++)
         for (int i = 1; i < G->w - 1; i++)
-            if (G->vid[j][i] < 0 || !vertex_grid_regular(m, G->vid[j][i])) return 0;
+            if (G->vid[j][i] >= 0 && !vertex_grid_regular(m, G->vid[j][i])) return 0;
     return 1;
 }
 
