@@ -1,0 +1,162 @@
+/* acc_quality.c — the quality measures of seed 001 §6: the unit-normal jump [n̂] integrated over
+ * the mesh edges, the largest Gauss / mean curvature jumps <c_G>, <c_M> across edges (§6.1), and
+ * the geometry / unit-normal distance to the Catmull–Clark limit surface (§6.3). */
+#include "acc/acc.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/vec3.h"
+
+#define ACC_PI 3.14159265358979323846
+
+/* Gauss–Legendre nodes and weights on [0,1] (Newton on P_n; n <= 16). */
+static void gauss_legendre01(int n, double *x, double *w)
+{
+    for (int i = 0; i < n; i++) {
+        double z = cos(ACC_PI * (i + 0.75) / (n + 0.5)), pp = 1;
+        for (int it = 0; it < 100; it++) {
+            double p1 = 1, p2 = 0;
+            for (int j = 1; j <= n; j++) {
+                double p3 = p2;
+                p2 = p1;
+                p1 = ((2.0 * j - 1) * z * p2 - (j - 1.0) * p3) / j;
+            }
+            pp = n * (z * p1 - p2) / (z * z - 1);
+            double dz = p1 / pp;
+            z -= dz;
+            if (fabs(dz) < 1e-16) break;
+        }
+        x[i] = 0.5 * (1 - z);
+        w[i] = 1.0 / ((1 - z * z) * pp * pp); /* = (2/((1-z^2)p'^2)) / 2 */
+    }
+}
+
+/* Face parameters of the point at edge parameter t on the edge of corner c (v_c -> v_{c+1}). */
+static void edge_uv(int c, double t, double *u, double *v)
+{
+    switch (c & 3) {
+    case 0: *u = t; *v = 0; break;
+    case 1: *u = 1; *v = t; break;
+    case 2: *u = 1 - t; *v = 1; break;
+    default: *u = 0; *v = 1 - t; break;
+    }
+}
+
+typedef struct diffgeo {
+    double n[3];   /* unit normal */
+    double K, H;   /* Gauss and mean curvature */
+} diffgeo;
+
+static q2n_status eval_geo(const q2n_surface *s, int k, double u, double v, diffgeo *g)
+{
+    double e[Q2N_EVAL_MAX];
+    q2n_status st = q2n_surface_eval(s, k, u, v, 2, e);
+    if (st != Q2N_OK) return st;
+    const double *Su = e + Q2N_EV_U, *Sv = e + Q2N_EV_V;
+    double n[3];
+    q2n_v3_cross(n, Su, Sv);
+    double len = q2n_v3_norm(n);
+    if (!(len > 0)) len = 1e-300;
+    q2n_v3_scale(g->n, 1.0 / len, n);
+    double E = q2n_v3_dot(Su, Su), F = q2n_v3_dot(Su, Sv), G = q2n_v3_dot(Sv, Sv);
+    double L = q2n_v3_dot(e + Q2N_EV_UU, g->n), M = q2n_v3_dot(e + Q2N_EV_UV, g->n),
+           N = q2n_v3_dot(e + Q2N_EV_VV, g->n);
+    double det = E * G - F * F;
+    if (!(det > 0)) det = 1e-300;
+    g->K = (L * N - M * M) / det;
+    g->H = (E * N - 2 * F * M + G * L) / (2 * det);
+    return Q2N_OK;
+}
+
+q2n_status q2n_acc_quality_measure(const q2n_surface *s, const q2n_mesh *m, int npts,
+                                   q2n_acc_quality *q, q2n_error *err)
+{
+    if (!s || !m || !q || npts < 2 || npts > 16 || q2n_surface_npatches(s) != m->nf)
+        return q2n_error_set(err, Q2N_ERR_ARG, "acc quality: bad arguments (npts %d, %d patches, %d faces)",
+                             npts, s ? q2n_surface_npatches(s) : -1, m ? m->nf : -1);
+    memset(q, 0, sizeof *q);
+    q->n_points = npts;
+    double x[16], w[16], sum = 0;
+    gauss_legendre01(npts, x, w);
+    for (int e = 0; e < m->ne; e++) {
+        int h = m->edge_he[e], t = m->he_twin[h];
+        if (t < 0) continue;
+        int f = m->he_face[h], g = m->he_face[t];
+        int c = h - m->face_start[f], cg = t - m->face_start[g];
+        q->n_edges++;
+        for (int i = 0; i < npts; i++) {
+            double u1, v1, u2, v2;
+            edge_uv(c, x[i], &u1, &v1);
+            edge_uv(cg, 1 - x[i], &u2, &v2);
+            diffgeo a, b;
+            q2n_status st = eval_geo(s, f, u1, v1, &a);
+            if (st == Q2N_OK) st = eval_geo(s, g, u2, v2, &b);
+            if (st != Q2N_OK)
+                return q2n_error_set(err, st, "acc quality: edge %d (faces %d, %d) cannot be evaluated", e, f, g);
+            double d[3], cr[3];
+            q2n_v3_sub(d, a.n, b.n);
+            sum += w[i] * q2n_v3_dot(d, d);
+            q2n_v3_cross(cr, a.n, b.n);
+            double ang = atan2(q2n_v3_norm(cr), q2n_v3_dot(a.n, b.n));
+            if (ang > q->normal_jump_max) q->normal_jump_max = ang;
+            if (fabs(a.K - b.K) > q->gauss_jump_max) q->gauss_jump_max = fabs(a.K - b.K);
+            if (fabs(a.H - b.H) > q->mean_jump_max) q->mean_jump_max = fabs(a.H - b.H);
+        }
+    }
+    q->normal_jump_l2 = sqrt(sum);
+    return Q2N_OK;
+}
+
+/* Gauss–Newton projection of p onto patch k from (u,v), clamped to the unit square. */
+static void project(const q2n_surface *s, int k, const double p[3], double *u, double *v)
+{
+    for (int it = 0; it < 20; it++) {
+        double e[9], r[3];
+        if (q2n_surface_eval(s, k, *u, *v, 1, e) != Q2N_OK) return;
+        q2n_v3_sub(r, p, e);
+        const double *Su = e + 3, *Sv = e + 6;
+        double a = q2n_v3_dot(Su, Su), b = q2n_v3_dot(Su, Sv), c = q2n_v3_dot(Sv, Sv);
+        double g1 = q2n_v3_dot(Su, r), g2 = q2n_v3_dot(Sv, r), det = a * c - b * b;
+        if (!(det > 0)) return;
+        double du = (c * g1 - b * g2) / det, dv = (a * g2 - b * g1) / det;
+        double nu = fmin(1.0, fmax(0.0, *u + du)), nv = fmin(1.0, fmax(0.0, *v + dv));
+        double step = fabs(nu - *u) + fabs(nv - *v);
+        *u = nu;
+        *v = nv;
+        if (step < 1e-15) return;
+    }
+}
+
+q2n_status q2n_acc_limit_distance(const q2n_surface *s, int n, q2n_acc_limit_fn limit, void *ctx,
+                                  int proj, q2n_acc_distance *d, q2n_error *err)
+{
+    if (!s || !limit || !d || n < 1) return q2n_error_set(err, Q2N_ERR_ARG, "acc distance: bad arguments");
+    memset(d, 0, sizeof *d);
+    double sum = 0;
+    for (int k = 0; k < q2n_surface_npatches(s); k++)
+        for (int b = 0; b < n; b++)
+            for (int a = 0; a < n; a++) {
+                double u = (a + 0.5) / n, v = (b + 0.5) / n, p[3], nl[3], e[9], np[3];
+                q2n_status st = limit(ctx, k, u, v, p, nl);
+                if (st != Q2N_OK) return q2n_error_set(err, st, "acc distance: limit evaluator failed on face %d", k);
+                if (proj) project(s, k, p, &u, &v);
+                st = q2n_surface_eval(s, k, u, v, 1, e);
+                if (st != Q2N_OK) return q2n_error_set(err, st, "acc distance: patch %d cannot be evaluated", k);
+                double dist = q2n_v3_dist(p, e);
+                q2n_v3_cross(np, e + 3, e + 6);
+                double ln = q2n_v3_norm(nl), lp = q2n_v3_norm(np);
+                if (ln > 0 && lp > 0) {
+                    double diff[3];
+                    for (int t = 0; t < 3; t++) diff[t] = nl[t] / ln - np[t] / lp;
+                    double ne = q2n_v3_norm(diff);
+                    if (ne > d->normal_max) d->normal_max = ne;
+                }
+                if (dist > d->geom_max) d->geom_max = dist;
+                sum += dist * dist;
+                d->n_samples++;
+            }
+    d->geom_rms = d->n_samples ? sqrt(sum / d->n_samples) : 0;
+    return Q2N_OK;
+}

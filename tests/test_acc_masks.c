@@ -1,0 +1,303 @@
+/* test_acc_masks.c — the Catmull–Clark path against closed forms:
+ *  - Examples 1 and 2 of seed 001 (N = 6 masks M_{1,0}, M_{2,0}, M_{1,1} as printed fractions),
+ *    computed by running the construction on a procedural valence-6 carpet with the identity
+ *    matrix as vertex data (so the output points ARE the masks);
+ *  - mask sanity: every mask sums to 1 (affine invariance), no weight outside the stencil;
+ *  - a regular closed mesh (perturbed torus): ACC3 and acc-g1 equal the uniform bicubic B-spline
+ *    evaluated from its basis functions (to 1e-13 x bbox);
+ *  - G1: on procedural carpets (interior EVs N = 3,5,6,7,8,12 and boundary EVs with 3..6 faces)
+ *    and on every all-quad mesh of ../shared/meshes the unit-normal jump across every interior
+ *    edge is <= 1e-10 rad at 9 Gauss points per edge, for all four strategies; ACC3 shows a
+ *    jump there (so the measurement can fail).  Prints [n̂], <c_G>, <c_M> per strategy. */
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+#include "acc/acc.h"
+#include "acc/acc_masks.h"
+#include "check.h"
+#include "meshgen.h"
+
+/* ---------------------------------------------------------------- procedural carpets */
+
+/* N sectors of 2x2 quads around vertex 0 (interior EV), or, with half != 0, N sectors spanning
+ * a half plane (boundary vertex with N faces).  Vertex numbering: 0 centre, 1+k*2+(a-1) the edge
+ * points at distance a on ray k, then the sector interiors.  z is perturbed by a smooth bump and
+ * noise so that nothing is planar. */
+static q2n_mesh *carpet(int N, int half, unsigned seed)
+{
+    int nrays = half ? N + 1 : N;
+    int nv = 1 + 2 * nrays + 4 * N, nf = 4 * N;
+    double *pos = calloc(3 * (size_t)nv, sizeof *pos);
+    int *fs = malloc(((size_t)nf + 1) * sizeof *fs), *fv = malloc(4 * (size_t)nf * sizeof *fv);
+    double span = half ? M_PI : 2 * M_PI;
+    for (int k = 0; k < nrays; k++)
+        for (int a = 1; a <= 2; a++) {
+            double *p = pos + 3 * (1 + 2 * k + a - 1), ang = span * k / N;
+            p[0] = a * cos(ang);
+            p[1] = a * sin(ang);
+        }
+    int base = 1 + 2 * nrays;
+    for (int k = 0; k < N; k++) {
+        double a0 = span * k / N, a1 = span * (k + 1) / N;
+        for (int a = 1; a <= 2; a++)
+            for (int b = 1; b <= 2; b++) {
+                double *p = pos + 3 * (base + 4 * k + (b - 1) * 2 + (a - 1));
+                p[0] = a * cos(a0) + b * cos(a1);
+                p[1] = a * sin(a0) + b * sin(a1);
+            }
+    }
+    for (int v = 0; v < nv; v++) {
+        double *p = pos + 3 * v;
+        p[2] = 0.3 * sin(0.9 * p[0] + 0.4) * cos(0.7 * p[1]) + 0.05 * (2 * mg_rnd(&seed) - 1);
+        p[0] += 0.03 * (2 * mg_rnd(&seed) - 1);
+        p[1] += 0.03 * (2 * mg_rnd(&seed) - 1);
+    }
+    int f = 0;
+    for (int k = 0; k < N; k++) {
+        int kn = half ? k + 1 : (k + 1) % N;
+#define CV(a, b) ((a) == 0 && (b) == 0 ? 0 : (b) == 0 ? 1 + 2 * k + (a) - 1 \
+                  : (a) == 0 ? 1 + 2 * kn + (b) - 1 : base + 4 * k + ((b) - 1) * 2 + (a) - 1)
+        for (int b = 0; b < 2; b++)
+            for (int a = 0; a < 2; a++) {
+                fs[f] = 4 * f;
+                fv[4 * f + 0] = CV(a, b);
+                fv[4 * f + 1] = CV(a + 1, b);
+                fv[4 * f + 2] = CV(a + 1, b + 1);
+                fv[4 * f + 3] = CV(a, b + 1);
+                f++;
+            }
+#undef CV
+    }
+    fs[nf] = 4 * nf;
+    q2n_mesh *m = NULL;
+    q2n_error err;
+    if (q2n_mesh_from_arrays(nv, pos, nf, fs, fv, "carpet", &m, &err))
+        fprintf(stderr, "carpet: %s\n", err.message);
+    free(pos);
+    free(fs);
+    free(fv);
+    return m;
+}
+
+/* Masks of all patches: cp[f*36*nv + p*nv + w] = weight of vertex w in point p of face f. */
+static double *masks(const q2n_mesh *m, q2n_acc_method me, q2n_acc_strategy st, int *deg)
+{
+    int nv = m->nv;
+    double *id = calloc((size_t)nv * nv, sizeof *id), *cp = calloc((size_t)m->nf * 36 * nv, sizeof *cp);
+    for (int v = 0; v < nv; v++) id[(size_t)v * nv + v] = 1;
+    q2n_acc_rings r;
+    q2n_error err;
+    int ok = q2n_acc_rings_build(m, &r, &err) == Q2N_OK &&
+             q2n_acc_control_points(m, &r, me, st, id, nv, deg, cp, &err) == Q2N_OK;
+    CHECK(ok, "masks: %s", err.message);
+    q2n_acc_rings_free(&r);
+    free(id);
+    return cp;
+}
+
+/* Check a mask (EV-local point (i,j) of sector 0 at vertex 0) against the paper's
+ * [v, e_1..e_N, f_1..f_N] / den, e_1 = our e_0. */
+static void check_mask(const q2n_mesh *m, const double *cp, int i, int j, const int *num, double den,
+                       const char *what)
+{
+    int N = m->valence[0], nv = m->nv;
+    q2n_acc_rings r;
+    q2n_acc_rings_build(m, &r, NULL);
+    int h = r.he[r.start[0]], f = m->he_face[h], c = h - m->face_start[f];
+    const double *w = cp + (size_t)f * 36 * nv + (size_t)q2n_acc_local_index(c, 5, i, j) * nv;
+    double expect[256] = { 0 }, sum = 0, maxd = 0;
+    expect[0] = num[0] / den;
+    for (int k = 0; k < N; k++) {
+        int hk = r.he[r.start[0] + k];
+        int e = q2n_he_dest(m, hk), fk = q2n_he_dest(m, q2n_he_next(m, hk));
+        expect[e] = num[1 + k] / den;
+        expect[fk] = num[1 + N + k] / den;
+    }
+    for (int v = 0; v < nv; v++) {
+        sum += w[v];
+        if (fabs(w[v] - expect[v]) > maxd) maxd = fabs(w[v] - expect[v]);
+    }
+    CHECK(maxd < 1e-14, "%s: max weight difference %.3g from the paper's fractions", what, maxd);
+    CHECK_NEAR(sum, 1.0, 1e-14, what);
+    q2n_acc_rings_free(&r);
+}
+
+static void test_examples(void)
+{
+    q2n_mesh *m = carpet(6, 0, 7);
+    CHECK(m && m->valence[0] == 6, "valence-6 carpet");
+    if (!m) return;
+    int deg[64];
+    double *cp = masks(m, Q2N_ACC_G1, Q2N_ACC_CS_S, deg);
+    static const int m10[] = { 360, 76, 58, 22, 4, 22, 58, 19, 10, 1, 1, 10, 19 };      /* Example 1 */
+    static const int m20[] = { 592, 294, 130, -8, 18, -8, 130, 79, 8, -1, -1, 8, 79 };  /* eq. (28) */
+    static const int m11[] = { 5016, 1512, 1512, 258, 144, 144, 258, 604, 185, 43, -4, 43, 185 };
+    check_mask(m, cp, 1, 0, m10, 660, "Example 1 M_{1,0}");
+    check_mask(m, cp, 2, 0, m20, 1320, "Example 2 M_{2,0}");
+    check_mask(m, cp, 1, 1, m11, 9900, "Example 2 M_{1,1}");
+    /* ACC5 corner mask, eq. (1): [N^2, 4.., 1..]/(N(N+5)) */
+    static const int m00[] = { 36, 4, 4, 4, 4, 4, 4, 1, 1, 1, 1, 1, 1 };
+    check_mask(m, cp, 0, 0, m00, 66, "eq. (1) M_{0,0}");
+    /* every point of every patch is an affine combination */
+    double worst = 0;
+    for (int f = 0; f < m->nf; f++)
+        for (int p = 0; p < (deg[f] + 1) * (deg[f] + 1); p++) {
+            double s = 0;
+            for (int v = 0; v < m->nv; v++) s += cp[(size_t)f * 36 * m->nv + (size_t)p * m->nv + v];
+            if (fabs(s - 1) > worst) worst = fabs(s - 1);
+        }
+    CHECK(worst < 1e-13, "mask sums: worst |sum-1| = %.3g", worst);
+    free(cp);
+    q2n_mesh_free(m);
+}
+
+/* ---------------------------------------------------------------- regular closed mesh */
+
+static void bspline_basis(double t, double b[4])
+{
+    double s = 1 - t;
+    b[0] = s * s * s / 6;
+    b[1] = (3 * t * t * t - 6 * t * t + 4) / 6;
+    b[2] = (-3 * t * t * t + 3 * t * t + 3 * t + 1) / 6;
+    b[3] = t * t * t / 6;
+}
+
+static void test_regular_torus(void)
+{
+    int n = 7, mm = 5;
+    q2n_mesh *m = mg_torus(n, mm, 3.0, 1.0, 0.2, 1, 11);
+    CHECK(m != NULL, "torus");
+    if (!m) return;
+    double diag = q2n_mesh_bbox_diag(m);
+    for (int me = 0; me < 2; me++) {
+        q2n_acc_options o = { (q2n_acc_method)me, Q2N_ACC_CS_S, 0 };
+        q2n_surface *s = NULL;
+        q2n_acc_info info;
+        q2n_error err;
+        q2n_status st = q2n_acc_build(m, &o, &s, &info, &err);
+        CHECK(st == Q2N_OK, "torus build: %s", err.message);
+        if (st != Q2N_OK) continue;
+        CHECK(info.subdiv_steps == 0 && info.n_bicubic == n * mm, "torus: %d steps, %d bicubic",
+              info.subdiv_steps, info.n_bicubic);
+        double maxe = 0;
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < mm; j++)
+                for (int q = 0; q < 16; q++) {
+                    double u = (q % 4 + 0.37) / 4.0, v = (q / 4 + 0.21) / 4.0, bu[4], bv[4], ref[3] = { 0, 0, 0 }, e[3];
+                    bspline_basis(u, bu);
+                    bspline_basis(v, bv);
+                    for (int a = 0; a < 4; a++)
+                        for (int b = 0; b < 4; b++) {
+                            int vi = ((i + a - 1 + n) % n) * mm + (j + b - 1 + mm) % mm;
+                            for (int t = 0; t < 3; t++) ref[t] += bu[a] * bv[b] * m->pos[3 * vi + t];
+                        }
+                    q2n_surface_eval(s, i * mm + j, u, v, 0, e);
+                    for (int t = 0; t < 3; t++) maxe = fmax(maxe, fabs(e[t] - ref[t]));
+                }
+        CHECK(maxe <= 1e-13 * diag, "%s on a regular torus: max |S - B-spline| = %.3g (diag %.3g)",
+              q2n_acc_method_name(o.method), maxe, diag);
+        printf("regular torus, %s: max |S - bicubic B-spline| = %.2e\n", q2n_acc_method_name(o.method), maxe);
+        q2n_surface_free(s);
+        q2n_acc_info_free(&info);
+    }
+    q2n_mesh_free(m);
+}
+
+/* ---------------------------------------------------------------- G1 */
+
+static const char *STRAT[4] = { "ncs-s", "ncs-as", "cs-as", "cs-s" }; /* Table 1 row order */
+static const q2n_acc_strategy STRAT_ID[4] = { Q2N_ACC_NCS_S, Q2N_ACC_NCS_AS, Q2N_ACC_CS_AS, Q2N_ACC_CS_S };
+
+/* Build acc-g1 with strategy st on m, measure; returns the quality (normal_jump_max < 0 on failure). */
+static q2n_acc_quality g1_quality(const q2n_mesh *m, q2n_acc_method me, q2n_acc_strategy st, int *steps)
+{
+    q2n_acc_quality q;
+    memset(&q, 0, sizeof q);
+    q.normal_jump_max = -1;
+    q2n_acc_options o = { me, st, 0 };
+    q2n_surface *s = NULL;
+    q2n_acc_info info;
+    q2n_error err;
+    if (q2n_acc_build(m, &o, &s, &info, &err) != Q2N_OK) {
+        CHECK(0, "build %s: %s", m->name, err.message);
+        return q;
+    }
+    if (steps) *steps = info.subdiv_steps;
+    q2n_status r = q2n_acc_quality_measure(s, q2n_acc_info_mesh(&info, m), 9, &q, &err);
+    CHECK(r == Q2N_OK, "quality %s: %s", m->name, err.message);
+    q2n_surface_free(s);
+    q2n_acc_info_free(&info);
+    return q;
+}
+
+static void test_g1_carpets(void)
+{
+    static const int vals[] = { 3, 5, 6, 7, 8, 12 };
+    for (int t = 0; t < 6; t++)
+        for (int half = 0; half < 2; half++) {
+            int N = vals[t]; /* interior valence, or number of faces at the boundary */
+            if (half && (N < 3 || N > 8)) continue;
+            q2n_mesh *m = carpet(N, half, 100 + N);
+            if (!m) { CHECK(0, "carpet %d", N); continue; }
+            for (int s = 0; s < 4; s++) {
+                q2n_acc_quality q = g1_quality(m, Q2N_ACC_G1, STRAT_ID[s], NULL);
+                CHECK(q.normal_jump_max >= 0 && q.normal_jump_max <= 1e-10,
+                      "%s EV %d, %s: normal jump %.3g rad", half ? "boundary" : "interior", N, STRAT[s],
+                      q.normal_jump_max);
+            }
+            q2n_acc_quality q3 = g1_quality(m, Q2N_ACC_3, Q2N_ACC_CS_S, NULL);
+            CHECK(q3.normal_jump_max > 1e-4, "%s EV %d: ACC3 should not be G1 (jump %.3g)",
+                  half ? "boundary" : "interior", N, q3.normal_jump_max);
+            q2n_mesh_free(m);
+        }
+}
+
+static void test_g1_shared(void)
+{
+    static const char *files[] = {
+        "osd_catmark_cube.obj", "osd_catmark_torus.obj", "osd_catmark_righthanded.obj",
+        "osd_catmark_flap.obj", "osd_catmark_tent.obj", "osd_catmark_square_hedit0.obj",
+        "osd_catmark_gregory_test0.obj", "osd_catmark_gregory_test1.obj",
+        "osd_catmark_gregory_test6.obj", "osd_catmark_fvar_bound3.obj",
+        "osd_catmark_xord_boundary.obj", "osd_catmark_helmet.obj", "osd_catmark_pawn.obj",
+        "gismo_ev_valence3.obj", "gismo_ev_valence3_carpet.obj", "gismo_ev_valence5_carpet.obj",
+        "gismo_ev_valence6_carpet.obj", "gismo_ev_valence7_carpet.obj", "gismo_ev_valence8_carpet.obj",
+        "gismo_cube_with_boundary.obj", "gismo_octtorus.obj", "gismo_octtorus_hole.obj",
+        "gismo_polycube.obj",
+    };
+    int n = (int)(sizeof files / sizeof *files);
+    printf("\n%-32s %-6s %5s %10s %10s %10s %10s\n", "mesh (acc-g1, 9 pts/edge)", "strat", "steps",
+           "[n^]", "max rad", "<c_G>", "<c_M>");
+    for (int i = 0; i < n; i++) {
+        const char *path = chk_shared_mesh(files[i]);
+        if (!path) { SKIP("%s not found (../shared/meshes)", files[i]); continue; }
+        q2n_mesh *m = NULL;
+        q2n_error err;
+        if (q2n_mesh_read_obj(path, &m, &err) != Q2N_OK) { CHECK(0, "%s", err.message); continue; }
+        for (int s = 0; s < 4; s++) {
+            int steps = -1;
+            q2n_acc_quality q = g1_quality(m, Q2N_ACC_G1, STRAT_ID[s], &steps);
+            CHECK(q.normal_jump_max >= 0 && q.normal_jump_max <= 1e-10, "%s %s: normal jump %.3g rad",
+                  files[i], STRAT[s], q.normal_jump_max);
+            printf("%-32s %-6s %5d %10.2e %10.2e %10.2e %10.2e\n", files[i], STRAT[s], steps,
+                   q.normal_jump_l2, q.normal_jump_max, q.gauss_jump_max, q.mean_jump_max);
+        }
+        q2n_acc_quality q3 = g1_quality(m, Q2N_ACC_3, Q2N_ACC_CS_S, NULL);
+        printf("%-32s %-6s %5s %10.2e %10.2e %10.2e %10.2e\n", files[i], "acc3", "-", q3.normal_jump_l2,
+               q3.normal_jump_max, q3.gauss_jump_max, q3.mean_jump_max);
+        q2n_mesh_free(m);
+    }
+}
+
+int main(void)
+{
+    clock_t t0 = clock();
+    (void)mg_grid;
+    test_examples();
+    test_regular_torus();
+    test_g1_carpets();
+    test_g1_shared();
+    printf("test_acc_masks: %.2f s CPU\n", (double)(clock() - t0) / CLOCKS_PER_SEC);
+    CHECK_DONE("test_acc_masks");
+}
