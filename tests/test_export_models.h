@@ -25,7 +25,7 @@
 
 /* Quad mesh from arrays (fv: 4 per face); fills nv, nf, pos, face_start, face_vert, nh, he_face,
  * he_twin, he_edge, ne, edge_he, all_quads.  Returns NULL on a non-manifold input. */
-static q2n_mesh *em_mesh_build(int nv, const double *pos, int nf, const int *fv)
+static inline q2n_mesh *em_mesh_build(int nv, const double *pos, int nf, const int *fv)
 {
     q2n_mesh *m = calloc(1, sizeof *m);
     int nh = 4 * nf;
@@ -65,7 +65,7 @@ static q2n_mesh *em_mesh_build(int nv, const double *pos, int nf, const int *fv)
     return m;
 }
 
-static void em_mesh_free(q2n_mesh *m)
+static inline void em_mesh_free(q2n_mesh *m)
 {
     if (!m) return;
     free(m->pos); free(m->face_start); free(m->face_vert); free(m->he_face);
@@ -73,7 +73,7 @@ static void em_mesh_free(q2n_mesh *m)
     free(m);
 }
 
-static int em_mesh_boundary_edges(const q2n_mesh *m)
+static inline int em_mesh_boundary_edges(const q2n_mesh *m)
 {
     int n = 0;
     for (int h = 0; h < m->nh; h++) n += m->he_twin[h] < 0;
@@ -81,7 +81,7 @@ static int em_mesh_boundary_edges(const q2n_mesh *m)
 }
 
 /* Minimal OBJ reader: v x y z and quad f records (a, a/b, a//c, a/b/c). NULL when not all quads. */
-static q2n_mesh *em_mesh_read_obj(const char *path)
+static inline q2n_mesh *em_mesh_read_obj(const char *path)
 {
     FILE *f = fopen(path, "r");
     if (!f) return NULL;
@@ -118,7 +118,7 @@ static q2n_mesh *em_mesh_read_obj(const char *path)
     return m;
 }
 
-static double em_mesh_diag(const q2n_mesh *m)
+static inline double em_mesh_diag(const q2n_mesh *m)
 {
     double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
     for (int v = 0; v < m->nv; v++)
@@ -128,7 +128,7 @@ static double em_mesh_diag(const q2n_mesh *m)
 
 /* ------------------------------------------------------------------ surfaces */
 
-static void em_surface_alloc(q2n_bspline_surface *s, int du, int dv, int nu, int nv, int rational)
+static inline void em_surface_alloc(q2n_bspline_surface *s, int du, int dv, int nu, int nv, int rational)
 {
     s->deg_u = du; s->deg_v = dv; s->ncp_u = nu; s->ncp_v = nv;
     s->knots_u = malloc(sizeof(double) * (size_t)(nu + du + 1));
@@ -138,13 +138,13 @@ static void em_surface_alloc(q2n_bspline_surface *s, int du, int dv, int nu, int
 }
 
 /* clamped knots on [0,1] with nin uniform interior knots */
-static void em_knots(double *k, int p, int nin)
+static inline void em_knots(double *k, int p, int nin)
 {
     for (int i = 0; i <= p; i++) { k[i] = 0.0; k[p + 1 + nin + i] = 1.0; }
     for (int i = 0; i < nin; i++) k[p + 1 + i] = (i + 1.0) / (nin + 1.0);
 }
 
-static q2n_nurbs_model em_model_alloc(const q2n_mesh *m)
+static inline q2n_nurbs_model em_model_alloc(const q2n_mesh *m)
 {
     q2n_nurbs_model md;
     md.n = m->nf;
@@ -156,7 +156,7 @@ static q2n_nurbs_model em_model_alloc(const q2n_mesh *m)
 
 /* Bilinear patch through each face's corners as a bi-quintic with interior knots 1/3, 2/3:
  * control point (i,j) = bilinear(Greville(i), Greville(j)). */
-static q2n_nurbs_model em_model_bilinear(const q2n_mesh *m)
+static inline q2n_nurbs_model em_model_bilinear(const q2n_mesh *m)
 {
     q2n_nurbs_model md = em_model_alloc(m);
     const int p = 5, nin = 2, n = p + 1 + nin;
@@ -183,7 +183,7 @@ static q2n_nurbs_model em_model_bilinear(const q2n_mesh *m)
 /* Grid coordinates of the 4x4 neighbourhood of face f in a regular quad mesh (all valence 4):
  * g[j][i] = vertex at grid (i-1, j-1) with face f's v0 at (0,0), v1 at (1,0), v3 at (0,1).
  * Breadth-first unfolding across edges; returns 0 when the neighbourhood is not a 4x4 grid. */
-static int em_regular_ring(const q2n_mesh *m, int f0, int g[4][4])
+static inline int em_regular_ring(const q2n_mesh *m, int f0, int g[4][4])
 {
     int qf[16], qc[16][4][2], nq = 0, head = 0;
     int *seen = calloc((size_t)m->nf, sizeof(int));
@@ -228,7 +228,7 @@ static int em_regular_ring(const q2n_mesh *m, int f0, int g[4][4])
 
 /* Exact bicubic B-spline patches (single Bezier span) of a regular closed quad mesh.
  * Uniform cubic B-spline -> Bezier on one span: rows (1,4,1)/6, (0,4,2)/6, (0,2,4)/6, (0,1,4,1)/6. */
-static int em_model_bicubic(const q2n_mesh *m, q2n_nurbs_model *out)
+static inline int em_model_bicubic(const q2n_mesh *m, q2n_nurbs_model *out)
 {
     static const double M[4][4] = {{1, 4, 1, 0}, {0, 4, 2, 0}, {0, 2, 4, 0}, {0, 1, 4, 1}};
     q2n_nurbs_model md = em_model_alloc(m);
@@ -253,7 +253,7 @@ static int em_model_bicubic(const q2n_mesh *m, q2n_nurbs_model *out)
 }
 
 /* Rational quarter arc from angle k*pi/2 to (k+1)*pi/2 of the unit circle: 3 points (x,y), weights. */
-static void em_arc(int k, double xy[3][2], double w[3])
+static inline void em_arc(int k, double xy[3][2], double w[3])
 {
     double c0 = cos(k * EM_PI / 2), s0 = sin(k * EM_PI / 2), c1 = cos((k + 1) * EM_PI / 2), s1 = sin((k + 1) * EM_PI / 2);
     xy[0][0] = c0; xy[0][1] = s0;
@@ -265,7 +265,7 @@ static void em_arc(int k, double xy[3][2], double w[3])
 
 /* Torus (major R, minor r) with 4 x 4 faces: mesh vertices at phi = k pi/2, theta = l pi/2, exact
  * rational biquadratic patches (outward normals). *mesh_out must be freed with em_mesh_free. */
-static q2n_nurbs_model em_model_torus_rational(double R, double r, q2n_mesh **mesh_out)
+static inline q2n_nurbs_model em_model_torus_rational(double R, double r, q2n_mesh **mesh_out)
 {
     double pos[3 * 16];
     int fv[4 * 16];
@@ -303,7 +303,7 @@ static q2n_nurbs_model em_model_torus_rational(double R, double r, q2n_mesh **me
 }
 
 /* Open cylinder (radius r, height h) with 4 faces around and `rows` rows: rational (degree 2 x 1). */
-static q2n_nurbs_model em_model_cylinder_rational(double r, double h, int rows, q2n_mesh **mesh_out)
+static inline q2n_nurbs_model em_model_cylinder_rational(double r, double h, int rows, q2n_mesh **mesh_out)
 {
     int nv = 4 * (rows + 1), nf = 4 * rows;
     double *pos = malloc(sizeof(double) * 3 * (size_t)nv);
@@ -343,7 +343,7 @@ static q2n_nurbs_model em_model_cylinder_rational(double r, double h, int rows, 
 }
 
 /* Regular open grid (nx x ny faces) on a gently curved height field z = 0.1 sin(x) cos(y). */
-static q2n_mesh *em_mesh_grid(int nx, int ny)
+static inline q2n_mesh *em_mesh_grid(int nx, int ny)
 {
     int nv = (nx + 1) * (ny + 1);
     double *pos = malloc(sizeof(double) * 3 * (size_t)nv);

@@ -74,8 +74,8 @@ void q2n_export_fmt_real(char out[Q2N_REAL_CHARS], double x)
     memcpy(mant, tmp, ml);
     mant[ml] = '\0';
     if (!strchr(mant, '.')) { mant[ml] = '.'; mant[ml + 1] = '\0'; }
-    if (e) snprintf(out, Q2N_REAL_CHARS, "%sE%s", mant, e + 1);
-    else snprintf(out, Q2N_REAL_CHARS, "%s", mant);
+    if (e) snprintf(out, Q2N_REAL_CHARS, "%.30sE%.6s", mant, e + 1);
+    else snprintf(out, Q2N_REAL_CHARS, "%.38s", mant);
 }
 
 /* ---------------------------------------------------------------- files and strings */

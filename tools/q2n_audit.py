@@ -1,0 +1,283 @@
+#!/usr/bin/python3
+"""q2n_audit.py — import a STEP or IGES file with FreeCAD (OpenCASCADE) and audit it.
+
+An importer nobody here wrote checks what quad2nurbs exported:
+  * topology: face count, isValid(), shells, solids, edges, free edges (used by one face only),
+    non-manifold edges (used by more than two faces);
+  * continuity across every shared edge, in the terms of Rhino's EdgeContinuity, sampled at the
+    N points t_i = t0 + (i + 0.5)/N (t1 - t0) that lie between the fit's collocation points:
+      G0  gap |S_A - S_B| between the two faces' surfaces at the edge's p-curve points,
+      G1  angle between the two (face-oriented) unit normals, degrees,
+      G2  normal curvature across the edge (direction d = N x T) on each side: absolute jump
+          |k_A - k_B| and relative jump |k_A - k_B| / (|k_A| + |k_B|) — that is |(R_A - R_B)/(R_A + R_B)|
+          for curvatures of equal sign, 1 for opposite signs — set to 0 where both sides are flatter
+          than the cut-off (radius > FLAT x bounding-box diagonal);
+    each with the worst sample's location;
+  * with --mesh: the distance of every mesh vertex to the imported shape.
+Run with /usr/bin/python3 (Debian freecad-python3), not freecadcmd.  Output: JSON (stdout or --json).
+Exit status 0 after a successful audit, 2 when FreeCAD is missing, 1 when the file cannot be read.
+Summary fields g0_max_rel (gap / bbox diagonal), g1_max_deg, g2_max_rel and faces use the names of
+quad2nurbs' own report, so tools/q2n_compare.py can put the two side by side.
+"""
+import argparse
+import json
+import math
+import os
+import sys
+import time
+
+FREECAD_LIB = '/usr/lib/freecad-python3/lib'
+
+
+def load_freecad():
+    """FreeCAD must be imported before Part (the reverse order segfaults, docs/toolchain.md)."""
+    if FREECAD_LIB not in sys.path:
+        sys.path.append(FREECAD_LIB)
+    try:
+        import FreeCAD  # noqa: F401
+        import Part
+    except ImportError:
+        return None
+    return Part
+
+
+def read_obj_vertices(path):
+    verts = []
+    with open(path) as f:
+        for line in f:
+            if line.startswith('v '):
+                p = line.split()
+                verts.append((float(p[1]), float(p[2]), float(p[3])))
+    return verts
+
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def norm(a):
+    return math.sqrt(dot(a, a))
+
+
+def unit(a):
+    n = norm(a)
+    return (a[0] / n, a[1] / n, a[2] / n) if n > 0 else a
+
+
+def vec(v):
+    return (v.x, v.y, v.z)
+
+
+class FaceEval:
+    """One face's surface (cached: Face.Surface returns a new copy on every access) and orientation."""
+
+    def __init__(self, face):
+        self.face = face
+        self.surf = face.Surface
+        self.flip = face.Orientation == 'Reversed'
+
+    def uv_on_edge(self, edge, ts):
+        """(u, v) of the edge's p-curve on this face at edge parameters ts; projection as fallback."""
+        try:
+            pc = self.face.curveOnSurface(edge)
+        except Exception:
+            pc = None
+        if pc:
+            c2 = pc[0]
+            out = []
+            for t in ts:
+                p = c2.value(t)
+                out.append((p.x, p.y))
+            return out
+        return [self.surf.parameter(edge.valueAt(t)) for t in ts]
+
+    def jet(self, u, v):
+        """Point, oriented unit normal, Su, Sv, Suu, Suv, Svv."""
+        s = self.surf
+        p = vec(s.value(u, v))
+        su, sv = vec(s.getDN(u, v, 1, 0)), vec(s.getDN(u, v, 0, 1))
+        suu, suv, svv = vec(s.getDN(u, v, 2, 0)), vec(s.getDN(u, v, 1, 1)), vec(s.getDN(u, v, 0, 2))
+        n = unit(cross(su, sv))
+        if self.flip:
+            n = (-n[0], -n[1], -n[2])
+        return p, n, su, sv, suu, suv, svv
+
+    @staticmethod
+    def normal_curvature(jet, d):
+        """Normal curvature in tangent direction d: II(w,w)/I(w,w) with d = a Su + b Sv."""
+        _, n, su, sv, suu, suv, svv = jet
+        E, F, G = dot(su, su), dot(su, sv), dot(sv, sv)
+        r1, r2 = dot(d, su), dot(d, sv)
+        det = E * G - F * F
+        if det <= 0:
+            return 0.0
+        a = (G * r1 - F * r2) / det
+        b = (E * r2 - F * r1) / det
+        num = a * a * dot(suu, n) + 2 * a * b * dot(suv, n) + b * b * dot(svv, n)
+        den = a * a * E + 2 * a * b * F + b * b * G
+        return num / den if den > 0 else 0.0
+
+
+def edge_faces(shape):
+    """Map edge hash -> (edge, [face indices]) for every edge of every face."""
+    emap = {}
+    order = []
+    for fi, face in enumerate(shape.Faces):
+        for e in face.Edges:
+            k = e.hashCode()
+            if k not in emap:
+                emap[k] = (e, [])
+                order.append(k)
+            lst = emap[k][1]
+            if fi not in lst:
+                lst.append(fi)
+    return [emap[k] for k in order]
+
+
+def audit_edge(edge, fa, fb, nsamp, k_flat):
+    t0, t1 = edge.ParameterRange
+    ts = [t0 + (i + 0.5) / nsamp * (t1 - t0) for i in range(nsamp)]
+    uva, uvb = fa.uv_on_edge(edge, ts), fb.uv_on_edge(edge, ts)
+    res = {'g0': 0.0, 'g1_deg': 0.0, 'g2_abs': 0.0, 'g2_rel': 0.0,
+           'g0_at': None, 'g1_at': None, 'g2_at': None}
+    for t, (ua, va), (ub, vb) in zip(ts, uva, uvb):
+        ja, jb = fa.jet(ua, va), fb.jet(ub, vb)
+        pa, pb = ja[0], jb[0]
+        gap = norm(sub(pa, pb))
+        # atan2(|na x nb|, na . nb): accurate for tiny angles, where acos loses half the digits
+        ang = math.degrees(math.atan2(norm(cross(ja[1], jb[1])), dot(ja[1], jb[1])))
+        tan = unit(vec(edge.tangentAt(t)))
+        d = unit(cross(ja[1], tan))
+        ka = FaceEval.normal_curvature(ja, d)
+        kb = FaceEval.normal_curvature(jb, d)
+        g2a = abs(ka - kb)
+        g2r = 0.0 if max(abs(ka), abs(kb)) < k_flat else g2a / (abs(ka) + abs(kb))
+        if gap >= res['g0']:
+            res['g0'], res['g0_at'] = gap, pa
+        if ang >= res['g1_deg']:
+            res['g1_deg'], res['g1_at'] = ang, pa
+        if g2r > res['g2_rel'] or res['g2_at'] is None:
+            res['g2_rel'], res['g2_at'] = max(res['g2_rel'], g2r), pa
+        res['g2_abs'] = max(res['g2_abs'], g2a)
+    return res
+
+
+def bbox_diag_of(shape):
+    bb = shape.BoundBox
+    return math.sqrt(bb.XLength ** 2 + bb.YLength ** 2 + bb.ZLength ** 2)
+
+
+def audit(path, mesh=None, nsamp=16, flat=100.0, per_edge=True):
+    Part = load_freecad()
+    if Part is None:
+        return None
+    t_start = time.time()
+    shape = Part.read(path)
+    t_read = time.time() - t_start
+    faces = shape.Faces
+    evals = [FaceEval(f) for f in faces]
+    verts = read_obj_vertices(mesh) if mesh else None
+    if verts:
+        lo = [min(v[i] for v in verts) for i in range(3)]
+        hi = [max(v[i] for v in verts) for i in range(3)]
+        diag = norm(sub(hi, lo))
+    else:
+        diag = bbox_diag_of(shape)
+    k_flat = 1.0 / (flat * diag) if diag > 0 else 0.0
+    edges = edge_faces(shape)
+    out = {
+        'file': os.path.basename(path),
+        'format': 'iges' if path.lower().endswith(('.igs', '.iges')) else 'step',
+        'shape_type': shape.ShapeType,
+        'faces': len(faces),
+        'valid': bool(shape.isValid()),
+        'shells': len(shape.Shells),
+        'solids': len(shape.Solids),
+        'edges': len(edges),
+        'free_edges': sum(1 for _, fl in edges if len(fl) == 1),
+        'nonmanifold_edges': sum(1 for _, fl in edges if len(fl) > 2),
+        'shared_edges': sum(1 for _, fl in edges if len(fl) == 2),
+        'bbox_diag': diag,
+        'samples_per_edge': nsamp,
+        'flat_radius': flat * diag,
+        'area': shape.Area,
+        'volume': shape.Volume if shape.Solids else None,
+    }
+    worst = {'g0': (0.0, None, None), 'g1_deg': (0.0, None, None), 'g2_rel': (0.0, None, None)}
+    g2_abs = 0.0
+    detail = []
+    for ei, (e, fl) in enumerate(edges):
+        if len(fl) != 2:
+            continue
+        r = audit_edge(e, evals[fl[0]], evals[fl[1]], nsamp, k_flat)
+        g2_abs = max(g2_abs, r['g2_abs'])
+        for key, at in (('g0', 'g0_at'), ('g1_deg', 'g1_at'), ('g2_rel', 'g2_at')):
+            if r[key] > worst[key][0] or worst[key][1] is None:
+                worst[key] = (r[key], ei, r[at])
+        if per_edge:
+            detail.append({'edge': ei, 'faces': fl, 'g0': r['g0'], 'g1_deg': r['g1_deg'],
+                           'g2_abs': r['g2_abs'], 'g2_rel': r['g2_rel'],
+                           'worst_g0_at': r['g0_at'], 'worst_g1_at': r['g1_at'], 'worst_g2_at': r['g2_at']})
+    out['g0_max'] = worst['g0'][0]
+    out['g0_max_rel'] = worst['g0'][0] / diag if diag > 0 else worst['g0'][0]
+    out['g1_max_deg'] = worst['g1_deg'][0]
+    out['g2_max_abs'] = g2_abs
+    out['g2_max_rel'] = worst['g2_rel'][0]
+    out['worst'] = {k: {'value': v[0], 'edge': v[1], 'point': v[2]} for k, v in worst.items()}
+    if verts is not None:
+        dmax, imax = 0.0, -1
+        import FreeCAD
+        for i, v in enumerate(verts):
+            d = shape.distToShape(Part.Vertex(FreeCAD.Vector(*v)))[0]
+            if d > dmax or imax < 0:
+                dmax, imax = max(d, dmax), i
+        out['mesh'] = {'file': os.path.basename(mesh), 'vertices': len(verts),
+                       'max_vertex_dist': dmax, 'max_vertex_dist_rel': dmax / diag if diag > 0 else dmax,
+                       'worst_vertex': imax}
+    out['seconds_read'] = t_read
+    out['seconds_audit'] = time.time() - t_start - t_read
+    if per_edge:
+        out['edge_detail'] = detail
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('file', help='.step/.stp or .igs/.iges file')
+    ap.add_argument('--mesh', help='the quad mesh (.obj): report vertex distances to the shape')
+    ap.add_argument('--samples', type=int, default=16, help='samples per edge, at (i+0.5)/N (default 16)')
+    ap.add_argument('--flat', type=float, default=100.0,
+                    help='G2 flatness cut-off: radii above FLAT x bbox diagonal count as flat (default 100)')
+    ap.add_argument('--no-edges', action='store_true', help='omit the per-edge table')
+    ap.add_argument('--json', help='write the JSON here instead of stdout')
+    a = ap.parse_args()
+    if load_freecad() is None:
+        sys.stderr.write('q2n_audit: FreeCAD is not installed (apt-get install freecad-python3)\n')
+        return 2
+    if not os.path.exists(a.file):
+        sys.stderr.write('q2n_audit: %s: no such file\n' % a.file)
+        return 1
+    try:
+        res = audit(a.file, a.mesh, max(1, a.samples), a.flat, not a.no_edges)
+    except Exception as ex:  # FreeCAD raises plain exceptions for unreadable files
+        sys.stderr.write('q2n_audit: %s: %s\n' % (a.file, ex))
+        return 1
+    text = json.dumps(res, indent=1, sort_keys=True)
+    if a.json:
+        with open(a.json, 'w') as f:
+            f.write(text + '\n')
+    else:
+        print(text)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
