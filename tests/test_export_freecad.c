@@ -1,0 +1,272 @@
+/* test_export_freecad.c — import audit: STEP and IGES files written by the export stage are read
+ * back by FreeCAD / OpenCASCADE (tools/q2n_audit.py, run with /usr/bin/python3) and the audit's
+ * figures are checked against independent references:
+ *   - topology: face count = mesh faces, isValid, one shell (one solid when closed), free edges =
+ *     mesh boundary edges (none inside), plain IGES = one face per patch;
+ *   - G0 gap <= 1e-9 x bbox diagonal on every watertight model;
+ *   - G1: <= 0.01 deg on the exact C2 bicubic torus (osd_catmark_torus.obj) and the exact rational
+ *     torus; on the bilinear grid the audit's maximum normal jump equals the closed form of the
+ *     bilinear normals at the same samples (to 1e-6 deg);
+ *   - G2: two tangent cylinders of radii 1 and 2 give |1/R1 - 1/R2| = 0.5 and (R2-R1)/(R1+R2) = 1/3;
+ *   - the rational torus' volume 2 pi^2 R r^2 and the mesh vertices lying on it (distance ~ 0);
+ *   - tools/q2n_compare.py accepts a matching report and rejects wrong ones.
+ * Skips (with a message) when FreeCAD's Python modules are not installed. */
+#include "check.h"
+#include "iges/export.h"
+#include "test_export_models.h"
+
+#define AUDIT "/usr/bin/python3 tools/q2n_audit.py"
+#define OUTDIR "build/tests/"
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = malloc((size_t)n + 1);
+    size_t k = fread(b, 1, (size_t)n, f);
+    b[k] = 0;
+    fclose(f);
+    return b;
+}
+
+/* value of "key": NUMBER / true / false / null in the audit's JSON (keys used here are unique) */
+static double jnum(const char *json, const char *key)
+{
+    char pat[96];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char *p = json ? strstr(json, pat) : NULL;
+    if (!p) return NAN;
+    p += strlen(pat);
+    if (!strncmp(p, "true", 4)) return 1.0;
+    if (!strncmp(p, "false", 5)) return 0.0;
+    return strtod(p, NULL);
+}
+
+static void write_obj(const q2n_mesh *m, const char *path)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) return;
+    for (int v = 0; v < m->nv; v++) fprintf(f, "v %.17g %.17g %.17g\n", m->pos[3 * v], m->pos[3 * v + 1], m->pos[3 * v + 2]);
+    for (int k = 0; k < m->nf; k++)
+        fprintf(f, "f %d %d %d %d\n", m->face_vert[4 * k] + 1, m->face_vert[4 * k + 1] + 1, m->face_vert[4 * k + 2] + 1,
+                m->face_vert[4 * k + 3] + 1);
+    fclose(f);
+}
+
+/* Export (format from the extension), audit, return the JSON text (caller frees) or NULL. */
+static char *export_audit(const q2n_nurbs_model *m, const q2n_export_options *o, const char *file, const char *obj)
+{
+    q2n_error err;
+    char path[256], json[300], cmd[1024];
+    snprintf(path, sizeof path, OUTDIR "%s", file);
+    snprintf(json, sizeof json, "%s.json", path);
+    if (q2n_export_file(m, o, path, &err) != Q2N_OK) { CHECK(0, "%s: %s", file, err.message); return NULL; }
+    snprintf(cmd, sizeof cmd, AUDIT " %s --no-edges --json %s%s%s", path, json, obj ? " --mesh " : "", obj ? obj : "");
+    int rc = system(cmd);
+    CHECK(rc == 0, "%s: audit exit status %d", file, rc);
+    return rc == 0 ? slurp(json) : NULL;
+}
+
+static void check_topology(const char *what, const char *js, const q2n_mesh *m, int shells, int solids)
+{
+    CHECK(jnum(js, "faces") == m->nf, "%s: %g faces for %d mesh faces", what, jnum(js, "faces"), m->nf);
+    CHECK(jnum(js, "valid") == 1.0, "%s: isValid", what);
+    CHECK(jnum(js, "shells") == shells && jnum(js, "solids") == solids, "%s: %g shells %g solids (want %d, %d)", what,
+          jnum(js, "shells"), jnum(js, "solids"), shells, solids);
+    if (shells > 0) {
+        CHECK(jnum(js, "free_edges") == em_mesh_boundary_edges(m), "%s: %g free edges, mesh boundary has %d", what,
+              jnum(js, "free_edges"), em_mesh_boundary_edges(m));
+        CHECK(jnum(js, "nonmanifold_edges") == 0.0, "%s: non-manifold edges", what);
+        CHECK(jnum(js, "g0_max_rel") <= 1e-9, "%s: G0 gap %.3g x diag", what, jnum(js, "g0_max_rel"));
+    }
+}
+
+/* Closed form: largest normal-angle jump (deg) of the bilinear patches across interior edges at
+ * the audit's samples t = (i + 0.5)/N (the samples are symmetric, so the two sides' parameters
+ * t and 1 - t give the same set of points). */
+static double bilinear_g1_reference(const q2n_mesh *m, int N)
+{
+    double worst = 0.0;
+    for (int h = 0; h < m->nh; h++) {
+        int g = m->he_twin[h];
+        if (g < h) continue;
+        for (int i = 0; i < N; i++) {
+            double t = (i + 0.5) / N, n[2][3];
+            for (int s = 0; s < 2; s++) {
+                int e = s ? g : h, f = e / 4, side = e % 4;
+                double tt = s ? 1.0 - t : t;
+                static const double o[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, d[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+                double u = o[side][0] + tt * d[side][0], v = o[side][1] + tt * d[side][1];
+                const double *c0 = m->pos + 3 * m->face_vert[4 * f], *c1 = m->pos + 3 * m->face_vert[4 * f + 1];
+                const double *c2 = m->pos + 3 * m->face_vert[4 * f + 2], *c3 = m->pos + 3 * m->face_vert[4 * f + 3];
+                double su[3], sv[3];
+                for (int a = 0; a < 3; a++) {
+                    su[a] = (1 - v) * (c1[a] - c0[a]) + v * (c2[a] - c3[a]);
+                    sv[a] = (1 - u) * (c3[a] - c0[a]) + u * (c2[a] - c1[a]);
+                }
+                n[s][0] = su[1] * sv[2] - su[2] * sv[1];
+                n[s][1] = su[2] * sv[0] - su[0] * sv[2];
+                n[s][2] = su[0] * sv[1] - su[1] * sv[0];
+                double l = sqrt(n[s][0] * n[s][0] + n[s][1] * n[s][1] + n[s][2] * n[s][2]);
+                for (int a = 0; a < 3; a++) n[s][a] /= l;
+            }
+            double c[3] = {n[0][1] * n[1][2] - n[0][2] * n[1][1], n[0][2] * n[1][0] - n[0][0] * n[1][2],
+                           n[0][0] * n[1][1] - n[0][1] * n[1][0]};
+            double ang = atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
+                               n[0][0] * n[1][0] + n[0][1] * n[1][1] + n[0][2] * n[1][2]) * 180.0 / EM_PI;
+            worst = fmax(worst, ang);
+        }
+    }
+    return worst;
+}
+
+/* Two quarter cylinders, radii r1 (centre 0) and r2 (centre (r1 - r2, 0)), tangent along x = r1,
+ * height h: G1 across the seam, normal curvature across it 1/r1 vs 1/r2. */
+static q2n_nurbs_model two_cylinders(double r1, double r2, double h, q2n_mesh **mo)
+{
+    double pos[18] = {0, -r1, 0, r1, 0, 0, r1, 0, h, 0, -r1, h, r1 - r2, r2, 0, r1 - r2, r2, h};
+    int fv[8] = {0, 1, 2, 3, 1, 4, 5, 2};
+    q2n_mesh *m = em_mesh_build(6, pos, 2, fv);
+    q2n_nurbs_model md = em_model_alloc(m);
+    const double rad[2] = {r1, r2}, cx[2] = {0.0, r1 - r2};
+    const int quarter[2] = {3, 0};
+    for (int f = 0; f < 2; f++) {
+        double a[3][2], w[3];
+        em_arc(quarter[f], a, w);
+        q2n_bspline_surface *s = &md.patches[f];
+        em_surface_alloc(s, 2, 1, 3, 2, 1);
+        em_knots(s->knots_u, 2, 0);
+        em_knots(s->knots_v, 1, 0);
+        for (int j = 0; j < 2; j++)
+            for (int i = 0; i < 3; i++) {
+                double *P = s->cp + 3 * (j * 3 + i);
+                P[0] = cx[f] + rad[f] * a[i][0];
+                P[1] = rad[f] * a[i][1];
+                P[2] = h * j;
+                s->weights[j * 3 + i] = w[i];
+            }
+    }
+    *mo = m;
+    return md;
+}
+
+static int run_compare(const char *audit_json, const char *report_text)
+{
+    const char *rp = OUTDIR "export_fc_report.json";
+    FILE *f = fopen(rp, "w");
+    if (!f) return -1;
+    fputs(report_text, f);
+    fclose(f);
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "/usr/bin/python3 tools/q2n_compare.py %s %s --target-g1 0.01 > /dev/null", audit_json, rp);
+    int rc = system(cmd);
+    return rc == -1 ? -1 : (rc >> 8) & 0xff;
+}
+
+int main(void)
+{
+    if (system("/usr/bin/python3 -c \"import sys; sys.path.append('/usr/lib/freecad-python3/lib'); "
+               "import FreeCAD, Part\" > /dev/null 2>&1") != 0) {
+        SKIP("FreeCAD (Debian freecad-python3) is not installed: import audit not run");
+        CHECK_DONE("test_export_freecad");
+    }
+    q2n_export_options plain = {0};
+    plain.iges_plain = 1;
+
+    /* 1. open bilinear grid (polynomial bi-quintic): STEP and IGES B-rep, plain IGES */
+    q2n_mesh *g = em_mesh_grid(5, 3);
+    q2n_nurbs_model gm = em_model_bilinear(g);
+    double g1_ref = bilinear_g1_reference(g, 16);
+    const char *names[2] = {"export_fc_grid.step", "export_fc_grid.igs"};
+    for (int k = 0; k < 2; k++) {
+        char *js = export_audit(&gm, NULL, names[k], NULL);
+        check_topology(names[k], js, g, 1, 0);
+        CHECK_NEAR(jnum(js, "g1_max_deg"), g1_ref, 1e-6, "bilinear grid G1 vs closed form");
+        CHECK(g1_ref > 1.0, "the grid has real kinks (%.3g deg)", g1_ref);
+        free(js);
+    }
+    {
+        char *js = export_audit(&gm, &plain, "export_fc_grid_plain.igs", NULL);
+        CHECK(jnum(js, "faces") == g->nf && jnum(js, "valid") == 1.0, "plain IGES: one face per patch (%g)", jnum(js, "faces"));
+        CHECK(jnum(js, "shells") == 0 && jnum(js, "free_edges") == 4 * g->nf, "plain IGES: unconnected faces");
+        free(js);
+    }
+
+    /* 2. exact rational torus (closed): STEP and IGES */
+    q2n_mesh *tm;
+    q2n_nurbs_model tr = em_model_torus_rational(3.0, 1.0, &tm);
+    write_obj(tm, OUTDIR "export_fc_torus.obj");
+    const char *tnames[2] = {"export_fc_torus_rat.step", "export_fc_torus_rat.igs"};
+    for (int k = 0; k < 2; k++) {
+        char *js = export_audit(&tr, NULL, tnames[k], OUTDIR "export_fc_torus.obj");
+        check_topology(tnames[k], js, tm, 1, 1);
+        CHECK(jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g deg", tnames[k], jnum(js, "g1_max_deg"));
+        CHECK(jnum(js, "g2_max_rel") <= 1e-6, "%s: G2 rel %.3g", tnames[k], jnum(js, "g2_max_rel"));
+        CHECK_NEAR(jnum(js, "volume"), 2 * EM_PI * EM_PI * 3.0, 1e-6 * 2 * EM_PI * EM_PI * 3.0, "torus volume 2 pi^2 R r^2");
+        CHECK(jnum(js, "max_vertex_dist_rel") <= 1e-9, "%s: mesh vertices on the torus (%.3g)", tnames[k],
+              jnum(js, "max_vertex_dist_rel"));
+        free(js);
+    }
+    /* q2n_compare.py: a matching report passes, a wrong face count or G1 figure fails */
+    CHECK(run_compare(OUTDIR "export_fc_torus_rat.step.json",
+                      "{\"faces\": 16, \"g0_max_rel\": 0.0, \"g1_max_deg\": 0.0, \"g2_max_rel\": 0.0}") == 0,
+          "compare: matching report accepted");
+    CHECK(run_compare(OUTDIR "export_fc_torus_rat.step.json",
+                      "{\"faces\": 15, \"g0_max_rel\": 0.0, \"g1_max_deg\": 0.0, \"g2_max_rel\": 0.0}") == 1,
+          "compare: wrong face count rejected");
+    CHECK(run_compare(OUTDIR "export_fc_torus_rat.step.json",
+                      "{\"report\": {\"faces\": 16, \"g0_max_rel\": 0.0, \"g1_max_deg\": 0.5, \"g2_max_rel\": 0.0}}") == 1,
+          "compare: disagreeing G1 rejected");
+
+    /* 3. exact C2 bicubic torus from a regular closed control mesh */
+    const char *tp = chk_shared_mesh("osd_catmark_torus.obj");
+    q2n_mesh *om = tp ? em_mesh_read_obj(tp) : NULL;
+    q2n_nurbs_model bm;
+    if (!tp) SKIP("osd_catmark_torus.obj not in ../shared/meshes: C2 torus audit not run");
+    else if (!om || !em_model_bicubic(om, &bm)) CHECK(0, "C2 torus model from %s", tp);
+    else {
+        const char *bn[2] = {"export_fc_torus_c2.step", "export_fc_torus_c2.igs"};
+        for (int k = 0; k < 2; k++) {
+            char *js = export_audit(&bm, NULL, bn[k], tp);
+            check_topology(bn[k], js, om, 1, 1);
+            CHECK(jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g deg", bn[k], jnum(js, "g1_max_deg"));
+            CHECK(jnum(js, "g2_max_rel") <= 1e-6, "%s: G2 rel %.3g", bn[k], jnum(js, "g2_max_rel"));
+            free(js);
+        }
+        q2n_nurbs_model_free(&bm);
+    }
+    em_mesh_free(om);
+
+    /* 4. open rational cylinder, IGES B-rep */
+    q2n_mesh *cm;
+    q2n_nurbs_model cy = em_model_cylinder_rational(2.0, 3.0, 2, &cm);
+    {
+        char *js = export_audit(&cy, NULL, "export_fc_cyl.igs", NULL);
+        check_topology("export_fc_cyl.igs", js, cm, 1, 0);
+        CHECK(jnum(js, "g1_max_deg") <= 0.01, "cylinder G1 %.3g", jnum(js, "g1_max_deg"));
+        CHECK_NEAR(jnum(js, "area"), 2 * EM_PI * 2.0 * 3.0, 1e-9 * 37.7, "cylinder area 2 pi r h");
+        free(js);
+    }
+
+    /* 5. G2 closed form: tangent cylinders of radii 1 and 2 */
+    q2n_mesh *tc;
+    q2n_nurbs_model tcm = two_cylinders(1.0, 2.0, 1.0, &tc);
+    for (int k = 0; k < 2; k++) {
+        const char *n = k ? "export_fc_g2.igs" : "export_fc_g2.step";
+        char *js = export_audit(&tcm, NULL, n, NULL);
+        check_topology(n, js, tc, 1, 0);
+        CHECK(jnum(js, "g1_max_deg") <= 1e-6, "%s: tangent cylinders G1 %.3g", n, jnum(js, "g1_max_deg"));
+        CHECK_NEAR(jnum(js, "g2_max_abs"), 0.5, 1e-9, "G2 |1/R1 - 1/R2|");
+        CHECK_NEAR(jnum(js, "g2_max_rel"), 1.0 / 3.0, 1e-9, "G2 (R2-R1)/(R1+R2)");
+        free(js);
+    }
+
+    q2n_nurbs_model_free(&gm); em_mesh_free(g);
+    q2n_nurbs_model_free(&tr); em_mesh_free(tm);
+    q2n_nurbs_model_free(&cy); em_mesh_free(cm);
+    q2n_nurbs_model_free(&tcm); em_mesh_free(tc);
+    CHECK_DONE("test_export_freecad");
+}
