@@ -8,9 +8,11 @@
  *  - valence-2 boundary vertices are corners, as in q2n_mesh_subdivide (and OpenSubdiv
  *    VTX_BOUNDARY_EDGE_AND_CORNER): corner point v, which makes the corner patch the bicubic
  *    B-spline of the reflected ("phantom") control net, i.e. the exact limit;
- *  - interior edge points at a boundary vertex with k faces: OpenSubdiv's limit-tangent points
- *    E_i = P + (cos(iπ/k) T_b + sin(iπ/k) T_x)/3 (Loop–Schaefer tangent form).  For k = 2 this is
- *    the B-spline edge point, so regular boundaries are reproduced exactly;
+ *  - interior edge points at a boundary vertex with k faces: E_i = P + (cos(iπ/k) T_b +
+ *    sin(iπ/k) T_x)/3 as in OpenSubdiv (formulas.md §1.4), but with the cross tangent T_x of the
+ *    STANDARD boundary rules (derived in cross_tangent_weights(); the mask quoted in formulas.md
+ *    is for Biermann et al.'s modified rules and tilts the normal).  For k = 2 this is the
+ *    B-spline edge point, so regular boundaries are reproduced exactly;
  *  - the face (interior) point at any boundary vertex: the regular B-spline weights
  *    (4v + 2a + 2b + d)/9.  Exact at regular boundary vertices and corners; at boundary EVs the
  *    ACC3 surface is only C0 anyway and acc-g1 recomputes these points (eq. 34, seed 001 §5.4). */
@@ -142,6 +144,39 @@ static void corner_point(const ring *g, const double *val, int dim, double *out)
     }
 }
 
+/* Cross-boundary limit tangent T_x at a boundary vertex with n faces, as weights:
+ * wv v + wb (e_0 + e_n) + Σ_{i=1}^{n-1} a sin(iθ) e_i + Σ_{i=0}^{n-1} b (sin(iθ) + sin((i+1)θ)) f_i.
+ *
+ * [DERIVED here; formulas.md §1.4 is NOT used for n >= 3.]  The OpenSubdiv/Biermann et al. mask
+ * quoted there belongs to Biermann–Levin–Zorin's modified boundary rules: with the standard
+ * Catmull–Clark boundary rules (boundary curve (e_0 + 6v + e_n)/8, which q2n_mesh_subdivide and
+ * OpenSubdiv's refiner use) its normal is off by up to 0.1 rad (checked against 7 levels of
+ * subdivision and Bfr).  Here T_x is the left eigenvector of the one-ring subdivision matrix for
+ * the symmetric sub-dominant eigenvalue λ = (5 + C + sqrt((1+C)(9+C)))/16, C = cos(π/n)
+ * (λ = 1/2 for n = 2): with e_i -> a sin(iθ), f_i -> b (sin iθ + sin(i+1)θ) the edge and face
+ * rows give b = a / (16 (λ - 1/4)); the rows of e_0 and v give the two equations solved below.
+ * Scale: a = 4/(3n + C) (the Loop–Schaefer normalisation, so that n = 2 is the B-spline). */
+static void cross_tangent_weights(int n, double *wv, double *wb, double *a, double *b)
+{
+    double th = ACC_PI / n, C = cos(th), S = 0;
+    for (int i = 1; i < n; i++) S += sin(i * th);
+    *a = 4.0 / (3.0 * n + C);
+    if (n == 2) { /* regular boundary vertex: B-spline cross tangent [-4v - (e_0+e_2) + 4e_1 + f_0 + f_1]/6 */
+        *wv = -4.0 / 6.0;
+        *wb = -1.0 / 6.0;
+        *b = 1.0 / 6.0;
+        return;
+    }
+    double lam = (5.0 + C + sqrt((1.0 + C) * (9.0 + C))) / 16.0;
+    *b = *a / (16.0 * (lam - 0.25));
+    /* row of v:   wv (λ - 3/4) = 2 wb/2 + (3/8) a S + (b/4) 2S
+     * row of e_0: wb (λ - 1/2) = wv/8 + λ b sin θ */
+    double s1 = sin(th);
+    *wv = (s1 * lam * *b / (lam - 0.5) + S * (0.375 * *a + 0.5 * *b)) /
+          ((lam - 0.75) - 1.0 / (8.0 * (lam - 0.5)));
+    *wb = (*wv / 8.0 + s1 * lam * *b) / (lam - 0.5);
+}
+
 /* Edge point on ring edge j (towards e_j), at v's third of the edge. */
 static void edge_point(const ring *g, int j, const double *val, int dim, double *out)
 {
@@ -162,22 +197,20 @@ static void edge_point(const ring *g, int j, const double *val, int dim, double 
         axpy(out, 1.0 / 3, V(val, dim, ring_e(g, j)), dim);
         return;
     }
-    /* interior edge at a boundary vertex with n faces: formulas.md §1.4, θ = π/n */
-    double th = ACC_PI / n, c = cos(th), s = sin(th), den = 3.0 * n + c;
-    double cj = cos(j * th) / 3.0, sj = sin(j * th) / 3.0;
+    /* interior edge at a boundary vertex with n faces: E_j = P + (cos(jθ) T_b + sin(jθ) T_x)/3,
+     * θ = π/n, T_b = (e_0 - e_n)/2 (formulas.md §1.4), T_x the cross-boundary limit tangent */
+    double th = ACC_PI / n, cj = cos(j * th) / 3.0, sj = sin(j * th) / 3.0;
     corner_point(g, val, dim, out);
-    /* T_b = (e_0 - e_n)/2 */
     axpy(out, cj * 0.5, V(val, dim, ring_e(g, 0)), dim);
     axpy(out, -cj * 0.5, V(val, dim, ring_e(g, n)), dim);
-    /* T_x */
-    double q = sj / den;
-    axpy(out, -4.0 * s * q, V(val, dim, g->v), dim);
-    double cot = (1.0 + 2.0 * c) * (1.0 + c) / s;
-    axpy(out, -cot * q, V(val, dim, ring_e(g, 0)), dim);
-    axpy(out, -cot * q, V(val, dim, ring_e(g, n)), dim);
-    for (int i = 1; i < n; i++) axpy(out, 4.0 * sin(i * th) * q, V(val, dim, ring_e(g, i)), dim);
+    double wv, wb, a, b;
+    cross_tangent_weights(n, &wv, &wb, &a, &b);
+    axpy(out, sj * wv, V(val, dim, g->v), dim);
+    axpy(out, sj * wb, V(val, dim, ring_e(g, 0)), dim);
+    axpy(out, sj * wb, V(val, dim, ring_e(g, n)), dim);
+    for (int i = 1; i < n; i++) axpy(out, sj * a * sin(i * th), V(val, dim, ring_e(g, i)), dim);
     for (int i = 0; i < n; i++)
-        axpy(out, (sin(i * th) + sin((i + 1) * th)) * q, V(val, dim, ring_f(g, i)), dim);
+        axpy(out, sj * b * (sin(i * th) + sin((i + 1) * th)), V(val, dim, ring_f(g, i)), dim);
 }
 
 /* Face (interior) point of ring face i: (n v + 2 e_i + 2 e_{i+1} + f_i)/(n+5), formulas.md §1.1;
