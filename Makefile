@@ -23,7 +23,7 @@ else ifeq ($(CONFIG),asan)
 else
   OPT := -O2 -g
 endif
-CFLAGS   := -std=c11 $(WARN) $(OPT) -D_POSIX_C_SOURCE=200809L
+CFLAGS   := -std=c11 $(WARN) $(OPT) -D_POSIX_C_SOURCE=200809L -D_ISOC11_SOURCE
 CXXFLAGS := -std=c++17 $(WARN) $(OPT) -I/usr/include/eigen3
 
 LIB_C    := $(filter-out src/cli/%,$(wildcard src/*/*.c))

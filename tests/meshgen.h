@@ -20,8 +20,8 @@ static double mg_rnd(unsigned *s) { *s = *s * 1103515245u + 12345u; return ((*s 
 static q2n_mesh *mg_torus(int n, int m, double R, double r, double jitter, int uneven, unsigned seed)
 {
     int nv = n * m;
-    double *pos = malloc(3 * (size_t)nv * sizeof *pos);
-    int *fs = malloc(((size_t)nv + 1) * sizeof *fs), *fv = malloc(4 * (size_t)nv * sizeof *fv);
+    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = (int *)malloc(((size_t)nv + 1) * sizeof *fs), *fv = (int *)malloc(4 * (size_t)nv * sizeof *fv);
     for (int i = 0; i < n; i++)
         for (int j = 0; j < m; j++) {
             double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m;
@@ -55,8 +55,8 @@ static q2n_mesh *mg_torus(int n, int m, double R, double r, double jitter, int u
 static q2n_mesh *mg_grid(int n, int m, unsigned seed)
 {
     int nv = (n + 1) * (m + 1), nf = n * m;
-    double *pos = malloc(3 * (size_t)nv * sizeof *pos);
-    int *fs = malloc(((size_t)nf + 1) * sizeof *fs), *fv = malloc(4 * (size_t)nf * sizeof *fv);
+    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = (int *)malloc(((size_t)nf + 1) * sizeof *fs), *fv = (int *)malloc(4 * (size_t)nf * sizeof *fv);
     double x = 0;
     for (int i = 0; i <= n; i++) {
         for (int j = 0; j <= m; j++) {

@@ -49,7 +49,7 @@ static double cross_delta(const q2n_mesh *m, const double *iv, int k, int f, int
     return o[0];
 }
 
-typedef struct stats { double interp, fd1, fd2, prop1, prop2; int covered, edges; } stats;
+typedef struct stats { double interp, fd1, fd2, prop1, prop2, grid; int covered, edges; } stats;
 
 static void check_mesh(const char *label, const q2n_mesh *m, const char *clsname, q2n_param_method pm,
                        int expect_all, stats *st)
@@ -93,6 +93,19 @@ static void check_mesh(const char *label, const q2n_mesh *m, const char *clsname
                 st->fd2 = fmax(st->fd2, fabs((d2[6 + q] - c2[6 + q]) / (2 * hh) - e[15 + q]) / scale);
             }
         }
+    }
+    /* the grid fast path equals point-by-point evaluation */
+    double us[5] = {0, 0.13, 0.5, 0.77, 1}, vs[3] = {0.05, 0.5, 1}, gbuf[9 * 15];
+    for (int f = 0; f < m->nf; f++) {
+        if (q2n_surface_kind(S, f) != Q2N_PATCH_AUGMENTED) continue;
+        q2n_surface_eval_grid(S, f, 5, us, 3, vs, gbuf);
+        for (int b = 0; b < 3; b++)
+            for (int a = 0; a < 5; a++) {
+                double e[Q2N_EVAL_MAX];
+                q2n_surface_eval(S, f, us[a], vs[b], 1, e);
+                for (int q = 0; q < 9; q++)
+                    st->grid = fmax(st->grid, fabs(e[q] - gbuf[9 * (b * 5 + a) + q]) / diag);
+            }
     }
     /* Proposition 1 on closed section polylines walked through the mesh */
     const q2n_spline_class *cls = opt.cls;
@@ -152,6 +165,7 @@ static void check_mesh(const char *label, const q2n_mesh *m, const char *clsname
     CHECK(st->fd2 <= 1e-5, "%s: second derivatives vs FD %.3g", label, st->fd2);
     CHECK(st->prop1 <= 1e-12, "%s: Proposition 1 %.3g", label, st->prop1);
     CHECK(st->prop2 <= 1e-9, "%s: Proposition 2 %.3g", label, st->prop2);
+    CHECK(st->grid <= 1e-13, "%s: grid evaluation vs point evaluation %.3g", label, st->grid);
     free(iv);
     q2n_surface_free(S);
 }

@@ -29,25 +29,31 @@ typedef struct basis_table {
     basis_fn f[Q2N_SPLINE_MAXB];
 } basis_table;
 
+/* falling factorials p!/(p-d)! for p <= 7, d <= 3 */
+static const double FALL[8][4] = {{1, 0, 0, 0},   {1, 1, 0, 0},    {1, 2, 2, 0},     {1, 3, 6, 6},
+                                  {1, 4, 12, 24}, {1, 5, 20, 60},  {1, 6, 30, 120},  {1, 7, 42, 210}};
+
 static void eval_table(const basis_table *T, double t, int nder, double *out)
 {
+    double pw[8], y[2][4];
+    pw[0] = 1;
+    for (int p = 1; p < 8; p++) pw[p] = pw[p - 1] * t;
+    for (int q = 0; q < 2; q++) { /* d-th derivative of (t - brk)_+^pw */
+        double yy = t - T->brk[q];
+        for (int d = 0; d < 4; d++) {
+            y[q][d] = 0;
+            if (T->pw == 0 || yy <= 0 || d > T->pw) continue;
+            double pp = FALL[T->pw][d];
+            for (int e = 0; e < T->pw - d; e++) pp *= yy;
+            y[q][d] = pp;
+        }
+    }
     for (int r = 0; r < T->nb; r++) {
         const basis_fn *f = &T->f[r];
         for (int d = 0; d <= nder; d++) {
             double acc = 0;
-            for (int p = 5; p >= d; p--) { /* Horner on the d-th derivative */
-                double fall = 1;
-                for (int q = 0; q < d; q++) fall *= p - q;
-                acc = acc * t + fall * f->c[p];
-            }
-            for (int q = 0; q < 2; q++) {
-                double y = t - T->brk[q];
-                if (f->tr[q] == 0 || y <= 0 || d > T->pw) continue;
-                double fall = 1, pw = 1;
-                for (int e = 0; e < d; e++) fall *= T->pw - e;
-                for (int e = 0; e < T->pw - d; e++) pw *= y;
-                acc += f->tr[q] * fall * pw;
-            }
+            for (int p = d; p < 6; p++) acc += f->c[p] * FALL[p][d] * pw[p - d];
+            acc += f->tr[0] * y[0][d] + f->tr[1] * y[1][d];
             out[d * T->nb + r] = acc;
         }
     }
@@ -132,6 +138,20 @@ static void lagrange_node_derivs(const q2n_jet *X, int lo, int hi, int c, int k,
     }
 }
 
+/* The 3-point parabola through x_{j-1}, x_j, x_{j+1} (formulas.md §3.3), with hm, hp the
+ * intervals left and right of the knot: weights of f_{j-1}, f_j, f_{j+1} in d_j and s_j. */
+static void parabola_weights(q2n_jet hm, q2n_jet hp, q2n_jet W[3][Q2N_SPLINE_MAXW], int off)
+{
+    q2n_jet im = q2n_jet_inv(hm), ip = q2n_jet_inv(hp), is = q2n_jet_inv(q2n_jet_add(hm, hp));
+    q2n_jet a = q2n_jet_mul(im, is), b = q2n_jet_mul(im, ip), c = q2n_jet_mul(ip, is);
+    W[1][off] = q2n_jet_scale(-1, q2n_jet_mul(hp, a));
+    W[1][off + 1] = q2n_jet_mul(q2n_jet_sub(hp, hm), b);
+    W[1][off + 2] = q2n_jet_mul(hm, c);
+    W[2][off] = q2n_jet_scale(2, a);
+    W[2][off + 1] = q2n_jet_scale(-2, b);
+    W[2][off + 2] = q2n_jet_scale(2, c);
+}
+
 void q2n_spline_coeffs(const q2n_spline_class *c, const q2n_jet *d, q2n_jet *C)
 {
     int w = c->w, h = w / 2, k = c->k, L = (c->nlagr - 1) / 2;
@@ -143,7 +163,8 @@ void q2n_spline_coeffs(const q2n_spline_class *c, const q2n_jet *d, q2n_jet *C)
     for (int e = 0; e < 2; e++) {
         int knot = h - 1 + e;
         q2n_jet W[4][Q2N_SPLINE_MAXW];
-        lagrange_node_derivs(X, knot - L, knot + L, knot, k, W);
+        if (c->nlagr == 3 && k <= 2) parabola_weights(d[knot - 1], d[knot], W, knot - 1);
+        else lagrange_node_derivs(X, knot - L, knot + L, knot, k, W);
         q2n_jet Da = q2n_jet_const(1);
         for (int a = 0; a <= k; a++) {
             int r = e * (k + 1) + a;
@@ -211,13 +232,12 @@ static const double smooth_coef[4][8] = {
 void q2n_spline_blend_derivs(int k, double a, double b, double t, double out[4])
 {
     const double *c = smooth_coef[k < 0 ? 0 : k > 3 ? 3 : k];
+    double pw[8];
+    pw[0] = 1;
+    for (int p = 1; p < 8; p++) pw[p] = pw[p - 1] * t;
     for (int d = 0; d < 4; d++) {
         double acc = 0;
-        for (int p = 7; p >= d; p--) {
-            double fall = 1;
-            for (int q = 0; q < d; q++) fall *= p - q;
-            acc = acc * t + fall * c[p];
-        }
+        for (int p = d; p < 8; p++) acc += c[p] * FALL[p][d] * pw[p - d];
         out[d] = (d == 0 ? a : 0) + (b - a) * acc;
     }
 }
