@@ -1,0 +1,846 @@
+/* fit.c — bi-quintic B-spline fit of a composite surface, watertight and G1/G2 across edges.
+ *
+ * Method (docs/fit.md has the long form).  Every patch k becomes a clamped bi-quintic B-spline on
+ * [0,1]^2 with uniform interior knots: m_u spans in u and m_v in v, where the span count belongs
+ * to the patch's edge RIBBON (q2n_mesh_ribbons), so both sides of every edge use the same knots
+ * along it.  One fitting round for given span counts runs these linear stages (each a set of
+ * independent least-squares blocks solved by Ceres, or by the direct QR reference):
+ *
+ *  1. corners: the patch corners are the mesh vertices (exact, bit-identical everywhere);
+ *  2. edge curves: each mesh edge's boundary curve is fitted ONCE (1-D least squares of the
+ *     owner patch's edge at 4m+4 samples) with Hermite end conditions — value, first and second
+ *     derivative along the edge equal the construction's at both ends (exact) — and copied into
+ *     both neighbours' boundary rows (bit-identical shared control points: G0 is exact);
+ *  3. corner twists: the point next to each corner (Q11) reproduces the construction's twist
+ *     d2S/dtds at the corner (exact in the spline space; for Gregory-type corners, whose twist is
+ *     not unique, the average of the two edge-wise limits).  Because corner points, end tangents,
+ *     end curvature vectors and twists all come from the construction, the G1 conditions of all
+ *     edges meeting at a vertex are consistent there to first order (vertex enclosure inherited
+ *     from the construction, which is G1 at its vertices);
+ *  4. G1 rows: for each interior edge the first control rows of BOTH sides are fitted jointly:
+ *     fidelity to each side's exact cross-boundary derivative at the edge samples, plus the
+ *     gluing relation  d_s S_R = alpha d_s S_L + beta d_t S_L  (formulas.md §4.2, G1; seed 003
+ *     Prop. 2, eqs. 13–14) with alpha(t), beta(t) computed from the construction's exact
+ *     derivatives, weighted by g1_weight, at the same samples.  The relation therefore holds in
+ *     the least-squares sense at the collocation points (not exactly between them); the measured
+ *     angle jump at the midpoints is reported and drives refinement;
+ *  5. (G2 mode) a preliminary interior fit, then the second rows next to each interior edge are
+ *     refitted jointly with the second-order relation of formulas.md §4.2 (gamma, delta again from
+ *     the construction), same weighting; the points two rows in from a corner stay from the
+ *     preliminary fit (they belong to two edges), so with one span the relation is carried by
+ *     refinement alone;
+ *  6. interiors: the remaining control points of each patch, least squares at a (4m_u+4) x
+ *     (4m_v+4) sample grid.
+ * Then deviation (at the midpoints of the sample grid) and continuity (at the midpoints of the
+ * edge samples) are measured, and the ribbons of failing patches / edges get more spans
+ * (m <- max(m+1, ceil(1.15 m (dev/tol)^(1/6))), the quintic error order), until all targets hold
+ * or max_spans is reached.
+ *
+ * Bézier patches (ACC path) are converted exactly: degree elevated to 5 x 5 (Farin, Curves and
+ * Surfaces for CAGD, §5.1: b_i' = i/(n+1) b_{i-1} + (1 - i/(n+1)) b_i), one span.  Why quintic
+ * and not cubic: every patch of every model then has one degree, so edge curves of neighbours
+ * (cubic ACC faces next to quintic G1 faces near extraordinary vertices) have identical control
+ * points and knots, which the one-edge-curve-per-mesh-edge STEP/IGES writers need. */
+#include "fit/fit.h"
+#include "fit/fit_internal.h"
+#include "core/vec3.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <stdio.h>
+
+static const int corner_uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+
+typedef struct fpatch {
+    int mu, mv, nu, nv;
+    double *ku, *kv;         /* knot vectors (mu+11, mv+11) */
+    double *cp;              /* 3*nu*nv, u fastest */
+    unsigned char *fixed;    /* nu*nv */
+    int *var;                /* nu*nv: unknown index in the current stage, or -1 */
+} fpatch;
+
+/* Frame of side i of a patch: t along the side (corner i -> i+1), s into the patch. */
+typedef struct side {
+    int k, i;                /* patch and side */
+    int ox, oy;              /* corner in grid index space */
+    int tx, ty, sx, sy;      /* unit steps of t and s in (u,v) (and grid index) space */
+    int nt, ns, mt, ms;      /* control points / spans along and across */
+    const double *kt, *ks;   /* knots along and across */
+} side;
+
+typedef struct ctx {
+    const q2n_surface *s;
+    const q2n_mesh *m;
+    q2n_fit_options o;
+    double diag;
+    int *rib, nrib, *rspan;
+    fpatch *p;
+    fit_ls ls;
+    int *var_k, *var_g, cap_var;
+    q2n_fit_report *rep;
+    q2n_error *err;
+} ctx;
+
+/* A row under construction: unknown terms plus right-hand side (fixed terms moved over). */
+#define ROW_MAX 256
+typedef struct row {
+    int n;
+    int var[ROW_MAX];
+    double val[ROW_MAX];
+    double rhs[3];
+} row;
+
+void q2n_fit_options_default(q2n_fit_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->tol = 1e-5;
+    o->continuity = 1;
+    o->threads = 1;
+    o->solver = Q2N_FIT_SOLVER_CERES;
+    o->max_spans = 32;
+    o->max_rounds = 10;
+    o->g1_target_deg = 0.005;
+    o->g2_target_rel = 0.005;
+    o->g1_weight = 100.0;
+}
+
+static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
+{
+    q2n_fit_options d;
+    q2n_fit_options_default(&d);
+    *o = in ? *in : d;
+    if (o->tol <= 0) o->tol = d.tol;
+    if (o->continuity != 2) o->continuity = 1;
+    if (o->threads <= 0) o->threads = d.threads;
+    if (o->max_spans <= 0) o->max_spans = d.max_spans;
+    if (o->max_spans > FIT_MAX_SPANS) o->max_spans = FIT_MAX_SPANS;
+    if (o->max_rounds <= 0) o->max_rounds = d.max_rounds;
+    if (o->g1_target_deg <= 0) o->g1_target_deg = d.g1_target_deg;
+    if (o->g2_target_rel <= 0) o->g2_target_rel = d.g2_target_rel;
+    if (o->g1_weight <= 0) o->g1_weight = d.g1_weight;
+}
+
+/* ------------------------------------------------------------------ construction access */
+
+static q2n_status eval_exact(ctx *c, int k, double u, double v, int nder, double *out)
+{
+    double t0 = fit_now();
+    q2n_status st = q2n_surface_eval(c->s, k, u, v, nder, out);
+    c->rep->t_sample += fit_now() - t0;
+    if (st) return q2n_error_set(c->err, st, "fit: face %d: evaluation at (%g, %g) failed", k, u, v);
+    for (int i = 0; i < 3 * (nder == 0 ? 1 : nder == 1 ? 3 : 6); i++)
+        if (!isfinite(out[i]))
+            return q2n_error_set(c->err, Q2N_ERR_GEOMETRY, "fit: face %d: non-finite value at (%g, %g)", k, u, v);
+    return Q2N_OK;
+}
+
+static side make_side(const ctx *c, int k, int i)
+{
+    const fpatch *p = &c->p[k];
+    const int *c0 = corner_uv[i], *c1 = corner_uv[(i + 1) & 3], *c3 = corner_uv[(i + 3) & 3];
+    side sd;
+    sd.k = k; sd.i = i;
+    sd.ox = c0[0] * (p->nu - 1); sd.oy = c0[1] * (p->nv - 1);
+    sd.tx = c1[0] - c0[0]; sd.ty = c1[1] - c0[1];
+    sd.sx = c3[0] - c0[0]; sd.sy = c3[1] - c0[1];
+    int along_u = sd.tx != 0;
+    sd.nt = along_u ? p->nu : p->nv; sd.ns = along_u ? p->nv : p->nu;
+    sd.mt = along_u ? p->mu : p->mv; sd.ms = along_u ? p->mv : p->mu;
+    sd.kt = along_u ? p->ku : p->kv; sd.ks = along_u ? p->kv : p->ku;
+    return sd;
+}
+
+/* Grid index of the control point it along, js across the side. */
+static int side_g(const ctx *c, const side *sd, int it, int js)
+{
+    int a = sd->ox + it * sd->tx + js * sd->sx, b = sd->oy + it * sd->ty + js * sd->sy;
+    return b * c->p[sd->k].nu + a;
+}
+
+/* Exact derivatives in the side frame at (t, s): D[0] = S, D[1] = d_t, D[2] = d_s, D[3] = d_tt,
+ * D[4] = d_ts, D[5] = d_ss (3 each). */
+static q2n_status side_exact(ctx *c, const side *sd, double t, double s, int nder, double D[6][3])
+{
+    double u = corner_uv[sd->i][0] + t * sd->tx + s * sd->sx;
+    double v = corner_uv[sd->i][1] + t * sd->ty + s * sd->sy;
+    double e[Q2N_EVAL_MAX];
+    q2n_status st = eval_exact(c, sd->k, u, v, nder, e);
+    if (st) return st;
+    int ax[2] = {sd->tx, sd->sx}, ay[2] = {sd->ty, sd->sy};
+    for (int q = 0; q < 3; q++) {
+        D[0][q] = e[q];
+        if (nder < 1) continue;
+        D[1][q] = ax[0] * e[Q2N_EV_U + q] + ay[0] * e[Q2N_EV_V + q];
+        D[2][q] = ax[1] * e[Q2N_EV_U + q] + ay[1] * e[Q2N_EV_V + q];
+        if (nder < 2) continue;
+        static const int pr[3][2] = {{0, 0}, {0, 1}, {1, 1}};
+        for (int r = 0; r < 3; r++) {
+            int a = pr[r][0], b = pr[r][1];
+            D[3 + r][q] = ax[a] * ax[b] * e[Q2N_EV_UU + q] + (ax[a] * ay[b] + ay[a] * ax[b]) * e[Q2N_EV_UV + q] +
+                          ay[a] * ay[b] * e[Q2N_EV_VV + q];
+        }
+    }
+    return Q2N_OK;
+}
+
+/* ------------------------------------------------------------------ row assembly */
+
+static q2n_status add_term(ctx *c, row *r, int k, int g, double coef)
+{
+    fpatch *p = &c->p[k];
+    if (coef == 0.0) return Q2N_OK;
+    if (p->fixed[g]) {
+        q2n_v3_axpy(r->rhs, -coef, p->cp + 3 * (size_t)g);
+        return Q2N_OK;
+    }
+    if (p->var[g] < 0) {
+        int id;
+        fit_ls_new_var(&c->ls, &id);
+        if (id >= c->cap_var) {
+            int nc = c->cap_var ? 2 * c->cap_var : 1024;
+            int *a = realloc(c->var_k, sizeof(int) * (size_t)nc), *b = a ? realloc(c->var_g, sizeof(int) * (size_t)nc) : NULL;
+            if (a) c->var_k = a;
+            if (!a || !b) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (unknowns)");
+            c->var_g = b;
+            c->cap_var = nc;
+        }
+        c->var_k[id] = k;
+        c->var_g[id] = g;
+        p->var[g] = id;
+    }
+    for (int i = 0; i < r->n; i++)
+        if (r->var[i] == p->var[g]) { r->val[i] += coef; return Q2N_OK; }
+    if (r->n == ROW_MAX) return q2n_error_set(c->err, Q2N_ERR_ARG, "fit: row too long");
+    r->var[r->n] = p->var[g];
+    r->val[r->n++] = coef;
+    return Q2N_OK;
+}
+
+static void row_start(row *r, const double target[3], double scale)
+{
+    r->n = 0;
+    q2n_v3_scale(r->rhs, scale, target);
+}
+
+static q2n_status row_push(ctx *c, row *r)
+{
+    if (r->n == 0) return Q2N_OK;     /* only fixed points: nothing to fit */
+    if (fit_ls_row(&c->ls, r->rhs)) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (rows)");
+    for (int i = 0; i < r->n; i++)
+        if (fit_ls_entry(&c->ls, r->var[i], r->val[i])) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+    return Q2N_OK;
+}
+
+/* Add  scale * d^a/dt^a d^b/ds^b S(t, 0)  of the spline on side sd (b <= 2) to row r. */
+static q2n_status add_deriv(ctx *c, row *r, const side *sd, double t, int a, int b, double scale)
+{
+    double Nt[3][FIT_DEG + 1], Ns[3][FIT_DEG + 1];
+    int span = fit_span(sd->nt, sd->kt, t);
+    fit_basis(span, sd->kt, t, 2, Nt);
+    fit_basis(FIT_DEG, sd->ks, 0.0, 2, Ns);
+    for (int j = 0; j <= b; j++)
+        for (int q = 0; q <= FIT_DEG; q++) {
+            double w = scale * Nt[a][q] * Ns[b][j];
+            q2n_status st = add_term(c, r, sd->k, side_g(c, sd, span - FIT_DEG + q, j), w);
+            if (st) return st;
+        }
+    return Q2N_OK;
+}
+
+/* Solve the assembled stage and store the unknowns as fixed control points. */
+static q2n_status solve_stage(ctx *c)
+{
+    fit_ls_item_end(&c->ls);
+    double t0 = fit_now();
+    q2n_status st;
+    if (c->o.solver == Q2N_FIT_SOLVER_DIRECT) st = fit_ls_solve_direct(&c->ls, c->err);
+    else st = fit_ls_solve_ceres(&c->ls, c->o.threads, c->o.solver == Q2N_FIT_SOLVER_CERES, c->err);
+    c->rep->t_solve += fit_now() - t0;
+    if (st) return st;
+    for (int v = 0; v < c->ls.nvar; v++) {
+        fpatch *p = &c->p[c->var_k[v]];
+        int g = c->var_g[v];
+        memcpy(p->cp + 3 * (size_t)g, c->ls.x + 3 * (size_t)v, 3 * sizeof(double));
+        p->fixed[g] = 1;
+        p->var[g] = -1;
+    }
+    fit_ls_clear(&c->ls);
+    return Q2N_OK;
+}
+
+/* ------------------------------------------------------------------ stages */
+
+/* Side frames of the two faces of edge e: L = owner half-edge's face (its t is the edge's t),
+ * R = the twin's (t_R = 1 - t); returns 0 for R on boundary edges. */
+static int edge_sides(const ctx *c, int e, side *L, side *R)
+{
+    const q2n_mesh *m = c->m;
+    int h = m->edge_he[e], ht = m->he_twin[h];
+    *L = make_side(c, m->he_face[h], h - m->face_start[m->he_face[h]]);
+    if (ht < 0) return 0;
+    *R = make_side(c, m->he_face[ht], ht - m->face_start[m->he_face[ht]]);
+    return 1;
+}
+
+/* Stage 1 + 2: corners, Hermite end conditions and least-squares fit of every edge curve, copied
+ * to both sides. */
+static q2n_status stage_curves(ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    for (int k = 0; k < m->nf; k++)
+        for (int i = 0; i < 4; i++) {
+            side sd = make_side(c, k, i);
+            int g = side_g(c, &sd, 0, 0);
+            memcpy(c->p[k].cp + 3 * (size_t)g, q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + i]), 3 * sizeof(double));
+            c->p[k].fixed[g] = 1;
+        }
+    for (int e = 0; e < m->ne; e++) {
+        side L, R;
+        edge_sides(c, e, &L, &R);
+        fpatch *p = &c->p[L.k];
+        /* Hermite ends: d/dt and d2/dt2 of the spline at t = 0, 1 equal the construction's. */
+        for (int end = 0; end < 2; end++) {
+            double D[6][3], N[3][FIT_DEG + 1];
+            q2n_status st = side_exact(c, &L, end, 0.0, 2, D);
+            if (st) return st;
+            int span = end ? L.nt - 1 : FIT_DEG;
+            fit_basis(span, L.kt, (double)end, 2, N);
+            /* indices (in N) of the end point, its neighbour and the next one */
+            int q0 = end ? FIT_DEG : 0, q1 = end ? FIT_DEG - 1 : 1, q2 = end ? FIT_DEG - 2 : 2;
+            int i0 = end ? L.nt - 1 : 0, i1 = end ? L.nt - 2 : 1, i2 = end ? L.nt - 3 : 2;
+            double *P0 = p->cp + 3 * (size_t)side_g(c, &L, i0, 0);
+            double *P1 = p->cp + 3 * (size_t)side_g(c, &L, i1, 0);
+            double *P2 = p->cp + 3 * (size_t)side_g(c, &L, i2, 0);
+            for (int q = 0; q < 3; q++) {
+                P1[q] = (D[1][q] - N[1][q0] * P0[q]) / N[1][q1];
+                P2[q] = (D[3][q] - N[2][q0] * P0[q] - N[2][q1] * P1[q]) / N[2][q2];
+            }
+            p->fixed[side_g(c, &L, i1, 0)] = p->fixed[side_g(c, &L, i2, 0)] = 1;
+        }
+    }
+    /* interior curve points: one least-squares block per edge */
+    for (int e = 0; e < m->ne; e++) {
+        side L, R;
+        edge_sides(c, e, &L, &R);
+        if (fit_ls_item_begin(&c->ls)) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+        int N = fit_nsamples(L.mt);
+        for (int k = 1; k + 1 < N; k++) {
+            double t = (double)k / (N - 1), D[6][3];
+            q2n_status st = side_exact(c, &L, t, 0.0, 0, D);
+            if (st) return st;
+            row r;
+            row_start(&r, D[0], 1.0);
+            if ((st = add_deriv(c, &r, &L, t, 0, 0, 1.0)) || (st = row_push(c, &r))) return st;
+            c->rep->samples++;
+        }
+    }
+    q2n_status st = solve_stage(c);
+    if (st) return st;
+    for (int e = 0; e < m->ne; e++) {
+        side L, R;
+        if (!edge_sides(c, e, &L, &R)) continue;
+        for (int it = 0; it < L.nt; it++) {      /* bit-identical copy, reversed */
+            int gl = side_g(c, &L, it, 0), gr = side_g(c, &R, R.nt - 1 - it, 0);
+            memcpy(c->p[R.k].cp + 3 * (size_t)gr, c->p[L.k].cp + 3 * (size_t)gl, 3 * sizeof(double));
+            c->p[R.k].fixed[gr] = 1;
+        }
+    }
+    return Q2N_OK;
+}
+
+/* Stage 3: the point diagonal to each corner reproduces the construction's corner twist. */
+static q2n_status stage_twists(ctx *c)
+{
+    /* The twist is read just off the corner along both edges and extrapolated to it
+     * (Richardson, 2 T(eps) - T(2 eps), error O(eps^2)): Gregory-type corners have no unique
+     * twist at the corner itself, and the two edge-wise limits are averaged. */
+    const double eps = 1e-6;
+    for (int k = 0; k < c->m->nf; k++)
+        for (int i = 0; i < 4; i++) {
+            side sd = make_side(c, k, i);
+            double Da[6][3], Db[6][3], Da2[6][3], Db2[6][3], Nt[3][FIT_DEG + 1], Ns[3][FIT_DEG + 1];
+            q2n_status st = side_exact(c, &sd, eps, 0.0, 2, Da);
+            if (!st) st = side_exact(c, &sd, 0.0, eps, 2, Db);
+            if (!st) st = side_exact(c, &sd, 2 * eps, 0.0, 2, Da2);
+            if (!st) st = side_exact(c, &sd, 0.0, 2 * eps, 2, Db2);
+            if (st) return st;
+            for (int q = 0; q < 3; q++) {
+                Da[4][q] = 2 * Da[4][q] - Da2[4][q];
+                Db[4][q] = 2 * Db[4][q] - Db2[4][q];
+            }
+            fit_basis(FIT_DEG, sd.kt, 0.0, 1, Nt);
+            fit_basis(FIT_DEG, sd.ks, 0.0, 1, Ns);
+            /* d_t d_s S(0,0) = N1'(0) M1'(0) (Q11 - Q10 - Q01 + Q00) for clamped knots */
+            fpatch *p = &c->p[k];
+            int g11 = side_g(c, &sd, 1, 1);
+            const double *Q00 = p->cp + 3 * (size_t)side_g(c, &sd, 0, 0);
+            const double *Q10 = p->cp + 3 * (size_t)side_g(c, &sd, 1, 0);
+            const double *Q01 = p->cp + 3 * (size_t)side_g(c, &sd, 0, 1);
+            double f = 1.0 / (Nt[1][1] * Ns[1][1]);
+            for (int q = 0; q < 3; q++)
+                p->cp[3 * (size_t)g11 + q] = 0.5 * (Da[4][q] + Db[4][q]) * f + Q10[q] + Q01[q] - Q00[q];
+            p->fixed[g11] = 1;
+        }
+    return Q2N_OK;
+}
+
+/* alpha, beta with  dR = alpha dL + beta T  in the least-squares sense (exact for a G1
+ * construction); returns the relative residual. */
+static double glue1(const double dR[3], const double dL[3], const double T[3], double *al, double *be)
+{
+    double a11 = q2n_v3_dot(dL, dL), a12 = q2n_v3_dot(dL, T), a22 = q2n_v3_dot(T, T);
+    double b1 = q2n_v3_dot(dL, dR), b2 = q2n_v3_dot(T, dR), det = a11 * a22 - a12 * a12;
+    *al = (a22 * b1 - a12 * b2) / det;
+    *be = (a11 * b2 - a12 * b1) / det;
+    double r[3];
+    for (int q = 0; q < 3; q++) r[q] = dR[q] - *al * dL[q] - *be * T[q];
+    return q2n_v3_norm(r) / q2n_v3_norm(dR);
+}
+
+/* Stage 4 (order 1) or 5 (order 2): joint fit of the order-th rows next to every interior edge
+ * (and, for order 1, of the first row next to boundary edges) with the gluing relation. */
+static q2n_status stage_rows(ctx *c, int order)
+{
+    for (int e = 0; e < c->m->ne; e++) {
+        side sd[2];
+        int two = edge_sides(c, e, &sd[0], &sd[1]);
+        if (order == 2 && !two) continue;
+        if (fit_ls_item_begin(&c->ls)) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+        int N = fit_nsamples(sd[0].mt);
+        double Ns[2][3][FIT_DEG + 1];
+        for (int x = 0; x < 1 + two; x++) fit_basis(FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
+        for (int k = 1; k + 1 < N; k++) {
+            double t = (double)k / (N - 1), D[2][6][3];
+            row r;
+            q2n_status st;
+            for (int x = 0; x < 1 + two; x++) {
+                double tx = x ? 1.0 - t : t;
+                if ((st = side_exact(c, &sd[x], tx, 0.0, 2, D[x]))) return st;
+                /* fidelity to the exact order-th cross derivative, in units of control points */
+                double sc = 1.0 / Ns[x][order][order];
+                row_start(&r, D[x][order == 1 ? 2 : 5], sc);
+                if ((st = add_deriv(c, &r, &sd[x], tx, 0, order, sc)) || (st = row_push(c, &r))) return st;
+            }
+            if (!two) continue;
+            double al, be, zero[3] = {0, 0, 0};
+            glue1(D[1][2], D[0][2], D[0][1], &al, &be);
+            double w = c->o.g1_weight / Ns[1][order][order];
+            row_start(&r, zero, 0.0);
+            if (order == 1) {
+                /* d_s S_R - alpha d_s S_L - beta d_t S_L = 0   (formulas.md §4.2, G1) */
+                if ((st = add_deriv(c, &r, &sd[1], 1.0 - t, 0, 1, w)) || (st = add_deriv(c, &r, &sd[0], t, 0, 1, -al * w)) ||
+                    (st = add_deriv(c, &r, &sd[0], t, 1, 0, -be * w)))
+                    return st;
+            } else {
+                /* d_ss S_R = al^2 d_ss S_L + 2 al be d_ts S_L + be^2 d_tt S_L + ga d_s S_L + de d_t S_L
+                 * (formulas.md §4.2, G2); gamma, delta: tangential part of the exact residual. */
+                double E[3], ga, de;
+                for (int q = 0; q < 3; q++)
+                    E[q] = D[1][5][q] - al * al * D[0][5][q] - 2 * al * be * D[0][4][q] - be * be * D[0][3][q];
+                glue1(E, D[0][2], D[0][1], &ga, &de);
+                if ((st = add_deriv(c, &r, &sd[1], 1.0 - t, 0, 2, w)) ||
+                    (st = add_deriv(c, &r, &sd[0], t, 0, 2, -al * al * w)) ||
+                    (st = add_deriv(c, &r, &sd[0], t, 1, 1, -2 * al * be * w)) ||
+                    (st = add_deriv(c, &r, &sd[0], t, 2, 0, -be * be * w)) ||
+                    (st = add_deriv(c, &r, &sd[0], t, 0, 1, -ga * w)) || (st = add_deriv(c, &r, &sd[0], t, 1, 0, -de * w)))
+                    return st;
+            }
+            if ((st = row_push(c, &r))) return st;
+        }
+    }
+    return solve_stage(c);
+}
+
+/* Stage 6: every control point not fixed yet, least squares on the patch's sample grid. */
+static q2n_status stage_interior(ctx *c)
+{
+    double *S = NULL;
+    size_t cap = 0;
+    for (int k = 0; k < c->m->nf; k++) {
+        fpatch *p = &c->p[k];
+        int Nu = fit_nsamples(p->mu), Nv = fit_nsamples(p->mv);
+        double us[4 * FIT_MAX_SPANS + 4], vs[4 * FIT_MAX_SPANS + 4];
+        for (int i = 0; i < Nu; i++) us[i] = (double)i / (Nu - 1);
+        for (int j = 0; j < Nv; j++) vs[j] = (double)j / (Nv - 1);
+        if ((size_t)Nu * Nv * 9 > cap) {
+            cap = (size_t)Nu * Nv * 9;
+            double *t = realloc(S, cap * sizeof *S);
+            if (!t) { free(S); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (samples)"); }
+            S = t;
+        }
+        double t0 = fit_now();
+        q2n_status st = q2n_surface_eval_grid(c->s, k, Nu, us, Nv, vs, S);
+        c->rep->t_sample += fit_now() - t0;
+        if (st) { free(S); return q2n_error_set(c->err, st, "fit: face %d: grid evaluation failed", k); }
+        if ((st = fit_ls_item_begin(&c->ls))) { free(S); return q2n_error_set(c->err, st, "fit: out of memory"); }
+        for (int j = 0; j < Nv; j++) {
+            double Bv[3][FIT_DEG + 1], Bu[3][FIT_DEG + 1];
+            int sv = fit_span(p->nv, p->kv, vs[j]);
+            fit_basis(sv, p->kv, vs[j], 0, Bv);
+            for (int i = 0; i < Nu; i++) {
+                int su = fit_span(p->nu, p->ku, us[i]);
+                fit_basis(su, p->ku, us[i], 0, Bu);
+                row r;
+                row_start(&r, S + 9 * ((size_t)j * Nu + i), 1.0);
+                for (int b = 0; b <= FIT_DEG; b++)
+                    for (int a = 0; a <= FIT_DEG; a++) {
+                        int g = (sv - FIT_DEG + b) * p->nu + su - FIT_DEG + a;
+                        if ((st = add_term(c, &r, k, g, Bu[0][a] * Bv[0][b]))) { free(S); return st; }
+                    }
+                if ((st = row_push(c, &r))) { free(S); return st; }
+                c->rep->samples++;
+            }
+        }
+    }
+    free(S);
+    return solve_stage(c);
+}
+
+/* ------------------------------------------------------------------ rounds */
+
+static int grid_dist(const fpatch *p, int g)
+{
+    int a = g % p->nu, b = g / p->nu;
+    int da = a < p->nu - 1 - a ? a : p->nu - 1 - a, db = b < p->nv - 1 - b ? b : p->nv - 1 - b;
+    return da < db ? da : db;
+}
+
+static q2n_status alloc_patches(ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    for (int k = 0; k < m->nf; k++) {
+        fpatch *p = &c->p[k];
+        int mu = c->rspan[c->rib[m->he_edge[4 * k]]], mv = c->rspan[c->rib[m->he_edge[4 * k + 1]]];
+        if (p->cp && p->mu == mu && p->mv == mv) {
+            memset(p->fixed, 0, (size_t)p->nu * p->nv);
+            continue;
+        }
+        free(p->ku); free(p->kv); free(p->cp); free(p->fixed); free(p->var);
+        p->mu = mu; p->mv = mv; p->nu = mu + FIT_DEG; p->nv = mv + FIT_DEG;
+        size_t n = (size_t)p->nu * p->nv;
+        p->ku = malloc(sizeof(double) * (size_t)(mu + 2 * FIT_DEG + 1));
+        p->kv = malloc(sizeof(double) * (size_t)(mv + 2 * FIT_DEG + 1));
+        p->cp = calloc(3 * n, sizeof(double));
+        p->fixed = calloc(n, 1);
+        p->var = malloc(n * sizeof(int));
+        if (!p->ku || !p->kv || !p->cp || !p->fixed || !p->var)
+            return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (patch %d)", k);
+        fit_knots_uniform(mu, p->ku);
+        fit_knots_uniform(mv, p->kv);
+        for (size_t g = 0; g < n; g++) p->var[g] = -1;
+    }
+    return Q2N_OK;
+}
+
+static q2n_status fit_round(ctx *c)
+{
+    q2n_status st = alloc_patches(c);
+    if (st) return st;
+    double t0 = fit_now(), s0 = c->rep->t_sample, v0 = c->rep->t_solve;
+    if ((st = stage_curves(c)) || (st = stage_twists(c)) || (st = stage_rows(c, 1))) return st;
+    if (c->o.continuity == 2) {
+        if ((st = stage_interior(c))) return st;
+        /* free the second rows next to edges (not the corner points shared by two edges) and
+         * everything further in, then refit them with the second-order relation */
+        for (int k = 0; k < c->m->nf; k++) {
+            fpatch *p = &c->p[k];
+            for (int g = 0; g < p->nu * p->nv; g++) {
+                int a = g % p->nu, b = g / p->nu;
+                int da = a < p->nu - 1 - a ? a : p->nu - 1 - a, db = b < p->nv - 1 - b ? b : p->nv - 1 - b;
+                if (grid_dist(p, g) >= 3 || (grid_dist(p, g) == 2 && !(da == 2 && db == 2))) p->fixed[g] = 0;
+            }
+        }
+        for (int e = 0; e < c->m->ne; e++) {   /* second rows next to boundary edges: interior stage */
+            side L, R;
+            if (edge_sides(c, e, &L, &R)) continue;
+            for (int it = 3; it <= L.nt - 4; it++) c->p[L.k].fixed[side_g(c, &L, it, 2)] = 1;
+        }
+        if ((st = stage_rows(c, 2))) return st;
+        for (int e = 0; e < c->m->ne; e++) {
+            side L, R;
+            if (edge_sides(c, e, &L, &R)) continue;
+            for (int it = 3; it <= L.nt - 4; it++) c->p[L.k].fixed[side_g(c, &L, it, 2)] = 0;
+        }
+    }
+    if ((st = stage_interior(c))) return st;
+    c->rep->t_build += (fit_now() - t0) - (c->rep->t_sample - s0) - (c->rep->t_solve - v0);
+    return Q2N_OK;
+}
+
+/* Copy the fitted patches into a model (knots and control points). */
+static q2n_status make_model(ctx *c, q2n_nurbs_model **out)
+{
+    q2n_nurbs_model *md = calloc(1, sizeof *md);
+    if (!md) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (model)");
+    md->n = c->m->nf;
+    md->mesh = c->m;
+    md->tol_abs = c->o.tol * c->diag;
+    md->patches = calloc((size_t)md->n, sizeof *md->patches);
+    if (!md->patches) { free(md); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (model)"); }
+    for (int k = 0; k < md->n; k++) {
+        fpatch *p = &c->p[k];
+        q2n_bspline_surface *b = &md->patches[k];
+        b->deg_u = b->deg_v = FIT_DEG;
+        b->ncp_u = p->nu; b->ncp_v = p->nv;
+        size_t nku = (size_t)p->nu + FIT_DEG + 1, nkv = (size_t)p->nv + FIT_DEG + 1, n = (size_t)p->nu * p->nv;
+        b->knots_u = malloc(nku * sizeof(double));
+        b->knots_v = malloc(nkv * sizeof(double));
+        b->cp = malloc(3 * n * sizeof(double));
+        if (!b->knots_u || !b->knots_v || !b->cp) {
+            q2n_nurbs_model_free(md);
+            return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (model)");
+        }
+        memcpy(b->knots_u, p->ku, nku * sizeof(double));
+        memcpy(b->knots_v, p->kv, nkv * sizeof(double));
+        memcpy(b->cp, p->cp, 3 * n * sizeof(double));
+    }
+    *out = md;
+    return Q2N_OK;
+}
+
+static int cmp_int(const void *a, const void *b) { return *(const int *)a - *(const int *)b; }
+
+static void span_stats(const q2n_nurbs_model *md, q2n_fit_report *rep)
+{
+    int *s = malloc(sizeof(int) * (size_t)md->n);
+    if (!s) return;
+    for (int k = 0; k < md->n; k++) s[k] = (md->patches[k].ncp_u - FIT_DEG) * (md->patches[k].ncp_v - FIT_DEG);
+    qsort(s, (size_t)md->n, sizeof(int), cmp_int);
+    rep->spans_min = s[0];
+    rep->spans_median = s[md->n / 2];
+    rep->spans_max = s[md->n - 1];
+    free(s);
+}
+
+/* New span count of a ribbon whose error is ratio times the target (quintic: error ~ h^6). */
+static int bump(int m, double ratio, int cap)
+{
+    int n = (int)ceil(1.15 * m * pow(ratio, 1.0 / 6.0));
+    if (n < m + 1) n = m + 1;
+    return n > cap ? cap : n;
+}
+
+static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
+{
+    const q2n_mesh *m = c->m;
+    q2n_fit_report *rep = c->rep;
+    q2n_status st = q2n_mesh_ribbons(m, &c->rib, &c->nrib, c->err);
+    if (st) return st;
+    c->rspan = malloc(sizeof(int) * (size_t)c->nrib);
+    int *next = malloc(sizeof(int) * (size_t)c->nrib);
+    double *pdev = malloc(sizeof(double) * (size_t)m->nf);
+    double *eg[4];
+    for (int i = 0; i < 4; i++) eg[i] = malloc(sizeof(double) * (size_t)m->ne);
+    if (!c->rspan || !next || !pdev || !eg[0] || !eg[1] || !eg[2] || !eg[3]) {
+        st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+        goto done;
+    }
+    for (int r = 0; r < c->nrib; r++) c->rspan[r] = 1;
+    for (int round = 0;; round++) {
+        rep->samples = 0;
+        if ((st = fit_round(c))) goto done;
+        q2n_nurbs_model *md = NULL;
+        if ((st = make_model(c, &md))) goto done;
+        double t0 = fit_now();
+        fit_measure_out mo = {pdev, eg[0], eg[1], round == 0 ? eg[2] : NULL, round == 0 ? eg[3] : NULL};
+        st = fit_measure_model(md, c->s, rep, &mo, c->err);
+        rep->t_measure += fit_now() - t0;
+        if (st) { q2n_nurbs_model_free(md); goto done; }
+        rep->rounds = round + 1;
+        /* refine: ribbons of patches over tolerance (both directions), ribbons along edges whose
+         * continuity misses its target where the construction itself meets it */
+        int changed = 0, worst_f = -1, worst_e = -1;
+        memcpy(next, c->rspan, sizeof(int) * (size_t)c->nrib);
+        for (int k = 0; k < m->nf; k++) {
+            if (pdev[k] <= c->o.tol) continue;
+            if (worst_f < 0 || pdev[k] > pdev[worst_f]) worst_f = k;
+            for (int d = 0; d < 2; d++) {
+                int r = c->rib[m->he_edge[4 * k + d]];
+                int n = bump(c->rspan[r], pdev[k] / c->o.tol, c->o.max_spans);
+                if (n > next[r]) next[r] = n;
+            }
+        }
+        for (int e = 0; e < m->ne; e++) {
+            double r1 = eg[0][e] / c->o.g1_target_deg, r2 = eg[1][e] / c->o.g2_target_rel;
+            int bad1 = r1 > 1.0 && eg[2][e] < 0.5 * c->o.g1_target_deg;
+            int bad2 = c->o.continuity == 2 && r2 > 1.0 && eg[3][e] < 0.5 * c->o.g2_target_rel;
+            if (!bad1 && !bad2) continue;
+            if (worst_e < 0) worst_e = e;
+            int r = c->rib[e];
+            double ratio = bad1 ? r1 : 1.0;
+            if (bad2 && r2 > ratio) ratio = r2;
+            int n = bump(c->rspan[r], ratio, c->o.max_spans);
+            if (n > next[r]) next[r] = n;
+        }
+        for (int r = 0; r < c->nrib; r++) changed |= next[r] != c->rspan[r];
+        int ok = worst_f < 0 && worst_e < 0;
+        if (ok || !changed || round + 1 >= c->o.max_rounds) {
+            rep->tol_met = ok;
+            span_stats(md, rep);
+            rep->ribbon_spans_max = 0;
+            for (int r = 0; r < c->nrib; r++)
+                if (c->rspan[r] > rep->ribbon_spans_max) rep->ribbon_spans_max = c->rspan[r];
+            *out = md;
+            if (!ok) {
+                if (worst_f >= 0)
+                    st = q2n_error_set(c->err, Q2N_ERR_GEOMETRY,
+                                       "fit: face %d: deviation %.3g (relative) > tol %.3g with %d x %d spans",
+                                       worst_f, pdev[worst_f], c->o.tol, c->p[worst_f].mu, c->p[worst_f].mv);
+                else
+                    st = q2n_error_set(c->err, Q2N_ERR_GEOMETRY,
+                                       "fit: edge %d: normal jump %.3g deg / curvature jump %.3g over target",
+                                       worst_e, eg[0][worst_e], eg[1][worst_e]);
+            }
+            goto done;
+        }
+        q2n_nurbs_model_free(md);
+        memcpy(c->rspan, next, sizeof(int) * (size_t)c->nrib);
+    }
+done:
+    free(next);
+    free(pdev);
+    for (int i = 0; i < 4; i++) free(eg[i]);
+    return st;
+}
+
+/* ------------------------------------------------------------------ exact Bézier conversion */
+
+/* Elevate a Bézier patch of degree (du, dv) to (5, 5) in place of the grid out[3*36]. */
+static void elevate(int du, int dv, const double *cp, double *out)
+{
+    double a[3 * 36], b[3 * 36];
+    int nu = du + 1, nv = dv + 1;
+    memcpy(a, cp, 3 * (size_t)nu * nv * sizeof(double));
+    for (; nu < FIT_DEG + 1; nu++) {       /* u: b_i = i/n a_{i-1} + (1 - i/n) a_i, n = new degree */
+        for (int j = 0; j < nv; j++)
+            for (int i = 0; i <= nu; i++)
+                for (int q = 0; q < 3; q++) {
+                    double l = i > 0 ? a[3 * (j * nu + i - 1) + q] : 0.0, r = i < nu ? a[3 * (j * nu + i) + q] : 0.0;
+                    b[3 * (j * (nu + 1) + i) + q] = (double)i / nu * l + (1.0 - (double)i / nu) * r;
+                }
+        memcpy(a, b, 3 * (size_t)(nu + 1) * nv * sizeof(double));
+    }
+    for (; nv < FIT_DEG + 1; nv++) {
+        for (int j = 0; j <= nv; j++)
+            for (int i = 0; i < nu; i++)
+                for (int q = 0; q < 3; q++) {
+                    double l = j > 0 ? a[3 * ((j - 1) * nu + i) + q] : 0.0, r = j < nv ? a[3 * (j * nu + i) + q] : 0.0;
+                    b[3 * (j * nu + i) + q] = (double)j / nv * l + (1.0 - (double)j / nv) * r;
+                }
+        memcpy(a, b, 3 * (size_t)nu * (nv + 1) * sizeof(double));
+    }
+    memcpy(out, a, 3 * 36 * sizeof(double));
+}
+
+static q2n_status convert_bezier(ctx *c, q2n_nurbs_model **out)
+{
+    const q2n_mesh *m = c->m;
+    c->nrib = 0;
+    for (int k = 0; k < m->nf; k++) {
+        int du, dv;
+        const double *cp;
+        q2n_surface_bezier(c->s, k, &du, &dv, &cp);
+        if (du > FIT_DEG || dv > FIT_DEG)
+            return q2n_error_set(c->err, Q2N_ERR_UNSUPPORTED, "fit: face %d: Bézier degree %d x %d above 5", k, du, dv);
+        fpatch *p = &c->p[k];
+        p->mu = p->mv = 1;
+        p->nu = p->nv = FIT_DEG + 1;
+        p->ku = malloc(12 * sizeof(double));
+        p->kv = malloc(12 * sizeof(double));
+        p->cp = malloc(3 * 36 * sizeof(double));
+        p->fixed = calloc(36, 1);
+        p->var = malloc(36 * sizeof(int));
+        if (!p->ku || !p->kv || !p->cp || !p->fixed || !p->var)
+            return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (patch %d)", k);
+        fit_knots_uniform(1, p->ku);
+        fit_knots_uniform(1, p->kv);
+        elevate(du, dv, cp, p->cp);
+    }
+    /* shared edges: identical control points on both sides (copy the owner's row) */
+    for (int e = 0; e < m->ne; e++) {
+        side L, R;
+        if (!edge_sides(c, e, &L, &R)) continue;
+        for (int it = 0; it < L.nt; it++) {
+            double *pl = c->p[L.k].cp + 3 * (size_t)side_g(c, &L, it, 0);
+            double *pr = c->p[R.k].cp + 3 * (size_t)side_g(c, &R, R.nt - 1 - it, 0);
+            if (q2n_v3_dist(pl, pr) > 1e-9 * c->diag)
+                return q2n_error_set(c->err, Q2N_ERR_GEOMETRY,
+                                     "fit: edge %d (faces %d, %d): Bézier boundaries differ by %.3g", e, L.k, R.k,
+                                     q2n_v3_dist(pl, pr));
+            memcpy(pr, pl, 3 * sizeof(double));
+        }
+    }
+    q2n_status st = make_model(c, out);
+    if (st) return st;
+    double t0 = fit_now();
+    double *g1c = malloc(sizeof(double) * (size_t)m->ne), *g2c = malloc(sizeof(double) * (size_t)m->ne);
+    fit_measure_out mo = {NULL, NULL, NULL, g1c, g2c};
+    st = g1c && g2c ? fit_measure_model(*out, c->s, c->rep, &mo, c->err)
+                    : q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+    free(g1c);
+    free(g2c);
+    c->rep->t_measure += fit_now() - t0;
+    c->rep->exact = 1;
+    c->rep->rounds = 0;
+    c->rep->tol_met = c->rep->max_dev_rel <= c->o.tol;
+    span_stats(*out, c->rep);
+    c->rep->ribbon_spans_max = 1;
+    return st;
+}
+
+/* ------------------------------------------------------------------ entry point */
+
+q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fit_options *opt,
+                           q2n_nurbs_model **out, q2n_fit_report *rep_out, q2n_error *err)
+{
+    if (out) *out = NULL;
+    if (!s || !m || !out) return q2n_error_set(err, Q2N_ERR_ARG, "fit: NULL argument");
+    if (q2n_surface_npatches(s) != m->nf)
+        return q2n_error_set(err, Q2N_ERR_ARG, "fit: surface has %d patches for %d faces", q2n_surface_npatches(s), m->nf);
+    if (!m->all_quads) return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "fit: mesh %s has non-quad faces", m->name);
+    int nbez = q2n_surface_count(s, Q2N_PATCH_BEZIER);
+    for (int k = 0; k < m->nf; k++) {
+        q2n_patch_kind kd = q2n_surface_kind(s, k);
+        if (kd == Q2N_PATCH_UNCOVERED) return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "fit: face %d has no patch", k);
+        if (nbez && nbez < m->nf && kd == Q2N_PATCH_BEZIER)
+            return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
+                                 "fit: face %d is Bézier but %d other faces are not (mixed surfaces unsupported)", k,
+                                 m->nf - nbez);
+    }
+    q2n_fit_report rep;
+    memset(&rep, 0, sizeof rep);
+    ctx c;
+    memset(&c, 0, sizeof c);
+    c.s = s; c.m = m; c.err = err; c.rep = &rep;
+    fill_defaults(&c.o, opt);
+    c.diag = q2n_mesh_bbox_diag(m);
+    fit_ls_init(&c.ls);
+    c.p = calloc((size_t)m->nf, sizeof *c.p);
+    double t0 = fit_now();
+    q2n_status st = c.p ? Q2N_OK : q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory");
+    if (!st) st = nbez == m->nf ? convert_bezier(&c, out) : fit_all(&c, out);
+    rep.t_total = fit_now() - t0;
+    rep.faces = m->nf;
+    rep.edges = m->ne;
+    for (int e = 0; e < m->ne; e++) rep.interior_edges += m->he_twin[m->edge_he[e]] >= 0;
+    rep.continuity = c.o.continuity;
+    rep.tol = c.o.tol;
+    rep.solver = c.o.solver;
+    rep.threads = c.o.threads;
+    if (rep_out) *rep_out = rep;
+    for (int k = 0; c.p && k < m->nf; k++) {
+        free(c.p[k].ku); free(c.p[k].kv); free(c.p[k].cp); free(c.p[k].fixed); free(c.p[k].var);
+    }
+    free(c.p);
+    free(c.rib);
+    free(c.rspan);
+    free(c.var_k);
+    free(c.var_g);
+    fit_ls_free(&c.ls);
+    if (st && st != Q2N_ERR_GEOMETRY && *out) {
+        q2n_nurbs_model_free(*out);
+        *out = NULL;
+    }
+    return st;
+}

@@ -1,0 +1,75 @@
+/* fit.h — turn a composite surface into bi-quintic B-spline patches (pipeline stage 4):
+ * watertight, G1 (or G2) across every interior edge, within a tolerance of the construction.
+ *
+ * Augmented / Coons–Gregory patches (non-polynomial) are least-squares fitted; Bézier patches
+ * (the Catmull–Clark ACC path) are converted exactly by degree elevation to 5 x 5.  The method,
+ * what is exact and what holds at collocation points only, is described in docs/fit.md and at
+ * the top of fit.c. */
+#ifndef Q2N_FIT_FIT_H
+#define Q2N_FIT_FIT_H
+
+#include "core/error.h"
+#include "fit/bspline.h"
+#include "mesh/mesh.h"
+#include "patch/surface.h"
+
+typedef enum q2n_fit_solver {
+    Q2N_FIT_SOLVER_CERES = 0,    /* Ceres DENSE_QR per independent block, blocks over threads (default) */
+    Q2N_FIT_SOLVER_CERES_SPARSE, /* Ceres SPARSE_NORMAL_CHOLESKY over all blocks of a stage at once */
+    Q2N_FIT_SOLVER_DIRECT        /* own Householder QR per block: the reference path */
+} q2n_fit_solver;
+
+/* Zero-initialised options mean defaults (given in brackets). */
+typedef struct q2n_fit_options {
+    double tol;            /* max deviation, relative to the bounding-box diagonal [1e-5] (--tol) */
+    int continuity;        /* 1 = G1, 2 = G2 [1] */
+    int threads;           /* solver threads [1] (--threads) */
+    int solver;            /* q2n_fit_solver [Q2N_FIT_SOLVER_CERES] */
+    int max_spans;         /* cap on knot spans per ribbon [32] */
+    int max_rounds;        /* refinement rounds [10] */
+    double g1_target_deg;  /* normal-angle jump target across edges [0.005 degrees] */
+    double g2_target_rel;  /* relative normal-curvature jump target, G2 mode [0.005] */
+    double g1_weight;      /* weight of the gluing relations against sample fidelity [100] */
+} q2n_fit_options;
+
+/* What q2n_fit_surface measured (all relative values are divided by the bounding-box diagonal,
+ * except g2_max_rel which is relative to the local curvature; see docs/fit.md). */
+typedef struct q2n_fit_report {
+    int faces, edges, interior_edges;
+    int exact;                 /* 1: all patches were Bézier and converted exactly */
+    int continuity;            /* 1 or 2 */
+    double tol;                /* requested relative tolerance */
+    int tol_met;               /* max_dev_rel <= tol and the continuity targets held */
+    int rounds;                /* refinement rounds used */
+    int spans_min, spans_median, spans_max;   /* knot spans per patch (m_u * m_v) */
+    int ribbon_spans_max;      /* largest span count of any ribbon */
+    long samples, checks;      /* fit samples and check points (patch interiors) */
+    double max_dev_rel, rms_dev_rel;          /* at check points between the fit samples */
+    double vertex_dev_max_rel; /* construction's patch corners vs mesh vertices */
+    double g0_max_rel;         /* gap between the two fitted sides of every interior edge */
+    double g1_max_deg;         /* max normal-angle jump across interior edges (fitted) */
+    double g2_max_rel;         /* max normal-curvature jump / local curvature (fitted) */
+    double g1_construction_deg, g2_construction_rel;  /* the same on the construction itself */
+    double t_sample, t_build, t_solve, t_measure, t_total;  /* seconds per stage */
+    int solver, threads;
+} q2n_fit_report;
+
+void q2n_fit_options_default(q2n_fit_options *o);
+
+/* Fit (or convert) every patch of s (one per face of m; all faces quads) into *out (free with
+ * q2n_nurbs_model_free).  rep may be NULL.  Fails with Q2N_ERR_UNSUPPORTED for uncovered
+ * patches, non-quads or a mix of Bézier and non-polynomial patches; with Q2N_ERR_GEOMETRY
+ * (message names the worst face or edge) when the tolerance or continuity targets are not met
+ * within max_spans — *out is then still set, so the caller may inspect or export it. */
+q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fit_options *opt,
+                           q2n_nurbs_model **out, q2n_fit_report *rep, q2n_error *err);
+
+/* Measure a model against the construction (deviation, G0/G1/G2 across edges) into rep's
+ * measured fields; used by q2n_fit_surface and by tests. */
+q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
+                           q2n_error *err);
+
+/* Write the report as JSON (atomic: temp file + rename). */
+q2n_status q2n_fit_report_write_json(const q2n_fit_report *rep, const char *path, q2n_error *err);
+
+#endif

@@ -1,0 +1,244 @@
+/* test_fit.c — the bi-quintic fit (src/fit/): tolerance, watertightness, G1/G2, solvers.
+ *
+ * Test surfaces are exact non-polynomial maps attached with q2n_surface_set_patch: a torus and
+ * a curved graph z = f(x,y), each face mapped through its own non-linear reparametrisation, so
+ * neighbours join G-infinity geometrically but are NOT parametrically C1 (cross-boundary
+ * derivatives differ by face-dependent factors, as for the augmented surfaces, seed 003 Prop. 2).
+ * References are independent of the fit: the closed-form maps, bspline.c's evaluator (not the
+ * fit's own), closed-form polynomial reproduction, and the direct QR path vs Ceres. */
+#include "check.h"
+#include "fit/fit.h"
+#include "mesh/mesh.h"
+#include "patch/surface.h"
+
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+/* ---- reparametrised maps: S(u,v) = F(x0 + dx U(u,v), y0 + dy V(u,v)) ---- */
+typedef struct rmap {
+    int kind;                 /* 0 torus, 1 graph, 2 polynomial graph (exactly representable) */
+    double x0, dx, y0, dy;
+    double cu, cv;            /* ribbon-wise edge reparametrisation: U(u,0) = u + cu u(1-u) */
+    double a, b;              /* face-wise cross terms (break parametric C1) */
+} rmap;
+
+/* F and its derivatives up to order 2 in (x, y): F[0..5][3] = F, Fx, Fy, Fxx, Fxy, Fyy. */
+static void base_map(int kind, double x, double y, double F[6][3])
+{
+    memset(F, 0, 6 * 3 * sizeof(double));
+    if (kind == 0) {   /* torus R = 3, r = 1: x = theta, y = phi */
+        double R = 3, r = 1, ct = cos(x), st = sin(x), cp = cos(y), sp = sin(y), w = R + r * cp;
+        F[0][0] = w * ct; F[0][1] = w * st; F[0][2] = r * sp;
+        F[1][0] = -w * st; F[1][1] = w * ct;
+        F[2][0] = -r * sp * ct; F[2][1] = -r * sp * st; F[2][2] = r * cp;
+        F[3][0] = -w * ct; F[3][1] = -w * st;
+        F[4][0] = r * sp * st; F[4][1] = -r * sp * ct;
+        F[5][0] = -r * cp * ct; F[5][1] = -r * cp * st; F[5][2] = -r * sp;
+        return;
+    }
+    F[0][0] = x; F[0][1] = y; F[1][0] = 1; F[2][1] = 1;
+    if (kind == 1) {   /* z = 0.4 sin(1.3x) cos(0.9y) + 0.1 x y */
+        double s1 = sin(1.3 * x), c1 = cos(1.3 * x), s2 = sin(0.9 * y), c2 = cos(0.9 * y);
+        F[0][2] = 0.4 * s1 * c2 + 0.1 * x * y;
+        F[1][2] = 0.52 * c1 * c2 + 0.1 * y;
+        F[2][2] = -0.36 * s1 * s2 + 0.1 * x;
+        F[3][2] = -0.676 * s1 * c2;
+        F[4][2] = -0.468 * c1 * s2 + 0.1;
+        F[5][2] = -0.324 * s1 * c2;
+    } else {           /* z = 0.05 x^2 y^3 - 0.01 x^5 + 0.02 y^4 (degree <= 5 in x and in y) */
+        F[0][2] = 0.05 * x * x * y * y * y - 0.01 * pow(x, 5) + 0.02 * pow(y, 4);
+        F[1][2] = 0.1 * x * y * y * y - 0.05 * pow(x, 4);
+        F[2][2] = 0.15 * x * x * y * y + 0.08 * y * y * y;
+        F[3][2] = 0.1 * y * y * y - 0.2 * x * x * x;
+        F[4][2] = 0.3 * x * y * y;
+        F[5][2] = 0.3 * x * x * y + 0.24 * y * y;
+    }
+}
+
+static q2n_status rmap_eval(const void *data, double u, double v, int nder, double *out)
+{
+    const rmap *m = data;
+    /* U = u + cu u(1-u) + b u(1-u) v(1-v),  V = v + cv v(1-v) + a u(1-u) v(1-v) */
+    double pu = u * (1 - u), pv = v * (1 - v), pu1 = 1 - 2 * u, pv1 = 1 - 2 * v;
+    double U = u + m->cu * pu + m->b * pu * pv, V = v + m->cv * pv + m->a * pu * pv;
+    double Uu = 1 + m->cu * pu1 + m->b * pu1 * pv, Uv = m->b * pu * pv1;
+    double Vv = 1 + m->cv * pv1 + m->a * pu * pv1, Vu = m->a * pu1 * pv;
+    double Uuu = -2 * m->cu - 2 * m->b * pv, Uuv = m->b * pu1 * pv1, Uvv = -2 * m->b * pu;
+    double Vvv = -2 * m->cv - 2 * m->a * pu, Vuv = m->a * pu1 * pv1, Vuu = -2 * m->a * pv;
+    double F[6][3];
+    base_map(m->kind, m->x0 + m->dx * U, m->y0 + m->dy * V, F);
+    double xu = m->dx * Uu, xv = m->dx * Uv, yu = m->dy * Vu, yv = m->dy * Vv;
+    for (int c = 0; c < 3; c++) {
+        out[c] = F[0][c];
+        if (nder < 1) continue;
+        out[3 + c] = F[1][c] * xu + F[2][c] * yu;
+        out[6 + c] = F[1][c] * xv + F[2][c] * yv;
+        if (nder < 2) continue;
+        out[9 + c] = F[3][c] * xu * xu + 2 * F[4][c] * xu * yu + F[5][c] * yu * yu + F[1][c] * m->dx * Uuu +
+                     F[2][c] * m->dy * Vuu;
+        out[12 + c] = F[3][c] * xu * xv + F[4][c] * (xu * yv + xv * yu) + F[5][c] * yu * yv +
+                      F[1][c] * m->dx * Uuv + F[2][c] * m->dy * Vuv;
+        out[15 + c] = F[3][c] * xv * xv + 2 * F[4][c] * xv * yv + F[5][c] * yv * yv + F[1][c] * m->dx * Uvv +
+                      F[2][c] * m->dy * Vvv;
+    }
+    return Q2N_OK;
+}
+
+static double frand(unsigned *s) { *s = *s * 1103515245u + 12345u; return ((*s >> 8) & 0xffff) / 65536.0; }
+
+/* n x m faces: torus (closed, periodic) or graph (open) with reparametrised patches.
+ * strength 0 gives the plain (linear) parametrisation. */
+static int build(int kind, int n, int m, double strength, q2n_mesh **mesh, q2n_surface **surf)
+{
+    int closed = kind == 0;
+    int nvu = closed ? n : n + 1, nvv = closed ? m : m + 1, nv = nvu * nvv, nf = n * m;
+    double *pos = malloc(3 * sizeof(double) * (size_t)nv), X0 = 0, DX = 3.0 / n, Y0 = 0, DY = 2.0 / m;
+    if (closed) { DX = 2 * PI / n; DY = 2 * PI / m; }
+    int *fs = malloc(sizeof(int) * (size_t)(nf + 1)), *fv = malloc(4 * sizeof(int) * (size_t)nf);
+    for (int i = 0; i < nvu; i++)
+        for (int j = 0; j < nvv; j++) {
+            double F[6][3];
+            base_map(kind, X0 + DX * i, Y0 + DY * j, F);
+            memcpy(pos + 3 * (i * nvv + j), F[0], 3 * sizeof(double));
+        }
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < m; j++) {
+            int f = i * m + j, i1 = closed ? (i + 1) % n : i + 1, j1 = closed ? (j + 1) % m : j + 1;
+            fs[f] = 4 * f;
+            fv[4 * f] = i * nvv + j; fv[4 * f + 1] = i1 * nvv + j; fv[4 * f + 2] = i1 * nvv + j1; fv[4 * f + 3] = i * nvv + j1;
+        }
+    fs[nf] = 4 * nf;
+    q2n_error err;
+    if (q2n_mesh_from_arrays(nv, pos, nf, fs, fv, kind ? "graph" : "torus", mesh, &err)) {
+        fprintf(stderr, "mesh: %s\n", err.message);
+        return 0;
+    }
+    free(pos); free(fs); free(fv);
+    *surf = q2n_surface_create(nf);
+    unsigned seed = 7;
+    double *cu = malloc(sizeof(double) * n), *cv = malloc(sizeof(double) * m);
+    for (int i = 0; i < n; i++) cu[i] = strength * 0.3 * (2 * frand(&seed) - 1);
+    for (int j = 0; j < m; j++) cv[j] = strength * 0.3 * (2 * frand(&seed) - 1);
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < m; j++) {
+            rmap *r = malloc(sizeof *r);
+            r->kind = kind; r->x0 = X0 + DX * i; r->dx = DX; r->y0 = Y0 + DY * j; r->dy = DY;
+            r->cu = cu[i]; r->cv = cv[j];
+            r->a = strength * 0.8 * (2 * frand(&seed) - 1);
+            r->b = strength * 0.8 * (2 * frand(&seed) - 1);
+            q2n_surface_set_patch(*surf, i * m + j, Q2N_PATCH_AUGMENTED, r, rmap_eval, free);
+        }
+    free(cu); free(cv);
+    return 1;
+}
+
+/* Independent checks of a model with bspline.c's evaluator (first derivatives only):
+ * deviation at a pseudo-random point set, max normal angle across interior edges at random
+ * edge parameters, and bit-identity of the shared boundary control points. */
+static void independent(const q2n_nurbs_model *md, const q2n_surface *s, double *dev, double *ang, int *bitsame)
+{
+    const q2n_mesh *m = md->mesh;
+    double diag = q2n_mesh_bbox_diag(m);
+    unsigned seed = 99;
+    *dev = 0; *ang = 0; *bitsame = 1;
+    for (int k = 0; k < md->n; k++)
+        for (int q = 0; q < 40; q++) {
+            double u = frand(&seed), v = frand(&seed), p[3], e[3];
+            q2n_bspline_eval(&md->patches[k], u, v, p, NULL, NULL);
+            q2n_surface_eval(s, k, u, v, 0, e);
+            double d = sqrt((p[0] - e[0]) * (p[0] - e[0]) + (p[1] - e[1]) * (p[1] - e[1]) + (p[2] - e[2]) * (p[2] - e[2])) / diag;
+            if (d > *dev) *dev = d;
+        }
+    static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (int e = 0; e < m->ne; e++) {
+        int h = m->edge_he[e], ht = m->he_twin[h];
+        if (ht < 0) continue;
+        int f[2] = {m->he_face[h], m->he_face[ht]}, sd[2] = {h - m->face_start[f[0]], ht - m->face_start[f[1]]};
+        for (int q = 0; q < 6; q++) {
+            double t = frand(&seed), nrm[2][3];
+            for (int x = 0; x < 2; x++) {
+                double tt = x ? 1 - t : t, p[3], du[3], dv[3];
+                const int *c0 = cuv[sd[x]], *c1 = cuv[(sd[x] + 1) & 3];
+                q2n_bspline_eval(&md->patches[f[x]], c0[0] + tt * (c1[0] - c0[0]), c0[1] + tt * (c1[1] - c0[1]), p, du, dv);
+                nrm[x][0] = du[1] * dv[2] - du[2] * dv[1];
+                nrm[x][1] = du[2] * dv[0] - du[0] * dv[2];
+                nrm[x][2] = du[0] * dv[1] - du[1] * dv[0];
+                double l = sqrt(nrm[x][0] * nrm[x][0] + nrm[x][1] * nrm[x][1] + nrm[x][2] * nrm[x][2]);
+                for (int c = 0; c < 3; c++) nrm[x][c] /= l;
+            }
+            double dot = nrm[0][0] * nrm[1][0] + nrm[0][1] * nrm[1][1] + nrm[0][2] * nrm[1][2];
+            double cx = nrm[0][1] * nrm[1][2] - nrm[0][2] * nrm[1][1], cy = nrm[0][2] * nrm[1][0] - nrm[0][0] * nrm[1][2],
+                   cz = nrm[0][0] * nrm[1][1] - nrm[0][1] * nrm[1][0];
+            double a = atan2(sqrt(cx * cx + cy * cy + cz * cz), dot) * 180 / PI;
+            if (a > *ang) *ang = a;
+        }
+        /* shared boundary rows: bit-identical, reversed */
+        const q2n_bspline_surface *P[2] = {&md->patches[f[0]], &md->patches[f[1]]};
+        int nt = (sd[0] & 1) ? P[0]->ncp_v : P[0]->ncp_u;
+        for (int it = 0; it < nt; it++) {
+            const double *pt[2];
+            for (int x = 0; x < 2; x++) {
+                int i = x ? nt - 1 - it : it;
+                const int *c0 = cuv[sd[x]], *c1 = cuv[(sd[x] + 1) & 3];
+                int a = c0[0] * (P[x]->ncp_u - 1) + i * (c1[0] - c0[0]), b = c0[1] * (P[x]->ncp_v - 1) + i * (c1[1] - c0[1]);
+                pt[x] = P[x]->cp + 3 * (b * P[x]->ncp_u + a);
+            }
+            if (memcmp(pt[0], pt[1], 3 * sizeof(double)) != 0) *bitsame = 0;
+        }
+    }
+}
+
+static void run_case(const char *name, int kind, int n, int m, double strength, double tol, int cont, int solver)
+{
+    q2n_mesh *mesh;
+    q2n_surface *s;
+    if (!build(kind, n, m, strength, &mesh, &s)) { CHECK(0, "%s: build failed", name); return; }
+    q2n_fit_options o;
+    q2n_fit_options_default(&o);
+    o.tol = tol;
+    o.continuity = cont;
+    o.solver = solver;
+    q2n_nurbs_model *md = NULL;
+    q2n_fit_report r;
+    q2n_error err = {0, ""};
+    q2n_status st = q2n_fit_surface(s, mesh, &o, &md, &r, &err);
+    CHECK(st == Q2N_OK, "%s: fit failed: %s", name, err.message);
+    if (md) {
+        double dev, ang;
+        int same;
+        independent(md, s, &dev, &ang, &same);
+        printf("%-28s faces %3d  spans %d/%d/%d  rounds %d  max_dev %.2e rms %.2e (indep %.2e)  g0 %.1e  g1 %.2e deg "
+               "(indep %.2e)  g2 %.2e (constr g1 %.1e g2 %.1e)  %.3f s\n",
+               name, r.faces, r.spans_min, r.spans_median, r.spans_max, r.rounds, r.max_dev_rel, r.rms_dev_rel, dev,
+               r.g0_max_rel, r.g1_max_deg, ang, r.g2_max_rel, r.g1_construction_deg, r.g2_construction_rel, r.t_total);
+        printf("   times: sample %.3f build %.3f solve %.3f measure %.3f  samples %ld\n", r.t_sample, r.t_build, r.t_solve, r.t_measure, r.samples);
+        CHECK(r.max_dev_rel <= tol, "%s: max_dev_rel %g > tol %g", name, r.max_dev_rel, tol);
+        CHECK(dev <= 2 * tol, "%s: independent deviation %g > 2 tol", name, dev);
+        CHECK(r.g0_max_rel <= 1e-12, "%s: g0 %g", name, r.g0_max_rel);
+        CHECK(same, "%s: shared boundary control points not bit-identical", name);
+        CHECK(r.g1_max_deg <= 0.01, "%s: g1 %g deg", name, r.g1_max_deg);
+        CHECK(ang <= 0.01, "%s: independent g1 %g deg", name, ang);
+        if (cont == 2) CHECK(r.g2_max_rel <= 0.01, "%s: g2 %g", name, r.g2_max_rel);
+        for (int k = 0; k < md->n; k++) {
+            q2n_error e2;
+            if (q2n_bspline_check(&md->patches[k], &e2)) { CHECK(0, "%s: patch %d: %s", name, k, e2.message); break; }
+        }
+    }
+    q2n_nurbs_model_free(md);
+    q2n_surface_free(s);
+    q2n_mesh_free(mesh);
+}
+
+int main(void)
+{
+    run_case("torus 8x6 G1 1e-5", 0, 8, 6, 1.0, 1e-5, 1, Q2N_FIT_SOLVER_CERES);
+    run_case("torus 8x6 G1 1e-5 sparse", 0, 8, 6, 1.0, 1e-5, 1, Q2N_FIT_SOLVER_CERES_SPARSE);
+    run_case("torus 8x6 G1 1e-6", 0, 8, 6, 1.0, 1e-6, 1, Q2N_FIT_SOLVER_CERES);
+    run_case("graph 6x4 G1 1e-5", 1, 6, 4, 1.0, 1e-5, 1, Q2N_FIT_SOLVER_CERES);
+    run_case("graph 6x4 G1 1e-6", 1, 6, 4, 1.0, 1e-6, 1, Q2N_FIT_SOLVER_CERES);
+    run_case("torus 8x6 G2 1e-5", 0, 8, 6, 1.0, 1e-5, 2, Q2N_FIT_SOLVER_CERES);
+    run_case("graph 6x4 G2 1e-6", 1, 6, 4, 1.0, 1e-6, 2, Q2N_FIT_SOLVER_CERES);
+    run_case("torus 8x6 G1 direct", 0, 8, 6, 1.0, 1e-5, 1, Q2N_FIT_SOLVER_DIRECT);
+    CHECK_DONE("test_fit");
+}
