@@ -264,6 +264,28 @@ int main(void)
         free(js);
     }
 
+    /* 6. test meshes by others (bilinear patches): open, closed, several components, EVs */
+    static const char *shared[] = {"osd_catmark_cube.obj", "gismo_polycube.obj", "osd_catmark_xord_boundary.obj",
+                                   "osd_catmark_helmet.obj"};
+    for (size_t i = 0; i < sizeof shared / sizeof shared[0]; i++) {
+        const char *p = chk_shared_mesh(shared[i]);
+        if (!p) { SKIP("%s not in ../shared/meshes", shared[i]); continue; }
+        q2n_mesh *sm = em_mesh_read_obj(p);
+        if (!sm) { CHECK(0, "%s: not an all-quad mesh", p); continue; }
+        q2n_nurbs_model smd = em_model_bilinear(sm);
+        int ncomp = em_mesh_components(sm), closed = em_mesh_boundary_edges(sm) == 0;
+        char out[128];
+        snprintf(out, sizeof out, "export_fc_%s.step", shared[i]);
+        char *js = export_audit(&smd, NULL, out, p);
+        check_topology(out, js, sm, ncomp, closed ? ncomp : 0);
+        CHECK(!closed || jnum(js, "volume") > 0.0, "%s: positive volume %g", out, jnum(js, "volume"));
+        CHECK(jnum(js, "max_vertex_dist_rel") <= 1e-9, "%s: mesh vertices on the shape (%.3g)", out,
+              jnum(js, "max_vertex_dist_rel"));
+        free(js);
+        q2n_nurbs_model_free(&smd);
+        em_mesh_free(sm);
+    }
+
     q2n_nurbs_model_free(&gm); em_mesh_free(g);
     q2n_nurbs_model_free(&tr); em_mesh_free(tm);
     q2n_nurbs_model_free(&cy); em_mesh_free(cm);

@@ -80,6 +80,30 @@ static inline int em_mesh_boundary_edges(const q2n_mesh *m)
     return n;
 }
 
+/* Number of connected components (faces linked across interior edges). */
+static inline int em_mesh_components(const q2n_mesh *m)
+{
+    int *comp = malloc(sizeof(int) * (size_t)m->nf), *stack = malloc(sizeof(int) * (size_t)m->nf), n = 0;
+    for (int f = 0; f < m->nf; f++) comp[f] = -1;
+    for (int f0 = 0; f0 < m->nf; f0++) {
+        if (comp[f0] >= 0) continue;
+        int top = 0;
+        stack[top++] = f0;
+        comp[f0] = n;
+        while (top) {
+            int f = stack[--top];
+            for (int i = 0; i < 4; i++) {
+                int t = m->he_twin[4 * f + i];
+                if (t >= 0 && comp[t / 4] < 0) { comp[t / 4] = n; stack[top++] = t / 4; }
+            }
+        }
+        n++;
+    }
+    free(comp);
+    free(stack);
+    return n;
+}
+
 /* Minimal OBJ reader: v x y z and quad f records (a, a/b, a//c, a/b/c). NULL when not all quads. */
 static inline q2n_mesh *em_mesh_read_obj(const char *path)
 {

@@ -170,6 +170,29 @@ def audit_edge(edge, fa, fb, nsamp, k_flat):
     return res
 
 
+def box_distance(bb, p):
+    """Lower bound: distance from p to an axis-aligned box."""
+    dx = max(bb.XMin - p[0], 0.0, p[0] - bb.XMax)
+    dy = max(bb.YMin - p[1], 0.0, p[1] - bb.YMax)
+    dz = max(bb.ZMin - p[2], 0.0, p[2] - bb.ZMax)
+    return math.sqrt(dx * dx + dy * dy + dz * dz)
+
+
+def vertex_distance(Part, faces, boxes, p):
+    """Distance from p to the union of faces: exact distToShape per face, nearest bounding boxes
+    first, stopping when the next box is farther than the best distance found (the whole-shape
+    distToShape costs ~90 ms per point, this ~2 ms)."""
+    import FreeCAD
+    order = sorted((box_distance(bb, p), k) for k, bb in enumerate(boxes))
+    vx = Part.Vertex(FreeCAD.Vector(*p))
+    best = math.inf
+    for lb, k in order:
+        if lb >= best:
+            break
+        best = min(best, faces[k].distToShape(vx)[0])
+    return best
+
+
 def bbox_diag_of(shape):
     bb = shape.BoundBox
     return math.sqrt(bb.XLength ** 2 + bb.YLength ** 2 + bb.ZLength ** 2)
@@ -234,9 +257,9 @@ def audit(path, mesh=None, nsamp=16, flat=100.0, per_edge=True):
     out['worst'] = {k: {'value': v[0], 'edge': v[1], 'point': v[2]} for k, v in worst.items()}
     if verts is not None:
         dmax, imax = 0.0, -1
-        import FreeCAD
+        boxes = [f.BoundBox for f in faces]
         for i, v in enumerate(verts):
-            d = shape.distToShape(Part.Vertex(FreeCAD.Vector(*v)))[0]
+            d = vertex_distance(Part, faces, boxes, v)
             if d > dmax or imax < 0:
                 dmax, imax = max(d, dmax), i
         out['mesh'] = {'file': os.path.basename(mesh), 'vertices': len(verts),
