@@ -1,0 +1,214 @@
+/* test_fit_meshes.c — the fit on the project's own constructions: augmented interpolatory
+ * surfaces (seed 003) on closed and open meshes, and the exact conversion of the Catmull–Clark
+ * ACC path's Bézier patches (seed 001); a ~600-face timing.  References: the construction
+ * itself (deviation at points off the fit samples), bspline.c's evaluator, bit-identical shared
+ * control points. */
+#include "check.h"
+#include "acc/acc.h"
+#include "fit/fit.h"
+#include "mesh/mesh.h"
+#include "patch/augmented.h"
+#include "patch/surface.h"
+
+#include <string.h>
+#include <time.h>
+
+#define PI 3.14159265358979323846
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* n x m torus mesh, radii 3 and 1 (u along the big circle); uneven != 0 spaces the rings
+ * unevenly (then the centripetal intervals differ and the augmented patches are not polynomial). */
+static q2n_mesh *torus_mesh(int n, int m, int uneven)
+{
+    int nv = n * m;
+    double *pos = malloc(3 * sizeof(double) * (size_t)nv);
+    int *fs = malloc(sizeof(int) * (size_t)(nv + 1)), *fv = malloc(4 * sizeof(int) * (size_t)nv);
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < m; j++) {
+            double a = 2 * PI * (i + (uneven ? 0.3 * sin(2 * PI * i / n) : 0)) / n;
+            double b = 2 * PI * (j + (uneven ? 0.25 * sin(4 * PI * j / m) : 0)) / m, *p = pos + 3 * (i * m + j);
+            p[0] = (3 + cos(b)) * cos(a); p[1] = (3 + cos(b)) * sin(a); p[2] = sin(b);
+            if (uneven) /* deterministic jitter: edge lengths no longer separable in i and j */
+                for (int c = 0; c < 3; c++) p[c] += 0.03 * sin(12.9898 * (i + 1) + 78.233 * (j + 1) + 37.719 * c);
+            int f = i * m + j;
+            fs[f] = 4 * f;
+            fv[4 * f] = f; fv[4 * f + 1] = ((i + 1) % n) * m + j;
+            fv[4 * f + 2] = ((i + 1) % n) * m + (j + 1) % m; fv[4 * f + 3] = i * m + (j + 1) % m;
+        }
+    fs[nv] = 4 * nv;
+    q2n_mesh *mesh = NULL;
+    q2n_error err;
+    if (q2n_mesh_from_arrays(nv, pos, nv, fs, fv, "torus", &mesh, &err)) fprintf(stderr, "%s\n", err.message);
+    free(pos); free(fs); free(fv);
+    return mesh;
+}
+
+static int shared_rows_identical(const q2n_nurbs_model *md)
+{
+    static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const q2n_mesh *m = md->mesh;
+    for (int e = 0; e < m->ne; e++) {
+        int h = m->edge_he[e], ht = m->he_twin[h];
+        if (ht < 0) continue;
+        int f[2] = {m->he_face[h], m->he_face[ht]}, sd[2] = {h - m->face_start[f[0]], ht - m->face_start[f[1]]};
+        const q2n_bspline_surface *P[2] = {&md->patches[f[0]], &md->patches[f[1]]};
+        int nt = (sd[0] & 1) ? P[0]->ncp_v : P[0]->ncp_u;
+        for (int it = 0; it < nt; it++) {
+            const double *pt[2];
+            for (int x = 0; x < 2; x++) {
+                int i = x ? nt - 1 - it : it;
+                const int *c0 = cuv[sd[x]], *c1 = cuv[(sd[x] + 1) & 3];
+                int a = c0[0] * (P[x]->ncp_u - 1) + i * (c1[0] - c0[0]), b = c0[1] * (P[x]->ncp_v - 1) + i * (c1[1] - c0[1]);
+                pt[x] = P[x]->cp + 3 * (b * P[x]->ncp_u + a);
+            }
+            if (memcmp(pt[0], pt[1], 3 * sizeof(double)) != 0) return 0;
+        }
+    }
+    return 1;
+}
+
+/* Fit s (on mesh) and check the targets; prints the figures. */
+static void fit_and_check(const char *name, const q2n_mesh *mesh, const q2n_surface *s, double tol, int cont,
+                          int threads, q2n_fit_report *rout)
+{
+    q2n_fit_options o;
+    q2n_fit_options_default(&o);
+    o.tol = tol;
+    o.continuity = cont;
+    o.threads = threads;
+    q2n_nurbs_model *md = NULL;
+    q2n_fit_report r;
+    q2n_error err = {0, ""};
+    double t0 = now();
+    q2n_status st = q2n_fit_surface(s, mesh, &o, &md, &r, &err);
+    double t = now() - t0;
+    CHECK(st == Q2N_OK, "%s: %s", name, err.message);
+    printf("%-34s faces %4d spans %d/%d/%d rounds %d max_dev %.2e rms %.2e vdev %.1e g0 %.1e g1 %.2e deg g2 %.2e "
+           "(constr g1 %.1e deg g2 %.1e)  fit %.3f s (solve %.3f, %d thr)\n",
+           name, r.faces, r.spans_min, r.spans_median, r.spans_max, r.rounds, r.max_dev_rel, r.rms_dev_rel,
+           r.vertex_dev_max_rel, r.g0_max_rel, r.g1_max_deg, r.g2_max_rel, r.g1_construction_deg,
+           r.g2_construction_rel, t, r.t_solve, threads);
+    if (md) {
+        CHECK(r.max_dev_rel <= tol, "%s: max_dev_rel %g", name, r.max_dev_rel);
+        CHECK(r.g0_max_rel <= 1e-12, "%s: g0 %g", name, r.g0_max_rel);
+        CHECK(shared_rows_identical(md), "%s: shared rows differ", name);
+        if (r.g1_construction_deg < 1e-3) CHECK(r.g1_max_deg <= 0.01, "%s: g1 %g deg", name, r.g1_max_deg);
+        if (cont == 2 && r.g2_construction_rel < 1e-3)
+            CHECK(r.g2_max_rel <= 0.01, "%s: g2 %g", name, r.g2_max_rel);
+    }
+    if (rout) *rout = r;
+    q2n_nurbs_model_free(md);
+}
+
+static void augmented_case(const char *name, q2n_mesh *mesh, double tol, int cont)
+{
+    if (!mesh) { SKIP("%s: mesh missing", name); return; }
+    q2n_surface *s = NULL;
+    q2n_error err;
+    q2n_augmented_options ao;
+    memset(&ao, 0, sizeof ao);
+    ao.param.alpha = -1;   /* the method's default: centripetal, non-uniform intervals */
+    if (q2n_augmented_build(mesh, &ao, NULL, &s, &err)) { CHECK(0, "%s: %s", name, err.message); return; }
+    if (q2n_surface_count(s, Q2N_PATCH_UNCOVERED)) {
+        SKIP("%s: %d faces not covered by the regular construction", name, q2n_surface_count(s, Q2N_PATCH_UNCOVERED));
+    } else
+        fit_and_check(name, mesh, s, tol, cont, 1, NULL);
+    q2n_surface_free(s);
+}
+
+static q2n_mesh *shared(const char *file)
+{
+    const char *p = chk_shared_mesh(file);
+    if (!p) return NULL;
+    q2n_mesh *m = NULL;
+    q2n_error err;
+    if (q2n_mesh_read_obj(p, &m, &err)) { fprintf(stderr, "%s\n", err.message); return NULL; }
+    return m;
+}
+
+/* Catmull–Clark path: Bézier patches convert exactly (elevated to 5 x 5), shared edges
+ * bit-identical, continuity = the construction's. */
+static void acc_cases(void)
+{
+    const char *files[] = {"osd_catmark_pawn.obj", "gismo_ev_valence5_carpet.obj"};
+    for (int i = 0; i < 2; i++) {
+        q2n_mesh *m = shared(files[i]);
+        if (!m) { SKIP("%s absent", files[i]); continue; }
+        for (int meth = 0; meth < 2; meth++) {
+            q2n_acc_options ao;
+            memset(&ao, 0, sizeof ao);
+            ao.method = meth ? Q2N_ACC_G1 : Q2N_ACC_3;
+            q2n_acc_info info;
+            q2n_surface *s = NULL;
+            q2n_error err;
+            if (q2n_acc_build(m, &ao, &s, &info, &err)) { CHECK(0, "%s acc: %s", files[i], err.message); continue; }
+            const q2n_mesh *pm = q2n_acc_info_mesh(&info, m);
+            q2n_fit_options o;
+            q2n_fit_options_default(&o);
+            q2n_nurbs_model *md = NULL;
+            q2n_fit_report r;
+            q2n_status st = q2n_fit_surface(s, pm, &o, &md, &r, &err);
+            printf("%-22s %-6s faces %4d exact %d max_dev %.2e g0 %.1e g1 %.2e deg (constr %.2e) g2 %.2e  %.3f s\n",
+                   files[i], meth ? "acc-g1" : "acc3", r.faces, r.exact, r.max_dev_rel, r.g0_max_rel, r.g1_max_deg,
+                   r.g1_construction_deg, r.g2_max_rel, r.t_total);
+            CHECK(st == Q2N_OK, "%s: %s", files[i], err.message);
+            CHECK(r.exact == 1, "%s: not converted exactly", files[i]);
+            CHECK(r.max_dev_rel <= 1e-13, "%s: exact conversion deviates %g", files[i], r.max_dev_rel);
+            CHECK(r.g0_max_rel <= 1e-12, "%s: g0 %g", files[i], r.g0_max_rel);
+            CHECK(fabs(r.g1_max_deg - r.g1_construction_deg) <= 1e-6 * (1 + r.g1_construction_deg),
+                  "%s: g1 %g vs construction %g", files[i], r.g1_max_deg, r.g1_construction_deg);
+            if (md) CHECK(shared_rows_identical(md), "%s: shared rows differ", files[i]);
+            q2n_nurbs_model_free(md);
+            q2n_surface_free(s);
+            q2n_acc_info_free(&info);
+        }
+        q2n_mesh_free(m);
+    }
+}
+
+/* A 600-face fit (augmented surface on an unevenly spaced torus), 1 and 2 threads. */
+static void timing(void)
+{
+    q2n_mesh *t = torus_mesh(30, 20, 1);
+    q2n_surface *s = NULL;
+    q2n_augmented_options ao;
+    memset(&ao, 0, sizeof ao);
+    ao.param.alpha = -1;
+    q2n_error err;
+    if (!t || q2n_augmented_build(t, &ao, NULL, &s, &err)) { CHECK(0, "timing mesh"); return; }
+    q2n_fit_report r1, r2;
+    fit_and_check("augmented torus 30x20 G1 1e-5", t, s, 1e-5, 1, 1, &r1);
+    fit_and_check("augmented torus 30x20 G1 1e-5", t, s, 1e-5, 1, 2, &r2);
+    printf("TIMING 600-face fit (G1, tol 1e-5): %.3f s with 1 thread, %.3f s with 2 threads\n", r1.t_total, r2.t_total);
+    q2n_surface_free(s);
+    q2n_mesh_free(t);
+}
+
+int main(void)
+{
+    q2n_mesh *t = torus_mesh(8, 6, 1);
+    augmented_case("augmented torus 8x6 G1 1e-5", t, 1e-5, 1);
+    augmented_case("augmented torus 8x6 G1 1e-6", t, 1e-6, 1);
+    augmented_case("augmented torus 8x6 G2 1e-5", t, 1e-5, 2);
+    q2n_mesh_free(t);
+    const char *files[] = {"osd_catmark_torus.obj", "gismo_octtorus.obj", "osd_catmark_tent.obj", "osd_catmark_flap.obj"};
+    for (int i = 0; i < 4; i++) {
+        q2n_mesh *m = shared(files[i]);
+        char nm[128];
+        if (!m) { SKIP("%s absent", files[i]); continue; }
+        snprintf(nm, sizeof nm, "%s G1 1e-5", files[i]);
+        augmented_case(nm, m, 1e-5, 1);
+        snprintf(nm, sizeof nm, "%s G1 1e-6", files[i]);
+        augmented_case(nm, m, 1e-6, 1);
+        q2n_mesh_free(m);
+    }
+    acc_cases();
+    timing();
+    CHECK_DONE("test_fit_meshes");
+}
