@@ -5,7 +5,7 @@
  *  1. Patch corners are Catmull–Clark limit positions: every corner of every patch against
  *     OpenSubdiv at >= 1000 points per mesh (meshes are subdivided first when they have fewer
  *     corners), acc3 and acc-g1, on every mesh of ../shared/meshes (n-gon meshes included: the
- *     build subdivides them).  Also q2n_acc_limit_point.
+ *     build subdivides them).  Also q2n_acc_limit_points.
  *  2. Meshes without extraordinary vertices (tori, open grids with boundaries and corners):
  *     acc3 is the limit surface itself (bicubic B-spline), at 8 x 8 points per face.
  *  3. Convergence (seed 001 §6.3): max distance to the limit under successive subdivision of the
@@ -147,6 +147,8 @@ void test_corners()
             CHECK(L->ok, "%s: OpenSubdiv limit surface", file);
             double maxe = 0;
             int npts = 0;
+            std::vector<double> lim(3 * (size_t)bm->nv);
+            CHECK(q2n_acc_limit_points(bm, lim.data(), &err) == Q2N_OK, "limit points: %s", err.message);
             for (int f = 0; L->ok && f < bm->nf; f++)
                 for (int c = 0; c < 4; c++) {
                     double u = (c == 1 || c == 2), v = (c >= 2), e[3], p[3], n[3];
@@ -154,9 +156,8 @@ void test_corners()
                     limit_eval(L.get(), f, u, v, p, n);
                     for (int t = 0; t < 3; t++) maxe = std::fmax(maxe, std::fabs(e[t] - p[t]));
                     npts++;
-                    if (me == 0 && c == 0) { /* q2n_acc_limit_point at v0 of the face */
-                        double q[3];
-                        q2n_acc_limit_point(bm, bm->face_vert[bm->face_start[f]], q);
+                    if (me == 0) { /* q2n_acc_limit_points at the face's corner vertex */
+                        const double *q = &lim[3 * (size_t)bm->face_vert[bm->face_start[f] + c]];
                         for (int t = 0; t < 3; t++) maxe = std::fmax(maxe, std::fabs(q[t] - p[t]));
                     }
                 }

@@ -16,6 +16,7 @@
 #include "acc/acc.h"
 #include "acc/acc_masks.h"
 #include "check.h"
+#include "core/vec3.h"
 #include "meshgen.h"
 
 /* ---------------------------------------------------------------- procedural carpets */
@@ -290,12 +291,159 @@ static void test_g1_shared(void)
     }
 }
 
+/* ---------------------------------------------------------------- boundary limit tangents */
+
+/* P, T_b, T_x at boundary vertex v read off the ACC3 corner and edge points of ring position 1:
+ * E_1 = P + (cos θ T_b + sin θ T_x)/3, T_b = (e_0 - e_K)/2, θ = π/K. */
+static void boundary_frame(const q2n_mesh *m, int v, double P[3], double Tb[3], double Tx[3])
+{
+    q2n_acc_rings r;
+    q2n_acc_rings_build(m, &r, NULL);
+    int K = q2n_acc_ring_size(&r, v);
+    double out[12], th = M_PI / K;
+    q2n_acc_corner_points(m, &r, r.he[r.start[v] + 1], m->pos, 3, out);
+    memcpy(P, out, 3 * sizeof *P);
+    q2n_v3_sub(Tb, q2n_mesh_vpos(m, q2n_he_dest(m, r.he[r.start[v]])), q2n_mesh_vpos(m, r.last[v]));
+    q2n_v3_scale(Tb, 0.5, Tb);
+    for (int t = 0; t < 3; t++) Tx[t] = (3 * (out[3 + t] - out[t]) - cos(th) * Tb[t]) / sin(th);
+    q2n_acc_rings_free(&r);
+}
+
+/* The masks at a boundary vertex with K faces are left eigenvectors of the actual subdivision
+ * (q2n_mesh_subdivide, checked against OpenSubdiv by the mesh tests): after one step the corner
+ * point is unchanged, T_b halves and T_x scales by λ = (5 + C + sqrt((1+C)(9+C)))/16, C = cos(π/K).
+ * (The Biermann et al. mask of formulas.md §1.4 fails this for K >= 3.) */
+static void test_boundary_tangents(void)
+{
+    for (int K = 2; K <= 7; K++) {
+        q2n_mesh *m = carpet(K, 1, 300 + K), *s = NULL;
+        q2n_error err;
+        if (!m || q2n_mesh_subdivide(m, 1, &s, &err) != Q2N_OK) {
+            CHECK(0, "half carpet %d", K);
+            q2n_mesh_free(m);
+            continue;
+        }
+        double P0[3], B0[3], X0[3], P1[3], B1[3], X1[3], C = cos(M_PI / K);
+        double lam = (5 + C + sqrt((1 + C) * (9 + C))) / 16;
+        boundary_frame(m, 0, P0, B0, X0);
+        boundary_frame(s, 0, P1, B1, X1);
+        double dp = q2n_v3_dist(P0, P1), db = 0, dx = 0;
+        for (int t = 0; t < 3; t++) {
+            db = fmax(db, fabs(B1[t] - 0.5 * B0[t]));
+            dx = fmax(dx, fabs(X1[t] - lam * X0[t]));
+        }
+        CHECK(dp < 1e-14 && db < 1e-14 && dx < 1e-14,
+              "boundary vertex with %d faces: |dP| %.3g, |T_b' - T_b/2| %.3g, |T_x' - λ T_x| %.3g", K, dp, db, dx);
+        CHECK(q2n_v3_norm(X0) > 0.1, "T_x vanishes");
+        q2n_mesh_free(s);
+        q2n_mesh_free(m);
+    }
+}
+
+/* ---------------------------------------------------------------- API: preparation, options */
+
+static void test_api(void)
+{
+    /* closed pyramid: one quad + four triangles -> needs a Catmull–Clark step */
+    static const double pos[] = { 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.5, 0.5, 0.8 };
+    static const int fs[] = { 0, 4, 7, 10, 13, 16 };
+    static const int fv[] = { 0, 3, 2, 1, 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4 };
+    q2n_mesh *m = NULL;
+    q2n_error err;
+    CHECK(q2n_mesh_from_arrays(5, pos, 5, fs, fv, "pyramid", &m, &err) == Q2N_OK, "pyramid: %s", err.message);
+    if (!m) return;
+    for (int me = 0; me < 2; me++) {
+        q2n_acc_options o = { (q2n_acc_method)me, Q2N_ACC_CS_S, 0 };
+        q2n_surface *s = NULL;
+        q2n_acc_info info;
+        q2n_status st = q2n_acc_build(m, &o, &s, &info, &err);
+        CHECK(st == Q2N_OK, "pyramid %s: %s", q2n_acc_method_name(o.method), err.message);
+        if (st != Q2N_OK) continue;
+        const q2n_mesh *bm = q2n_acc_info_mesh(&info, m);
+        /* one step makes quads; acc-g1 needs a second one (the apex and base corners are EVs
+         * sharing faces after one step) */
+        CHECK(info.subdiv_steps == (me ? 2 : 1) && info.mesh && bm->all_quads,
+              "pyramid %s: %d steps", q2n_acc_method_name(o.method), info.subdiv_steps);
+        CHECK(q2n_surface_npatches(s) == bm->nf && info.n_patches == bm->nf, "patch count");
+        CHECK(strstr(info.reason, "face 1 has 3 vertices") != NULL, "reason: '%s'", info.reason);
+        char line[512];
+        q2n_acc_describe(&info, &o, line, sizeof line);
+        CHECK(strstr(line, "Catmull-Clark step") && strstr(line, "subdivided mesh"), "describe: %s", line);
+        printf("%s\n", line);
+        q2n_surface_free(s);
+        q2n_acc_info_free(&info);
+        q2n_acc_info_free(&info); /* idempotent */
+    }
+    q2n_acc_options none = { Q2N_ACC_3, Q2N_ACC_CS_S, -1 };
+    q2n_surface *s = NULL;
+    CHECK(q2n_acc_build(m, &none, &s, NULL, &err) == Q2N_ERR_UNSUPPORTED && s == NULL &&
+          strstr(err.message, "pyramid: face 1 has 3 vertices"), "no subdivision allowed: %s", err.message);
+    double lim[15];
+    CHECK(q2n_acc_limit_points(m, lim, &err) == Q2N_ERR_UNSUPPORTED, "limit points on triangles");
+    q2n_acc_options bad = { (q2n_acc_method)7, Q2N_ACC_CS_S, 0 };
+    CHECK(q2n_acc_build(m, &bad, &s, NULL, &err) == Q2N_ERR_ARG, "bad method accepted");
+    q2n_mesh_free(m);
+    q2n_acc_info_free(NULL);
+
+    /* option names round trip */
+    for (int i = 0; i < 2; i++) {
+        q2n_acc_method me;
+        CHECK(q2n_acc_parse_method(q2n_acc_method_name((q2n_acc_method)i), &me, &err) == Q2N_OK && (int)me == i,
+              "method %d", i);
+    }
+    for (int i = 0; i < 4; i++) {
+        q2n_acc_strategy st;
+        CHECK(q2n_acc_parse_strategy(q2n_acc_strategy_name((q2n_acc_strategy)i), &st, &err) == Q2N_OK &&
+                  (int)st == i, "strategy %d", i);
+    }
+    q2n_acc_method me;
+    q2n_acc_strategy st;
+    CHECK(q2n_acc_parse_method("acc5", &me, &err) == Q2N_ERR_ARG && strstr(err.message, "acc5"), "bad method");
+    CHECK(q2n_acc_parse_strategy("cs", &st, &err) == Q2N_ERR_ARG && strstr(err.message, "cs-s"), "bad strategy");
+
+    /* acc-g1 keeps the ACC3 bicubic patches on faces without EVs, and its biquintic patches
+     * away from the EV edges are the degree-elevated ACC3 points (rows/columns 4, 5) */
+    q2n_mesh *c = carpet(5, 0, 77);
+    if (!c) return;
+    int d3[32], d5[32];
+    double *m3 = masks(c, Q2N_ACC_3, Q2N_ACC_CS_S, d3), *m5 = masks(c, Q2N_ACC_G1, Q2N_ACC_CS_S, d5);
+    int same = 0, quint = 0;
+    double worst = 0;
+    for (int f = 0; f < c->nf; f++) {
+        size_t blk = 36 * (size_t)c->nv;
+        if (d5[f] == 3) {
+            same += memcmp(m3 + f * blk, m5 + f * blk, 16 * (size_t)c->nv * sizeof(double)) == 0;
+            continue;
+        }
+        quint++;
+        double e5[36 * 64];
+        if (c->nv > 64) continue;
+        q2n_acc_elevate_3_to_5(m3 + f * blk, c->nv, e5);
+        int cv = -1;
+        for (int k = 0; k < 4; k++) if (c->face_vert[c->face_start[f] + k] == 0) cv = k;
+        for (int j = 0; j < 6; j++)
+            for (int i = 0; i < 6; i++) {
+                if (i < 4 && j < 4) continue; /* the G1 construction changes only points with i,j <= 3 */
+                int q = q2n_acc_local_index(cv, 5, i, j);
+                for (int w = 0; w < c->nv; w++)
+                    worst = fmax(worst, fabs(e5[q * c->nv + w] - m5[f * blk + (size_t)q * c->nv + w]));
+            }
+    }
+    CHECK(quint == 5 && same == c->nf - 5, "carpet 5: %d biquintic, %d identical bicubic", quint, same);
+    CHECK(worst < 1e-15, "ACC5 points away from the EV edges changed by %.3g", worst);
+    free(m3);
+    free(m5);
+    q2n_mesh_free(c);
+}
+
 int main(void)
 {
     clock_t t0 = clock();
     (void)mg_grid;
     test_examples();
+    test_api();
     test_regular_torus();
+    test_boundary_tangents();
     test_g1_carpets();
     test_g1_shared();
     printf("test_acc_masks: %.2f s CPU\n", (double)(clock() - t0) / CLOCKS_PER_SEC);

@@ -14,10 +14,9 @@ static void count_evs(const q2n_mesh *m, const q2n_acc_rings *r, q2n_acc_info *i
     info->n_ev_interior = info->n_ev_boundary = 0;
     info->max_valence = 0;
     for (int v = 0; v < m->nv; v++) {
-        if (r->ev[v]) {
-            if (r->bnd[v]) info->n_ev_boundary++;
-            else info->n_ev_interior++;
-        }
+        if (!r->ev[v]) continue;
+        if (r->bnd[v]) info->n_ev_boundary++;
+        else info->n_ev_interior++;
         if (m->valence[v] > info->max_valence) info->max_valence = m->valence[v];
     }
 }
@@ -168,27 +167,28 @@ const char *q2n_acc_describe(const q2n_acc_info *info, const q2n_acc_options *op
                                       "subdivided mesh; ", info->subdiv_steps,
                  info->subdiv_steps > 1 ? "s" : "", info->reason);
     snprintf(buf, (size_t)size, "%s%s%s: %s%d bicubic + %d biquintic patches, %d interior and %d "
-                                "boundary extraordinary vertices (max valence %d)",
+                                "boundary extraordinary vertices (max EV valence %d)",
              q2n_acc_method_name(me), me == Q2N_ACC_G1 ? " " : "",
              me == Q2N_ACC_G1 ? q2n_acc_strategy_name(opt->strategy) : "", steps, info->n_bicubic,
              info->n_biquintic, info->n_ev_interior, info->n_ev_boundary, info->max_valence);
     return buf;
 }
 
-void q2n_acc_limit_point(const q2n_mesh *m, int v, double p[3])
+q2n_status q2n_acc_limit_points(const q2n_mesh *m, double *out, q2n_error *err)
 {
-    /* The ACC3 corner point is the limit position (formulas.md §1.1, §1.4): reuse its mask on
-     * the vertex's own ring. */
-    p[0] = p[1] = p[2] = 0;
-    if (v < 0 || v >= m->nv || m->vert_he[v] < 0) return;
+    /* The ACC3 corner point is the limit position: its mask applied on each vertex's ring. */
     q2n_acc_rings r;
-    if (q2n_acc_rings_build(m, &r, NULL) != Q2N_OK) {
-        const double *q = q2n_mesh_vpos(m, v);
-        p[0] = q[0]; p[1] = q[1]; p[2] = q[2];
-        return;
+    q2n_status s = q2n_acc_rings_build(m, &r, err);
+    if (s != Q2N_OK) return s;
+    for (int v = 0; v < m->nv; v++) {
+        double pts[12];
+        if (m->vert_he[v] < 0) { /* isolated vertex: no limit, keep it */
+            memcpy(out + 3 * (size_t)v, q2n_mesh_vpos(m, v), 3 * sizeof *out);
+            continue;
+        }
+        q2n_acc_corner_points(m, &r, m->vert_he[v], m->pos, 3, pts);
+        memcpy(out + 3 * (size_t)v, pts, 3 * sizeof *out);
     }
-    double out[12];
-    q2n_acc_corner_points(m, &r, m->vert_he[v], m->pos, 3, out);
-    p[0] = out[0]; p[1] = out[1]; p[2] = out[2];
     q2n_acc_rings_free(&r);
+    return Q2N_OK;
 }

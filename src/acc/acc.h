@@ -50,7 +50,7 @@ typedef struct q2n_acc_info {
     int n_bicubic, n_biquintic;
     int n_ev_interior;  /* interior vertices of valence != 4 */
     int n_ev_boundary;  /* boundary vertices with >= 3 faces */
-    int max_valence;
+    int max_valence;    /* largest valence of an EV (0 when there is none) */
 } q2n_acc_info;
 
 /* Build the patches.  info may be NULL (then a subdivided mesh is freed here).  Errors:
@@ -75,9 +75,10 @@ const char *q2n_acc_strategy_name(q2n_acc_strategy s);
 const char *q2n_acc_describe(const q2n_acc_info *info, const q2n_acc_options *opt, char *buf,
                              int size);
 
-/* Catmull–Clark limit position of vertex v (formulas.md §2 / §1.4; corners of valence 2 stay
- * fixed).  The patch corners equal these points. */
-void q2n_acc_limit_point(const q2n_mesh *m, int v, double p[3]);
+/* Catmull–Clark limit positions of all vertices of an all-quad mesh into out[3*nv] (formulas.md
+ * §1.1 / §1.4; valence-2 boundary corners stay fixed).  The patch corners equal these points.
+ * Q2N_ERR_UNSUPPORTED for a non-quad mesh (subdivide it first). */
+q2n_status q2n_acc_limit_points(const q2n_mesh *m, double *out, q2n_error *err);
 
 /* ---- quality (seed 001 §6.1) ---- */
 typedef struct q2n_acc_quality {
