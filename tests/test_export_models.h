@@ -27,16 +27,16 @@
  * he_twin, he_edge, ne, edge_he, all_quads.  Returns NULL on a non-manifold input. */
 static inline q2n_mesh *em_mesh_build(int nv, const double *pos, int nf, const int *fv)
 {
-    q2n_mesh *m = calloc(1, sizeof *m);
+    q2n_mesh *m = (q2n_mesh *)calloc(1, sizeof *m);
     int nh = 4 * nf;
     m->nv = nv; m->nf = nf; m->nh = nh; m->all_quads = 1;
-    m->pos = malloc(sizeof(double) * 3 * (size_t)nv);
-    m->face_start = malloc(sizeof(int) * (size_t)(nf + 1));
-    m->face_vert = malloc(sizeof(int) * (size_t)nh);
-    m->he_face = malloc(sizeof(int) * (size_t)nh);
-    m->he_twin = malloc(sizeof(int) * (size_t)nh);
-    m->he_edge = malloc(sizeof(int) * (size_t)nh);
-    m->edge_he = malloc(sizeof(int) * (size_t)nh);
+    m->pos = (double *)malloc(sizeof(double) * 3 * (size_t)nv);
+    m->face_start = (int *)malloc(sizeof(int) * (size_t)(nf + 1));
+    m->face_vert = (int *)malloc(sizeof(int) * (size_t)nh);
+    m->he_face = (int *)malloc(sizeof(int) * (size_t)nh);
+    m->he_twin = (int *)malloc(sizeof(int) * (size_t)nh);
+    m->he_edge = (int *)malloc(sizeof(int) * (size_t)nh);
+    m->edge_he = (int *)malloc(sizeof(int) * (size_t)nh);
     memcpy(m->pos, pos, sizeof(double) * 3 * (size_t)nv);
     memcpy(m->face_vert, fv, sizeof(int) * (size_t)nh);
     for (int f = 0; f <= nf; f++) m->face_start[f] = 4 * f;
@@ -83,7 +83,7 @@ static inline int em_mesh_boundary_edges(const q2n_mesh *m)
 /* Number of connected components (faces linked across interior edges). */
 static inline int em_mesh_components(const q2n_mesh *m)
 {
-    int *comp = malloc(sizeof(int) * (size_t)m->nf), *stack = malloc(sizeof(int) * (size_t)m->nf), n = 0;
+    int *comp = (int *)malloc(sizeof(int) * (size_t)m->nf), *stack = (int *)malloc(sizeof(int) * (size_t)m->nf), n = 0;
     for (int f = 0; f < m->nf; f++) comp[f] = -1;
     for (int f0 = 0; f0 < m->nf; f0++) {
         if (comp[f0] >= 0) continue;
@@ -115,7 +115,7 @@ static inline q2n_mesh *em_mesh_read_obj(const char *path)
     char line[1024];
     while (fgets(line, sizeof line, f)) {
         if (line[0] == 'v' && line[1] == ' ') {
-            if (nv == cv) { cv = cv ? 2 * cv : 64; pos = realloc(pos, sizeof(double) * 3 * (size_t)cv); }
+            if (nv == cv) { cv = cv ? 2 * cv : 64; pos = (double *)realloc(pos, sizeof(double) * 3 * (size_t)cv); }
             sscanf(line + 2, "%lf %lf %lf", &pos[3 * nv], &pos[3 * nv + 1], &pos[3 * nv + 2]);
             nv++;
         } else if (line[0] == 'f' && line[1] == ' ') {
@@ -130,7 +130,7 @@ static inline q2n_mesh *em_mesh_read_obj(const char *path)
                 while (*p && *p != ' ' && *p != '\t' && *p != '\n') p++;
             }
             if (n != 4) { ok = 0; continue; }
-            if (nf == cf) { cf = cf ? 2 * cf : 64; fv = realloc(fv, sizeof(int) * 4 * (size_t)cf); }
+            if (nf == cf) { cf = cf ? 2 * cf : 64; fv = (int *)realloc(fv, sizeof(int) * 4 * (size_t)cf); }
             memcpy(fv + 4 * nf, idx, 4 * sizeof(int));
             nf++;
         }
@@ -155,10 +155,10 @@ static inline double em_mesh_diag(const q2n_mesh *m)
 static inline void em_surface_alloc(q2n_bspline_surface *s, int du, int dv, int nu, int nv, int rational)
 {
     s->deg_u = du; s->deg_v = dv; s->ncp_u = nu; s->ncp_v = nv;
-    s->knots_u = malloc(sizeof(double) * (size_t)(nu + du + 1));
-    s->knots_v = malloc(sizeof(double) * (size_t)(nv + dv + 1));
-    s->cp = malloc(sizeof(double) * 3 * (size_t)(nu * nv));
-    s->weights = rational ? malloc(sizeof(double) * (size_t)(nu * nv)) : NULL;
+    s->knots_u = (double *)malloc(sizeof(double) * (size_t)(nu + du + 1));
+    s->knots_v = (double *)malloc(sizeof(double) * (size_t)(nv + dv + 1));
+    s->cp = (double *)malloc(sizeof(double) * 3 * (size_t)(nu * nv));
+    s->weights = rational ? (double *)malloc(sizeof(double) * (size_t)(nu * nv)) : NULL;
 }
 
 /* clamped knots on [0,1] with nin uniform interior knots */
@@ -172,7 +172,7 @@ static inline q2n_nurbs_model em_model_alloc(const q2n_mesh *m)
 {
     q2n_nurbs_model md;
     md.n = m->nf;
-    md.patches = calloc((size_t)m->nf, sizeof(q2n_bspline_surface));
+    md.patches = (q2n_bspline_surface *)calloc((size_t)m->nf, sizeof(q2n_bspline_surface));
     md.mesh = m;
     md.tol_abs = 0.0;
     return md;
@@ -210,7 +210,7 @@ static inline q2n_nurbs_model em_model_bilinear(const q2n_mesh *m)
 static inline int em_regular_ring(const q2n_mesh *m, int f0, int g[4][4])
 {
     int qf[16], qc[16][4][2], nq = 0, head = 0;
-    int *seen = calloc((size_t)m->nf, sizeof(int));
+    int *seen = (int *)calloc((size_t)m->nf, sizeof(int));
     static const int corner[4][2] = {{1, 1}, {2, 1}, {2, 2}, {1, 2}};
     for (int j = 0; j < 4; j++) for (int i = 0; i < 4; i++) g[j][i] = -1;
     qf[nq] = f0;
@@ -330,8 +330,8 @@ static inline q2n_nurbs_model em_model_torus_rational(double R, double r, q2n_me
 static inline q2n_nurbs_model em_model_cylinder_rational(double r, double h, int rows, q2n_mesh **mesh_out)
 {
     int nv = 4 * (rows + 1), nf = 4 * rows;
-    double *pos = malloc(sizeof(double) * 3 * (size_t)nv);
-    int *fv = malloc(sizeof(int) * 4 * (size_t)nf);
+    double *pos = (double *)malloc(sizeof(double) * 3 * (size_t)nv);
+    int *fv = (int *)malloc(sizeof(int) * 4 * (size_t)nf);
     for (int l = 0; l <= rows; l++)
         for (int k = 0; k < 4; k++) {
             pos[3 * (l * 4 + k)] = r * cos(k * EM_PI / 2);
@@ -370,8 +370,8 @@ static inline q2n_nurbs_model em_model_cylinder_rational(double r, double h, int
 static inline q2n_mesh *em_mesh_grid(int nx, int ny)
 {
     int nv = (nx + 1) * (ny + 1);
-    double *pos = malloc(sizeof(double) * 3 * (size_t)nv);
-    int *fv = malloc(sizeof(int) * 4 * (size_t)(nx * ny));
+    double *pos = (double *)malloc(sizeof(double) * 3 * (size_t)nv);
+    int *fv = (int *)malloc(sizeof(int) * 4 * (size_t)(nx * ny));
     for (int j = 0; j <= ny; j++)
         for (int i = 0; i <= nx; i++) {
             double *p = pos + 3 * (j * (nx + 1) + i);
