@@ -7,7 +7,20 @@
 #include <string.h>
 #include <strings.h>
 
-#include "cli/cli.h"
+#include "api/model.h"
+
+#define Q2N_VERSION_STRING "0.1.0"
+#define MAX_OUTPUTS 8
+
+/* Command-line settings (the library options plus what only the CLI has). */
+typedef struct cli_options {
+    const char *input;
+    const char *outputs[MAX_OUTPUTS];
+    int noutputs, sample, grid, tess, quiet;
+    q2n_model_options model;
+    q2n_fit_options fit;
+    q2n_export_options xopt;
+} cli_options;
 
 static void usage(FILE *f)
 {
@@ -16,12 +29,15 @@ static void usage(FILE *f)
           "\n"
           "Builds a smooth surface on a quad mesh (patch k on face k, domain [0,1]^2, u along the\n"
           "face's first edge v0->v1, v along v0->v3) and writes it; the output format follows the\n"
-          "extension:  .obj  tessellation (--tess N points per patch side).\n"
+          "extension: .obj tessellation (--tess N points per patch side); .step/.stp STEP AP214 and\n"
+          "           .igs/.iges IGES 5.3 of the fitted B-spline patches; .json the fit report.\n"
           "`sample` prints one line per patch k and grid point: k u v x y z xu yu zu xv yv zv.\n"
           "\n"
           "options:\n"
           "  -o, --output FILE     output file (repeatable)\n"
-          "      --surface M       augmented (default: augmented interpolatory surface)\n"
+          "      --surface M       augmented (default: interpolates every vertex), acc3 or acc-g1\n"
+          "                        (Catmull-Clark approximations, exact polynomial patches)\n"
+          "      --acc-strategy S  acc-g1 masks: cs-s (default), ncs-s, cs-as, ncs-as\n"
           "      --class C         spline class of the augmented surface: D5C2P2S4 (default, C2),\n"
           "                        D3C1P2S4 (Catmull-Rom, C1), D2C1P2S4, D3C2P2S4, D5C2P4S6\n"
           "      --param P         edge parameter intervals: centripetal (default), chordal,\n"
@@ -29,6 +45,9 @@ static void usage(FILE *f)
           "      --alpha A         exponent of |edge|^A for centripetal/mean (default 0.5)\n"
           "      --subdivide N     apply N Catmull-Clark steps first (needed for non-quad faces)\n"
           "      --tess N          tessellation points per patch side (default 9)\n"
+          "      --tol T           fit tolerance relative to the bounding-box diagonal (default 1e-5)\n"
+          "      --threads N       fit solver threads (default 1)\n"
+          "      --units U         CAD file units: mm (default) or in\n"
           "      --grid N          sample points per patch side (default 5)\n"
           "  -q, --quiet           no progress/summary on stderr\n"
           "  -h, --help            this text\n"
@@ -59,13 +78,16 @@ static const char *extension(const char *path)
 
 static int parse_args(int argc, char **argv, cli_options *o)
 {
-    enum { OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT };
+    enum { OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT,
+           OPT_TOL, OPT_THREADS, OPT_UNITS };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},   {"tess", required_argument, 0, OPT_TESS},
         {"grid", required_argument, 0, OPT_GRID}, {"class", required_argument, 0, OPT_CLASS},
         {"param", required_argument, 0, OPT_PARAM}, {"alpha", required_argument, 0, OPT_ALPHA},
         {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
         {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
+        {"tol", required_argument, 0, OPT_TOL},  {"threads", required_argument, 0, OPT_THREADS},
+        {"units", required_argument, 0, OPT_UNITS},
         {"help", no_argument, 0, 'h'},           {"version", no_argument, 0, 'V'},
         {0, 0, 0, 0}};
     int c;
@@ -77,17 +99,18 @@ static int parse_args(int argc, char **argv, cli_options *o)
     while ((c = getopt_long(argc, argv, "o:qhV", longopts, NULL)) != -1) {
         switch (c) {
         case 'o':
-            if (o->noutputs == Q2N_MAX_OUTPUTS) {
-                fprintf(stderr, "quad2nurbs: at most %d outputs\n", Q2N_MAX_OUTPUTS);
+            if (o->noutputs == MAX_OUTPUTS) {
+                fprintf(stderr, "quad2nurbs: at most %d outputs\n", MAX_OUTPUTS);
                 return 2;
             }
             o->outputs[o->noutputs++] = optarg;
             break;
         case OPT_TESS: if (parse_int(optarg, "--tess", 2, 10000, &o->tess)) return 2; break;
         case OPT_GRID: if (parse_int(optarg, "--grid", 1, 10000, &o->grid)) return 2; break;
-        case OPT_SUBDIV: if (parse_int(optarg, "--subdivide", 0, 6, &o->subdivide)) return 2; break;
+        case OPT_SUBDIV: if (parse_int(optarg, "--subdivide", 0, 6, &o->model.subdivide)) return 2; break;
+        case OPT_THREADS: if (parse_int(optarg, "--threads", 1, 256, &o->fit.threads)) return 2; break;
         case OPT_CLASS:
-            if (!(o->cls = q2n_spline_class_find(optarg))) {
+            if (!(o->model.cls = q2n_spline_class_find(optarg))) {
                 fprintf(stderr, "quad2nurbs: --class: unknown class '%s' (known:", optarg);
                 for (const q2n_spline_class *const *k = q2n_spline_classes(); *k; k++)
                     fprintf(stderr, " %s", (*k)->name);
@@ -96,7 +119,7 @@ static int parse_args(int argc, char **argv, cli_options *o)
             }
             break;
         case OPT_PARAM:
-            if (q2n_param_method_parse(optarg, &o->param.method)) {
+            if (q2n_param_method_parse(optarg, &o->model.param.method)) {
                 fprintf(stderr, "quad2nurbs: --param: expected centripetal, chordal, uniform or mean, got '%s'\n",
                         optarg);
                 return 2;
@@ -109,17 +132,44 @@ static int parse_args(int argc, char **argv, cli_options *o)
                 fprintf(stderr, "quad2nurbs: --alpha: expected a number in [0, 2], got '%s'\n", optarg);
                 return 2;
             }
-            o->param.alpha = a;
+            o->model.param.alpha = a;
             break;
         }
-        case OPT_SURFACE:
-            if (strcmp(optarg, "augmented") == 0) o->surface = CLI_SURF_AUGMENTED;
+        case OPT_TOL: {
+            char *end;
+            double t = strtod(optarg, &end);
+            if (*end || end == optarg || !(t >= 1e-12 && t <= 0.1)) {
+                fprintf(stderr, "quad2nurbs: --tol: expected a number in [1e-12, 0.1], got '%s'\n", optarg);
+                return 2;
+            }
+            o->fit.tol = t;
+            break;
+        }
+        case OPT_UNITS:
+            if (strcmp(optarg, "mm") == 0) o->xopt.units = Q2N_UNITS_MM;
+            else if (strcmp(optarg, "in") == 0) o->xopt.units = Q2N_UNITS_IN;
             else {
-                fprintf(stderr, "quad2nurbs: --surface: expected augmented, got '%s'\n", optarg);
+                fprintf(stderr, "quad2nurbs: --units: expected mm or in, got '%s'\n", optarg);
                 return 2;
             }
             break;
-        case OPT_STRAT: o->acc_strategy = optarg; break;
+        case OPT_SURFACE:
+            if (strcmp(optarg, "augmented") == 0) o->model.method = Q2N_SURFACE_AUGMENTED;
+            else if (strcmp(optarg, "acc3") == 0) o->model.method = Q2N_SURFACE_ACC3;
+            else if (strcmp(optarg, "acc-g1") == 0) o->model.method = Q2N_SURFACE_ACC_G1;
+            else {
+                fprintf(stderr, "quad2nurbs: --surface: expected augmented, acc3 or acc-g1, got '%s'\n", optarg);
+                return 2;
+            }
+            break;
+        case OPT_STRAT: {
+            q2n_error e;
+            if (q2n_acc_parse_strategy(optarg, &o->model.acc_strategy, &e)) {
+                fprintf(stderr, "quad2nurbs: --acc-strategy: %s\n", e.message);
+                return 2;
+            }
+            break;
+        }
         case 'q': o->quiet = 1; break;
         case 'h': usage(stdout); return -1;
         case 'V': printf("quad2nurbs %s\n", Q2N_VERSION_STRING); return -1;
@@ -132,14 +182,15 @@ static int parse_args(int argc, char **argv, cli_options *o)
     }
     o->input = argv[optind];
     if (!o->sample && o->noutputs == 0) {
-        fprintf(stderr, "quad2nurbs: no output given (-o FILE.obj), or use `quad2nurbs sample`\n");
+        fprintf(stderr, "quad2nurbs: no output given (-o FILE.obj|.step|.igs|.json), or use `quad2nurbs sample`\n");
         return 2;
     }
     for (int i = 0; i < o->noutputs; i++) {
-        const char *ext = extension(o->outputs[i]);
-        if (strcasecmp(ext, ".obj") != 0) {
-            fprintf(stderr, "quad2nurbs: %s: unsupported output format '%s' (supported: .obj)\n", o->outputs[i],
-                    ext);
+        int needs_fit;
+        if (!q2n_model_output_kind(o->outputs[i], &needs_fit)) {
+            fprintf(stderr,
+                    "quad2nurbs: %s: unsupported output format '%s' (supported: .obj .step .stp .igs .iges .json)\n",
+                    o->outputs[i], extension(o->outputs[i]));
             return 2;
         }
     }
@@ -157,40 +208,56 @@ static int exit_code(q2n_status st)
 
 int main(int argc, char **argv)
 {
-    cli_options o = {0};
+    cli_options o;
+    memset(&o, 0, sizeof o);
     o.grid = 5;
     o.tess = 9;
-    o.param.method = Q2N_PARAM_CENTRIPETAL;
-    o.param.alpha = NAN;
+    o.model.param.method = Q2N_PARAM_CENTRIPETAL;
+    o.model.param.alpha = NAN;
+    q2n_fit_options_default(&o.fit);
+    o.fit.continuity = 0; /* follow the construction */
     int rc = parse_args(argc, argv, &o);
     if (rc) return rc < 0 ? 0 : rc;
-    if (!o.cls) o.cls = q2n_spline_class_find("D5C2P2S4");
 
-    cli_result r = {0};
+    q2n_model *m = NULL;
     q2n_error err = {Q2N_OK, ""};
-    q2n_status st = cli_run_pipeline(&o, &r, &err);
+    q2n_status st = q2n_model_build(o.input, &o.model, &m, &err);
     if (st) {
         fprintf(stderr, "quad2nurbs: %s\n", err.message);
-        cli_result_free(&r);
         return exit_code(st);
     }
-    if (r.uncovered && !o.quiet)
+    if (m->note[0] && !o.quiet) fprintf(stderr, "quad2nurbs: %s\n", m->note);
+    if (m->uncovered && !o.quiet)
         fprintf(stderr,
                 "quad2nurbs: warning: %d of %d faces are in extraordinary regions that the regular "
                 "construction does not cover; they are left out of the output\n",
-                r.uncovered, r.mesh->nf);
-    double t0 = cli_now();
-    if (o.sample) st = cli_write_samples(&r, o.grid, stdout, &err);
-    for (int i = 0; !st && i < o.noutputs; i++) st = cli_write_tessellation(&r, o.tess, o.outputs[i], &err);
+                m->uncovered, m->mesh->nf);
+    int fit = 0;
+    for (int i = 0; i < o.noutputs; i++) {
+        int needs_fit;
+        q2n_model_output_kind(o.outputs[i], &needs_fit);
+        fit |= needs_fit;
+    }
+    if (fit && (st = q2n_model_fit(m, &o.fit, &err))) {
+        fprintf(stderr, "quad2nurbs: %s: fit: %s\n", o.input, err.message);
+        q2n_model_free(m);
+        return st == Q2N_ERR_GEOMETRY ? 1 : exit_code(st);
+    }
+    if (o.sample) st = q2n_model_write_samples(m, o.grid, stdout, &err);
+    for (int i = 0; !st && i < o.noutputs; i++) st = q2n_model_write(m, o.outputs[i], o.tess, &o.xopt, &err);
     if (st) {
         fprintf(stderr, "quad2nurbs: %s\n", err.message);
-        cli_result_free(&r);
+        q2n_model_free(m);
         return exit_code(st);
     }
-    if (!o.quiet && !o.sample)
-        fprintf(stderr, "quad2nurbs: %s: %d faces, %d patches (%s, %s), read %.3f s, build %.3f s, write %.3f s\n",
-                o.input, r.mesh->nf, r.mesh->nf - r.uncovered, o.cls->name,
-                q2n_param_method_name(o.param.method), r.t_read, r.t_build, cli_now() - t0);
-    cli_result_free(&r);
+    if (!o.quiet && !o.sample) {
+        fprintf(stderr, "quad2nurbs: %s: %d faces, %d patches, read %.3f s, build %.3f s", o.input, m->mesh->nf,
+                m->mesh->nf - m->uncovered, m->t_read, m->t_build);
+        if (fit)
+            fprintf(stderr, ", fit %.3f s (max dev %.2e, G1 %.2e deg, G2 %.2e, spans %d..%d)", m->t_fit,
+                    m->fit.max_dev_rel, m->fit.g1_max_deg, m->fit.g2_max_rel, m->fit.spans_min, m->fit.spans_max);
+        fprintf(stderr, ", write %.3f s\n", m->t_write);
+    }
+    q2n_model_free(m);
     return 0;
 }

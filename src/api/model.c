@@ -1,0 +1,211 @@
+/* model.c — the pipeline object (see model.h). */
+#include "api/model.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#include "core/outfile.h"
+#include "core/vec3.h"
+#include "patch/augmented.h"
+
+double q2n_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+void q2n_model_free(q2n_model *m)
+{
+    if (!m) return;
+    q2n_nurbs_model_free(m->nurbs);
+    q2n_surface_free(m->surface);
+    q2n_mesh_free(m->mesh);
+    free(m->edge_iv);
+    free(m);
+}
+
+static q2n_status build_augmented(q2n_model *m, q2n_error *err)
+{
+    q2n_augmented_options ao = {m->opt.cls, m->opt.param};
+    q2n_status st = q2n_param_edge_intervals(m->mesh, &m->opt.param, &m->edge_iv, err);
+    if (!st) st = q2n_augmented_build(m->mesh, &ao, m->edge_iv, &m->surface, err);
+    m->continuity = m->opt.cls->k >= 2 ? 2 : 1;
+    return st;
+}
+
+static q2n_status build_acc(q2n_model *m, q2n_error *err)
+{
+    q2n_acc_options ao = {m->opt.method == Q2N_SURFACE_ACC3 ? Q2N_ACC_3 : Q2N_ACC_G1, m->opt.acc_strategy, 0};
+    q2n_acc_info info;
+    memset(&info, 0, sizeof info);
+    q2n_status st = q2n_acc_build(m->mesh, &ao, &m->surface, &info, err);
+    if (st) { q2n_acc_info_free(&info); return st; }
+    q2n_acc_describe(&info, &ao, m->note, sizeof m->note);
+    if (info.mesh) { /* the patches live on the subdivided mesh: it becomes the model's mesh */
+        q2n_mesh_free(m->mesh);
+        m->mesh = info.mesh;
+        info.mesh = NULL;
+    }
+    q2n_acc_info_free(&info);
+    /* acc3 is C0 across edges that end at an EV (C2 elsewhere); acc-g1 is G1 everywhere */
+    m->continuity = m->opt.method == Q2N_SURFACE_ACC3 ? 0 : 1;
+    return Q2N_OK;
+}
+
+q2n_status q2n_model_build(const char *obj_path, const q2n_model_options *opt, q2n_model **out,
+                           q2n_error *err)
+{
+    q2n_model *m = calloc(1, sizeof *m);
+    if (!m) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory");
+    if (opt) m->opt = *opt;
+    if (!m->opt.cls) m->opt.cls = q2n_spline_class_find("D5C2P2S4");
+    double t0 = q2n_now();
+    q2n_status st = q2n_mesh_read_obj(obj_path, &m->mesh, err);
+    if (!st && m->opt.subdivide > 0) {
+        q2n_mesh *sub = NULL;
+        st = q2n_mesh_subdivide(m->mesh, m->opt.subdivide, &sub, err);
+        if (!st) { q2n_mesh_free(m->mesh); m->mesh = sub; }
+    }
+    if (!st && !m->mesh->all_quads && m->opt.method == Q2N_SURFACE_AUGMENTED) {
+        int f = 0;
+        while (f < m->mesh->nf && q2n_face_size(m->mesh, f) == 4) f++;
+        st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
+                           "%s:%d: face %d has %d vertices; only quad meshes are supported "
+                           "(use --subdivide 1 to apply one Catmull-Clark step first)",
+                           obj_path, m->mesh->face_line[f], f, q2n_face_size(m->mesh, f));
+    }
+    m->t_read = q2n_now() - t0;
+    t0 = q2n_now();
+    if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
+    if (st) { q2n_model_free(m); return st; }
+    m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
+    m->t_build = q2n_now() - t0;
+    *out = m;
+    return Q2N_OK;
+}
+
+q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *err)
+{
+    q2n_fit_options o;
+    if (fopt) o = *fopt;
+    else q2n_fit_options_default(&o);
+    if (o.continuity == 0) o.continuity = m->continuity >= 2 ? 2 : 1;
+    if (m->uncovered)
+        return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
+                             "%d faces are not covered by a patch; cannot fit an incomplete surface",
+                             m->uncovered);
+    double t0 = q2n_now();
+    q2n_nurbs_model_free(m->nurbs);
+    m->nurbs = NULL;
+    q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &m->nurbs, &m->fit, err);
+    m->t_fit = q2n_now() - t0;
+    return st;
+}
+
+int q2n_model_output_kind(const char *path, int *needs_fit)
+{
+    static const char *const fitted[] = {".step", ".stp", ".igs", ".iges", ".json"};
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    *needs_fit = 0;
+    if (!dot || (slash && dot < slash)) return 0;
+    if (strcasecmp(dot, ".obj") == 0) return 1;
+    for (size_t i = 0; i < sizeof fitted / sizeof *fitted; i++)
+        if (strcasecmp(dot, fitted[i]) == 0) { *needs_fit = 1; return 1; }
+    return 0;
+}
+
+q2n_status q2n_model_write(q2n_model *m, const char *path, int tess, const q2n_export_options *xopt,
+                           q2n_error *err)
+{
+    int needs_fit;
+    if (!q2n_model_output_kind(path, &needs_fit))
+        return q2n_error_set(err, Q2N_ERR_ARG, "%s: unsupported output format", path);
+    double t0 = q2n_now();
+    q2n_status st;
+    const char *dot = strrchr(path, '.');
+    if (!needs_fit) st = q2n_model_write_tessellation(m, tess, path, err);
+    else if (!m->nurbs) st = q2n_error_set(err, Q2N_ERR_ARG, "%s: the surface has not been fitted", path);
+    else if (strcasecmp(dot, ".json") == 0) st = q2n_fit_report_write_json(&m->fit, path, err);
+    else st = q2n_export_file(m->nurbs, xopt, path, err);
+    m->t_write += q2n_now() - t0;
+    return st;
+}
+
+static double *grid_params(int n)
+{
+    double *t = malloc((size_t)n * sizeof *t);
+    if (t)
+        for (int i = 0; i < n; i++) t[i] = n == 1 ? 0.5 : (double)i / (n - 1);
+    return t;
+}
+
+q2n_status q2n_model_write_tessellation(const q2n_model *m, int n, const char *path, q2n_error *err)
+{
+    q2n_outfile of;
+    q2n_status st;
+    double *t = grid_params(n), *buf = malloc(9 * (size_t)n * n * sizeof *buf);
+    if (!t || !buf) {
+        free(t); free(buf);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (tessellation)");
+    }
+    if ((st = q2n_outfile_open(&of, path, err))) { free(t); free(buf); return st; }
+    fprintf(of.f, "# quad2nurbs tessellation of %s: %d x %d points per patch\n", m->mesh->name, n, n);
+    long base = 1;
+    for (int k = 0; k < m->mesh->nf; k++) {
+        if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
+        if ((st = q2n_surface_eval_grid(m->surface, k, n, t, n, t, buf))) {
+            q2n_error_set(err, st, "patch %d: evaluation failed", k);
+            break;
+        }
+        fprintf(of.f, "g patch_%d\n", k);
+        for (int p = 0; p < n * n; p++) {
+            const double *e = buf + 9 * p;
+            double nrm[3];
+            q2n_v3_cross(nrm, e + 3, e + 6);
+            double len = q2n_v3_norm(nrm);
+            if (len > 0) q2n_v3_scale(nrm, 1 / len, nrm);
+            fprintf(of.f, "v %.17g %.17g %.17g\nvn %.9g %.9g %.9g\n", e[0], e[1], e[2], nrm[0], nrm[1], nrm[2]);
+        }
+        for (int j = 0; j + 1 < n; j++)
+            for (int i = 0; i + 1 < n; i++) {
+                long a = base + j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+                fprintf(of.f, "f %ld//%ld %ld//%ld %ld//%ld %ld//%ld\n", a, a, b, b, c, c, d, d);
+            }
+        base += (long)n * n;
+    }
+    free(t);
+    free(buf);
+    if (st) { q2n_outfile_abort(&of); return st; }
+    return q2n_outfile_commit(&of, err);
+}
+
+q2n_status q2n_model_write_samples(const q2n_model *m, int n, FILE *out, q2n_error *err)
+{
+    double *t = grid_params(n), *buf = malloc(9 * (size_t)n * n * sizeof *buf);
+    q2n_status st = Q2N_OK;
+    if (!t || !buf) {
+        free(t); free(buf);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (samples)");
+    }
+    for (int k = 0; k < m->mesh->nf && !st; k++) {
+        if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
+        if ((st = q2n_surface_eval_grid(m->surface, k, n, t, n, t, buf))) {
+            q2n_error_set(err, st, "patch %d: evaluation failed", k);
+            break;
+        }
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++) {
+                const double *e = buf + 9 * ((size_t)j * n + i);
+                fprintf(out, "%d %.17g %.17g", k, t[i], t[j]);
+                for (int c = 0; c < 9; c++) fprintf(out, " %.17g", e[c]);
+                fputc('\n', out);
+            }
+    }
+    free(t);
+    free(buf);
+    if (!st && ferror(out)) st = q2n_error_set(err, Q2N_ERR_IO, "error writing samples");
+    return st;
+}
