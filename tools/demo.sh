@@ -1,9 +1,19 @@
 #!/bin/sh
-# demo.sh — the main job on the bundled mesh: build the augmented surface of data/demo_torus.obj,
-# write its tessellation and a sample listing into demo_out/.
+# demo.sh — the main job on the bundled mesh data/demo_torus.obj (an unevenly spaced torus):
+# build the augmented interpolatory surface (C2, centripetal), fit it into bi-quintic B-splines,
+# write STEP, IGES, the fit report and a tessellation into demo_out/, then import the STEP with
+# FreeCAD and audit its continuity (when FreeCAD is installed).
 set -e
 exe=${1:-build/quad2nurbs}
+mesh=data/demo_torus.obj
 mkdir -p demo_out
-"$exe" data/demo_torus.obj -o demo_out/demo_torus_tess.obj --tess 17
-"$exe" sample data/demo_torus.obj --grid 5 > demo_out/demo_torus_samples.txt
-echo "demo: wrote demo_out/demo_torus_tess.obj and demo_out/demo_torus_samples.txt ($(wc -l < demo_out/demo_torus_samples.txt) sample lines)"
+"$exe" "$mesh" -o demo_out/demo_torus.step -o demo_out/demo_torus.igs \
+    -o demo_out/demo_torus_report.json -o demo_out/demo_torus_tess.obj --tess 17
+"$exe" sample "$mesh" --grid 5 > demo_out/demo_torus_samples.txt
+echo "demo: wrote demo_out/demo_torus.step, .igs, _report.json, _tess.obj, _samples.txt"
+if [ -x /usr/bin/python3 ] && [ -d /usr/lib/freecad-python3/lib ]; then
+    /usr/bin/python3 tools/q2n_audit.py demo_out/demo_torus.step --mesh "$mesh" --json demo_out/demo_torus_audit.json >/dev/null
+    /usr/bin/python3 tools/q2n_compare.py demo_out/demo_torus_audit.json demo_out/demo_torus_report.json
+else
+    echo "demo: FreeCAD not installed, import audit skipped"
+fi
