@@ -1,0 +1,64 @@
+/* ev_internal.h — data shared by the extraordinary-patch sources (ev_derivatives.c,
+ * curve_network.c, coons_gregory.c); not part of the public API.
+ *
+ * Conventions.  Every vertex that is a corner of an extraordinary patch gets a 2-jet in local
+ * variables: J1 = (∂x P, ∂y P), J2 = (∂xx P, ∂xy P, ∂yy P) of a local surface P(x,y) through
+ * the vertex, and every edge end at that vertex a 2D direction u (the edge leaves the vertex
+ * along u, its local variable being the arc of P along u).  The derivative of the edge's curve at
+ * that end is J1·u, its second derivative J2[u,u]; the cross-boundary field of a face whose
+ * other edge there has direction w is J1·w with edge-derivative J2[u,w].  One jet per vertex is
+ * what makes all the data at the vertex G1/G2-compatible. */
+#ifndef Q2N_PATCH_EV_INTERNAL_H
+#define Q2N_PATCH_EV_INTERNAL_H
+
+#include "patch/augmented.h"
+#include "patch/extraordinary.h"
+
+#define EV_MAXDEG 10   /* polynomial degree bound of the constructed edge data */
+#define EV_MAXVAL 64   /* largest vertex valence handled */
+
+/* Vector polynomial in the edge parameter t in [0,1] (power basis). */
+typedef struct ev_poly {
+    int deg;
+    double c[EV_MAXDEG + 1][3];
+} ev_poly;
+
+typedef struct ev_vjet {
+    int source;        /* 0 none, 1 corner of a regular patch, 2 Appendix B fit */
+    double J1[3][2];   /* [xyz][x|y] */
+    double J2[3][3];   /* [xyz][xx|xy|yy] */
+} ev_vjet;
+
+/* Data of one mesh edge of the curve network (constructed edges only). */
+typedef struct ev_edge {
+    int built;
+    ev_poly gamma;       /* boundary curve, t from origin(edge_he) to dest */
+    int face[2];         /* face of edge_he (base side) and of its twin (derived side), -1 none */
+    ev_poly chi[2], xi[2]; /* inward cross fields of each side in local variables, in t */
+} ev_edge;
+
+/* ---- ev_derivatives.c ---- */
+/* Jets and edge-end directions of all vertices touching an uncovered face.  dir[2*e + end]
+ * (end 0: origin of edge_he[e]).  jets[v].source == 0 for vertices not needed. */
+q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv, int kblend,
+                          ev_vjet *jets, double (*dir)[2], q2n_error *err);
+void ev_jet_d1(const ev_vjet *J, const double u[2], double out[3]);
+void ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3]);
+
+/* ---- curve_network.c ---- */
+q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
+                         const double (*dir)[2], int order, int e, ev_edge *out, q2n_error *err);
+void ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3]);
+
+/* Side of a Coons–Gregory patch: local data (curve γ, inward χ, ξ) as functions of the
+ * patch's side parameter s, with s-derivatives up to 2: out[field][deriv][xyz]. */
+typedef struct ev_side {
+    int kind;            /* 0 polynomial (constructed edge), 1 sampled from a regular patch */
+    int rev;             /* the data's own parameter is 1 - s */
+    ev_poly gamma, chi, xi;
+    q2n_augmented_patch R; /* kind 1: the regular neighbour */
+    int sR;              /* kind 1: its side index (0..3, the face half-edge) */
+} ev_side;
+void ev_side_eval(const ev_side *sd, double s, double out[3][3][3]);
+
+#endif

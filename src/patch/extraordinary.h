@@ -1,0 +1,65 @@
+/* extraordinary.h — augmented Coons–Gregory patches for the faces that the regular augmented
+ * construction leaves uncovered (seed 003 §4, Appendix B).
+ *
+ * q2n_extraordinary_build() completes a surface produced by q2n_augmented_build(): every
+ * Q2N_PATCH_UNCOVERED face of an all-quad mesh gets a Q2N_PATCH_COONS_GREGORY patch
+ *   - bicubically blended with first-order Gregory correction (G1, eq. 23, §4.1), or
+ *   - biquintically blended with second-order Gregory correction (G2, §4.2).
+ * Boundary curves and cross-boundary fields (χ, ξ) are sampled from the neighbouring regular
+ * patch (divided by its local parametrization function, §4.1) where there is one; elsewhere
+ * they are built from a curve network of Hermite segments whose end derivatives come from a
+ * per-vertex 2-jet (a regular neighbour's corner derivatives, or the least-squares polynomial of
+ * Appendix B), and the two patches on an edge between extraordinary patches receive fields
+ * related by the G1/G2 conditions of formulas.md §4.2.  Regular patches are not touched.
+ * docs/extraordinary.md describes the construction and the measured figures. */
+#ifndef Q2N_PATCH_EXTRAORDINARY_H
+#define Q2N_PATCH_EXTRAORDINARY_H
+
+#include "mesh/mesh.h"
+#include "param/param.h"
+#include "patch/surface.h"
+#include "spline/spline.h"
+
+typedef enum q2n_ev_patch_kind {
+    Q2N_EV_PATCH_DEFAULT = 0, /* G2 for classes with k >= 2, G1 for C1 classes */
+    Q2N_EV_PATCH_G1,          /* bicubically blended, Gregory r = 1 */
+    Q2N_EV_PATCH_G2           /* biquintically blended, Gregory r = 2 */
+} q2n_ev_patch_kind;
+
+typedef struct q2n_extraordinary_options {
+    const q2n_spline_class *cls; /* the class of the regular patches; NULL: D5C2P2S4 */
+    q2n_param_options param;     /* used when edge_iv is NULL (must match the regular build) */
+    q2n_ev_patch_kind ev_patch;
+} q2n_extraordinary_options;
+
+/* Fill every uncovered face of s (built on m by q2n_augmented_build with the same class and
+ * intervals) with a Coons–Gregory patch.  edge_iv: per-edge intervals or NULL to compute them
+ * from opt->param.  Q2N_ERR_UNSUPPORTED for meshes with non-quad faces. */
+q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_options *opt,
+                                   const double *edge_iv, q2n_surface *s, q2n_error *err);
+
+/* Parse "g1" / "g2" (case-insensitive); returns 0 on success. */
+int q2n_ev_patch_parse(const char *s, q2n_ev_patch_kind *out);
+
+/* The continuity order the options resolve to for class cls (1 or 2). */
+int q2n_ev_patch_order(const q2n_extraordinary_options *opt);
+
+/* ---- building blocks (exposed for tests) ---- */
+
+/* All partial derivatives ∂u^a ∂v^b (a, b = 0..2) of a regular augmented patch at (u,v):
+ * D[(a*3 + b)*3 + c].  Needed for the cross-boundary fields sampled from regular neighbours,
+ * whose derivatives along the edge involve third and fourth order mixed partials. */
+struct q2n_augmented_patch;
+void q2n_ev_regular_partials(const struct q2n_augmented_patch *p, double u, double v, double D[27]);
+
+/* Appendix B, eq. (B.1)–(B.2): the heuristic first-derivative estimate T_{p0,pi} at vertex v
+ * for its k-th edge in counter-clockwise order (see q2n_ev_vertex_fan); boundary vertices use the
+ * same formula with the edge angles spread over a half turn. */
+void q2n_ev_tangent_estimate(const q2n_mesh *m, const double *edge_iv, int v, int k, double T[3]);
+
+/* Counter-clockwise fan of vertex v: edges[0..n-1] (n = valence), other[k] the vertex at the far
+ * end of edges[k]; face k lies between edges k and k+1 (cyclic for interior vertices, k < n-1
+ * on the boundary).  Returns n, or -1 when more than maxn edges. */
+int q2n_ev_vertex_fan(const q2n_mesh *m, int v, int maxn, int *edges, int *other, int *faces);
+
+#endif
