@@ -238,5 +238,33 @@ int main(void)
         if (run_mesh(lab, m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, 1, &st)) check_stats(lab, &st, 1);
         q2n_mesh_free(m);
     }
+    /* every mesh of ../shared/meshes (quad-dominant ones after one Catmull–Clark step) */
+    static const char *const shared[] = {
+        "osd_catmark_cube.obj", "osd_catmark_torus.obj", "osd_catmark_righthanded.obj", "osd_catmark_flap.obj",
+        "osd_catmark_tent.obj", "osd_catmark_square_hedit0.obj", "osd_catmark_gregory_test0.obj",
+        "osd_catmark_gregory_test1.obj", "osd_catmark_gregory_test6.obj", "osd_catmark_fvar_bound3.obj",
+        "osd_catmark_xord_boundary.obj", "osd_catmark_helmet.obj", "osd_catmark_pawn.obj",
+        "gismo_ev_valence3.obj", "gismo_ev_valence3_carpet.obj", "gismo_ev_valence5_carpet.obj",
+        "gismo_ev_valence6_carpet.obj", "gismo_ev_valence7_carpet.obj", "gismo_ev_valence8_carpet.obj",
+        "gismo_cube_with_boundary.obj", "gismo_octtorus.obj", "gismo_octtorus_hole.obj", "gismo_polycube.obj",
+        "crane_spot_control_mesh.obj", "osd_catmark_rook.obj", NULL};
+    for (int i = 0; shared[i]; i++) {
+        const char *path = chk_shared_mesh(shared[i]);
+        if (!path) { SKIP("%s not found (../shared/meshes)", shared[i]); continue; }
+        q2n_mesh *m = NULL, *sub = NULL;
+        q2n_error err;
+        CHECK(q2n_mesh_read_obj(path, &m, &err) == Q2N_OK, "read %s: %s", shared[i], err.message);
+        if (!m) continue;
+        if (!m->all_quads) {
+            CHECK(q2n_mesh_subdivide(m, 1, &sub, &err) == Q2N_OK, "subdivide %s: %s", shared[i], err.message);
+            q2n_mesh_free(m);
+            m = sub;
+            if (!m) continue;
+        }
+        char lab[96];
+        snprintf(lab, sizeof lab, "%s%s", shared[i], sub ? " (subdivided)" : "");
+        if (run_mesh(lab, m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, 1, &st)) check_stats(lab, &st, 1);
+        q2n_mesh_free(m);
+    }
     CHECK_DONE("test_extraordinary");
 }
