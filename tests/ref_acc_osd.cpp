@@ -195,7 +195,7 @@ void test_regular()
         CHECK(info.n_ev_interior == 0 && info.n_ev_boundary == 0, "%s has EVs", file);
         std::unique_ptr<Limit> L = make_limit(m, 10);
         q2n_acc_distance d;
-        q2n_status st = q2n_acc_limit_distance(s, 8, limit_eval, L.get(), 0, &d, &err);
+        q2n_status st = q2n_acc_limit_distance(s, m, 8, limit_eval, L.get(), 0, &d, &err);
         CHECK(st == Q2N_OK && d.geom_max <= 1e-12 * diag && d.normal_max <= 1e-10,
               "%s: acc3 vs limit without EVs: %.3g (diag %.3g), normal %.3g", file, d.geom_max, diag,
               d.normal_max);
@@ -239,8 +239,8 @@ void test_convergence()
                     continue;
                 }
                 q2n_acc_distance d, dp;
-                q2n_acc_limit_distance(s, 6, limit_eval, L.get(), 0, &d, &err);
-                q2n_acc_limit_distance(s, 6, limit_eval, L.get(), 1, &dp, &err);
+                q2n_acc_limit_distance(s, m, 6, limit_eval, L.get(), 0, &d, &err);
+                q2n_acc_limit_distance(s, m, 6, limit_eval, L.get(), 1, &dp, &err);
                 row.g[me] = d.geom_max / diag;
                 row.gp[me] = dp.geom_max / diag;
                 row.nrm[me] = dp.normal_max;

@@ -108,9 +108,12 @@ typedef struct q2n_acc_distance {
 } q2n_acc_distance;
 
 /* Compare patch k and the limit on face k on an n x n grid per face (cell centres).  With
- * project != 0 each limit point is projected onto its patch (Newton, clamped to [0,1]^2), giving
- * the closest-point distance of seed 001 §6.3; otherwise the distance at equal (u,v). */
-q2n_status q2n_acc_limit_distance(const q2n_surface *s, int n, q2n_acc_limit_fn limit, void *ctx,
-                                  int project, q2n_acc_distance *d, q2n_error *err);
+ * project != 0 each limit point is projected onto its patch (Gauss–Newton, clamped to [0,1]^2)
+ * and, when m (the mesh the patches are built on) is given and the projection ends on the
+ * patch border, onto the patches of the faces around face k as well: the closest-point
+ * distance of seed 001 §6.3.  With project == 0: the distance at equal (u,v). */
+q2n_status q2n_acc_limit_distance(const q2n_surface *s, const q2n_mesh *m, int n,
+                                  q2n_acc_limit_fn limit, void *ctx, int project,
+                                  q2n_acc_distance *d, q2n_error *err);
 
 #endif

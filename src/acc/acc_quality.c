@@ -129,21 +129,64 @@ static void project(const q2n_surface *s, int k, const double p[3], double *u, d
     }
 }
 
-q2n_status q2n_acc_limit_distance(const q2n_surface *s, int n, q2n_acc_limit_fn limit, void *ctx,
-                                  int proj, q2n_acc_distance *d, q2n_error *err)
+/* Closest point of p on patch k, and on the patches around face k when the projection stops on
+ * the border of the unit square (the closest point then lies on a neighbour). */
+static double closest(const q2n_surface *s, const q2n_mesh *m, int k, const double p[3], double *u,
+                      double *v, int *kk)
 {
-    if (!s || !limit || !d || n < 1) return q2n_error_set(err, Q2N_ERR_ARG, "acc distance: bad arguments");
+    double e[3];
+    project(s, k, p, u, v);
+    q2n_surface_eval(s, k, *u, *v, 0, e);
+    double best = q2n_v3_dist(p, e);
+    *kk = k;
+    int border = *u <= 0 || *u >= 1 || *v <= 0 || *v >= 1;
+    if (!m || !border) return best;
+    for (int c = 0; c < q2n_face_size(m, k); c++) { /* faces around each corner of face k */
+        int h0 = q2n_face_he(m, k, c), h = h0;
+        do {
+            int g = m->he_face[h];
+            if (g != k) {
+                double gu = 0.5, gv = 0.5;
+                project(s, g, p, &gu, &gv);
+                q2n_surface_eval(s, g, gu, gv, 0, e);
+                double d = q2n_v3_dist(p, e);
+                if (d < best) { best = d; *u = gu; *v = gv; *kk = g; }
+            }
+            h = q2n_mesh_rotate(m, h);
+        } while (h >= 0 && h != h0);
+        if (h < 0) { /* boundary vertex: walk the other way too */
+            h = q2n_mesh_rotate_back(m, h0);
+            while (h >= 0 && h != h0) {
+                int g = m->he_face[h];
+                double gu = 0.5, gv = 0.5;
+                project(s, g, p, &gu, &gv);
+                q2n_surface_eval(s, g, gu, gv, 0, e);
+                double d = q2n_v3_dist(p, e);
+                if (d < best) { best = d; *u = gu; *v = gv; *kk = g; }
+                h = q2n_mesh_rotate_back(m, h);
+            }
+        }
+    }
+    return best;
+}
+
+q2n_status q2n_acc_limit_distance(const q2n_surface *s, const q2n_mesh *m, int n, q2n_acc_limit_fn limit,
+                                  void *ctx, int proj, q2n_acc_distance *d, q2n_error *err)
+{
+    if (!s || !limit || !d || n < 1 || (m && m->nf != q2n_surface_npatches(s)))
+        return q2n_error_set(err, Q2N_ERR_ARG, "acc distance: bad arguments");
     memset(d, 0, sizeof *d);
     double sum = 0;
     for (int k = 0; k < q2n_surface_npatches(s); k++)
         for (int b = 0; b < n; b++)
             for (int a = 0; a < n; a++) {
                 double u = (a + 0.5) / n, v = (b + 0.5) / n, p[3], nl[3], e[9], np[3];
+                int kk = k;
                 q2n_status st = limit(ctx, k, u, v, p, nl);
                 if (st != Q2N_OK) return q2n_error_set(err, st, "acc distance: limit evaluator failed on face %d", k);
-                if (proj) project(s, k, p, &u, &v);
-                st = q2n_surface_eval(s, k, u, v, 1, e);
-                if (st != Q2N_OK) return q2n_error_set(err, st, "acc distance: patch %d cannot be evaluated", k);
+                if (proj) closest(s, m, k, p, &u, &v, &kk);
+                st = q2n_surface_eval(s, kk, u, v, 1, e);
+                if (st != Q2N_OK) return q2n_error_set(err, st, "acc distance: patch %d cannot be evaluated", kk);
                 double dist = q2n_v3_dist(p, e);
                 q2n_v3_cross(np, e + 3, e + 6);
                 double ln = q2n_v3_norm(nl), lp = q2n_v3_norm(np);
