@@ -437,7 +437,7 @@ static uint32_t rnd(void)
 }
 
 /* Random mutations of small valid meshes: the parser must never crash, and whatever it accepts
- * must pass q2n_mesh_check and subdivide cleanly.  Bounded: 4 s or 60000 inputs. */
+ * must pass q2n_mesh_check and subdivide cleanly.  Bounded: 4 s or 200000 inputs. */
 static void test_fuzz(void)
 {
     static const char *seeds[] = {
@@ -452,7 +452,7 @@ static void test_fuzz(void)
     clock_t t0 = clock();
     int n = 0, accepted = 0, rejected = 0, bad_check = 0, bad_msg = 0;
     char buf[1024];
-    while (n < 60000 && (double)(clock() - t0) / CLOCKS_PER_SEC < 4.0) {
+    while (n < 200000 && (double)(clock() - t0) / CLOCKS_PER_SEC < 4.0) {
         const char *s = seeds[rnd() % 4];
         size_t len = strlen(s);
         memcpy(buf, s, len);

@@ -122,71 +122,102 @@ static q2n_status check_face_vertices(const q2n_mesh *m, const char *name, q2n_e
     return Q2N_OK;
 }
 
-typedef struct edge_key {
-    int a, b, h; /* a = min vertex, b = max vertex, h = half-edge */
-} edge_key;
-
-static int edge_key_cmp(const void *pa, const void *pb)
+static int he_min(const q2n_mesh *m, int h)
 {
-    const edge_key *x = pa, *y = pb;
-    if (x->a != y->a) return x->a < y->a ? -1 : 1;
-    if (x->b != y->b) return x->b < y->b ? -1 : 1;
-    return (x->h > y->h) - (x->h < y->h);
+    int v = q2n_he_origin(m, h), w = q2n_he_dest(m, h);
+    return v < w ? v : w;
 }
 
-/* Pair half-edges into twins; reports the problem edge that appears first in face order. */
-static q2n_status pair_edges(q2n_mesh *m, const char *name, q2n_error *err)
+static int he_max(const q2n_mesh *m, int h)
 {
-    int nh = m->nh;
-    edge_key *k = xmalloc((size_t)nh, sizeof *k);
-    if (!k) return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", mesh_name(name));
-    for (int h = 0; h < nh; h++) {
-        int v = q2n_he_origin(m, h), w = q2n_he_dest(m, h);
-        k[h].a = v < w ? v : w;
-        k[h].b = v < w ? w : v;
-        k[h].h = h;
-    }
-    qsort(k, (size_t)nh, sizeof *k, edge_key_cmp);
-    int bad = -1, bad_at = INT_MAX, bad_len = 0; /* first offending group, in face order */
-    for (int i = 0; i < nh;) {
-        int j = i + 1;
-        while (j < nh && k[j].a == k[i].a && k[j].b == k[i].b) j++;
-        int len = j - i;
-        if (len == 1) {
-            m->he_twin[k[i].h] = -1;
-        } else if (len == 2 && q2n_he_origin(m, k[i].h) != q2n_he_origin(m, k[i + 1].h)) {
-            m->he_twin[k[i].h] = k[i + 1].h;
-            m->he_twin[k[i + 1].h] = k[i].h;
-        } else {
-            int at = k[i + (len == 2 ? 1 : 2)].h; /* the face that makes the edge invalid */
-            if (at < bad_at) { bad = i; bad_at = at; bad_len = len; }
-        }
-        i = j;
-    }
-    if (bad < 0) {
-        free(k);
-        return Q2N_OK;
-    }
+    int v = q2n_he_origin(m, h), w = q2n_he_dest(m, h);
+    return v < w ? w : v;
+}
+
+/* Error for the bad edge group {a,b} (half-edges `list`, increasing), found at half-edge `at`. */
+static q2n_status edge_error(const q2n_mesh *m, const char *name, const int *list, int n, int a,
+                             int b, int at, q2n_error *err)
+{
     char loc[300], msg[400] = "", note[64];
-    int f1 = m->he_face[bad_at];
-    face_loc(loc, sizeof loc, name, m->face_line, f1);
-    for (int t = 0; t < bad_len && t < 4; t++) {
-        int f = m->he_face[k[bad + t].h];
+    int hs[4], len = 0;
+    for (int i = 0; i < n; i++) {
+        if (he_max(m, list[i]) != b) continue;
+        if (len < 4) hs[len] = list[i];
+        len++;
+    }
+    face_loc(loc, sizeof loc, name, m->face_line, m->he_face[at]);
+    for (int t = 0; t < len && t < 4; t++) {
+        int f = m->he_face[hs[t]];
         size_t used = strlen(msg);
         line_note(note, sizeof note, m->face_line, f);
         snprintf(msg + used, sizeof msg - used, "%s%d%s", t ? ", " : "", f, note);
     }
-    q2n_status st;
-    if (bad_len == 2)
-        st = q2n_error_set(err, Q2N_ERR_TOPOLOGY,
-                           "%s: inconsistent orientation: faces %s both use edge %d->%d in the "
-                           "same direction", loc, msg, q2n_he_origin(m, k[bad].h),
-                           q2n_he_dest(m, k[bad].h));
-    else
-        st = q2n_error_set(err, Q2N_ERR_TOPOLOGY,
-                           "%s: non-manifold edge %d-%d used by %d faces: %s%s", loc, k[bad].a,
-                           k[bad].b, bad_len, msg, bad_len > 4 ? ", ..." : "");
-    free(k);
+    if (len == 2)
+        return q2n_error_set(err, Q2N_ERR_TOPOLOGY,
+                             "%s: inconsistent orientation: faces %s both use edge %d->%d in the "
+                             "same direction", loc, msg, q2n_he_origin(m, hs[0]),
+                             q2n_he_dest(m, hs[0]));
+    return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: non-manifold edge %d-%d used by %d faces: %s%s",
+                         loc, a, b, len, msg, len > 4 ? ", ..." : "");
+}
+
+/* Pair half-edges into twins in linear time: half-edges are bucketed by their smaller vertex
+ * (counting sort, increasing half-edge order inside a bucket), then grouped by the larger vertex
+ * with per-vertex scratch slots.  Deterministic; reports the invalid edge that becomes invalid
+ * first in face order (the 2nd half-edge of a same-direction pair, the 3rd of a fan). */
+static q2n_status pair_edges(q2n_mesh *m, const char *name, q2n_error *err)
+{
+    int nh = m->nh, nv = m->nv;
+    int *start = xmalloc((size_t)nv + 1, sizeof *start), *list = xmalloc((size_t)nh, sizeof *list);
+    int *head = xmalloc((size_t)nv, sizeof *head), *cnt = xmalloc((size_t)nv, sizeof *cnt);
+    int *third = xmalloc((size_t)nv, sizeof *third);
+    q2n_status st = Q2N_OK;
+    if (!start || !list || !head || !cnt || !third) {
+        st = q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", mesh_name(name));
+        goto done;
+    }
+    memset(start, 0, ((size_t)nv + 1) * sizeof *start);
+    for (int h = 0; h < nh; h++) start[he_min(m, h) + 1]++;
+    for (int v = 0; v < nv; v++) start[v + 1] += start[v];
+    for (int h = 0; h < nh; h++) list[start[he_min(m, h)]++] = h;
+    for (int v = nv; v > 0; v--) start[v] = start[v - 1];
+    start[0] = 0;
+    for (int v = 0; v < nv; v++) head[v] = -1;
+    int bad_at = INT_MAX, bad_a = -1, bad_b = -1;
+    for (int a = 0; a < nv; a++) {
+        const int *l = list + start[a];
+        int n = start[a + 1] - start[a];
+        for (int i = 0; i < n; i++) { /* group by the larger vertex b */
+            int h = l[i], b = he_max(m, h);
+            m->he_twin[h] = -1;
+            if (head[b] < 0) { head[b] = h; cnt[b] = 1; continue; }
+            if (++cnt[b] == 2) {
+                int g = head[b];
+                if (q2n_he_origin(m, g) != q2n_he_origin(m, h)) m->he_twin[g] = h, m->he_twin[h] = g;
+                else if (h < bad_at) bad_at = h, bad_a = a, bad_b = b;
+            } else if (cnt[b] == 3) {
+                third[b] = h;
+            }
+        }
+        for (int i = 0; i < n; i++) {
+            int h = l[i], b = he_max(m, h);
+            if (head[b] < 0) continue;
+            if (cnt[b] > 2) {
+                m->he_twin[head[b]] = -1;
+                if (third[b] < bad_at) bad_at = third[b], bad_a = a, bad_b = b;
+            }
+            head[b] = -1;
+        }
+    }
+    if (bad_a >= 0)
+        st = edge_error(m, name, list + start[bad_a], start[bad_a + 1] - start[bad_a], bad_a,
+                        bad_b, bad_at, err);
+done:
+    free(start);
+    free(list);
+    free(head);
+    free(cnt);
+    free(third);
     return st;
 }
 
