@@ -153,6 +153,40 @@ static void test_examples(void)
     q2n_mesh_free(m);
 }
 
+/* Max weight difference between the G1 and the ACC5 mask of EV-local point (i,j) of sector 0. */
+static double g1_vs_acc5(const q2n_mesh *m, const double *g1, const double *a3, int i, int j)
+{
+    int nv = m->nv, h = m->vert_he[0], f = m->he_face[h], c = h - m->face_start[f];
+    double *e5 = malloc(36 * (size_t)nv * sizeof *e5), d = 0;
+    q2n_acc_elevate_3_to_5(a3 + (size_t)f * 36 * nv, nv, e5);
+    int q = q2n_acc_local_index(c, 5, i, j);
+    for (int w = 0; w < nv; w++) d = fmax(d, fabs(e5[(size_t)q * nv + w] - g1[(size_t)f * 36 * nv + (size_t)q * nv + w]));
+    free(e5);
+    return d;
+}
+
+/* Remarks of §5.1 and §5.3: for N = 3 the order-1 system (5) is already satisfied by ACC5, so
+ * M_{1,0} stays the ACC5 mask; for odd N with CS, M_{3,0} from (11) equals the ACC5 mask again
+ * (M_{2,0} came from the same equation); for even N (projected M_{2,0}) it does not. */
+static void test_remarks(void)
+{
+    static const int Ns[] = { 3, 5, 6 };
+    for (int t = 0; t < 3; t++) {
+        q2n_mesh *m = carpet(Ns[t], 0, 40 + t);
+        if (!m) continue;
+        int d3[64], d5[64];
+        double *a3 = masks(m, Q2N_ACC_3, Q2N_ACC_CS_S, d3), *g1 = masks(m, Q2N_ACC_G1, Q2N_ACC_CS_S, d5);
+        double d10 = g1_vs_acc5(m, g1, a3, 1, 0), d30 = g1_vs_acc5(m, g1, a3, 3, 0);
+        if (Ns[t] == 3) CHECK(d10 < 1e-15, "N = 3: M_{1,0} differs from ACC5 by %.3g", d10);
+        else CHECK(d10 > 1e-3, "N = %d: M_{1,0} should differ from ACC5 (%.3g)", Ns[t], d10);
+        if (Ns[t] % 2) CHECK(d30 < 1e-15, "N = %d (CS, odd): M_{3,0} differs from ACC5 by %.3g", Ns[t], d30);
+        else CHECK(d30 > 1e-4, "N = %d (CS, even): M_{3,0} should differ from ACC5 (%.3g)", Ns[t], d30);
+        free(a3);
+        free(g1);
+        q2n_mesh_free(m);
+    }
+}
+
 /* ---------------------------------------------------------------- regular closed mesh */
 
 static void bspline_basis(double t, double b[4])
@@ -442,6 +476,7 @@ int main(void)
     (void)mg_grid;
     test_examples();
     test_api();
+    test_remarks();
     test_regular_torus();
     test_boundary_tangents();
     test_g1_carpets();

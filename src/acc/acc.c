@@ -86,6 +86,7 @@ q2n_status q2n_acc_build(const q2n_mesh *m, const q2n_acc_options *opt, q2n_surf
 {
     static const q2n_acc_options defaults = { Q2N_ACC_3, Q2N_ACC_CS_S, 0 };
     const q2n_acc_options *o = opt ? opt : &defaults;
+    if (info_out) memset(info_out, 0, sizeof *info_out);
     if (!m || !out) return q2n_error_set(err, Q2N_ERR_ARG, "acc: no mesh or output pointer");
     if ((int)o->method < 0 || o->method > Q2N_ACC_G1 || (int)o->strategy < 0 || o->strategy > Q2N_ACC_NCS_AS)
         return q2n_error_set(err, Q2N_ERR_ARG, "acc: invalid method %d or strategy %d", (int)o->method,
