@@ -5,13 +5,18 @@ An importer nobody here wrote checks what quad2nurbs exported:
   * topology: face count, isValid(), shells, solids, edges, free edges (used by one face only),
     non-manifold edges (used by more than two faces);
   * continuity across every shared edge, in the terms of Rhino's EdgeContinuity, sampled at the
-    N points t_i = t0 + (i + 0.5)/N (t1 - t0) that lie between the fit's collocation points:
+    N points t_i = t0 + (i + 0.5)/N (t1 - t0) that lie between the fit's collocation points
+    (default: N = 4 m + 3 for an edge curve of m knot spans, the fit's rule in src/fit/, so the
+    audit samples the very points quad2nurbs' report measures; --samples N fixes N):
       G0  gap |S_A - S_B| between the two faces' surfaces at the edge's p-curve points,
       G1  angle between the two (face-oriented) unit normals, degrees,
-      G2  normal curvature across the edge (direction d = N x T) on each side: absolute jump
-          |k_A - k_B| and relative jump |k_A - k_B| / (|k_A| + |k_B|) — that is |(R_A - R_B)/(R_A + R_B)|
-          for curvatures of equal sign, 1 for opposite signs — set to 0 where both sides are flatter
-          than the cut-off (radius > FLAT x bounding-box diagonal);
+      G2  normal curvature across the edge (direction d = N_A x T) on each side: absolute jump
+          |k_A - k_B| (g2_max_abs) and relative jump |k_A - k_B| / (|k_A| + |k_B|) (g2_max_rel_radii)
+          — that is |(R_A - R_B)/(R_A + R_B)| for curvatures of equal sign, 1 for opposite signs —
+          set to 0 where both sides are flatter than the cut-off (radius > FLAT x bbox diagonal);
+          and g2_max_rel in the definition of quad2nurbs' fit report (src/fit/fit_report.c):
+          max over the directions T, d and (T + d)/sqrt2 of |k_A - k_B|, divided by the largest
+          |k| of both sides in those directions (at least 1/diagonal);
     each with the worst sample's location;
   * with --mesh: the distance of every mesh vertex to the imported shape.
 Run with /usr/bin/python3 (Debian freecad-python3), not freecadcmd.  Output: JSON (stdout or --json).
@@ -142,11 +147,23 @@ def edge_faces(shape):
     return [emap[k] for k in order]
 
 
-def audit_edge(edge, fa, fb, nsamp, k_flat):
+def edge_samples(edge, nsamp):
+    """Samples for this edge: nsamp, or (nsamp == 0) the fit's rule 4 m + 3 for m knot spans."""
+    if nsamp > 0:
+        return nsamp
+    try:
+        m = len(edge.Curve.getKnots()) - 1
+    except Exception:  # not a B-spline edge curve
+        return 16
+    return 4 * max(1, m) + 3
+
+
+def audit_edge(edge, fa, fb, nsamp, k_flat, diag):
+    nsamp = edge_samples(edge, nsamp)
     t0, t1 = edge.ParameterRange
     ts = [t0 + (i + 0.5) / nsamp * (t1 - t0) for i in range(nsamp)]
     uva, uvb = fa.uv_on_edge(edge, ts), fb.uv_on_edge(edge, ts)
-    res = {'g0': 0.0, 'g1_deg': 0.0, 'g2_abs': 0.0, 'g2_rel': 0.0,
+    res = {'g0': 0.0, 'g1_deg': 0.0, 'g2_abs': 0.0, 'g2_rel_radii': 0.0, 'g2_rel': 0.0,
            'g0_at': None, 'g1_at': None, 'g2_at': None}
     for t, (ua, va), (ub, vb) in zip(ts, uva, uvb):
         ja, jb = fa.jet(ua, va), fb.jet(ub, vb)
@@ -160,6 +177,13 @@ def audit_edge(edge, fa, fb, nsamp, k_flat):
         kb = FaceEval.normal_curvature(jb, d)
         g2a = abs(ka - kb)
         g2r = 0.0 if max(abs(ka), abs(kb)) < k_flat else g2a / (abs(ka) + abs(kb))
+        res['g2_rel_radii'] = max(res['g2_rel_radii'], g2r)
+        # the fit report's measure: three directions, jump over the largest curvature (>= 1/diag)
+        jmax, kmax = 0.0, 1.0 / diag if diag > 0 else 0.0
+        for w in (tan, d, unit((tan[0] + d[0], tan[1] + d[1], tan[2] + d[2]))):
+            kwa, kwb = FaceEval.normal_curvature(ja, w), FaceEval.normal_curvature(jb, w)
+            jmax, kmax = max(jmax, abs(kwa - kwb)), max(kmax, abs(kwa), abs(kwb))
+        g2r = jmax / kmax if kmax > 0 else 0.0
         if gap >= res['g0']:
             res['g0'], res['g0_at'] = gap, pa
         if ang >= res['g1_deg']:
@@ -198,7 +222,7 @@ def bbox_diag_of(shape):
     return math.sqrt(bb.XLength ** 2 + bb.YLength ** 2 + bb.ZLength ** 2)
 
 
-def audit(path, mesh=None, nsamp=16, flat=100.0, per_edge=True):
+def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True):
     Part = load_freecad()
     if Part is None:
         return None
@@ -229,31 +253,33 @@ def audit(path, mesh=None, nsamp=16, flat=100.0, per_edge=True):
         'nonmanifold_edges': sum(1 for _, fl in edges if len(fl) > 2),
         'shared_edges': sum(1 for _, fl in edges if len(fl) == 2),
         'bbox_diag': diag,
-        'samples_per_edge': nsamp,
+        'samples_per_edge': nsamp if nsamp > 0 else '4 spans + 3',
         'flat_radius': flat * diag,
         'area': shape.Area,
         'volume': shape.Volume if shape.Solids else None,
     }
     worst = {'g0': (0.0, None, None), 'g1_deg': (0.0, None, None), 'g2_rel': (0.0, None, None)}
-    g2_abs = 0.0
+    g2_abs = g2_radii = 0.0
     detail = []
     for ei, (e, fl) in enumerate(edges):
         if len(fl) != 2:
             continue
-        r = audit_edge(e, evals[fl[0]], evals[fl[1]], nsamp, k_flat)
+        r = audit_edge(e, evals[fl[0]], evals[fl[1]], nsamp, k_flat, diag)
         g2_abs = max(g2_abs, r['g2_abs'])
+        g2_radii = max(g2_radii, r['g2_rel_radii'])
         for key, at in (('g0', 'g0_at'), ('g1_deg', 'g1_at'), ('g2_rel', 'g2_at')):
             if r[key] > worst[key][0] or worst[key][1] is None:
                 worst[key] = (r[key], ei, r[at])
         if per_edge:
             detail.append({'edge': ei, 'faces': fl, 'g0': r['g0'], 'g1_deg': r['g1_deg'],
-                           'g2_abs': r['g2_abs'], 'g2_rel': r['g2_rel'],
+                           'g2_abs': r['g2_abs'], 'g2_rel_radii': r['g2_rel_radii'], 'g2_rel': r['g2_rel'],
                            'worst_g0_at': r['g0_at'], 'worst_g1_at': r['g1_at'], 'worst_g2_at': r['g2_at']})
     out['g0_max'] = worst['g0'][0]
     out['g0_max_rel'] = worst['g0'][0] / diag if diag > 0 else worst['g0'][0]
     out['g1_max_deg'] = worst['g1_deg'][0]
     out['g2_max_abs'] = g2_abs
     out['g2_max_rel'] = worst['g2_rel'][0]
+    out['g2_max_rel_radii'] = g2_radii
     out['worst'] = {k: {'value': v[0], 'edge': v[1], 'point': v[2]} for k, v in worst.items()}
     if verts is not None:
         dmax, imax = 0.0, -1
@@ -276,7 +302,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('file', help='.step/.stp or .igs/.iges file')
     ap.add_argument('--mesh', help='the quad mesh (.obj): report vertex distances to the shape')
-    ap.add_argument('--samples', type=int, default=16, help='samples per edge, at (i+0.5)/N (default 16)')
+    ap.add_argument('--samples', type=int, default=0,
+                    help='samples per edge, at (i+0.5)/N (default 0: N = 4 spans + 3 as the fit report)')
     ap.add_argument('--flat', type=float, default=100.0,
                     help='G2 flatness cut-off: radii above FLAT x bbox diagonal count as flat (default 100)')
     ap.add_argument('--no-edges', action='store_true', help='omit the per-edge table')
@@ -289,7 +316,7 @@ def main():
         sys.stderr.write('q2n_audit: %s: no such file\n' % a.file)
         return 1
     try:
-        res = audit(a.file, a.mesh, max(1, a.samples), a.flat, not a.no_edges)
+        res = audit(a.file, a.mesh, max(0, a.samples), a.flat, not a.no_edges)
     except Exception as ex:  # FreeCAD raises plain exceptions for unreadable files
         sys.stderr.write('q2n_audit: %s: %s\n' % (a.file, ex))
         return 1

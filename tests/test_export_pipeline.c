@@ -1,0 +1,129 @@
+/* test_export_pipeline.c — end to end: build/quad2nurbs fits test meshes by others with each
+ * surface method (augmented = G2 fit, acc3, acc-g1), writes STEP, IGES and its JSON report in one
+ * run (several -o), FreeCAD imports the CAD files (tools/q2n_audit.py) and tools/q2n_compare.py
+ * must find the import audit in agreement with the report.  Asserted per case:
+ *   face count = the report's faces (the mesh's, times 4 per Catmull–Clark step when the method
+ *   subdivides), isValid, one shell per mesh component, one solid when closed, free edges = the
+ *   mesh boundary (times 2 per step), no non-manifold edge, G0 <= 1e-9 x diagonal, the audit's
+ *   G0/G1/G2 equal to the report's (compare exit 0), G1 <= 0.01 deg for the G1/G2 methods on
+ *   meshes where they promise it, G2 <= 0.01 for the augmented (G2) fits, mesh vertices on the
+ *   interpolating (augmented) surfaces.
+ * Skips when FreeCAD or the executable is missing; a mesh absent from ../shared/meshes is skipped. */
+#include "check.h"
+#include "test_export_models.h"
+
+#define EXE "build/quad2nurbs"
+#define OUT "build/tests/export_pl_"
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = malloc((size_t)n + 1);
+    size_t k = fread(b, 1, (size_t)n, f);
+    b[k] = 0;
+    fclose(f);
+    return b;
+}
+
+static double jnum(const char *json, const char *key)
+{
+    char pat[96];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char *p = json ? strstr(json, pat) : NULL;
+    if (!p) return NAN;
+    p += strlen(pat);
+    if (!strncmp(p, "true", 4)) return 1.0;
+    if (!strncmp(p, "false", 5)) return 0.0;
+    return strtod(p, NULL);
+}
+
+typedef struct pl_case {
+    const char *mesh, *method;
+    int iges;        /* also audit the IGES file */
+    int g1_target;   /* assert G1 <= 0.01 deg */
+} pl_case;
+
+static void run_case(const pl_case *c)
+{
+    const char *obj = chk_shared_mesh(c->mesh);
+    if (!obj) { SKIP("%s not in ../shared/meshes", c->mesh); return; }
+    q2n_mesh *m = em_mesh_read_obj(obj);
+    if (!m) { CHECK(0, "%s: not read", obj); return; }
+    int ncomp = em_mesh_components(m), bnd = em_mesh_boundary_edges(m);
+    char base[256], cmd[2048];
+    snprintf(base, sizeof base, OUT "%.*s_%s", (int)(strlen(c->mesh) - 4), c->mesh, c->method);
+    snprintf(cmd, sizeof cmd, EXE " -q --surface %s %s -o %s.step -o %s.igs -o %s.json", c->method, obj, base, base, base);
+    int rc = system(cmd);
+    CHECK(rc == 0, "%s: quad2nurbs exit status %d", cmd, rc);
+    char rp[300];
+    snprintf(rp, sizeof rp, "%s.json", base);
+    char *rep = rc == 0 ? slurp(rp) : NULL;
+    if (!rep) { em_mesh_free(m); return; }
+    int faces = (int)jnum(rep, "faces"), scale = 1;
+    while (m->nf * scale * scale < faces) scale *= 2; /* Catmull–Clark steps: faces x4, boundary x2 */
+    CHECK(m->nf * scale * scale == faces, "%s: report has %d faces for %d mesh faces", base, faces, m->nf);
+    int augmented = strcmp(c->method, "augmented") == 0;
+    for (int k = 0; k < 1 + c->iges; k++) {
+        const char *ext = k ? "igs" : "step";
+        snprintf(cmd, sizeof cmd, "/usr/bin/python3 tools/q2n_audit.py %s.%s --no-edges --mesh %s --json %s.%s.audit.json",
+                 base, ext, obj, base, ext);
+        rc = system(cmd);
+        CHECK(rc == 0, "%s: audit exit status %d", cmd, rc);
+        char ap[300];
+        snprintf(ap, sizeof ap, "%s.%s.audit.json", base, ext);
+        char *js = rc == 0 ? slurp(ap) : NULL;
+        if (!js) continue;
+        CHECK(jnum(js, "faces") == faces, "%s.%s: %g faces imported, report %d", base, ext, jnum(js, "faces"), faces);
+        CHECK(jnum(js, "valid") == 1.0, "%s.%s: isValid", base, ext);
+        CHECK(jnum(js, "shells") == ncomp && jnum(js, "solids") == (bnd ? 0 : ncomp), "%s.%s: %g shells %g solids",
+              base, ext, jnum(js, "shells"), jnum(js, "solids"));
+        CHECK(jnum(js, "free_edges") == bnd * scale && jnum(js, "nonmanifold_edges") == 0.0,
+              "%s.%s: %g free edges, mesh boundary %d", base, ext, jnum(js, "free_edges"), bnd * scale);
+        CHECK(jnum(js, "g0_max_rel") <= 1e-9, "%s.%s: G0 %.3g", base, ext, jnum(js, "g0_max_rel"));
+        if (c->g1_target) CHECK(jnum(js, "g1_max_deg") <= 0.01, "%s.%s: G1 %.3g deg", base, ext, jnum(js, "g1_max_deg"));
+        if (augmented) {
+            CHECK(jnum(js, "g2_max_rel") <= 0.01, "%s.%s: G2 %.3g", base, ext, jnum(js, "g2_max_rel"));
+            CHECK(jnum(js, "max_vertex_dist_rel") <= 1e-6, "%s.%s: vertex distance %.3g", base, ext,
+                  jnum(js, "max_vertex_dist_rel"));
+        }
+        snprintf(cmd, sizeof cmd, "/usr/bin/python3 tools/q2n_compare.py %s %s > %s.%s.compare.txt", ap, rp, base, ext);
+        rc = system(cmd);
+        CHECK(rc == 0, "%s: import audit disagrees with the report (see %s.%s.compare.txt)", cmd, base, ext);
+        printf("%-28s %-9s %-4s faces %4d  G0 %.1e  G1 %.3g deg (report %.3g)  G2 %.3g (report %.3g)\n", c->mesh,
+               c->method, ext, faces, jnum(js, "g0_max_rel"), jnum(js, "g1_max_deg"), jnum(rep, "g1_max_deg"),
+               jnum(js, "g2_max_rel"), jnum(rep, "g2_max_rel"));
+        free(js);
+    }
+    free(rep);
+    em_mesh_free(m);
+}
+
+int main(void)
+{
+    if (system("/usr/bin/python3 -c \"import sys; sys.path.append('/usr/lib/freecad-python3/lib'); "
+               "import FreeCAD, Part\" > /dev/null 2>&1") != 0) {
+        SKIP("FreeCAD (Debian freecad-python3) is not installed: pipeline import audit not run");
+        CHECK_DONE("test_export_pipeline");
+    }
+    if (access(EXE, X_OK) != 0) {
+        SKIP("%s not built: pipeline import audit not run", EXE);
+        CHECK_DONE("test_export_pipeline");
+    }
+    static const pl_case cases[] = {
+        {"osd_catmark_torus.obj", "augmented", 1, 1},        /* closed, regular: G2 fit */
+        {"osd_catmark_torus.obj", "acc-g1", 0, 1},
+        {"osd_catmark_tent.obj", "augmented", 1, 1},         /* open, regular */
+        {"osd_catmark_flap.obj", "augmented", 0, 1},
+        {"osd_catmark_tent.obj", "acc3", 0, 1},              /* no EV: ACC3 is the bicubic B-spline */
+        {"gismo_polycube.obj", "acc-g1", 1, 1},              /* closed, EVs 3/5/6 */
+        {"gismo_polycube.obj", "acc3", 0, 0},                /* ACC3 is only G0 at EVs: no G1 target */
+        {"gismo_ev_valence5_carpet.obj", "acc-g1", 0, 1},    /* open, EV */
+        {"osd_catmark_xord_boundary.obj", "acc-g1", 0, 1},   /* 4 components */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) run_case(&cases[i]);
+    CHECK_DONE("test_export_pipeline");
+}
