@@ -374,6 +374,46 @@ static void test_boundary_tangents(void)
     }
 }
 
+/* ---------------------------------------------------------------- distance measure */
+
+typedef struct nbctx { const q2n_surface *s; const q2n_mesh *m; } nbctx;
+
+/* A "limit" that returns, for face k, the centre of the patch across k's first edge (or of k
+ * itself on the boundary), with its normal: its closest-point distance to the patches is 0, but
+ * only if the search continues onto the neighbouring patches. */
+static q2n_status neighbour_centre(void *ctx, int face, double u, double v, double p[3], double n[3])
+{
+    const nbctx *c = ctx;
+    int t = c->m->he_twin[c->m->face_start[face]], g = t < 0 ? face : c->m->he_face[t];
+    double e[9];
+    (void)u; (void)v;
+    q2n_status st = q2n_surface_eval(c->s, g, 0.5, 0.5, 1, e);
+    memcpy(p, e, 3 * sizeof *p);
+    q2n_v3_cross(n, e + 3, e + 6);
+    return st;
+}
+
+static void test_distance(void)
+{
+    q2n_mesh *m = carpet(5, 0, 9);
+    if (!m) return;
+    q2n_acc_options o = { Q2N_ACC_G1, Q2N_ACC_CS_S, 0 };
+    q2n_surface *s = NULL;
+    q2n_error err;
+    if (q2n_acc_build(m, &o, &s, NULL, &err) != Q2N_OK) { CHECK(0, "%s", err.message); q2n_mesh_free(m); return; }
+    nbctx c = { s, m };
+    q2n_acc_distance near, own, par;
+    CHECK(q2n_acc_limit_distance(s, m, 2, neighbour_centre, &c, 1, &near, &err) == Q2N_OK, "%s", err.message);
+    q2n_acc_limit_distance(s, NULL, 2, neighbour_centre, &c, 1, &own, &err);
+    q2n_acc_limit_distance(s, m, 2, neighbour_centre, &c, 0, &par, &err);
+    CHECK(near.geom_max < 1e-9 && near.normal_max < 1e-6, "closest point on the neighbours: %.3g, normal %.3g",
+          near.geom_max, near.normal_max);
+    CHECK(own.geom_max > 0.1 && par.geom_max >= own.geom_max && near.n_samples == 4 * m->nf,
+          "own patch only %.3g, same (u,v) %.3g, %d samples", own.geom_max, par.geom_max, near.n_samples);
+    q2n_surface_free(s);
+    q2n_mesh_free(m);
+}
+
 /* ---------------------------------------------------------------- API: preparation, options */
 
 static void test_api(void)
@@ -477,6 +517,7 @@ int main(void)
     test_examples();
     test_api();
     test_remarks();
+    test_distance();
     test_regular_torus();
     test_boundary_tangents();
     test_g1_carpets();

@@ -129,6 +129,17 @@ static void project(const q2n_surface *s, int k, const double p[3], double *u, d
     }
 }
 
+/* Try patch g for the closest point of p (from its centre); keep it when it is closer. */
+static void try_patch(const q2n_surface *s, int g, const double p[3], double *best, double *u,
+                      double *v, int *kk)
+{
+    double gu = 0.5, gv = 0.5, e[3];
+    project(s, g, p, &gu, &gv);
+    q2n_surface_eval(s, g, gu, gv, 0, e);
+    double d = q2n_v3_dist(p, e);
+    if (d < *best) { *best = d; *u = gu; *v = gv; *kk = g; }
+}
+
 /* Closest point of p on patch k, and on the patches around face k when the projection stops on
  * the border of the unit square (the closest point then lies on a neighbour). */
 static double closest(const q2n_surface *s, const q2n_mesh *m, int k, const double p[3], double *u,
@@ -141,31 +152,12 @@ static double closest(const q2n_surface *s, const q2n_mesh *m, int k, const doub
     *kk = k;
     int border = *u <= 0 || *u >= 1 || *v <= 0 || *v >= 1;
     if (!m || !border) return best;
-    for (int c = 0; c < q2n_face_size(m, k); c++) { /* faces around each corner of face k */
-        int h0 = q2n_face_he(m, k, c), h = h0;
-        do {
-            int g = m->he_face[h];
-            if (g != k) {
-                double gu = 0.5, gv = 0.5;
-                project(s, g, p, &gu, &gv);
-                q2n_surface_eval(s, g, gu, gv, 0, e);
-                double d = q2n_v3_dist(p, e);
-                if (d < best) { best = d; *u = gu; *v = gv; *kk = g; }
-            }
-            h = q2n_mesh_rotate(m, h);
-        } while (h >= 0 && h != h0);
-        if (h < 0) { /* boundary vertex: walk the other way too */
-            h = q2n_mesh_rotate_back(m, h0);
-            while (h >= 0 && h != h0) {
-                int g = m->he_face[h];
-                double gu = 0.5, gv = 0.5;
-                project(s, g, p, &gu, &gv);
-                q2n_surface_eval(s, g, gu, gv, 0, e);
-                double d = q2n_v3_dist(p, e);
-                if (d < best) { best = d; *u = gu; *v = gv; *kk = g; }
-                h = q2n_mesh_rotate_back(m, h);
-            }
-        }
+    for (int c = 0; c < q2n_face_size(m, k); c++) { /* the faces around each corner of face k */
+        int h0 = q2n_face_he(m, k, c), h = q2n_mesh_rotate(m, h0);
+        for (; h >= 0 && h != h0; h = q2n_mesh_rotate(m, h)) try_patch(s, m->he_face[h], p, &best, u, v, kk);
+        if (h < 0) /* stopped at the boundary: the other way round too */
+            for (h = q2n_mesh_rotate_back(m, h0); h >= 0 && h != h0; h = q2n_mesh_rotate_back(m, h))
+                try_patch(s, m->he_face[h], p, &best, u, v, kk);
     }
     return best;
 }
