@@ -273,6 +273,36 @@ static void test_grid_topology(void)
     q2n_mesh_free(m);
 }
 
+/* q2n_mesh_check must notice each kind of corruption (so that its OK elsewhere means something). */
+static void test_check_detects(void)
+{
+    static const char *what[] = {"twin", "twin of boundary", "he_edge", "edge_he", "vert_he",
+                                 "valence", "vert_nfaces", "boundary flag", "loops", "all_quads",
+                                 "he_face", "ne"};
+    for (int k = 0; k < 12; k++) {
+        q2n_mesh *m = grid(3, 2, 0);
+        if (!m) return;
+        int h = 5, t = m->he_twin[h], bh = m->vert_he[0];
+        switch (k) {
+        case 0: m->he_twin[h] = m->he_twin[h + 1]; break;
+        case 1: m->he_twin[bh] = h; break;
+        case 2: m->he_edge[h] = (m->he_edge[h] + 1) % m->ne; break;
+        case 3: m->edge_he[m->he_edge[h]] = t > h ? t : (t >= 0 ? h : h + 1); break;
+        case 4: m->vert_he[5] = m->vert_he[6]; break;
+        case 5: m->valence[5]++; break;
+        case 6: m->vert_nfaces[5]--; break;
+        case 7: m->vert_boundary[0] = 0; break;
+        case 8: m->n_boundary_loops = 2; break;
+        case 9: m->all_quads = 0; break;
+        case 10: m->he_face[h] = 0; break;
+        case 11: m->ne--; break;
+        }
+        q2n_error err = {0};
+        CHECK(q2n_mesh_check(m, &err) != Q2N_OK, "check misses corrupted %s", what[k]);
+        q2n_mesh_free(m);
+    }
+}
+
 /* ---------------------------------------------------------- shared meshes */
 
 typedef struct table_row {
@@ -507,6 +537,7 @@ int main(void)
     test_bad_inputs();
     test_valid_forms();
     test_grid_topology();
+    test_check_detects();
     test_shared_meshes();
     test_writer();
     test_long_lines();
