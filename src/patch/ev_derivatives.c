@@ -247,91 +247,132 @@ static int solve_sys(int n, double N[9][9], double r[9][3])
     return 1;
 }
 
-/* Derivative at neighbour p_k of the segment towards v (T_{p_k,p_0}): from its jet when it has
- * one from a regular patch, else from (B.1)–(B.2) at p_k. */
-static void neighbour_tangent(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
-                              double (*dir)[2], int e, int pk, double T[3])
-{
-    if (jets[pk].source == 1) {
-        int end = q2n_he_origin(m, m->edge_he[e]) == pk ? 0 : 1;
-        ev_jet_d1(&jets[pk], dir[2 * e + end], T);
-        return;
-    }
-    int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
-    int n = q2n_ev_vertex_fan(m, pk, EV_MAXVAL, edges, other, faces);
-    for (int k = 0; k < n; k++)
-        if (edges[k] == e) { q2n_ev_tangent_estimate(m, iv, pk, k, T); return; }
-    T[0] = T[1] = T[2] = 0;
-}
-
-/* Appendix B fit at v. */
+/* Least-squares local polynomial at v (Appendix B, adapted; see the file comment). */
 static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *jets, double (*dir)[2])
 {
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
     int n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, edges, other, faces);
     if (n < 2) return 0;
     const double *p0 = q2n_mesh_vpos(m, v);
-    int boundary = m->vert_boundary[v];
-    double T[EV_MAXVAL][3], eta[EV_MAXVAL];
-    for (int k = 0; k < n; k++) q2n_ev_tangent_estimate(m, iv, v, k, T[k]);
+    int boundary = m->vert_boundary[v], nfan = boundary ? n - 1 : n;
+    double f[EV_MAXVAL][3], nrm[3] = {0, 0, 0}, eta[EV_MAXVAL], len[EV_MAXVAL];
+    for (int k = 0; k < n; k++) q2n_v3_sub(f[k], q2n_mesh_vpos(m, other[k]), p0);
+    for (int k = 0; k < nfan; k++) { /* area-weighted normal of the fan */
+        double c[3];
+        q2n_v3_cross(c, f[k], f[(k + 1) % n]);
+        q2n_v3_add(nrm, nrm, c);
+    }
+    double nn = q2n_v3_norm(nrm);
+    if (!(nn > 0)) return 0;
+    q2n_v3_scale(nrm, 1 / nn, nrm);
+    /* edges projected onto the tangent plane: angles ζ between consecutive ones, mapped onto the
+     * fan's span (the η of Appendix B), lengths per unit local variable */
+    double g[EV_MAXVAL][3];
+    for (int k = 0; k < n; k++) {
+        memcpy(g[k], f[k], sizeof g[k]);
+        q2n_v3_axpy(g[k], -q2n_v3_dot(f[k], nrm), nrm);
+        len[k] = q2n_v3_norm(g[k]) / iv[edges[k]];
+        if (!(len[k] > 0)) len[k] = q2n_v3_norm(f[k]) / iv[edges[k]];
+    }
     if (vertex_regular(m, v)) {
         for (int k = 0; k < n; k++) eta[k] = 0.5 * M_PI * k;
-    } else { /* angles ζ between consecutive tangent estimates, mapped onto the fan's span */
-        int gaps = boundary ? n - 1 : n;
+        for (int k = 0; k + 2 < n; k++) len[k] = len[k + 2] = 0.5 * (len[k] + len[k + 2]);
+    } else {
         double zeta[EV_MAXVAL], tot = 0;
-        for (int k = 0; k < gaps; k++) {
-            const double *a = T[k], *b = T[(k + 1) % n];
-            double na = q2n_v3_norm(a), nb = q2n_v3_norm(b), c = na > 0 && nb > 0 ? q2n_v3_dot(a, b) / (na * nb) : 0;
-            zeta[k] = acos(fmax(-1.0, fmin(1.0, c)));
-            if (!(zeta[k] > 1e-3)) zeta[k] = 1e-3;
+        for (int k = 0; k < nfan; k++) {
+            const double *a = g[k], *b = g[(k + 1) % n];
+            double c[3];
+            q2n_v3_cross(c, a, b);
+            zeta[k] = atan2(q2n_v3_dot(c, nrm), q2n_v3_dot(a, b));
+            if (!(zeta[k] > 0.05)) zeta[k] = 0.05;
             tot += zeta[k];
         }
         double span = fan_span(m, v, n);
-        eta[0] = 0;
-        for (int k = 1; k < n; k++) eta[k] = eta[k - 1] + zeta[k - 1] * span / tot;
-    }
-    /* the 2n points q_j on the cubic Hermite segments λ (Appendix B) */
-    int deg = (!boundary && n >= 5) ? 3 : 2, nc = deg == 3 ? 9 : 5;
-    double rho = 0;
-    for (int k = 0; k < n; k++) rho = fmax(rho, iv[edges[k]]);
-    double N[9][9] = {{0}}, rhs[9][3] = {{0}};
-    for (int k = 0; k < n; k++) {
-        double d = iv[edges[k]], Tn[3], pk[3];
-        memcpy(pk, q2n_mesh_vpos(m, other[k]), sizeof pk);
-        neighbour_tangent(m, iv, jets, dir, edges[k], other[k], Tn);
-        for (int h = 1; h <= 2; h++) {
-            double s = 0.25 * h, s2 = s * s, s3 = s2 * s;
-            double h00 = 1 - 3 * s2 + 2 * s3, h10 = s - 2 * s2 + s3, h01 = 3 * s2 - 2 * s3, h11 = s3 - s2;
-            double q[3], X = s * d * cos(eta[k]) / rho, Y = s * d * sin(eta[k]) / rho;
-            for (int c = 0; c < 3; c++)
-                q[c] = h00 * p0[c] + h10 * d * T[k][c] + h01 * pk[c] + h11 * d * (-Tn[c]) - p0[c];
-            double mono[9] = {X, Y, X * X, X * Y, Y * Y, X * X * X, X * X * Y, X * Y * Y, Y * Y * Y};
-            for (int i = 0; i < nc; i++) {
-                for (int j = 0; j < nc; j++) N[i][j] += mono[i] * mono[j];
-                for (int c = 0; c < 3; c++) rhs[i][c] += mono[i] * q[c];
+        /* folded fans (a projected angle <= 0 was clamped): uniform angles; then no sector may
+         * exceed 0.8π, or the two faces at an edge would not lie on its two sides */
+        int folded = 0;
+        for (int k = 0; k < nfan; k++) folded |= zeta[k] <= 0.05;
+        for (int k = 0; k < nfan; k++) zeta[k] = folded ? span / nfan : zeta[k] * span / tot;
+        for (int it = 0; it < 8; it++) {
+            double cap = 0.8 * M_PI, over = 0, rest = 0;
+            for (int k = 0; k < nfan; k++) {
+                if (zeta[k] > cap) over += zeta[k] - cap, zeta[k] = cap;
+                else rest += zeta[k];
             }
+            if (over <= 0 || rest <= 0) break;
+            for (int k = 0; k < nfan; k++)
+                if (zeta[k] < cap) zeta[k] += over * zeta[k] / rest;
         }
+        eta[0] = 0;
+        for (int k = 1; k < n; k++) eta[k] = eta[k - 1] + zeta[k - 1];
     }
-    double tr = 0;
-    for (int i = 0; i < nc; i++) tr += N[i][i];
-    for (int i = 0; i < nc; i++) N[i][i] += 1e-9 * tr / nc;
-    if (!solve_sys(nc, N, rhs)) return 0;
-    ev_vjet *J = &jets[v];
-    for (int c = 0; c < 3; c++) {
-        J->J1[c][0] = rhs[0][c] / rho;
-        J->J1[c][1] = rhs[1][c] / rho;
-        J->J2[c][0] = 2 * rhs[2][c] / (rho * rho);
-        J->J2[c][1] = rhs[3][c] / (rho * rho);
-        J->J2[c][2] = 2 * rhs[4][c] / (rho * rho);
-    }
+    double X[EV_MAXVAL][2];
     for (int k = 0; k < n; k++) {
-        double x = cos(eta[k]), y = sin(eta[k]);
+        X[k][0] = iv[edges[k]] * len[k] * cos(eta[k]);
+        X[k][1] = iv[edges[k]] * len[k] * sin(eta[k]);
         if (vertex_regular(m, v)) { /* exact axis directions */
             static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-            x = ax[k % 4][0], y = ax[k % 4][1];
+            X[k][0] = iv[edges[k]] * len[k] * ax[k % 4][0];
+            X[k][1] = iv[edges[k]] * len[k] * ax[k % 4][1];
         }
-        set_dir(m, dir, edges[k], v, x, y);
     }
+    /* first derivatives: the linear map X_k -> f_k in the least-squares sense, each neighbour
+     * weighted by 1/|X_k|^2 (relative errors, so short and long edges count alike) */
+    ev_vjet *J = &jets[v];
+    double A2[2][2] = {{0, 0}, {0, 0}}, r2[2][3] = {{0}};
+    for (int k = 0; k < n; k++) {
+        double w = 1 / (X[k][0] * X[k][0] + X[k][1] * X[k][1]);
+        for (int i = 0; i < 2; i++) {
+            for (int j = 0; j < 2; j++) A2[i][j] += w * X[k][i] * X[k][j];
+            for (int c = 0; c < 3; c++) r2[i][c] += w * X[k][i] * f[k][c];
+        }
+    }
+    double det = A2[0][0] * A2[1][1] - A2[0][1] * A2[1][0];
+    if (!(fabs(det) > 1e-14 * (A2[0][0] + A2[1][1]) * (A2[0][0] + A2[1][1]))) return 0;
+    for (int c = 0; c < 3; c++) {
+        J->J1[c][0] = (A2[1][1] * r2[0][c] - A2[0][1] * r2[1][c]) / det;
+        J->J1[c][1] = (A2[0][0] * r2[1][c] - A2[1][0] * r2[0][c]) / det;
+    }
+    double a1[3] = {J->J1[0][0], J->J1[1][0], J->J1[2][0]}, a2[3] = {J->J1[0][1], J->J1[1][1], J->J1[2][1]}, nj[3];
+    q2n_v3_cross(nj, a1, a2);
+    double nl = q2n_v3_norm(nj);
+    if (!(nl > 0)) return 0;
+    q2n_v3_scale(nj, 1 / nl, nj);
+    /* second derivatives: only their normal part carries shape (the tangential part would be a
+     * parametric distortion, and G2 compatibility concerns the normal part only); fit the
+     * heights of the neighbours and of the far corners of the faces (at X_k + X_k+1) above the
+     * tangent plane by a quadratic form, weighted by 1/|X|^4 */
+    double N[3][3] = {{0}}, rh[3] = {0};
+    for (int k = 0; k < n + nfan; k++) {
+        double x, y, q[3];
+        if (k < n) {
+            x = X[k][0], y = X[k][1];
+            memcpy(q, f[k], sizeof q);
+        } else {
+            int j = k - n, fc = faces[j], c = 0;
+            for (int i = 0; i < 4; i++)
+                if (m->face_vert[m->face_start[fc] + i] == v) c = i;
+            x = X[j][0] + X[(j + 1) % n][0], y = X[j][1] + X[(j + 1) % n][1];
+            q2n_v3_sub(q, q2n_mesh_vpos(m, m->face_vert[m->face_start[fc] + (c + 2) % 4]), p0);
+        }
+        double r2x = x * x + y * y, w = 1 / (r2x * r2x), h = q2n_v3_dot(q, nj);
+        double mono[3] = {0.5 * x * x, x * y, 0.5 * y * y};
+        for (int i = 0; i < 3; i++) {
+            for (int j = 0; j < 3; j++) N[i][j] += w * mono[i] * mono[j];
+            rh[i] += w * mono[i] * h;
+        }
+    }
+    double tr = N[0][0] + N[1][1] + N[2][2], N9[9][9] = {{0}}, R9[9][3] = {{0}};
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) N9[i][j] = N[i][j];
+        N9[i][i] += 1e-9 * tr;
+        R9[i][0] = rh[i];
+    }
+    if (!solve_sys(3, N9, R9)) return 0;
+    for (int q = 0; q < 3; q++)
+        for (int c = 0; c < 3; c++) J->J2[c][q] = R9[q][0] * nj[c];
+    for (int k = 0; k < n; k++)
+        set_dir(m, dir, edges[k], v, X[k][0] / iv[edges[k]], X[k][1] / iv[edges[k]]);
     J->source = 2;
     return 1;
 }
