@@ -156,6 +156,34 @@ static void test_valid_forms(void)
     CHECK_NEAR(q2n_mesh_bbox_diag(m), sqrt(9.0 + 4.0 + 0.0625), 1e-15, "bbox diag");
     q2n_mesh_free(m);
     q2n_mesh_free(NULL);
+    /* a UTF-8 byte order mark before the first record */
+    const char bom[] = "\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    CHECK(q2n_mesh_parse_obj(bom, sizeof bom - 1, "bom.obj", &m, &err) == Q2N_OK && m->nv == 3,
+          "BOM: %s", err.message);
+    q2n_mesh_free(m);
+}
+
+/* Arrays constructor: same validation, messages name the mesh and the element. */
+static void test_from_arrays_errors(void)
+{
+    const double pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, NAN, 1, 0};
+    const int fs[] = {0, 3, 6}, fv_ok[] = {0, 1, 2, 0, 2, 1}, fv_range[] = {0, 1, 2, 0, 2, 4};
+    const int fs_bad[] = {1, 4};
+    q2n_mesh *m = (q2n_mesh *)1;
+    q2n_error err = {0};
+    CHECK(q2n_mesh_from_arrays(4, pos, 1, fs, fv_ok, "arr", &m, &err) == Q2N_ERR_PARSE && !m &&
+          !strcmp(err.message, "arr: vertex 3 has a non-finite coordinate"), "NaN: %s", err.message);
+    CHECK(q2n_mesh_from_arrays(3, pos, 2, fs, fv_range, "arr", &m, &err) == Q2N_ERR_TOPOLOGY &&
+          !strcmp(err.message, "arr: face 1 vertex index 4 out of range (3 vertices)"),
+          "range: %s", err.message);
+    CHECK(q2n_mesh_from_arrays(3, pos, 1, fs_bad, fv_ok, "arr", &m, &err) == Q2N_ERR_ARG,
+          "face_start[0] != 0: %s", err.message);
+    CHECK(q2n_mesh_from_arrays(3, pos, 0, fs, fv_ok, "arr", &m, &err) == Q2N_ERR_TOPOLOGY &&
+          strstr(err.message, "no faces"), "no faces: %s", err.message);
+    /* two triangles 0,1,2 and 0,2,1 glue into a closed two-sided pillow: valid, no boundary */
+    CHECK(q2n_mesh_from_arrays(3, pos, 2, fs, fv_ok, "arr", &m, &err) == Q2N_OK && m &&
+          m->n_boundary_loops == 0 && m->ne == 3, "pillow: %s", err.message);
+    q2n_mesh_free(m);
 }
 
 /* ------------------------------------------------------- procedural meshes */
@@ -536,6 +564,7 @@ int main(void)
 {
     test_bad_inputs();
     test_valid_forms();
+    test_from_arrays_errors();
     test_grid_topology();
     test_check_detects();
     test_shared_meshes();

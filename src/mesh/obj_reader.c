@@ -1,7 +1,7 @@
 /* obj_reader.c — Wavefront OBJ input: `v` and `f` records, streamed line by line.
  *
  * Lines have no length limit (getline / realloc growth); a trailing backslash joins the next
- * line; CRLF is accepted; `#` starts a comment anywhere; vt vn vp g o s usemtl mtllib l are
+ * line; CRLF and a leading UTF-8 byte order mark are accepted; `#` starts a comment anywhere; vt vn vp g o s usemtl mtllib l are
  * ignored; any other keyword is an error.  `v x y z [w]` (or `v x y z r g b`, the common
  * vertex-colour extension; w and colours are ignored), `f` with a, a/b, a//c, a/b/c and negative
  * (relative) indices; positive indices may refer to vertices defined later in the file.
@@ -90,6 +90,10 @@ static int src_line(obj_src *s, long *first)
     if (r <= 0) return r;
     *first = s->line;
     s->lbn = 0;
+    if (s->line == 1 && n >= 3 && !memcmp(p, "\xEF\xBB\xBF", 3)) { /* UTF-8 byte order mark */
+        p += 3;
+        n -= 3;
+    }
     for (;;) {
         if (n && p[n - 1] == '\r') n--;
         int cont = n && p[n - 1] == '\\';
@@ -190,8 +194,10 @@ static long long parse_corner(const char *t, size_t nv, const char *where, q2n_e
     char q[48];
     if (ok && *p == '/') {
         p++;
-        if (*p == '/') ok = parse_int((p++, &p), &b, &big);      /* a//c */
-        else if ((ok = parse_int(&p, &b, &big)) && *p == '/') {  /* a/b or a/b/c */
+        if (*p == '/') {                                          /* a//c */
+            p++;
+            ok = parse_int(&p, &b, &big);
+        } else if ((ok = parse_int(&p, &b, &big)) && *p == '/') { /* a/b or a/b/c */
             p++;
             ok = parse_int(&p, &b, &big);
         }
@@ -261,7 +267,7 @@ static q2n_status parse_all(obj_src *s, obj_data *d, const char *name, q2n_error
         if (r == 0) return Q2N_OK;
         if (r == -1)
             return q2n_error_set(err, Q2N_ERR_IO, "%s: read error: %s", name, strerror(errno));
-        if (r == -2) return q2n_error_set(err, Q2N_ERR_NOMEM, "%s:%ld: out of memory", name, line + 1);
+        if (r == -2) return q2n_error_set(err, Q2N_ERR_NOMEM, "%s:%ld: out of memory", name, s->line);
         snprintf(where, sizeof where, "%s:%ld", name, line);
         if (memchr(s->lb, '\0', s->lbn))
             return q2n_error_set(err, Q2N_ERR_PARSE, "%s: NUL byte in line", where);
