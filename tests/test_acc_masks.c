@@ -5,7 +5,7 @@
  *  - mask sanity: every mask sums to 1 (affine invariance), no weight outside the stencil;
  *  - a regular closed mesh (perturbed torus): ACC3 and acc-g1 equal the uniform bicubic B-spline
  *    evaluated from its basis functions (to 1e-13 x bbox);
- *  - G1: on procedural carpets (interior EVs N = 3,5,6,7,8,12 and boundary EVs with 3..6 faces)
+ *  - G1: on procedural carpets (interior EVs N = 3,5,6,7,8,12,16,45; boundary EVs with 3..8 faces)
  *    and on every all-quad mesh of ../shared/meshes the unit-normal jump across every interior
  *    edge is <= 1e-10 rad at 9 Gauss points per edge, for all four strategies; ACC3 shows a
  *    jump there (so the measurement can fail).  Prints [n̂], <c_G>, <c_M> per strategy. */
@@ -268,8 +268,8 @@ static q2n_acc_quality g1_quality(const q2n_mesh *m, q2n_acc_method me, q2n_acc_
 
 static void test_g1_carpets(void)
 {
-    static const int vals[] = { 3, 5, 6, 7, 8, 12 };
-    for (int t = 0; t < 6; t++)
+    static const int vals[] = { 3, 5, 6, 7, 8, 12, 16, 45 };
+    for (int t = 0; t < 8; t++)
         for (int half = 0; half < 2; half++) {
             int N = vals[t]; /* interior valence, or number of faces at the boundary */
             if (half && (N < 3 || N > 8)) continue;
