@@ -1,7 +1,8 @@
 /* subdivide.c — Catmull–Clark subdivision of polygon meshes with boundaries (see mesh.h for the
  * vertex and face order of the result).
  *
- * Rules (Catmull & Clark 1978; boundary as in OpenSubdiv's Sdc::SCHEME_CATMARK with
+ * Rules (E. Catmull, J. Clark, "Recursively generated B-spline surfaces on arbitrary topological
+ * meshes", CAD 10(6), 1978; boundary as in OpenSubdiv's Sdc::SCHEME_CATMARK with
  * VTX_BOUNDARY_EDGE_AND_CORNER, which treats boundary edges as infinitely sharp creases):
  *   face point             f = centroid of the face's vertices
  *   interior edge point    e = (v0 + v1 + f0 + f1) / 4
@@ -21,7 +22,8 @@
 
 #include "core/vec3.h"
 
-/* Face points: centroids. */
+/* Face points: centroids (Catmull & Clark 1978, "new face points"; OpenSubdiv
+ * sdc/scheme.h ComputeFaceVertexMask: 1/n each). */
 static void face_points(const q2n_mesh *m, double *fp)
 {
     for (int f = 0; f < m->nf; f++) {
@@ -42,11 +44,13 @@ static void edge_points(const q2n_mesh *m, const double *fp, double *ep)
         double *r = ep + 3 * (size_t)e;
         q2n_v3_add(r, a, b);
         if (t < 0) {
-            q2n_v3_scale(r, 0.5, r); /* boundary: midpoint */
+            q2n_v3_scale(r, 0.5, r); /* boundary = infinitely sharp: midpoint (OSD sdc/scheme.h,
+                                         * assignCreaseMaskForEdge) */
         } else {
             q2n_v3_add(r, r, fp + 3 * (size_t)m->he_face[h]);
             q2n_v3_add(r, r, fp + 3 * (size_t)m->he_face[t]);
-            q2n_v3_scale(r, 0.25, r); /* (v0 + v1 + f0 + f1) / 4 */
+            q2n_v3_scale(r, 0.25, r); /* (v0 + v1 + f0 + f1) / 4: Catmull & Clark 1978, "new edge
+                                          * points"; OSD catmarkScheme.h assignSmoothMaskForEdge */
         }
     }
 }
@@ -78,11 +82,16 @@ static q2n_status vertex_points(const q2n_mesh *m, const double *fp, double *vp)
         double *r = vp + 3 * (size_t)v, *F = fs + 3 * (size_t)v, *Q = ns + 3 * (size_t)v;
         int n = m->valence[v];
         if (m->vert_nfaces[v] == 0 || (m->vert_boundary[v] && m->vert_nfaces[v] == 1)) {
-            memcpy(r, p, 3 * sizeof *p); /* unreferenced vertex, or corner: fixed */
+            memcpy(r, p, 3 * sizeof *p); /* unreferenced, or corner: fixed (OSD sdc/scheme.h
+                                          * assignCornerMaskForVertex) */
         } else if (m->vert_boundary[v]) {
-            for (int c = 0; c < 3; c++) r[c] = (Q[c] + 6.0 * p[c]) / 8.0; /* (e_a + 6v + e_b)/8 */
+            /* (e_a + 6v + e_b)/8: cubic B-spline curve rule, OSD catmarkScheme.h
+             * assignCreaseMaskForVertex (weights 1/8, 3/4, 1/8) */
+            for (int c = 0; c < 3; c++) r[c] = (Q[c] + 6.0 * p[c]) / 8.0;
         } else {
-            /* (F + 2R + (n-3)P)/n with F = ΣF_i/n, R = Σ(P + Q_i)/(2n)  [Catmull–Clark 1978] */
+            /* (F + 2R + (n-3)P)/n with F = ΣF_i/n, R = Σ(P + Q_i)/(2n): Catmull & Clark 1978,
+             * "new vertex points"; equals OSD assignSmoothMaskForVertex ((n-2)/n, 1/n² per
+             * neighbour and per face point) */
             for (int c = 0; c < 3; c++) {
                 double Fm = F[c] / n, R = (n * p[c] + Q[c]) / (2.0 * n);
                 r[c] = (Fm + 2.0 * R + (n - 3) * p[c]) / n;
