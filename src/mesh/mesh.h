@@ -22,7 +22,8 @@ typedef struct q2n_mesh {
     double *pos;      /* 3*nv coordinates, xyz xyz ... */
     int *face_start;  /* nf+1 offsets into face_vert */
     int *face_vert;   /* vertex indices of each face, in file order */
-    int *face_line;   /* nf: OBJ line of each face (0 if not from a file) */
+    int *face_line;   /* nf: OBJ line of each face, or of its parent face after subdivision
+                         (0 if not from a file) */
 
     /* half-edge topology (always present after a successful constructor) */
     int nh;           /* number of half-edges = face_start[nf] */
