@@ -211,6 +211,23 @@ int main(void)
               jnum(js, "max_vertex_dist_rel"));
         free(js);
     }
+    /* the same torus on the inward-oriented mesh: still a valid solid of positive volume, its
+     * faces reversed against their surfaces, continuity unchanged */
+    {
+        q2n_mesh *rm;
+        q2n_nurbs_model rv = em_model_reversed(&tr, &rm);
+        const char *rn[2] = {"export_fc_torus_inward.step", "export_fc_torus_inward.igs"};
+        for (int k = 0; k < 2; k++) {
+            char *js = export_audit(&rv, NULL, rn[k], NULL);
+            check_topology(rn[k], js, rm, 1, 1);
+            CHECK_NEAR(jnum(js, "volume"), 2 * EM_PI * EM_PI * 3.0, 1e-6 * 2 * EM_PI * EM_PI * 3.0, "inward torus volume");
+            CHECK(jnum(js, "reversed_faces") == 16, "%s: %g faces reversed", rn[k], jnum(js, "reversed_faces"));
+            CHECK(jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g", rn[k], jnum(js, "g1_max_deg"));
+            free(js);
+        }
+        q2n_nurbs_model_free(&rv);
+        em_mesh_free(rm);
+    }
     /* q2n_compare.py: a matching report passes, a wrong face count or G1 figure fails */
     CHECK(run_compare(OUTDIR "export_fc_torus_rat.step.json",
                       "{\"faces\": 16, \"g0_max_rel\": 0.0, \"g1_max_deg\": 0.0, \"g2_max_rel\": 0.0}") == 0,

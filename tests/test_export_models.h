@@ -366,6 +366,37 @@ static inline q2n_nurbs_model em_model_cylinder_rational(double r, double h, int
     return md;
 }
 
+/* The same surfaces on the reversed mesh: face (v0,v1,v2,v3) becomes (v0,v3,v2,v1) and its patch
+ * is transposed (u <-> v), so the geometry is unchanged and every normal Su x Sv flips
+ * (e.g. an inward-oriented closed mesh).  *mesh_out must be freed with em_mesh_free. */
+static inline q2n_nurbs_model em_model_reversed(const q2n_nurbs_model *in, q2n_mesh **mesh_out)
+{
+    const q2n_mesh *m = in->mesh;
+    int *fv = (int *)malloc(sizeof(int) * 4 * (size_t)m->nf);
+    for (int f = 0; f < m->nf; f++) {
+        const int *q = m->face_vert + 4 * f;
+        fv[4 * f] = q[0]; fv[4 * f + 1] = q[3]; fv[4 * f + 2] = q[2]; fv[4 * f + 3] = q[1];
+    }
+    q2n_mesh *rm = em_mesh_build(m->nv, m->pos, m->nf, fv);
+    free(fv);
+    q2n_nurbs_model r = em_model_alloc(rm);
+    for (int f = 0; f < m->nf; f++) {
+        const q2n_bspline_surface *s = &in->patches[f];
+        q2n_bspline_surface *d = &r.patches[f];
+        em_surface_alloc(d, s->deg_v, s->deg_u, s->ncp_v, s->ncp_u, s->weights != NULL);
+        memcpy(d->knots_u, s->knots_v, sizeof(double) * (size_t)(s->ncp_v + s->deg_v + 1));
+        memcpy(d->knots_v, s->knots_u, sizeof(double) * (size_t)(s->ncp_u + s->deg_u + 1));
+        for (int j = 0; j < s->ncp_v; j++)
+            for (int i = 0; i < s->ncp_u; i++) {
+                int a = j * s->ncp_u + i, b = i * s->ncp_v + j;
+                memcpy(d->cp + 3 * b, s->cp + 3 * a, 3 * sizeof(double));
+                if (s->weights) d->weights[b] = s->weights[a];
+            }
+    }
+    *mesh_out = rm;
+    return r;
+}
+
 /* Regular open grid (nx x ny faces) on a gently curved height field z = 0.1 sin(x) cos(y). */
 static inline q2n_mesh *em_mesh_grid(int nx, int ny)
 {

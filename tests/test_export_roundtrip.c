@@ -405,6 +405,26 @@ int main(void)
     roundtrip("rational torus", &tr, 1, 1);
     q2n_nurbs_model cy = em_model_cylinder_rational(2.0, 3.0, 2, &cm);
     roundtrip("rational cylinder", &cy, 1, 0);
+    /* 2b. the torus on the reversed (inward) mesh: faces written reversed so the solid points out */
+    {
+        q2n_mesh *rm;
+        q2n_nurbs_model rv = em_model_reversed(&tr, &rm);
+        roundtrip("inward torus", &rv, 1, 1);
+        char *t; size_t l;
+        CHECK(q2n_export_step_text(&rv, NULL, &t, &l, &err) == Q2N_OK, "inward STEP: %s", err.message);
+        int nf = 0, nb = 0;
+        for (const char *p = t; (p = strstr(p, "ADVANCED_FACE('',(")); p++) nf += strncmp(strchr(p, ';') - 5, ",.F.)", 5) == 0;
+        for (const char *p = t; (p = strstr(p, "FACE_OUTER_BOUND('',")); p++) nb += strncmp(strchr(p, ';') - 5, ",.F.)", 5) == 0;
+        CHECK(nf == 16 && nb == 16, "inward torus: %d faces and %d bounds reversed (16)", nf, nb);
+        free(t);
+        CHECK(q2n_export_step_text(&tr, NULL, &t, &l, &err) == Q2N_OK, "outward STEP: %s", err.message);
+        nf = 0;
+        for (const char *p = t; (p = strstr(p, "ADVANCED_FACE('',(")); p++) nf += strncmp(strchr(p, ';') - 5, ",.F.)", 5) == 0;
+        CHECK(nf == 0, "outward torus: %d faces reversed", nf);
+        free(t);
+        q2n_nurbs_model_free(&rv);
+        em_mesh_free(rm);
+    }
     /* 3. two components: a grid and the torus side by side (one open, one closed shell) */
     {
         int nv = g->nv + tm->nv, nf = g->nf + tm->nf;

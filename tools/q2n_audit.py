@@ -245,6 +245,7 @@ def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True):
         'format': 'iges' if path.lower().endswith(('.igs', '.iges')) else 'step',
         'shape_type': shape.ShapeType,
         'faces': len(faces),
+        'reversed_faces': sum(1 for f in faces if f.Orientation == 'Reversed'),
         'valid': bool(shape.isValid()),
         'shells': len(shape.Shells),
         'solids': len(shape.Solids),

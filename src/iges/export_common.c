@@ -202,6 +202,7 @@ void q2n_export_topo_free(q2n_export_topo *t)
     free(t->he_sense);
     free(t->face_comp);
     free(t->comp_closed);
+    free(t->comp_inward);
     memset(t, 0, sizeof *t);
 }
 
@@ -284,6 +285,27 @@ static double model_bbox_diag(const q2n_nurbs_model *m, double *max_coord)
     return q2n_v3_norm(d);
 }
 
+/* Signed volume enclosed by each closed component, from its faces' corner quads split into two
+ * triangles (divergence theorem: V = 1/6 sum det(a, b, c) over outward-oriented triangles); the
+ * sign tells the orientation, which is all that is needed, so the polygon approximation of the
+ * patches suffices. */
+static void mark_inward(const q2n_mesh *me, q2n_export_topo *t)
+{
+    double *vol = calloc((size_t)t->ncomp, sizeof(double));
+    if (!vol) return; /* orientation left as given */
+    for (int f = 0; f < me->nf; f++) {
+        const double *p[4];
+        for (int i = 0; i < 4; i++) p[i] = t->vpos + 3 * me->face_vert[me->face_start[f] + i];
+        for (int k = 1; k <= 2; k++) {
+            double c[3];
+            q2n_v3_cross(c, p[k], p[k + 1]);
+            vol[t->face_comp[f]] += q2n_v3_dot(p[0], c) / 6.0;
+        }
+    }
+    for (int c = 0; c < t->ncomp; c++) t->comp_inward[c] = t->comp_closed[c] && vol[c] < 0.0;
+    free(vol);
+}
+
 q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q2n_error *err)
 {
     memset(t, 0, sizeof *t);
@@ -336,7 +358,8 @@ q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q
     int *root_comp = parent; /* reuse: map roots to component numbers in a second array */
     int *rc = malloc(sizeof(int) * (size_t)me->nf);
     t->comp_closed = malloc(sizeof(int) * (size_t)me->nf);
-    if (!rc || !t->comp_closed) {
+    t->comp_inward = calloc((size_t)me->nf, sizeof(int));
+    if (!rc || !t->comp_closed || !t->comp_inward) {
         free(rc); free(parent);
         q2n_export_topo_free(t);
         return q2n_error_set(err, Q2N_ERR_NOMEM, "export: out of memory (%d faces)", me->nf);
@@ -351,6 +374,7 @@ q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q
         if (me->he_twin[h] < 0) t->comp_closed[t->face_comp[me->he_face[h]]] = 0;
     t->all_closed = 1;
     for (int c = 0; c < t->ncomp; c++) t->all_closed &= t->comp_closed[c];
+    mark_inward(me, t);
     free(rc);
     free(parent);
     if (st != Q2N_OK) q2n_export_topo_free(t);

@@ -57,6 +57,8 @@ typedef struct q2n_export_topo {
     int *face_comp;        /* nf: connected component of each face */
     int ncomp;
     int *comp_closed;      /* ncomp: 1 when the component has no boundary edge */
+    int *comp_inward;      /* ncomp: 1 for a closed component whose faces point inwards (negative
+                              enclosed volume): its CAD faces are written reversed */
     int all_closed;        /* every component closed (=> solids) */
     double max_coord;      /* largest |coordinate| of any control point (IGES global field 20) */
     double resolution;     /* tol_abs, or 1e-9 * bbox diagonal when tol_abs <= 0 */

@@ -270,7 +270,8 @@ static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q
         pw_int(w, DE(f)); pw_int(w, 1); pw_int(w, 1); pw_int(w, DE(L->c508 + f));
         pw_end(w, en);
     }
-    /* 514 shells per component (faces agree with their surfaces: flag 1); 186 for closed ones */
+    /* 514 shells per component (faces agree with their surfaces: flag 1, except in inward closed
+     * components: 0); 186 for closed ones */
     int k186 = L->c186;
     for (int c = 0; c < t->ncomp; c++) {
         int n = 0;
@@ -280,7 +281,7 @@ static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q
         pw_begin(w, en, DE(L->c514 + c));
         pw_int(w, n);
         for (int f = 0; f < t->nf; f++)
-            if (t->face_comp[f] == c) { pw_int(w, DE(L->c510 + f)); pw_int(w, 1); }
+            if (t->face_comp[f] == c) { pw_int(w, DE(L->c510 + f)); pw_int(w, !t->comp_inward[c]); }
         pw_end(w, en);
         if (!t->comp_closed[c]) continue;
         iges_ent *so = &ents[k186];

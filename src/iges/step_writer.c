@@ -10,7 +10,9 @@
  *             GEOMETRIC_REPRESENTATION_CONTEXT with units and GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT,
  *             tied to PRODUCT / PRODUCT_DEFINITION by SHAPE_DEFINITION_REPRESENTATION.
  * The face loop runs v0 -> v1 -> v2 -> v3, counter-clockwise about Su x Sv, so every face keeps
- * the surface's sense and the mesh orientation becomes the shell orientation. */
+ * the surface's sense and the mesh orientation becomes the shell orientation — except in a closed
+ * component oriented inwards (negative enclosed volume), whose faces are written reversed so that
+ * every solid's normals point out. */
 #include "iges/export_internal.h"
 
 #include <stdio.h>
@@ -256,10 +258,13 @@ static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
         q2n_strbuf_puts(&o.b, "EDGE_LOOP('',");
         put_id_list(&o.b, oe, 4);
         q2n_strbuf_puts(&o.b, ");\n");
+        /* an inward closed component: face normal = -(Su x Sv) and, so that the loop still runs
+         * counter-clockwise about it, the bound reversed too (ISO 10303-42 face_bound.orientation) */
+        const char *sense = t->comp_inward[t->face_comp[f]] ? ".F." : ".T.";
         int bound = step_begin(&o);
-        q2n_strbuf_printf(&o.b, "FACE_OUTER_BOUND('',#%d,.T.);\n", loop);
+        q2n_strbuf_printf(&o.b, "FACE_OUTER_BOUND('',#%d,%s);\n", loop, sense);
         fid[f] = step_begin(&o);
-        q2n_strbuf_printf(&o.b, "ADVANCED_FACE('',(#%d),#%d,.T.);\n", bound, srf);
+        q2n_strbuf_printf(&o.b, "ADVANCED_FACE('',(#%d),#%d,%s);\n", bound, srf, sense);
     }
     for (int c = 0; c < t->ncomp && !o.b.oom; c++) {
         int n = 0;
