@@ -371,6 +371,37 @@ static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *jet
     if (!solve_sys(3, N9, R9)) return 0;
     for (int q = 0; q < 3; q++)
         for (int c = 0; c < 3; c++) J->J2[c][q] = R9[q][0] * nj[c];
+    /* tangential part: only the acceleration along each edge is meaningful (the change of speed
+     * from the vertex to its neighbour, which keeps the Hermite segments evenly parametrized);
+     * write it as J1·C m(X) with C a 2x3 matrix, fit t_k·J1·C m(X_k) = t_k·(f_k - J1 X_k) with
+     * t_k the unit tangent of edge k, weights 1/|X_k|^4 and a ridge (minimum norm) */
+    {
+        double M6[9][9] = {{0}}, R6[9][3] = {{0}};
+        for (int k = 0; k < n; k++) {
+            double x = X[k][0], y = X[k][1], t[3], r[3], g[2];
+            ev_jet_d1(J, X[k], t);
+            double tl = q2n_v3_norm(t);
+            if (!(tl > 0)) continue;
+            q2n_v3_scale(t, 1 / tl, t);
+            q2n_v3_sub(r, f[k], (ev_jet_d1(J, X[k], r), r));
+            g[0] = t[0] * J->J1[0][0] + t[1] * J->J1[1][0] + t[2] * J->J1[2][0];
+            g[1] = t[0] * J->J1[0][1] + t[1] * J->J1[1][1] + t[2] * J->J1[2][1];
+            double mk[3] = {0.5 * x * x, x * y, 0.5 * y * y}, row[6], a = q2n_v3_dot(t, r);
+            for (int i = 0; i < 2; i++)
+                for (int q = 0; q < 3; q++) row[3 * i + q] = g[i] * mk[q];
+            double r2x = x * x + y * y, w = 1 / (r2x * r2x);
+            for (int i = 0; i < 6; i++) {
+                for (int j = 0; j < 6; j++) M6[i][j] += w * row[i] * row[j];
+                R6[i][0] += w * row[i] * a;
+            }
+        }
+        double tr6 = 0;
+        for (int i = 0; i < 6; i++) tr6 += M6[i][i];
+        for (int i = 0; i < 6; i++) M6[i][i] += 1e-3 * tr6 / 6 + 1e-300;
+        if (tr6 > 0 && solve_sys(6, M6, R6))
+            for (int q = 0; q < 3; q++)
+                for (int c = 0; c < 3; c++) J->J2[c][q] += J->J1[c][0] * R6[q][0] + J->J1[c][1] * R6[3 + q][0];
+    }
     for (int k = 0; k < n; k++)
         set_dir(m, dir, edges[k], v, X[k][0] / iv[edges[k]], X[k][1] / iv[edges[k]]);
     J->source = 2;
