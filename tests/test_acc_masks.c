@@ -410,6 +410,20 @@ static void test_distance(void)
           near.geom_max, near.normal_max);
     CHECK(own.geom_max > 0.1 && par.geom_max >= own.geom_max && near.n_samples == 4 * m->nf,
           "own patch only %.3g, same (u,v) %.3g, %d samples", own.geom_max, par.geom_max, near.n_samples);
+    /* exact limit samples (no external evaluator): zero on a mesh without EVs */
+    q2n_mesh *t = mg_torus(6, 5, 3.0, 1.0, 0.2, 1, 5);
+    q2n_surface *ts = NULL;
+    q2n_acc_limit_samples ls;
+    q2n_acc_distance dt;
+    if (t && q2n_acc_build(t, &o, &ts, NULL, &err) == Q2N_OK && q2n_acc_limit_samples_make(t, 2, &ls, &err) == Q2N_OK) {
+        CHECK(q2n_acc_limit_distance_samples(ts, t, &ls, 1, &dt, &err) == Q2N_OK, "%s", err.message);
+        CHECK(dt.n_samples == ls.n && ls.n == 16 * 30 && dt.geom_max < 1e-13 && dt.normal_max < 1e-13,
+              "torus: %d samples, distance %.3g, normal %.3g", dt.n_samples, dt.geom_max, dt.normal_max);
+        q2n_acc_limit_samples_free(&ls);
+    } else CHECK(0, "torus samples: %s", err.message);
+    q2n_acc_limit_samples_free(NULL);
+    q2n_surface_free(ts);
+    q2n_mesh_free(t);
     q2n_surface_free(s);
     q2n_mesh_free(m);
 }
@@ -453,7 +467,7 @@ static void test_api(void)
     CHECK(q2n_acc_build(m, &none, &s, NULL, &err) == Q2N_ERR_UNSUPPORTED && s == NULL &&
           strstr(err.message, "pyramid: face 1 has 3 vertices"), "no subdivision allowed: %s", err.message);
     double lim[15];
-    CHECK(q2n_acc_limit_points(m, lim, &err) == Q2N_ERR_UNSUPPORTED, "limit points on triangles");
+    CHECK(q2n_acc_limit_points(m, lim, NULL, &err) == Q2N_ERR_UNSUPPORTED, "limit points on triangles");
     q2n_acc_options bad = { (q2n_acc_method)7, Q2N_ACC_CS_S, 0 };
     CHECK(q2n_acc_build(m, &bad, &s, NULL, &err) == Q2N_ERR_ARG, "bad method accepted");
     q2n_mesh_free(m);

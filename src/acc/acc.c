@@ -175,20 +175,15 @@ const char *q2n_acc_describe(const q2n_acc_info *info, const q2n_acc_options *op
     return buf;
 }
 
-q2n_status q2n_acc_limit_points(const q2n_mesh *m, double *out, q2n_error *err)
+q2n_status q2n_acc_limit_points(const q2n_mesh *m, double *out, double *nrm, q2n_error *err)
 {
-    /* The ACC3 corner point is the limit position: its mask applied on each vertex's ring. */
     q2n_acc_rings r;
     q2n_status s = q2n_acc_rings_build(m, &r, err);
     if (s != Q2N_OK) return s;
     for (int v = 0; v < m->nv; v++) {
-        double pts[12];
-        if (m->vert_he[v] < 0) { /* isolated vertex: no limit, keep it */
-            memcpy(out + 3 * (size_t)v, q2n_mesh_vpos(m, v), 3 * sizeof *out);
-            continue;
-        }
-        q2n_acc_corner_points(m, &r, m->vert_he[v], m->pos, 3, pts);
-        memcpy(out + 3 * (size_t)v, pts, 3 * sizeof *out);
+        double n[3];
+        q2n_acc_limit_frame(m, &r, v, out + 3 * (size_t)v, n);
+        if (nrm) memcpy(nrm + 3 * (size_t)v, n, sizeof n);
     }
     q2n_acc_rings_free(&r);
     return Q2N_OK;

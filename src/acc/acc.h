@@ -76,9 +76,11 @@ const char *q2n_acc_describe(const q2n_acc_info *info, const q2n_acc_options *op
                              int size);
 
 /* Catmull–Clark limit positions of all vertices of an all-quad mesh into out[3*nv] (formulas.md
- * §1.1 / §1.4; valence-2 boundary corners stay fixed).  The patch corners equal these points.
- * Q2N_ERR_UNSUPPORTED for a non-quad mesh (subdivide it first). */
-q2n_status q2n_acc_limit_points(const q2n_mesh *m, double *out, q2n_error *err);
+ * §1.1 / §1.4; valence-2 boundary corners stay fixed) and, when nrm != NULL, the unit limit
+ * normals (tangent masks of formulas.md §1.2; at boundary vertices the cross-boundary tangent
+ * derived in acc_masks.c).  The patch corners equal these points.  Q2N_ERR_UNSUPPORTED for a
+ * non-quad mesh (subdivide it first). */
+q2n_status q2n_acc_limit_points(const q2n_mesh *m, double *out, double *nrm, q2n_error *err);
 
 /* ---- quality (seed 001 §6.1) ---- */
 typedef struct q2n_acc_quality {
@@ -115,5 +117,25 @@ typedef struct q2n_acc_distance {
 q2n_status q2n_acc_limit_distance(const q2n_surface *s, const q2n_mesh *m, int n,
                                   q2n_acc_limit_fn limit, void *ctx, int project,
                                   q2n_acc_distance *d, q2n_error *err);
+
+/* Exact limit samples without an external evaluator: the limit points and unit normals at the
+ * vertices of m subdivided `levels` times (0..6), with their face and (u,v) on m (one entry per
+ * fine vertex).  Free with q2n_acc_limit_samples_free. */
+typedef struct q2n_acc_limit_samples {
+    int n;
+    int *face;    /* n: face of m */
+    double *uv;   /* 2n */
+    double *p;    /* 3n: limit points */
+    double *nrm;  /* 3n: unit limit normals */
+} q2n_acc_limit_samples;
+
+q2n_status q2n_acc_limit_samples_make(const q2n_mesh *m, int levels, q2n_acc_limit_samples *out,
+                                      q2n_error *err);
+void q2n_acc_limit_samples_free(q2n_acc_limit_samples *ls); /* NULL is a no-op */
+
+/* Distance from the exact limit samples to the patches (same options as q2n_acc_limit_distance). */
+q2n_status q2n_acc_limit_distance_samples(const q2n_surface *s, const q2n_mesh *m,
+                                          const q2n_acc_limit_samples *ls, int project,
+                                          q2n_acc_distance *d, q2n_error *err);
 
 #endif

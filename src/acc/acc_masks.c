@@ -213,6 +213,58 @@ static void edge_point(const ring *g, int j, const double *val, int dim, double 
         axpy(out, sj * b * (sin(i * th) + sin((i + 1) * th)), V(val, dim, ring_f(g, i)), dim);
 }
 
+/* Unit normal of the limit surface at v: interior vertices from the limit tangent masks of
+ * formulas.md §1.2 (t_j = Σ_i α_{i-j} e_i + β_{i-j} f_i, normal t_0 × t_1); boundary vertices
+ * T_b × T_x (T_x of cross_tangent_weights); corners (e_0 - v) × (e_1 - v). */
+static void vertex_normal(const ring *g, const double *pos, double *out)
+{
+    double t0[3] = { 0, 0, 0 }, t1[3] = { 0, 0, 0 };
+    const double *pv = V(pos, 3, g->v);
+    int n = g->n;
+    if (!g->bnd) {
+        double c = cos(ACC_PI / n), q = 1.0 / (n * sqrt(4.0 + c * c));
+        for (int i = 0; i < n; i++) {
+            double a0 = (1.0 / n + c * q) * cos(2 * ACC_PI * i / n), b0 = q * cos((2 * ACC_PI * i + ACC_PI) / n);
+            double a1 = (1.0 / n + c * q) * cos(2 * ACC_PI * (i - 1) / n),
+                   b1 = q * cos((2 * ACC_PI * (i - 1) + ACC_PI) / n);
+            axpy(t0, a0, V(pos, 3, ring_e(g, i)), 3);
+            axpy(t0, b0, V(pos, 3, ring_f(g, i)), 3);
+            axpy(t1, a1, V(pos, 3, ring_e(g, i)), 3);
+            axpy(t1, b1, V(pos, 3, ring_f(g, i)), 3);
+        }
+    } else if (n == 1) {
+        axpy(t0, 1, V(pos, 3, ring_e(g, 0)), 3);
+        axpy(t0, -1, pv, 3);
+        axpy(t1, 1, V(pos, 3, ring_e(g, 1)), 3);
+        axpy(t1, -1, pv, 3);
+    } else {
+        double th = ACC_PI / n, wv, wb, a, b;
+        cross_tangent_weights(n, &wv, &wb, &a, &b);
+        axpy(t0, 0.5, V(pos, 3, ring_e(g, 0)), 3);
+        axpy(t0, -0.5, V(pos, 3, ring_e(g, n)), 3);
+        axpy(t1, wv, pv, 3);
+        axpy(t1, wb, V(pos, 3, ring_e(g, 0)), 3);
+        axpy(t1, wb, V(pos, 3, ring_e(g, n)), 3);
+        for (int i = 1; i < n; i++) axpy(t1, a * sin(i * th), V(pos, 3, ring_e(g, i)), 3);
+        for (int i = 0; i < n; i++) axpy(t1, b * (sin(i * th) + sin((i + 1) * th)), V(pos, 3, ring_f(g, i)), 3);
+    }
+    double c[3] = { t0[1] * t1[2] - t0[2] * t1[1], t0[2] * t1[0] - t0[0] * t1[2], t0[0] * t1[1] - t0[1] * t1[0] };
+    double len = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    for (int t = 0; t < 3; t++) out[t] = len > 0 ? c[t] / len : 0.0;
+}
+
+void q2n_acc_limit_frame(const q2n_mesh *m, const q2n_acc_rings *r, int v, double p[3], double nrm[3])
+{
+    ring g = { m, r, v, q2n_acc_ring_size(r, v), r->bnd[v] };
+    if (g.n == 0) {
+        memcpy(p, q2n_mesh_vpos(m, v), 3 * sizeof *p);
+        nrm[0] = nrm[1] = nrm[2] = 0;
+        return;
+    }
+    corner_point(&g, m->pos, 3, p);
+    vertex_normal(&g, m->pos, nrm);
+}
+
 /* Face (interior) point of ring face i: (n v + 2 e_i + 2 e_{i+1} + f_i)/(n+5), formulas.md §1.1;
  * n = 4 (B-spline weights) at boundary vertices, see the file comment. */
 static void face_point(const ring *g, int i, const double *val, int dim, double *out)

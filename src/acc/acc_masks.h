@@ -51,6 +51,10 @@ static inline int q2n_acc_local_index(int c, int d, int i, int j)
 void q2n_acc_corner_points(const q2n_mesh *m, const q2n_acc_rings *r, int h, const double *val,
                            int dim, double *out);
 
+/* Catmull–Clark limit position and unit limit normal at vertex v (position and zero normal for
+ * an isolated vertex). */
+void q2n_acc_limit_frame(const q2n_mesh *m, const q2n_acc_rings *r, int v, double p[3], double nrm[3]);
+
 /* Bicubic ACC3 patch of quad face f (16 points, face layout cp[(J*4+I)*dim]). */
 void q2n_acc_bicubic(const q2n_mesh *m, const q2n_acc_rings *r, int f, const double *val, int dim,
                      double *cp);

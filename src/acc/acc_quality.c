@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "acc/acc_masks.h"
 #include "core/vec3.h"
 
 #define ACC_PI 3.14159265358979323846
@@ -162,6 +163,28 @@ static double closest(const q2n_surface *s, const q2n_mesh *m, int k, const doub
     return best;
 }
 
+/* Add one sample (limit point p, limit normal nl, patch kk at (u,v)) to the statistics. */
+static q2n_status accumulate(const q2n_surface *s, int kk, double u, double v, const double p[3],
+                             const double nl[3], q2n_acc_distance *d, double *sum, q2n_error *err)
+{
+    double e[9], np[3];
+    q2n_status st = q2n_surface_eval(s, kk, u, v, 1, e);
+    if (st != Q2N_OK) return q2n_error_set(err, st, "acc distance: patch %d cannot be evaluated", kk);
+    double dist = q2n_v3_dist(p, e);
+    q2n_v3_cross(np, e + 3, e + 6);
+    double ln = q2n_v3_norm(nl), lp = q2n_v3_norm(np);
+    if (ln > 0 && lp > 0) {
+        double diff[3];
+        for (int t = 0; t < 3; t++) diff[t] = nl[t] / ln - np[t] / lp;
+        double ne = q2n_v3_norm(diff);
+        if (ne > d->normal_max) d->normal_max = ne;
+    }
+    if (dist > d->geom_max) d->geom_max = dist;
+    *sum += dist * dist;
+    d->n_samples++;
+    return Q2N_OK;
+}
+
 q2n_status q2n_acc_limit_distance(const q2n_surface *s, const q2n_mesh *m, int n, q2n_acc_limit_fn limit,
                                   void *ctx, int proj, q2n_acc_distance *d, q2n_error *err)
 {
@@ -172,26 +195,120 @@ q2n_status q2n_acc_limit_distance(const q2n_surface *s, const q2n_mesh *m, int n
     for (int k = 0; k < q2n_surface_npatches(s); k++)
         for (int b = 0; b < n; b++)
             for (int a = 0; a < n; a++) {
-                double u = (a + 0.5) / n, v = (b + 0.5) / n, p[3], nl[3], e[9], np[3];
+                double u = (a + 0.5) / n, v = (b + 0.5) / n, p[3], nl[3];
                 int kk = k;
                 q2n_status st = limit(ctx, k, u, v, p, nl);
                 if (st != Q2N_OK) return q2n_error_set(err, st, "acc distance: limit evaluator failed on face %d", k);
                 if (proj) closest(s, m, k, p, &u, &v, &kk);
-                st = q2n_surface_eval(s, kk, u, v, 1, e);
-                if (st != Q2N_OK) return q2n_error_set(err, st, "acc distance: patch %d cannot be evaluated", kk);
-                double dist = q2n_v3_dist(p, e);
-                q2n_v3_cross(np, e + 3, e + 6);
-                double ln = q2n_v3_norm(nl), lp = q2n_v3_norm(np);
-                if (ln > 0 && lp > 0) {
-                    double diff[3];
-                    for (int t = 0; t < 3; t++) diff[t] = nl[t] / ln - np[t] / lp;
-                    double ne = q2n_v3_norm(diff);
-                    if (ne > d->normal_max) d->normal_max = ne;
-                }
-                if (dist > d->geom_max) d->geom_max = dist;
-                sum += dist * dist;
-                d->n_samples++;
+                st = accumulate(s, kk, u, v, p, nl, d, &sum, err);
+                if (st != Q2N_OK) return st;
             }
+    d->geom_rms = d->n_samples ? sqrt(sum / d->n_samples) : 0;
+    return Q2N_OK;
+}
+
+void q2n_acc_limit_samples_free(q2n_acc_limit_samples *ls)
+{
+    if (!ls) return;
+    free(ls->face);
+    free(ls->uv);
+    free(ls->p);
+    free(ls->nrm);
+    memset(ls, 0, sizeof *ls);
+}
+
+/* Corner c of the unit square, counter-clockwise from (0,0). */
+static const double SQ[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+
+q2n_status q2n_acc_limit_samples_make(const q2n_mesh *m, int levels, q2n_acc_limit_samples *out,
+                                      q2n_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!m || levels < 0 || levels > 6 || !m->all_quads)
+        return q2n_error_set(err, Q2N_ERR_ARG, "acc limit samples: need an all-quad mesh and 0..6 levels");
+    q2n_mesh *fine = NULL;
+    q2n_status st = levels ? q2n_mesh_subdivide(m, levels, &fine, err) : Q2N_OK;
+    if (st != Q2N_OK) return st;
+    const q2n_mesh *f = levels ? fine : m;
+    /* affine map of every fine face onto its face of m: origin o and the images of the unit
+     * u and v steps.  Sub-quad c of a quad is (v_c, e_c, f, e_{c-1}) (mesh.h), i.e. face 4p + c
+     * covers the quarter of p at corner c, with u towards corner c+1 and v towards corner c-1. */
+    int nf = f->nf;
+    double *map = malloc((size_t)nf * 6 * sizeof *map), *tmp = malloc((size_t)nf * 6 * sizeof *tmp);
+    out->n = f->nv;
+    out->face = malloc(((size_t)f->nv + 1) * sizeof *out->face);
+    out->uv = malloc(((size_t)f->nv + 1) * 2 * sizeof *out->uv);
+    out->p = malloc(((size_t)f->nv + 1) * 3 * sizeof *out->p);
+    out->nrm = malloc(((size_t)f->nv + 1) * 3 * sizeof *out->nrm);
+    int *base = malloc((size_t)nf * sizeof *base);
+    if (!map || !tmp || !out->face || !out->uv || !out->p || !out->nrm || !base) {
+        free(map); free(tmp); free(base);
+        q2n_acc_limit_samples_free(out);
+        q2n_mesh_free(fine);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "acc limit samples: out of memory");
+    }
+    for (int k = 0; k < m->nf; k++) {
+        double *a = map + 6 * (size_t)k;
+        a[0] = a[1] = 0; a[2] = 1; a[3] = 0; a[4] = 0; a[5] = 1;
+        base[k] = k;
+    }
+    for (int l = 0, cur = m->nf; l < levels; l++, cur *= 4) {
+        for (int p = 0; p < cur; p++)
+            for (int c = 0; c < 4; c++) {
+                const double *a = map + 6 * (size_t)p;
+                double *b = tmp + 6 * ((size_t)4 * p + c);
+                const double *P0 = SQ[c], *P1 = SQ[(c + 1) & 3], *P3 = SQ[(c + 3) & 3];
+                double lo[2] = { P0[0], P0[1] }, lu[2] = { (P1[0] - P0[0]) / 2, (P1[1] - P0[1]) / 2 },
+                       lv[2] = { (P3[0] - P0[0]) / 2, (P3[1] - P0[1]) / 2 };
+                /* compose: x -> a(lo + s lu + t lv), a(y) = o + y0 U + y1 V */
+                for (int t = 0; t < 2; t++) {
+                    b[t] = a[t] + lo[0] * a[2 + t] + lo[1] * a[4 + t];
+                    b[2 + t] = lu[0] * a[2 + t] + lu[1] * a[4 + t];
+                    b[4 + t] = lv[0] * a[2 + t] + lv[1] * a[4 + t];
+                }
+            }
+        memcpy(map, tmp, (size_t)4 * cur * 6 * sizeof *map);
+    }
+    for (int F = 0; F < nf; F++) {
+        int k = F;
+        for (int l = 0; l < levels; l++) k /= 4;
+        base[F] = k;
+    }
+    for (int v = 0; v < f->nv; v++) out->face[v] = -1;
+    for (int F = 0; F < nf; F++)
+        for (int c = 0; c < 4; c++) {
+            int v = f->face_vert[f->face_start[F] + c];
+            if (out->face[v] >= 0) continue;
+            const double *a = map + 6 * (size_t)F;
+            out->face[v] = base[F];
+            out->uv[2 * v] = a[0] + SQ[c][0] * a[2] + SQ[c][1] * a[4];
+            out->uv[2 * v + 1] = a[1] + SQ[c][0] * a[3] + SQ[c][1] * a[5];
+        }
+    st = q2n_acc_limit_points(f, out->p, out->nrm, err);
+    free(map);
+    free(tmp);
+    free(base);
+    q2n_mesh_free(fine);
+    if (st != Q2N_OK) q2n_acc_limit_samples_free(out);
+    return st;
+}
+
+q2n_status q2n_acc_limit_distance_samples(const q2n_surface *s, const q2n_mesh *m,
+                                          const q2n_acc_limit_samples *ls, int proj,
+                                          q2n_acc_distance *d, q2n_error *err)
+{
+    if (!s || !ls || !d || (m && m->nf != q2n_surface_npatches(s)))
+        return q2n_error_set(err, Q2N_ERR_ARG, "acc distance: bad arguments");
+    memset(d, 0, sizeof *d);
+    double sum = 0;
+    for (int i = 0; i < ls->n; i++) {
+        int k = ls->face[i], kk = k;
+        if (k < 0) continue; /* isolated vertex */
+        double u = ls->uv[2 * i], v = ls->uv[2 * i + 1];
+        if (proj) closest(s, m, k, ls->p + 3 * (size_t)i, &u, &v, &kk);
+        q2n_status st = accumulate(s, kk, u, v, ls->p + 3 * (size_t)i, ls->nrm + 3 * (size_t)i, d, &sum, err);
+        if (st != Q2N_OK) return st;
+    }
     d->geom_rms = d->n_samples ? sqrt(sum / d->n_samples) : 0;
     return Q2N_OK;
 }
