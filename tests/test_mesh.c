@@ -87,6 +87,9 @@ static void test_bad_inputs(void)
         CHECK(!strncmp(err.message, c->prefix, strlen(c->prefix)) && strstr(err.message, c->needle),
               "bad case %zu: message '%s' lacks '%s'...'%s'", i, err.message, c->prefix, c->needle);
         CHECK(!strchr(err.message, '\n'), "bad case %zu: message has a newline", i);
+        /* the status does not depend on having an error buffer */
+        CHECK(q2n_mesh_parse_obj(c->text, strlen(c->text), "t.obj", &m, NULL) == c->code && !m,
+              "bad case %zu without error buffer", i);
     }
     /* NUL byte inside a line (the buffer API takes a length) */
     {

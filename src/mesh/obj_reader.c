@@ -184,9 +184,10 @@ static int parse_int(const char **p, long long *val, int *big)
     return 1;
 }
 
-/* One face corner token: a, a/b, a//c or a/b/c.  Returns the 0-based vertex index
- * (>= nv allowed: a forward reference, checked at the end) or -1 with err set. */
-static long long parse_corner(const char *t, size_t nv, const char *where, q2n_error *err)
+/* One face corner token: a, a/b, a//c or a/b/c.  *idx = the 0-based vertex index (>= nv
+ * allowed: a forward reference, checked at the end). */
+static q2n_status parse_corner(const char *t, size_t nv, const char *where, int *idx,
+                               q2n_error *err)
 {
     const char *p = t;
     long long a, b;
@@ -202,39 +203,34 @@ static long long parse_corner(const char *t, size_t nv, const char *where, q2n_e
             ok = parse_int(&p, &b, &big);
         }
     }
-    if (!ok || *p) {
-        q2n_error_set(err, Q2N_ERR_PARSE, "%s: bad face vertex '%s'", where, quote(t, q, sizeof q));
-        return -1;
-    }
-    if (big || a > INT_MAX || a < -(long long)INT_MAX) {
-        q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face index '%s' out of range (> 2^31-1)", where,
-                      quote(t, q, sizeof q));
-        return -1;
-    }
-    if (a == 0) {
-        q2n_error_set(err, Q2N_ERR_PARSE, "%s: face index 0 (OBJ indices start at 1)", where);
-        return -1;
-    }
-    if (a < 0 && (long long)nv + a < 0) {
-        q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: relative face index %lld out of range (%zu "
-                      "vertices so far)", where, a, nv);
-        return -1;
-    }
-    return a > 0 ? a - 1 : (long long)nv + a;
+    if (!ok || *p)
+        return q2n_error_set(err, Q2N_ERR_PARSE, "%s: bad face vertex '%s'", where,
+                             quote(t, q, sizeof q));
+    if (big || a > INT_MAX || a < -(long long)INT_MAX)
+        return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face index '%s' out of range (> 2^31-1)",
+                             where, quote(t, q, sizeof q));
+    if (a == 0)
+        return q2n_error_set(err, Q2N_ERR_PARSE, "%s: face index 0 (OBJ indices start at 1)", where);
+    if (a < 0 && (long long)nv + a < 0)
+        return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: relative face index %lld out of range "
+                             "(%zu vertices so far)", where, a, nv);
+    *idx = (int)(a > 0 ? a - 1 : (long long)nv + a);
+    return Q2N_OK;
 }
 
 static q2n_status parse_face(obj_data *d, char *cur, long line, const char *where, q2n_error *err)
 {
     size_t n0 = d->nfv;
     for (char *t; (t = next_tok(&cur));) {
-        long long idx = parse_corner(t, d->nv, where, err);
-        if (idx < 0) return err ? err->code : Q2N_ERR_PARSE;
+        int idx = 0;
+        q2n_status st = parse_corner(t, d->nv, where, &idx, err);
+        if (st) return st;
         if (d->nfv >= OBJ_MAX_COUNT)
             return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: more than 2^31-2 face vertices",
                                  where);
         if (!grow((void **)&d->fvert, &d->cap_fv, d->nfv + 1, sizeof *d->fvert))
             return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", where);
-        d->fvert[d->nfv++] = (int)idx;
+        d->fvert[d->nfv++] = idx;
     }
     if (d->nfv - n0 < 3)
         return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face with %zu vertices (< 3)", where,
