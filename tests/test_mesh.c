@@ -561,6 +561,33 @@ static void test_fuzz(void)
     CHECK(bad_check == 0, "fuzz: %d accepted meshes failed q2n_mesh_check", bad_check);
     CHECK(bad_msg == 0, "fuzz: %d rejections without a 'fz.obj...' one-line message", bad_msg);
     printf("fuzz: %d inputs, %d accepted, %d rejected\n", n, accepted, rejected);
+
+    /* random face lists over few vertices: every validation branch of the arrays constructor;
+     * whatever is accepted must be a consistent manifold (q2n_mesh_check) */
+    double pos[3 * 8];
+    for (int v = 0; v < 8; v++) pos[3 * v] = v, pos[3 * v + 1] = v * v, pos[3 * v + 2] = v % 3;
+    int acc2 = 0, bad2 = 0, kinds[8] = {0};
+    for (int it = 0; it < 100000; it++) {
+        int nf = 1 + rnd() % 6, fs[7], fv[6 * 5], k = 0;
+        for (int f = 0; f < nf; f++) {
+            fs[f] = k;
+            int sz = 3 + rnd() % 3;
+            for (int i = 0; i < sz; i++) fv[k++] = rnd() % 8;
+        }
+        fs[nf] = k;
+        q2n_mesh *m = NULL;
+        q2n_error err = {0};
+        q2n_status st = q2n_mesh_from_arrays(8, pos, nf, fs, fv, "rnd", &m, &err);
+        kinds[st & 7]++;
+        if (st == Q2N_OK) {
+            acc2++;
+            if (q2n_mesh_check(m, &err) != Q2N_OK) bad2++;
+        }
+        q2n_mesh_free(m);
+    }
+    printf("random faces: 100000 meshes, %d accepted\n", acc2);
+    CHECK(bad2 == 0 && acc2 > 100 && kinds[Q2N_ERR_TOPOLOGY] > 100,
+          "random faces: %d accepted, %d failed the check", acc2, bad2);
 }
 
 int main(void)
