@@ -31,6 +31,7 @@ typedef struct g1ctx {
     double **P;     /* output sector patches (EV-local) */
     double *A;      /* copy of the ACC5 input, n blocks of 36*dim */
     double *x, *y, *w, *z; /* per edge/sector work sequences, n*dim each */
+    double *r;      /* dim scratch */
     double a0;      /* gluing data a_0 = 2 cos(angle), eq. (3) */
     double theta;   /* eq. (31): 1 symmetric, 0 asymmetric */
     int cs;         /* circulant-system strategy for order 2 */
@@ -70,13 +71,14 @@ static q2n_status g1_alloc(g1ctx *g, int n, int dim, q2n_acc_strategy st, double
     g->cs = (st == Q2N_ACC_CS_S || st == Q2N_ACC_CS_AS);
     g->theta = (st == Q2N_ACC_CS_S || st == Q2N_ACC_NCS_S) ? 1.0 : 0.0;
     size_t blk = 36 * (size_t)dim, seq = (size_t)n * dim;
-    g->A = malloc(((size_t)n * blk + 4 * seq) * sizeof *g->A);
+    g->A = malloc(((size_t)n * blk + 4 * seq + dim) * sizeof *g->A);
     if (!g->A) return q2n_error_set(err, Q2N_ERR_NOMEM, "acc-g1: out of memory (%d sectors)", n);
     for (int k = 0; k < n; k++) memcpy(g->A + k * blk, P[k], blk * sizeof *g->A);
     g->x = g->A + (size_t)n * blk;
     g->y = g->x + seq;
     g->w = g->y + seq;
     g->z = g->w + seq;
+    g->r = g->z + seq;
     return Q2N_OK;
 }
 
@@ -124,8 +126,7 @@ static void pair31(g1ctx *g, int k, int kprev, int i, int j, const double *r)
 static void high_orders(g1ctx *g, int k, int kprev)
 {
     int dim = g->dim;
-    double a0 = g->a0, r[64], *rb = dim <= 64 ? r : malloc((size_t)dim * sizeof *rb);
-    if (!rb) return;
+    double a0 = g->a0, *rb = g->r;
     const double *b00 = AP(g, 0, 0, 0), *x = SEQ(g->x, g, k), *y = SEQ(g->y, g, k);
     double *w = SEQ(g->w, g, k);
     {   /* M_{3,0} = (M00 - 5 M10 + 10 M20 + 5 M40 - M50)/10 */
@@ -146,7 +147,6 @@ static void high_orders(g1ctx *g, int k, int kprev)
         lin(rb, dim, 5, c, v);
         pair31(g, k, kprev, 3, 1, rb);
     }
-    if (rb != r) free(rb);
 }
 
 q2n_status q2n_acc_g1_interior(int N, int dim, q2n_acc_strategy st, double **P, q2n_error *err)

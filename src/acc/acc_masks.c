@@ -292,16 +292,14 @@ void q2n_acc_corner_points(const q2n_mesh *m, const q2n_acc_rings *r, int h, con
 void q2n_acc_bicubic(const q2n_mesh *m, const q2n_acc_rings *r, int f, const double *val, int dim,
                      double *cp)
 {
-    double tmp[4 * 64], *buf = dim <= 64 ? tmp : malloc(4 * (size_t)dim * sizeof *buf);
-    static const int li[4] = { 0, 1, 0, 1 }, lj[4] = { 0, 0, 1, 1 };
-    if (!buf) return; /* only for huge dim (tests); callers check sizes */
-    for (int c = 0; c < 4; c++) {
-        q2n_acc_corner_points(m, r, q2n_face_he(m, f, c), val, dim, buf);
-        for (int q = 0; q < 4; q++)
-            memcpy(cp + (size_t)q2n_acc_local_index(c, 3, li[q], lj[q]) * dim, buf + q * dim,
-                   (size_t)dim * sizeof *buf);
+    for (int c = 0; c < 4; c++) { /* each corner writes its 2x2 block (EV-local (0..1, 0..1)) */
+        int h = q2n_face_he(m, f, c), v = q2n_he_origin(m, h), i = r->pos[h];
+        ring g = { m, r, v, q2n_acc_ring_size(r, v), r->bnd[v] };
+        corner_point(&g, val, dim, cp + (size_t)q2n_acc_local_index(c, 3, 0, 0) * dim);
+        edge_point(&g, i, val, dim, cp + (size_t)q2n_acc_local_index(c, 3, 1, 0) * dim);
+        edge_point(&g, i + 1, val, dim, cp + (size_t)q2n_acc_local_index(c, 3, 0, 1) * dim);
+        face_point(&g, i, val, dim, cp + (size_t)q2n_acc_local_index(c, 3, 1, 1) * dim);
     }
-    if (buf != tmp) free(buf);
 }
 
 /* Degree elevation 3 -> 5 of a Bézier curve: b5_i = Σ_j C(3,j) C(2,i-j) / C(5,i) b3_j. */

@@ -220,6 +220,33 @@ void q2n_acc_limit_samples_free(q2n_acc_limit_samples *ls)
 /* Corner c of the unit square, counter-clockwise from (0,0). */
 static const double SQ[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
 
+/* Affine maps (origin, image of the unit u step, of the unit v step: 6 doubles) of the faces of
+ * an all-quad mesh with nf0 faces subdivided `levels` times onto their base faces.  Sub-quad c
+ * of a quad p is face 4p + c, (v_c, e_c, f, e_{c-1}) (mesh.h): it covers the quarter of p at
+ * corner c, u towards corner c+1, v towards corner c-1.  map and tmp hold nf0 * 4^levels maps. */
+static void face_maps(int nf0, int levels, double *map, double *tmp)
+{
+    for (int k = 0; k < nf0; k++) {
+        double *a = map + 6 * (size_t)k;
+        a[0] = a[1] = a[3] = a[4] = 0;
+        a[2] = a[5] = 1;
+    }
+    for (int l = 0, cur = nf0; l < levels; l++, cur *= 4) {
+        for (int p = 0; p < cur; p++)
+            for (int c = 0; c < 4; c++) {
+                const double *a = map + 6 * (size_t)p, *P0 = SQ[c], *P1 = SQ[(c + 1) & 3], *P3 = SQ[(c + 3) & 3];
+                double *b = tmp + 6 * ((size_t)4 * p + c);
+                double lu[2] = { (P1[0] - P0[0]) / 2, (P1[1] - P0[1]) / 2 }, lv[2] = { (P3[0] - P0[0]) / 2, (P3[1] - P0[1]) / 2 };
+                for (int t = 0; t < 2; t++) { /* x -> a(P0 + s lu + t lv), a(y) = o + y0 U + y1 V */
+                    b[t] = a[t] + P0[0] * a[2 + t] + P0[1] * a[4 + t];
+                    b[2 + t] = lu[0] * a[2 + t] + lu[1] * a[4 + t];
+                    b[4 + t] = lv[0] * a[2 + t] + lv[1] * a[4 + t];
+                }
+            }
+        memcpy(map, tmp, (size_t)4 * cur * 6 * sizeof *map);
+    }
+}
+
 q2n_status q2n_acc_limit_samples_make(const q2n_mesh *m, int levels, q2n_acc_limit_samples *out,
                                       q2n_error *err)
 {
@@ -230,64 +257,31 @@ q2n_status q2n_acc_limit_samples_make(const q2n_mesh *m, int levels, q2n_acc_lim
     q2n_status st = levels ? q2n_mesh_subdivide(m, levels, &fine, err) : Q2N_OK;
     if (st != Q2N_OK) return st;
     const q2n_mesh *f = levels ? fine : m;
-    /* affine map of every fine face onto its face of m: origin o and the images of the unit
-     * u and v steps.  Sub-quad c of a quad is (v_c, e_c, f, e_{c-1}) (mesh.h), i.e. face 4p + c
-     * covers the quarter of p at corner c, with u towards corner c+1 and v towards corner c-1. */
-    int nf = f->nf;
-    double *map = malloc((size_t)nf * 6 * sizeof *map), *tmp = malloc((size_t)nf * 6 * sizeof *tmp);
+    size_t nv = (size_t)f->nv + 1;
+    double *map = malloc((size_t)f->nf * 6 * sizeof *map), *tmp = malloc((size_t)f->nf * 6 * sizeof *tmp);
     out->n = f->nv;
-    out->face = malloc(((size_t)f->nv + 1) * sizeof *out->face);
-    out->uv = malloc(((size_t)f->nv + 1) * 2 * sizeof *out->uv);
-    out->p = malloc(((size_t)f->nv + 1) * 3 * sizeof *out->p);
-    out->nrm = malloc(((size_t)f->nv + 1) * 3 * sizeof *out->nrm);
-    int *base = malloc((size_t)nf * sizeof *base);
-    if (!map || !tmp || !out->face || !out->uv || !out->p || !out->nrm || !base) {
-        free(map); free(tmp); free(base);
-        q2n_acc_limit_samples_free(out);
-        q2n_mesh_free(fine);
-        return q2n_error_set(err, Q2N_ERR_NOMEM, "acc limit samples: out of memory");
-    }
-    for (int k = 0; k < m->nf; k++) {
-        double *a = map + 6 * (size_t)k;
-        a[0] = a[1] = 0; a[2] = 1; a[3] = 0; a[4] = 0; a[5] = 1;
-        base[k] = k;
-    }
-    for (int l = 0, cur = m->nf; l < levels; l++, cur *= 4) {
-        for (int p = 0; p < cur; p++)
+    out->face = malloc(nv * sizeof *out->face);
+    out->uv = malloc(nv * 2 * sizeof *out->uv);
+    out->p = malloc(nv * 3 * sizeof *out->p);
+    out->nrm = malloc(nv * 3 * sizeof *out->nrm);
+    if (!map || !tmp || !out->face || !out->uv || !out->p || !out->nrm) {
+        st = q2n_error_set(err, Q2N_ERR_NOMEM, "acc limit samples: out of memory");
+    } else {
+        face_maps(m->nf, levels, map, tmp);
+        for (int v = 0; v < f->nv; v++) out->face[v] = -1;
+        for (int F = 0; F < f->nf; F++) /* the first face corner at each fine vertex gives its (face, u, v) */
             for (int c = 0; c < 4; c++) {
-                const double *a = map + 6 * (size_t)p;
-                double *b = tmp + 6 * ((size_t)4 * p + c);
-                const double *P0 = SQ[c], *P1 = SQ[(c + 1) & 3], *P3 = SQ[(c + 3) & 3];
-                double lo[2] = { P0[0], P0[1] }, lu[2] = { (P1[0] - P0[0]) / 2, (P1[1] - P0[1]) / 2 },
-                       lv[2] = { (P3[0] - P0[0]) / 2, (P3[1] - P0[1]) / 2 };
-                /* compose: x -> a(lo + s lu + t lv), a(y) = o + y0 U + y1 V */
-                for (int t = 0; t < 2; t++) {
-                    b[t] = a[t] + lo[0] * a[2 + t] + lo[1] * a[4 + t];
-                    b[2 + t] = lu[0] * a[2 + t] + lu[1] * a[4 + t];
-                    b[4 + t] = lv[0] * a[2 + t] + lv[1] * a[4 + t];
-                }
+                int v = f->face_vert[f->face_start[F] + c];
+                if (out->face[v] >= 0) continue;
+                const double *a = map + 6 * (size_t)F;
+                out->face[v] = F >> (2 * levels); /* face F descends from base face F / 4^levels */
+                out->uv[2 * v] = a[0] + SQ[c][0] * a[2] + SQ[c][1] * a[4];
+                out->uv[2 * v + 1] = a[1] + SQ[c][0] * a[3] + SQ[c][1] * a[5];
             }
-        memcpy(map, tmp, (size_t)4 * cur * 6 * sizeof *map);
+        st = q2n_acc_limit_points(f, out->p, out->nrm, err);
     }
-    for (int F = 0; F < nf; F++) {
-        int k = F;
-        for (int l = 0; l < levels; l++) k /= 4;
-        base[F] = k;
-    }
-    for (int v = 0; v < f->nv; v++) out->face[v] = -1;
-    for (int F = 0; F < nf; F++)
-        for (int c = 0; c < 4; c++) {
-            int v = f->face_vert[f->face_start[F] + c];
-            if (out->face[v] >= 0) continue;
-            const double *a = map + 6 * (size_t)F;
-            out->face[v] = base[F];
-            out->uv[2 * v] = a[0] + SQ[c][0] * a[2] + SQ[c][1] * a[4];
-            out->uv[2 * v + 1] = a[1] + SQ[c][0] * a[3] + SQ[c][1] * a[5];
-        }
-    st = q2n_acc_limit_points(f, out->p, out->nrm, err);
     free(map);
     free(tmp);
-    free(base);
     q2n_mesh_free(fine);
     if (st != Q2N_OK) q2n_acc_limit_samples_free(out);
     return st;
