@@ -22,11 +22,13 @@ static void count_evs(const q2n_mesh *m, const q2n_acc_rings *r, q2n_acc_info *i
 }
 
 /* Why the mesh m cannot be used as it is (NULL when it can). */
-static const char *needs_step(const q2n_mesh *m, q2n_acc_method method, char *why, size_t n)
+static const char *needs_step(const q2n_mesh *m, int step, q2n_acc_method method, char *why, size_t n)
 {
+    char where[48] = "";
+    if (step) snprintf(where, sizeof where, " of the %d-step mesh", step);
     for (int f = 0; f < m->nf; f++)
         if (q2n_face_size(m, f) != 4) {
-            snprintf(why, n, "face %d has %d vertices (the masks need quads)", f, q2n_face_size(m, f));
+            snprintf(why, n, "face %d%s has %d vertices (the masks need quads)", f, where, q2n_face_size(m, f));
             return why;
         }
     if (method != Q2N_ACC_G1) return NULL;
@@ -35,8 +37,8 @@ static const char *needs_step(const q2n_mesh *m, q2n_acc_method method, char *wh
     int bad = -1, ok = q2n_acc_evs_isolated(m, &r, &bad);
     q2n_acc_rings_free(&r);
     if (ok) return NULL;
-    snprintf(why, n, "face %d has more than one extraordinary vertex (acc-g1 needs EVs with "
-                     "regular one-rings)", bad);
+    snprintf(why, n, "face %d%s has more than one extraordinary vertex (acc-g1 needs EVs with "
+                     "regular one-rings)", bad, where);
     return why;
 }
 
@@ -99,8 +101,9 @@ q2n_status q2n_acc_build(const q2n_mesh *m, const q2n_acc_options *opt, q2n_surf
     q2n_mesh *owned = NULL;
     char why[160];
     const char *reason;
-    while ((reason = needs_step(cur, o->method, why, sizeof why)) != NULL) {
-        if (info.subdiv_steps == 0) snprintf(info.reason, sizeof info.reason, "%s", reason);
+    while ((reason = needs_step(cur, info.subdiv_steps, o->method, why, sizeof why)) != NULL) {
+        size_t used = strlen(info.reason); /* one reason per step, "; then ..." */
+        snprintf(info.reason + used, sizeof info.reason - used, "%s%s", used ? "; then " : "", reason);
         if (info.subdiv_steps >= max_steps) {
             q2n_mesh_free(owned);
             return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: %s%s", m->name, reason,

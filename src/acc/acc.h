@@ -43,7 +43,7 @@ typedef struct q2n_acc_options {
 
 typedef struct q2n_acc_info {
     int subdiv_steps;   /* Catmull–Clark steps applied before building (0: patches are on the input) */
-    char reason[160];   /* why they were needed ("" when none) */
+    char reason[320];   /* why they were needed, one clause per step ("" when none) */
     q2n_mesh *mesh;     /* the subdivided mesh the patches are built on; NULL when subdiv_steps == 0.
                            Owned by info: release with q2n_acc_info_free(). */
     int n_patches;
