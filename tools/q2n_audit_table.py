@@ -1,0 +1,112 @@
+#!/usr/bin/python3
+"""q2n_audit_table.py — run the whole export audit over many meshes and print a Markdown table.
+
+For every mesh x surface method: quad2nurbs writes STEP, IGES and its JSON report in one run,
+tools/q2n_audit.py imports each CAD file with FreeCAD, tools/q2n_compare.py compares the audit
+with the report.  One row per mesh x method x format: faces, isValid, shells/solids, free edges
+(and the mesh boundary they should equal), G0 / G1 / G2 from the import (the report's figure in
+parentheses), the compare verdict and the import + audit time.  A run the executable refuses
+(e.g. a construction that does not cover a mesh yet) is listed with its message.
+
+usage: tools/q2n_audit_table.py [--exe build/quad2nurbs] [--meshes ../shared/meshes]
+                                [--methods augmented,acc3,acc-g1] [--out build/audit] [MESH.obj ...]
+"""
+import argparse
+import glob
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def mesh_counts(path):
+    """faces, boundary edges, connected components of a polygon OBJ."""
+    faces = []
+    with open(path) as f:
+        for line in f:
+            if line.startswith('f '):
+                faces.append([int(t.split('/')[0]) for t in line.split()[1:]])
+    nv = 0
+    with open(path) as f:
+        nv = sum(1 for line in f if line.startswith('v '))
+    faces = [[i - 1 if i > 0 else nv + i for i in fc] for fc in faces]
+    edges = {}
+    for k, fc in enumerate(faces):
+        for i in range(len(fc)):
+            a, b = fc[i], fc[(i + 1) % len(fc)]
+            edges.setdefault((min(a, b), max(a, b)), []).append(k)
+    parent = list(range(len(faces)))
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+    for fl in edges.values():
+        for g in fl[1:]:
+            parent[find(g)] = find(fl[0])
+    comps = len({find(k) for k in range(len(faces))})
+    return len(faces), sum(1 for fl in edges.values() if len(fl) == 1), comps
+
+
+def run(cmd):
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+    return p.returncode, p.stdout, p.stderr
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('meshes', nargs='*', help='OBJ files (default: every *.obj in --meshes)')
+    ap.add_argument('--exe', default='build/quad2nurbs')
+    ap.add_argument('--meshes-dir', default='../shared/meshes')
+    ap.add_argument('--methods', default='augmented,acc3,acc-g1')
+    ap.add_argument('--formats', default='step,igs')
+    ap.add_argument('--out', default='build/audit')
+    a = ap.parse_args()
+    meshes = a.meshes or sorted(glob.glob(os.path.join(a.meshes_dir, '*.obj')))
+    os.makedirs(a.out, exist_ok=True)
+    print('| mesh | method | format | faces | valid | shells/solids | free edges (mesh bnd) | G0 gap/diag '
+          '| G1 deg (report) | G2 rel (report) | compare | import+audit s |')
+    print('|---|---|---|---|---|---|---|---|---|---|---|---|')
+    for mesh in meshes:
+        mname = os.path.splitext(os.path.basename(mesh))[0]
+        nf, nbnd, ncomp = mesh_counts(mesh)
+        for method in a.methods.split(','):
+            base = os.path.join(a.out, '%s_%s' % (mname, method))
+            fmts = a.formats.split(',')
+            cmd = [a.exe, '-q', '--surface', method, mesh] + sum([['-o', base + '.' + f] for f in fmts], [])
+            cmd += ['-o', base + '.json']
+            rc, _, err = run(cmd)
+            if rc != 0:
+                msg = err.strip().splitlines()[-1] if err.strip() else 'exit %d' % rc
+                print('| %s | %s | – | – | – | – | – | – | – | – | not built: %s | – |' %
+                      (mname, method, msg.replace('|', '/')[:90]))
+                continue
+            with open(base + '.json') as f:
+                rep = json.load(f)
+            scale = 1
+            while nf * scale * scale < rep.get('faces', nf):
+                scale *= 2
+            for fmt in fmts:
+                aj = '%s.%s.audit.json' % (base, fmt)
+                rc, _, err = run([sys.executable, os.path.join(HERE, 'q2n_audit.py'), '%s.%s' % (base, fmt),
+                                  '--no-edges', '--mesh', mesh, '--json', aj])
+                if rc != 0:
+                    print('| %s | %s | %s | import failed: %s |' % (mname, method, fmt, err.strip()[:80]))
+                    continue
+                with open(aj) as f:
+                    d = json.load(f)
+                rc, out, _ = run([sys.executable, os.path.join(HERE, 'q2n_compare.py'), aj, base + '.json'])
+                print('| %s | %s | %s | %d | %s | %d/%d | %d (%d) | %.1e | %.3g (%.3g) | %.3g (%.3g) | %s | %.1f |' % (
+                    mname, method, fmt, d['faces'], 'yes' if d['valid'] else 'NO', d['shells'], d['solids'],
+                    d['free_edges'], nbnd * scale, d['g0_max_rel'], d['g1_max_deg'], rep.get('g1_max_deg', -1),
+                    d['g2_max_rel'], rep.get('g2_max_rel', -1), 'agree' if rc == 0 else 'DISAGREE',
+                    d['seconds_read'] + d['seconds_audit']))
+                sys.stdout.flush()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
