@@ -2,6 +2,7 @@
  * output, model validation and the B-rep topology (see export_internal.h). */
 #include "iges/export_internal.h"
 
+#include <locale.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -65,7 +66,8 @@ void q2n_export_fmt_real(char out[Q2N_REAL_CHARS], double x)
 {
     char tmp[Q2N_REAL_CHARS];
     snprintf(tmp, sizeof tmp, "%.17g", x);
-    /* the C locale may use ',' as decimal separator: normalise, then split mantissa/exponent */
+    /* callers switch to the "C" numeric locale (q2n_export_locale_begin); should that have failed,
+     * a ',' decimal separator is still normalised here.  Then split mantissa / exponent. */
     char mant[Q2N_REAL_CHARS], *e;
     for (char *c = tmp; *c; c++)
         if (*c == ',') *c = '.';
@@ -76,6 +78,24 @@ void q2n_export_fmt_real(char out[Q2N_REAL_CHARS], double x)
     if (!strchr(mant, '.')) { mant[ml] = '.'; mant[ml + 1] = '\0'; }
     if (e) snprintf(out, Q2N_REAL_CHARS, "%.30sE%.6s", mant, e + 1);
     else snprintf(out, Q2N_REAL_CHARS, "%.38s", mant);
+}
+
+q2n_export_locale q2n_export_locale_begin(void)
+{
+    q2n_export_locale l = {NULL, NULL};
+    locale_t c = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
+    if (c) {
+        l.c = c;
+        l.old = uselocale(c);
+    }
+    return l;
+}
+
+void q2n_export_locale_end(q2n_export_locale l)
+{
+    if (!l.c) return;
+    uselocale((locale_t)l.old);
+    freelocale((locale_t)l.c);
 }
 
 /* ---------------------------------------------------------------- files and strings */

@@ -31,6 +31,12 @@ void q2n_strbuf_free(q2n_strbuf *b);
 #define Q2N_REAL_CHARS 40
 void q2n_export_fmt_real(char out[Q2N_REAL_CHARS], double x);
 
+/* Run the writers' number formatting in the "C" numeric locale of this thread only (uselocale;
+ * no global state): begin returns the previous locale for end, which restores it. */
+typedef struct q2n_export_locale { void *c, *old; } q2n_export_locale;
+q2n_export_locale q2n_export_locale_begin(void);
+void q2n_export_locale_end(q2n_export_locale l);
+
 /* Write buf to path atomically (path.tmp, then rename); removes path.tmp on failure. */
 q2n_status q2n_export_write_atomic(const char *path, const char *buf, size_t len, q2n_error *err);
 

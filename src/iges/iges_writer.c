@@ -344,7 +344,9 @@ static q2n_status iges_text(const q2n_nurbs_model *m, const q2n_export_options *
     else q2n_export_basename(path ? path : "quad2nurbs", name, sizeof name);
     q2n_export_topo t;
     if ((st = q2n_export_topo_build(m, &t, err)) != Q2N_OK) return st;
+    q2n_export_locale loc = q2n_export_locale_begin();
     st = iges_build(m, &t, opt, name, out);
+    q2n_export_locale_end(loc);
     q2n_export_topo_free(&t);
     if (st != Q2N_OK) {
         q2n_strbuf_free(out);
