@@ -276,11 +276,9 @@ q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_op
                 S->rev = R_along_h != along_h;
             } else {
                 const ev_edge *E = edges[e];
-                int k = E->face[0] == f && m->edge_he[e] == h ? 0 : 1;
                 S->kind = 0;
-                S->gamma = E->gamma;
-                S->chi = E->chi[k];
-                S->xi = E->xi[k];
+                S->E = *E;
+                S->derived = m->edge_he[e] != h;
                 int edge_along_h = m->edge_he[e] == h;
                 S->rev = edge_along_h != along_h;
             }

@@ -40,27 +40,6 @@ void ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3])
 
 static void poly_zero(ev_poly *p) { memset(p, 0, sizeof *p); }
 
-/* p += s(t) * v where s is a scalar polynomial (coefficients sc[0..sd]) and v a vector poly */
-static void poly_add_mul(ev_poly *p, const double *sc, int sd, const ev_poly *v)
-{
-    for (int i = 0; i <= sd; i++)
-        for (int j = 0; j <= v->deg; j++) {
-            if (i + j > EV_MAXDEG) continue;
-            for (int c = 0; c < 3; c++) p->c[i + j][c] += sc[i] * v->c[j][c];
-            if (i + j > p->deg) p->deg = i + j;
-        }
-}
-
-static void poly_deriv(const ev_poly *p, double scale, ev_poly *out)
-{
-    ev_poly r;
-    poly_zero(&r);
-    r.deg = p->deg > 0 ? p->deg - 1 : 0;
-    for (int i = 1; i <= p->deg; i++)
-        for (int c = 0; c < 3; c++) r.c[i - 1][c] = scale * i * p->c[i][c];
-    *out = r;
-}
-
 /* Hermite interpolant on [0,1]: values/derivatives (in t) at 0 and 1, order K (1: cubic,
  * 2: quintic).  v0[a], v1[a] = a-th t-derivative. */
 static void poly_hermite(int K, const double v0[3][3], const double v1[3][3], ev_poly *out)
@@ -95,15 +74,26 @@ static void other_edges(const q2n_mesh *m, int hF, int p, int *ep, int *eq)
     *eq = m->he_edge[fwd ? q2n_he_next(m, hF) : q2n_he_prev(m, hF)];
 }
 
-/* a x + b y = r in 2D; 0 if singular */
-static int solve2(const double x[2], const double y[2], const double r[2], double *a, double *b)
+/* Coefficients (a, b) with a D + b G = r for r in the plane of D and G (least squares). */
+static int decompose(const double D[3], const double G[3], const double r[3], double *a, double *b)
 {
-    double det = x[0] * y[1] - x[1] * y[0];
-    double sc = (fabs(x[0]) + fabs(x[1])) * (fabs(y[0]) + fabs(y[1]));
-    if (!(fabs(det) > 1e-12 * sc)) return 0;
-    *a = (r[0] * y[1] - r[1] * y[0]) / det;
-    *b = (x[0] * r[1] - x[1] * r[0]) / det;
+    double dd = q2n_v3_dot(D, D), dg = q2n_v3_dot(D, G), gg = q2n_v3_dot(G, G);
+    double rd = q2n_v3_dot(r, D), rg = q2n_v3_dot(r, G), det = dd * gg - dg * dg;
+    if (!(det > 1e-14 * dd * gg)) return 0;
+    *a = (rd * gg - rg * dg) / det;
+    *b = (rg * dd - rd * dg) / det;
     return 1;
+}
+
+/* Unit vectors D = n × T / |n × T| and T = γ_x / |γ_x| at an end (t = 0 or 1). */
+static void ribbon_frame(const ev_edge *E, double t, double D[3], double G[3])
+{
+    double g[3][3], n[1][3];
+    ev_poly_eval(&E->gamma, t, 1, g);
+    ev_poly_eval(&E->nrm, t, 0, n);
+    q2n_v3_scale(G, 1.0 / q2n_v3_norm(g[1]), g[1]);
+    q2n_v3_cross(D, n[0], G);
+    q2n_v3_scale(D, 1.0 / q2n_v3_norm(D), D);
 }
 
 q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
@@ -113,6 +103,7 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
     double d = iv[e];
     const ev_vjet *Jp = &jets[p], *Jq = &jets[q];
     memset(out, 0, sizeof *out);
+    out->d = d;
     if (!Jp->source || !Jq->source)
         return q2n_error_set(err, Q2N_ERR_ARG, "%s: edge %d: missing vertex derivative data", m->name, e);
     const double *up = edge_dir(m, dir, e, p), *uq = edge_dir(m, dir, e, q);
@@ -129,53 +120,209 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
         g0[2][c] *= d * d; g1[2][c] *= d * d;
     }
     poly_hermite(order, g0, g1, &out->gamma);
+    /* normal field: the jets' normals, with their Weingarten derivatives along the edge (this
+     * makes the normal twist of the fields equal to the jets' II(u, w), which G2 needs) */
+    double n0[3][3], n1[3][3];
+    if (!ev_jet_normal(Jp, n0[0]) || !ev_jet_normal(Jq, n1[0]))
+        return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d: degenerate tangent plane at a vertex", m->name, e);
+    ev_jet_dn(Jp, up, n0[1]);
+    ev_jet_dn(Jq, uq, n1[1]);
+    for (int c = 0; c < 3; c++) { n0[1][c] *= d; n1[1][c] *= -d; n0[2][c] = n1[2][c] = 0; }
+    poly_hermite(1, n0, n1, &out->nrm);
     out->face[0] = m->he_face[h];
     out->face[1] = tw >= 0 ? m->he_face[tw] : -1;
-
-    /* base side */
-    int ep, eq;
-    other_edges(m, h, p, &ep, &eq);
-    const double *wb = edge_dir(m, dir, ep, p), *wc = edge_dir(m, dir, eq, q);
-    double c0[3][3], c1[3][3];
-    ev_jet_d1(Jp, wb, c0[0]);
-    ev_jet_d1(Jq, wc, c1[0]);
-    ev_jet_d2(Jp, up, wb, c0[1]);
-    ev_jet_d2(Jq, uq, wc, c1[1]);
-    for (int c = 0; c < 3; c++) { c0[1][c] *= d; c1[1][c] *= -d; c0[2][c] = c1[2][c] = 0; }
-    poly_hermite(1, c0, c1, &out->chi[0]);
-    double x0[3], x1[3];
-    ev_jet_d2(Jp, wb, wb, x0);
-    ev_jet_d2(Jq, wc, wc, x1);
-    poly_zero(&out->xi[0]);
-    out->xi[0].deg = 1;
-    for (int c = 0; c < 3; c++) { out->xi[0].c[0][c] = x0[c]; out->xi[0].c[1][c] = x1[c] - x0[c]; }
-    if (tw < 0) { out->built = 1; return Q2N_OK; }
-
-    /* derived side: G1/G2 conditions with scalar α, β linear in t */
-    int fp, fq;
-    other_edges(m, tw, p, &fp, &fq);
-    const double *wb2 = edge_dir(m, dir, fp, p), *wc2 = edge_dir(m, dir, fq, q);
-    double a0, b0, a1, b1, muq[2] = {-uq[0], -uq[1]};
-    if (!solve2(wb, up, wb2, &a0, &b0) || !solve2(wc, muq, wc2, &a1, &b1) || !(a0 < 0) || !(a1 < 0))
+    double D0[3], G0[3], D1[3], G1[3];
+    ribbon_frame(out, 0, D0, G0);
+    ribbon_frame(out, 1, D1, G1);
+    for (int side = 0; side < (tw >= 0 ? 2 : 1); side++) {
+        int ep, eq;
+        other_edges(m, side ? tw : h, p, &ep, &eq);
+        const double *wb = edge_dir(m, dir, ep, p), *wc = edge_dir(m, dir, eq, q);
+        double c0[3], c1[3], x0[3], x1[3];
+        ev_jet_d1(Jp, wb, c0);
+        ev_jet_d1(Jq, wc, c1);
+        ev_jet_d2(Jp, wb, wb, x0);
+        ev_jet_d2(Jq, wc, wc, x1);
+        if (!decompose(D0, G0, c0, &out->a[side][0], &out->b[side][0]) ||
+            !decompose(D1, G1, c1, &out->a[side][1], &out->b[side][1]))
+            return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d (%d-%d): degenerate ribbon", m->name, e, p, q);
+        if (side == 0) {
+            poly_zero(&out->xi);
+            out->xi.deg = 1;
+            for (int c = 0; c < 3; c++) { out->xi.c[0][c] = x0[c]; out->xi.c[1][c] = x1[c] - x0[c]; }
+        } else { /* tangential part of the corner values of the derived side's ξ */
+            double N[3], xt[3];
+            for (int end = 0; end < 2; end++) {
+                const double *X = end ? x1 : x0, *D = end ? D1 : D0, *G = end ? G1 : G0;
+                q2n_v3_cross(N, D, G);
+                memcpy(xt, X, sizeof xt);
+                q2n_v3_axpy(xt, -q2n_v3_dot(X, N) / q2n_v3_dot(N, N), N);
+                decompose(D, G, xt, &out->tau[end][0], &out->tau[end][1]);
+            }
+        }
+    }
+    if (tw >= 0 && !(out->a[0][0] * out->a[1][0] < 0 && out->a[0][1] * out->a[1][1] < 0))
         return q2n_error_set(err, Q2N_ERR_GEOMETRY,
                              "%s: edge %d (%d-%d): fan directions do not separate the two faces", m->name, e, p, q);
-    double al[2] = {a0, a1 - a0}, be[2] = {b0, b1 - b0};
-    ev_poly gx, gxx, cx;
-    poly_deriv(&out->gamma, 1.0 / d, &gx);  /* γ_x */
-    poly_deriv(&gx, 1.0 / d, &gxx);         /* γ_xx */
-    poly_deriv(&out->chi[0], 1.0 / d, &cx); /* ∂x χ_L */
-    poly_zero(&out->chi[1]);
-    poly_add_mul(&out->chi[1], al, 1, &out->chi[0]);
-    poly_add_mul(&out->chi[1], be, 1, &gx);
-    double al2[3] = {al[0] * al[0], 2 * al[0] * al[1], al[1] * al[1]};
-    double be2[3] = {be[0] * be[0], 2 * be[0] * be[1], be[1] * be[1]};
-    double ab2[3] = {2 * al[0] * be[0], 2 * (al[0] * be[1] + al[1] * be[0]), 2 * al[1] * be[1]};
-    poly_zero(&out->xi[1]);
-    poly_add_mul(&out->xi[1], al2, 2, &out->xi[0]);
-    poly_add_mul(&out->xi[1], ab2, 2, &cx);
-    poly_add_mul(&out->xi[1], be2, 2, &gxx);
     out->built = 1;
     return Q2N_OK;
+}
+
+/* ------------------------------------------------------------ derivative arrays
+ * f[k] = k-th t-derivative, k = 0..3; products by Leibniz' rule. */
+#define JO 4
+static const double binom4[JO][JO] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+
+static void sj_mul(const double *a, const double *b, double *r)
+{
+    double t[JO];
+    for (int k = 0; k < JO; k++) {
+        t[k] = 0;
+        for (int i = 0; i <= k; i++) t[k] += binom4[k][i] * a[i] * b[k - i];
+    }
+    memcpy(r, t, sizeof t);
+}
+
+static void sj_inv(const double *g, double *r)
+{
+    double t[JO];
+    t[0] = 1 / g[0];
+    for (int k = 1; k < JO; k++) {
+        double acc = 0;
+        for (int i = 1; i <= k; i++) acc += binom4[k][i] * g[i] * t[k - i];
+        t[k] = -acc / g[0];
+    }
+    memcpy(r, t, sizeof t);
+}
+
+/* vector arrays V[k][c] */
+static void vj_scale(const double *s, double V[JO][3], double R[JO][3])
+{
+    double T[JO][3] = {{0}};
+    for (int k = 0; k < JO; k++)
+        for (int i = 0; i <= k; i++)
+            for (int c = 0; c < 3; c++) T[k][c] += binom4[k][i] * s[i] * V[k - i][c];
+    memcpy(R, T, sizeof T);
+}
+
+static void vj_cross(double A[JO][3], double B[JO][3], double R[JO][3])
+{
+    double T[JO][3] = {{0}};
+    for (int k = 0; k < JO; k++)
+        for (int i = 0; i <= k; i++) {
+            double c[3];
+            q2n_v3_cross(c, A[i], B[k - i]);
+            q2n_v3_axpy(T[k], binom4[k][i], c);
+        }
+    memcpy(R, T, sizeof T);
+}
+
+static void vj_dot(double A[JO][3], double B[JO][3], double *r)
+{
+    for (int k = 0; k < JO; k++) {
+        r[k] = 0;
+        for (int i = 0; i <= k; i++) r[k] += binom4[k][i] * q2n_v3_dot(A[i], B[k - i]);
+    }
+}
+
+static void vj_add(double A[JO][3], double B[JO][3], double R[JO][3])
+{
+    for (int k = 0; k < JO; k++)
+        for (int c = 0; c < 3; c++) R[k][c] = A[k][c] + B[k][c];
+}
+
+/* g^(-1/2) by Faà di Bruno */
+static void sj_rsqrt(const double *g, double *r)
+{
+    double x = g[0], f1 = -0.5 * pow(x, -1.5), f2 = 0.75 * pow(x, -2.5), f3 = -1.875 * pow(x, -3.5);
+    r[0] = 1 / sqrt(x);
+    r[1] = f1 * g[1];
+    r[2] = f2 * g[1] * g[1] + f1 * g[2];
+    r[3] = f3 * g[1] * g[1] * g[1] + 3 * f2 * g[1] * g[2] + f1 * g[3];
+}
+
+static void lin(double v0, double v1, double t, double *r)
+{
+    r[0] = v0 + (v1 - v0) * t;
+    r[1] = v1 - v0;
+    r[2] = r[3] = 0;
+}
+
+/* Constructed edge: fields of one side at t, t-derivatives 0..2. */
+static void constructed_eval(const ev_edge *E, int derived, double t, double out[3][3][3])
+{
+    double g[6][3] = {{0}}, n[JO][3] = {{0}}, Gx[JO][3], Gxx[JO][3] = {{0}}, D[JO][3];
+    ev_poly_eval(&E->gamma, t, 5 < E->gamma.deg ? 5 : E->gamma.deg, g);
+    ev_poly_eval(&E->nrm, t, 3, n);
+    double d = E->d;
+    for (int k = 0; k < JO; k++)
+        for (int c = 0; c < 3; c++) {
+            Gx[k][c] = g[k + 1][c] / d;
+            Gxx[k][c] = k + 2 < 6 ? g[k + 2][c] / (d * d) : 0;
+        }
+    /* unit ribbon frame: T = γ_x/|γ_x|, D = n × T/|n × T| (so that the fields do not inherit the
+     * speed variations of the curve) */
+    double Tu[JO][3], rs[JO], sq[JO], rd[JO];
+    vj_dot(Gx, Gx, sq);
+    sj_rsqrt(sq, rs);
+    vj_scale(rs, Gx, Tu);
+    vj_cross(n, Tu, D);
+    vj_dot(D, D, sq);
+    sj_rsqrt(sq, rd);
+    vj_scale(rd, D, D);
+    double aL[JO], bL[JO], CL[JO][3], tmp[JO][3];
+    lin(E->a[0][0], E->a[0][1], t, aL);
+    lin(E->b[0][0], E->b[0][1], t, bL);
+    vj_scale(aL, D, CL);
+    vj_scale(bL, Tu, tmp);
+    vj_add(CL, tmp, CL);
+    double xl[3][3];
+    ev_poly_eval(&E->xi, t, 2, xl);
+    for (int k = 0; k < 3; k++) memcpy(out[0][k], g[k], sizeof g[k]);
+    if (!derived) {
+        for (int k = 0; k < 3; k++) { memcpy(out[1][k], CL[k], sizeof CL[k]); memcpy(out[2][k], xl[k], sizeof xl[k]); }
+        return;
+    }
+    /* derived side: χ_R = a_R D + b_R γ_x; G2 condition (formulas.md §4.2) with α = a_R / a_L,
+     * β = b_R - b_L α: the normal part of ξ_R is that of α² ξ_L + 2αβ ∂xχ_L + β² γ_xx */
+    double aR[JO], bR[JO], CR[JO][3], al[JO], be[JO], inv[JO];
+    lin(E->a[1][0], E->a[1][1], t, aR);
+    lin(E->b[1][0], E->b[1][1], t, bR);
+    vj_scale(aR, D, CR);
+    vj_scale(bR, Tu, tmp);
+    vj_add(CR, tmp, CR);
+    sj_inv(aL, inv);
+    sj_mul(aR, inv, al);
+    sj_mul(bL, al, be);
+    for (int k = 0; k < JO; k++) be[k] = bR[k] - be[k];
+    sj_mul(be, rs, be); /* χ_R = α χ_L + β γ_x */
+    double CLx[JO][3] = {{0}}, XL[JO][3] = {{0}}, Y[JO][3], al2[JO], ab2[JO], be2[JO], N[JO][3];
+    for (int k = 0; k + 1 < JO; k++)
+        for (int c = 0; c < 3; c++) CLx[k][c] = CL[k + 1][c] / d;
+    for (int k = 0; k < 3; k++) memcpy(XL[k], xl[k], sizeof xl[k]);
+    sj_mul(al, al, al2);
+    sj_mul(al, be, ab2);
+    for (int k = 0; k < JO; k++) ab2[k] *= 2;
+    sj_mul(be, be, be2);
+    vj_scale(al2, XL, Y);
+    vj_scale(ab2, CLx, tmp);
+    vj_add(Y, tmp, Y);
+    vj_scale(be2, Gxx, tmp);
+    vj_add(Y, tmp, Y);
+    vj_cross(D, Gx, N);
+    double ny[JO], nn[JO], c[JO], t1[JO], t2[JO], XR[JO][3];
+    vj_dot(N, Y, ny);
+    vj_dot(N, N, nn);
+    sj_inv(nn, inv);
+    sj_mul(ny, inv, c);
+    vj_scale(c, N, XR);
+    lin(E->tau[0][0], E->tau[1][0], t, t1);
+    lin(E->tau[0][1], E->tau[1][1], t, t2);
+    vj_scale(t1, D, tmp);
+    vj_add(XR, tmp, XR);
+    vj_scale(t2, Tu, tmp);
+    vj_add(XR, tmp, XR);
+    for (int k = 0; k < 3; k++) { memcpy(out[1][k], CR[k], sizeof CR[k]); memcpy(out[2][k], XR[k], sizeof XR[k]); }
 }
 
 /* ------------------------------------------------------------ side evaluation */
@@ -193,9 +340,7 @@ void ev_side_eval(const ev_side *sd, double s, double out[3][3][3])
 {
     double t = sd->rev ? 1 - s : s;
     if (sd->kind == 0) {
-        ev_poly_eval(&sd->gamma, t, 2, out[0]);
-        ev_poly_eval(&sd->chi, t, 2, out[1]);
-        ev_poly_eval(&sd->xi, t, 2, out[2]);
+        constructed_eval(&sd->E, sd->derived, t, out);
     } else {
         /* regular neighbour: its side sR in its own coordinate (u on sides 0/2, v on 1/3) */
         static const int iota[4] = {1, -1, -1, 1}; /* inward sign of the transverse coordinate */

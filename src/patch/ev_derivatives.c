@@ -162,6 +162,35 @@ void ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double ou
         out[c] = J->J2[c][0] * a[0] * b[0] + J->J2[c][1] * (a[0] * b[1] + a[1] * b[0]) + J->J2[c][2] * a[1] * b[1];
 }
 
+int ev_jet_normal(const ev_vjet *J, double n[3])
+{
+    double a1[3] = {J->J1[0][0], J->J1[1][0], J->J1[2][0]}, a2[3] = {J->J1[0][1], J->J1[1][1], J->J1[2][1]};
+    q2n_v3_cross(n, a1, a2);
+    double l = q2n_v3_norm(n);
+    if (!(l > 0)) return 0;
+    q2n_v3_scale(n, 1 / l, n);
+    return 1;
+}
+
+void ev_jet_dn(const ev_vjet *J, const double a[2], double out[3])
+{
+    double n[3];
+    out[0] = out[1] = out[2] = 0;
+    if (!ev_jet_normal(J, n)) return;
+    double I[2][2] = {{0, 0}, {0, 0}}, II[3];
+    for (int c = 0; c < 3; c++) {
+        I[0][0] += J->J1[c][0] * J->J1[c][0];
+        I[0][1] += J->J1[c][0] * J->J1[c][1];
+        I[1][1] += J->J1[c][1] * J->J1[c][1];
+    }
+    I[1][0] = I[0][1];
+    for (int q = 0; q < 3; q++) II[q] = n[0] * J->J2[0][q] + n[1] * J->J2[1][q] + n[2] * J->J2[2][q];
+    double IIa[2] = {II[0] * a[0] + II[1] * a[1], II[1] * a[0] + II[2] * a[1]};
+    double det = I[0][0] * I[1][1] - I[0][1] * I[1][0];
+    double s0 = (I[1][1] * IIa[0] - I[0][1] * IIa[1]) / det, s1 = (I[0][0] * IIa[1] - I[1][0] * IIa[0]) / det;
+    for (int c = 0; c < 3; c++) out[c] = -(J->J1[c][0] * s0 + J->J1[c][1] * s1);
+}
+
 static int vertex_regular(const q2n_mesh *m, int v)
 {
     if (m->vert_boundary[v]) return m->vert_nfaces[v] <= 2;

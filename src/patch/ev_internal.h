@@ -29,12 +29,17 @@ typedef struct ev_vjet {
     double J2[3][3];   /* [xyz][xx|xy|yy] */
 } ev_vjet;
 
-/* Data of one mesh edge of the curve network (constructed edges only). */
+/* Data of one mesh edge of the curve network (constructed edges only), all in the edge
+ * parameter t in [0,1] from origin(edge_he) to dest, local variable x = t d. */
 typedef struct ev_edge {
     int built;
-    ev_poly gamma;       /* boundary curve, t from origin(edge_he) to dest */
+    double d;            /* the edge's interval */
+    ev_poly gamma;       /* boundary curve */
+    ev_poly nrm;         /* normal field n(t) (cubic, not unit) spanning the ribbon with γ_x */
     int face[2];         /* face of edge_he (base side) and of its twin (derived side), -1 none */
-    ev_poly chi[2], xi[2]; /* inward cross fields of each side in local variables, in t */
+    double a[2][2], b[2][2]; /* [side][end]: χ_side = a D + b T (unit ribbon frame T = γ_x/|γ_x|, D = n × T/|n × T|), a, b linear in t */
+    ev_poly xi;          /* base side ξ (linear) */
+    double tau[2][2];    /* derived side: tangential part of ξ = τ1 D + τ2 γ_x at each end [end][1|2] */
 } ev_edge;
 
 /* ---- ev_derivatives.c ---- */
@@ -44,6 +49,10 @@ q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double 
                           ev_vjet *jets, double (*dir)[2], q2n_error *err);
 void ev_jet_d1(const ev_vjet *J, const double u[2], double out[3]);
 void ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3]);
+/* Unit normal of the jet, and its derivative along the 2D direction a (Weingarten map of the
+ * surface the jet describes: dn(a) = -J1 I^-1 II a); 0 when J1 is degenerate. */
+int ev_jet_normal(const ev_vjet *J, double n[3]);
+void ev_jet_dn(const ev_vjet *J, const double a[2], double out[3]);
 
 /* ---- curve_network.c ---- */
 q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
@@ -53,9 +62,10 @@ void ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3]);
 /* Side of a Coons–Gregory patch: local data (curve γ, inward χ, ξ) as functions of the
  * patch's side parameter s, with s-derivatives up to 2: out[field][deriv][xyz]. */
 typedef struct ev_side {
-    int kind;            /* 0 polynomial (constructed edge), 1 sampled from a regular patch */
+    int kind;            /* 0 constructed edge, 1 sampled from a regular patch */
     int rev;             /* the data's own parameter is 1 - s */
-    ev_poly gamma, chi, xi;
+    ev_edge E;           /* kind 0: the edge data */
+    int derived;         /* kind 0: this face is the derived side of E */
     q2n_augmented_patch R; /* kind 1: the regular neighbour */
     int sR;              /* kind 1: its side index (0..3, the face half-edge) */
 } ev_side;
