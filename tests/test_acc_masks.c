@@ -454,10 +454,12 @@ static void test_api(void)
               "pyramid %s: %d steps", q2n_acc_method_name(o.method), info.subdiv_steps);
         CHECK(q2n_surface_npatches(s) == bm->nf && info.n_patches == bm->nf, "patch count");
         CHECK(strstr(info.reason, "face 1 has 3 vertices") == info.reason &&
-                  (me == 0 || strstr(info.reason, "; then face")), "reason: '%s'", info.reason);
+                  (me == 0 || strstr(info.reason, "; then face 4 of the 1-step mesh has two or more EVs")),
+              "reason: '%s'", info.reason);
         char line[512];
         q2n_acc_describe(&info, &o, line, sizeof line);
-        CHECK(strstr(line, "Catmull-Clark step") && strstr(line, "subdivided mesh"), "describe: %s", line);
+        CHECK(strstr(line, "Catmull-Clark step") && strstr(line, "subdivided mesh") && strlen(line) < 256,
+              "describe: %s", line);
         printf("%s\n", line);
         q2n_surface_free(s);
         q2n_acc_info_free(&info);

@@ -28,7 +28,7 @@ static const char *needs_step(const q2n_mesh *m, int step, q2n_acc_method method
     if (step) snprintf(where, sizeof where, " of the %d-step mesh", step);
     for (int f = 0; f < m->nf; f++)
         if (q2n_face_size(m, f) != 4) {
-            snprintf(why, n, "face %d%s has %d vertices (the masks need quads)", f, where, q2n_face_size(m, f));
+            snprintf(why, n, "face %d%s has %d vertices", f, where, q2n_face_size(m, f));
             return why;
         }
     if (method != Q2N_ACC_G1) return NULL;
@@ -37,8 +37,7 @@ static const char *needs_step(const q2n_mesh *m, int step, q2n_acc_method method
     int bad = -1, ok = q2n_acc_evs_isolated(m, &r, &bad);
     q2n_acc_rings_free(&r);
     if (ok) return NULL;
-    snprintf(why, n, "face %d%s has more than one extraordinary vertex (acc-g1 needs EVs with "
-                     "regular one-rings)", bad, where);
+    snprintf(why, n, "face %d%s has two or more EVs", bad, where);
     return why;
 }
 
@@ -165,13 +164,12 @@ const char *q2n_acc_strategy_name(q2n_acc_strategy s)
 const char *q2n_acc_describe(const q2n_acc_info *info, const q2n_acc_options *opt, char *buf, int size)
 {
     q2n_acc_method me = opt ? opt->method : Q2N_ACC_3;
-    char steps[256] = "";
+    char steps[400] = "";
     if (info->subdiv_steps)
-        snprintf(steps, sizeof steps, "%d Catmull-Clark step%s first (%s), patches are on the "
-                                      "subdivided mesh; ", info->subdiv_steps,
-                 info->subdiv_steps > 1 ? "s" : "", info->reason);
-    snprintf(buf, (size_t)size, "%s%s%s: %s%d bicubic + %d biquintic patches, %d interior and %d "
-                                "boundary extraordinary vertices (max EV valence %d)",
+        snprintf(steps, sizeof steps, "%d Catmull-Clark step%s (%s), patches on the subdivided mesh: ",
+                 info->subdiv_steps, info->subdiv_steps > 1 ? "s" : "", info->reason);
+    snprintf(buf, (size_t)size, "%s%s%s: %s%d bicubic + %d biquintic, EVs %d interior + %d boundary "
+                                "(max valence %d)",
              q2n_acc_method_name(me), me == Q2N_ACC_G1 ? " " : "",
              me == Q2N_ACC_G1 ? q2n_acc_strategy_name(opt->strategy) : "", steps, info->n_bicubic,
              info->n_biquintic, info->n_ev_interior, info->n_ev_boundary, info->max_valence);

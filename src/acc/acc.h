@@ -70,8 +70,9 @@ q2n_status q2n_acc_parse_strategy(const char *s, q2n_acc_strategy *out, q2n_erro
 const char *q2n_acc_method_name(q2n_acc_method m);
 const char *q2n_acc_strategy_name(q2n_acc_strategy s);
 
-/* One line for stderr describing what was built ("acc-g1 cs-s: 1 Catmull-Clark step (...), 96
- * bicubic + 24 biquintic patches"); returns buf. */
+/* One line for stderr describing what was built, e.g. "acc-g1 cs-s: 1 Catmull-Clark step (face 0
+ * has two or more EVs), patches on the subdivided mesh: 0 bicubic + 24 biquintic, EVs 8 interior
+ * + 0 boundary (max valence 3)"; returns buf. */
 const char *q2n_acc_describe(const q2n_acc_info *info, const q2n_acc_options *opt, char *buf,
                              int size);
 
