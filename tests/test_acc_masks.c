@@ -428,6 +428,43 @@ static void test_distance(void)
     q2n_mesh_free(m);
 }
 
+/* ---------------------------------------------------------------- quality measure, closed form */
+
+/* Two bicubic patches across the edge x = 0: the plane z = 0 (x in [-1,0]) and the paraboloid
+ * z = x^2 + y^2 (x in [0,1]), y in [0,1].  Along the edge: n_B = (0,-2y,1)/sqrt(1+4y^2),
+ * K_B = 4/(1+4y^2)^2, H_B = (2+4y^2)/(1+4y^2)^(3/2), so [n̂]^2 = ∫_0^1 2 - 2/sqrt(1+4y^2) dy
+ * = 2 - asinh(2), and <c_G>, <c_M> are attained at the smallest 9-point Gauss node. */
+static void test_quality_closed_form(void)
+{
+    static const double pos[] = { -1, 0, 0, 0, 0, 0, 0, 1, 0, -1, 1, 0, 1, 0, 0, 1, 1, 0 };
+    static const int fs[] = { 0, 4, 8 }, fv[] = { 0, 1, 2, 3, 1, 4, 5, 2 };
+    q2n_mesh *m = NULL;
+    q2n_error err;
+    if (q2n_mesh_from_arrays(6, pos, 2, fs, fv, "two", &m, &err) != Q2N_OK) { CHECK(0, "%s", err.message); return; }
+    q2n_surface *s = q2n_surface_create(2);
+    double a[48], b[48];
+    static const double t2[4] = { 0, 0, 1.0 / 3, 1 }; /* Bernstein coefficients of t^2 */
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 4; i++) {
+            double *pa = a + 3 * (j * 4 + i), *pb = b + 3 * (j * 4 + i);
+            pa[0] = -1 + i / 3.0; pa[1] = j / 3.0; pa[2] = 0;
+            pb[0] = i / 3.0; pb[1] = j / 3.0; pb[2] = t2[i] + t2[j];
+        }
+    q2n_surface_set_bezier(s, 0, 3, 3, a);
+    q2n_surface_set_bezier(s, 1, 3, 3, b);
+    q2n_acc_quality q;
+    CHECK(q2n_acc_quality_measure(s, m, 9, &q, &err) == Q2N_OK, "%s", err.message);
+    const double y0 = (1 - 0.9681602395076261) / 2, y8 = (1 + 0.9681602395076261) / 2; /* GL9 ends */
+    CHECK(q.n_edges == 1 && q.n_points == 9, "edges %d", q.n_edges);
+    /* 9-point Gauss quadrature error of this integrand (poles at y = +-i/2): ~2e-9 */
+    CHECK_NEAR(q.normal_jump_l2, sqrt(2 - asinh(2.0)), 5e-9, "[n^] closed form");
+    CHECK_NEAR(q.normal_jump_max, atan(2 * y8), 1e-14, "max normal angle");
+    CHECK_NEAR(q.gauss_jump_max, 4 / pow(1 + 4 * y0 * y0, 2), 1e-13, "<c_G>");
+    CHECK_NEAR(q.mean_jump_max, (2 + 4 * y0 * y0) / pow(1 + 4 * y0 * y0, 1.5), 1e-13, "<c_M>");
+    q2n_surface_free(s);
+    q2n_mesh_free(m);
+}
+
 /* ---------------------------------------------------------------- API: preparation, options */
 
 static void test_api(void)
@@ -535,6 +572,7 @@ int main(void)
     test_api();
     test_remarks();
     test_distance();
+    test_quality_closed_form();
     test_regular_torus();
     test_boundary_tangents();
     test_g1_carpets();
