@@ -71,8 +71,8 @@ static double max_principal(const double *e)
 typedef struct mstats {
     int nf, nev, covered;
     double interp, njump, cjump, time_build, fd;
-    double kmax, kpos[3];
-    int kface;
+    double kmax, kpos[3], kev, kevpos[3]; /* largest |principal curvature|: all patches, extraordinary ones */
+    int kface, kevface;
 } mstats;
 
 /* Build regular + extraordinary patches and measure everything. */
@@ -150,6 +150,9 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
                 q2n_surface_eval(S, f, u, v, 2, e);
                 double k = max_principal(e);
                 if (k > st->kmax) { st->kmax = k; st->kface = f; memcpy(st->kpos, e, sizeof st->kpos); }
+                if (q2n_surface_kind(S, f) == Q2N_PATCH_COONS_GREGORY && k > st->kev) {
+                    st->kev = k; st->kevface = f; memcpy(st->kevpos, e, sizeof st->kevpos);
+                }
             }
     }
     /* finite differences on a few Coons–Gregory patches (incl. near a corner) */
@@ -224,10 +227,231 @@ static q2n_mesh *mg_star(int n, double lift, unsigned seed)
     return mesh;
 }
 
+/* One-ring of valence 8 around vertex 0, plus one quad closing the fan of spoke end s_0 so
+ * that s_0 is an interior vertex of valence 3 next to the valence-8 vertex. */
+static q2n_mesh *mg_star_3_8(unsigned seed)
+{
+    int n = 8, nv = 2 + 2 * n, nf = n + 1;
+    double *pos = malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = malloc(((size_t)nf + 1) * sizeof *fs), *fv = malloc(4 * (size_t)nf * sizeof *fv);
+    pos[0] = pos[1] = 0;
+    pos[2] = 0.5;
+    for (int k = 0; k < 2 * n; k++) {
+        double a = 2 * M_PI * k / (2 * n) + 0.04 * (2 * mg_rnd(&seed) - 1);
+        double rad = (k % 2 ? 1.25 : 1.0) * (1 + 0.08 * (2 * mg_rnd(&seed) - 1));
+        double *p = pos + 3 * (1 + k);
+        p[0] = rad * cos(a);
+        p[1] = rad * sin(a);
+        p[2] = 0.5 * exp(-0.7 * rad * rad) + 0.2 * p[0] * p[1];
+    }
+    double *X = pos + 3 * (nv - 1); /* beyond s_0 = vertex 1 */
+    X[0] = 1.7, X[1] = 0, X[2] = 0.1;
+    for (int s = 0; s < n; s++) {
+        fs[s] = 4 * s;
+        fv[4 * s + 0] = 0;
+        fv[4 * s + 1] = 1 + 2 * s;
+        fv[4 * s + 2] = 1 + 2 * s + 1;
+        fv[4 * s + 3] = 1 + (2 * s + 2) % (2 * n);
+    }
+    /* (q_0, s_0, q_7, X): q_0 = vertex 2, s_0 = vertex 1, q_7 = vertex 2n */
+    fs[n] = 4 * n;
+    fv[4 * n + 0] = 2; fv[4 * n + 1] = 1; fv[4 * n + 2] = 2 * n; fv[4 * n + 3] = nv - 1;
+    fs[nf] = 4 * nf;
+    q2n_mesh *mesh = NULL;
+    q2n_error err;
+    if (q2n_mesh_from_arrays(nv, pos, nf, fs, fv, "star_3_8", &mesh, &err)) fprintf(stderr, "mg_star_3_8: %s\n", err.message);
+    free(pos); free(fs); free(fv);
+    return mesh;
+}
+
+/* A boundary vertex (vertex 0) with k quads fanned over a half turn, two rings deep: its
+ * valence is k+1. */
+static q2n_mesh *mg_halfstar(int k, unsigned seed)
+{
+    int nr = 2 * k + 1;                      /* vertices per ring (spokes and between) */
+    int nv = 1 + 2 * nr, nf = k + 2 * k;      /* ring 1 faces k, ring 2: 2 quads per sector */
+    double *pos = malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = malloc(((size_t)nf + 1) * sizeof *fs), *fv = malloc(4 * (size_t)nf * sizeof *fv);
+    pos[0] = pos[1] = pos[2] = 0;
+    for (int r = 1; r <= 2; r++)
+        for (int j = 0; j < nr; j++) {
+            double a = M_PI * j / (nr - 1) + (j > 0 && j < nr - 1 ? 0.05 * (2 * mg_rnd(&seed) - 1) : 0);
+            double rad = r * (j % 2 ? 1.2 : 1.0) * (1 + 0.05 * (2 * mg_rnd(&seed) - 1));
+            double *p = pos + 3 * (1 + (r - 1) * nr + j);
+            p[0] = rad * cos(a);
+            p[1] = rad * sin(a);
+            p[2] = 0.3 * sin(p[0]) * cos(0.8 * p[1]) + 0.1 * rad * rad;
+        }
+    int f = 0;
+    for (int s = 0; s < k; s++) { /* ring 1: (0, a_{2s}, a_{2s+1}, a_{2s+2}) counter-clockwise */
+        fs[f] = 4 * f;
+        fv[4 * f + 0] = 0; fv[4 * f + 1] = 1 + 2 * s; fv[4 * f + 2] = 2 + 2 * s; fv[4 * f + 3] = 3 + 2 * s;
+        f++;
+    }
+    for (int j = 0; j + 1 < nr; j++) { /* ring 2: between ring-1 j, j+1 and ring-2 j, j+1 */
+        int a0 = 1 + j, a1 = 2 + j, b0 = 1 + nr + j, b1 = 2 + nr + j;
+        fs[f] = 4 * f;
+        fv[4 * f + 0] = a0; fv[4 * f + 1] = b0; fv[4 * f + 2] = b1; fv[4 * f + 3] = a1;
+        f++;
+    }
+    fs[f] = 4 * f;
+    q2n_mesh *mesh = NULL;
+    q2n_error err;
+    if (q2n_mesh_from_arrays(nv, pos, f, fs, fv, "halfstar", &mesh, &err)) fprintf(stderr, "mg_halfstar: %s\n", err.message);
+    free(pos); free(fs); free(fv);
+    return mesh;
+}
+
+/* Closed cube (eight valence-3 vertices next to each other), jittered. */
+static q2n_mesh *mg_cube(unsigned seed)
+{
+    static const int F[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+    double pos[24];
+    int fs[7], fv[24];
+    for (int v = 0; v < 8; v++) {
+        pos[3 * v + 0] = ((v & 1) ^ ((v >> 1) & 1) ? 1 : -1) + 0.1 * (2 * mg_rnd(&seed) - 1);
+        pos[3 * v + 1] = ((v >> 1) & 1 ? 1 : -1) + 0.1 * (2 * mg_rnd(&seed) - 1);
+        pos[3 * v + 2] = (v >> 2 ? 1.3 : -1) + 0.1 * (2 * mg_rnd(&seed) - 1);
+    }
+    for (int f = 0; f < 6; f++) {
+        fs[f] = 4 * f;
+        for (int i = 0; i < 4; i++) fv[4 * f + i] = F[f][i];
+    }
+    fs[6] = 24;
+    q2n_mesh *mesh = NULL;
+    q2n_error err;
+    if (q2n_mesh_from_arrays(8, pos, 6, fs, fv, "cube", &mesh, &err)) fprintf(stderr, "mg_cube: %s\n", err.message);
+    return mesh;
+}
+
+/* q2n_ev_regular_partials against q2n_augmented_eval (orders <= 2) and central differences of it
+ * (orders 3 and 4). */
+static void test_regular_partials(void)
+{
+    q2n_mesh *m = mg_torus(9, 7, 3, 1, 0.15, 1, 5), *g = mg_grid(3, 3, 1);
+    q2n_mesh_free(g); /* (meshgen.h: keep every generator used) */
+    CHECK(m != NULL, "torus");
+    if (!m) return;
+    const char *names[2] = {"D5C2P2S4", "D5C2P4S6"};
+    double worst_low = 0, worst_fd = 0;
+    for (int c = 0; c < 2; c++) {
+        q2n_param_options po = {Q2N_PARAM_CENTRIPETAL, -1};
+        double *iv = NULL;
+        q2n_error err;
+        q2n_param_edge_intervals(m, &po, &iv, &err);
+        q2n_augmented_patch P;
+        CHECK(q2n_augmented_setup(m, 10, q2n_spline_class_find(names[c]), &po, iv, &P), "setup %s", names[c]);
+        unsigned seed = 9;
+        for (int t = 0; t < 4; t++) {
+            double u = 0.1 + 0.8 * mg_rnd(&seed), v = 0.1 + 0.8 * mg_rnd(&seed), h = 1e-4;
+            double D[27], e[18], eu[2][18], ev[2][18];
+            q2n_ev_regular_partials(&P, u, v, D);
+            q2n_augmented_eval(&P, u, v, 2, e);
+            for (int s = 0; s < 2; s++) {
+                q2n_augmented_eval(&P, u + (s ? -h : h), v, 2, eu[s]);
+                q2n_augmented_eval(&P, u, v + (s ? -h : h), 2, ev[s]);
+            }
+            static const int map[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+            for (int o = 0; o < 6; o++)
+                for (int k = 0; k < 3; k++)
+                    worst_low = fmax(worst_low, fabs(D[3 * (map[o][0] * 3 + map[o][1]) + k] - e[3 * o + k]));
+            for (int k = 0; k < 3; k++) {
+                double fd21 = (eu[0][12 + k] - eu[1][12 + k]) / (2 * h);             /* ∂u Suv */
+                double fd12 = (eu[0][15 + k] - eu[1][15 + k]) / (2 * h);             /* ∂u Svv */
+                double fd22 = (eu[0][15 + k] - 2 * e[15 + k] + eu[1][15 + k]) / (h * h); /* ∂uu Svv */
+                double fd12b = (ev[0][12 + k] - ev[1][12 + k]) / (2 * h);            /* ∂v Suv */
+                worst_fd = fmax(worst_fd, fabs(D[3 * 7 + k] - fd21));
+                worst_fd = fmax(worst_fd, fabs(D[3 * 5 + k] - fd12));
+                worst_fd = fmax(worst_fd, fabs(D[3 * 5 + k] - fd12b));
+                worst_fd = fmax(worst_fd, fabs(D[3 * 8 + k] - fd22) / 100);
+            }
+        }
+        free(iv);
+    }
+    CHECK(worst_low <= 1e-12, "regular partials vs q2n_augmented_eval: %.3g", worst_low);
+    CHECK(worst_fd <= 1e-5, "regular partials of order 3, 4 vs central differences: %.3g", worst_fd);
+    printf("regular partials: orders <= 2 vs q2n_augmented_eval %.2e, orders 3-4 vs differences %.2e\n", worst_low,
+           worst_fd);
+    q2n_mesh_free(m);
+}
+
+/* Regular patches stay untouched; non-quad meshes are refused. */
+static void test_contract(void)
+{
+    const char *path = chk_shared_mesh("gismo_ev_valence5_carpet.obj");
+    q2n_mesh *m = path ? NULL : mg_star_3_8(3);
+    q2n_error err;
+    if (path) q2n_mesh_read_obj(path, &m, &err);
+    CHECK(m != NULL, "contract mesh");
+    if (!m) return;
+    q2n_augmented_options a = {NULL, {Q2N_PARAM_CENTRIPETAL, -1}};
+    q2n_extraordinary_options x = {NULL, a.param, Q2N_EV_PATCH_DEFAULT};
+    q2n_surface *S = NULL;
+    q2n_augmented_build(m, &a, NULL, &S, &err);
+    int nreg = q2n_surface_count(S, Q2N_PATCH_AUGMENTED);
+    double *before = malloc(sizeof(double) * 18 * (size_t)m->nf);
+    for (int f = 0; f < m->nf; f++)
+        if (q2n_surface_kind(S, f) == Q2N_PATCH_AUGMENTED) q2n_surface_eval(S, f, 0.3, 0.7, 2, before + 18 * f);
+    CHECK(q2n_extraordinary_build(m, &x, NULL, S, &err) == Q2N_OK, "build: %s", err.message);
+    CHECK(q2n_surface_count(S, Q2N_PATCH_AUGMENTED) == nreg, "regular patches kept");
+    int same = 1;
+    for (int f = 0; f < m->nf; f++)
+        if (q2n_surface_kind(S, f) == Q2N_PATCH_AUGMENTED) {
+            double e[18];
+            q2n_surface_eval(S, f, 0.3, 0.7, 2, e);
+            same &= memcmp(e, before + 18 * f, sizeof e) == 0;
+        }
+    CHECK(same, "regular patches unchanged");
+    CHECK(q2n_ev_patch_order(&x) == 2, "default order for a C2 class");
+    q2n_extraordinary_options x1 = {q2n_spline_class_find("D3C1P2S4"), a.param, Q2N_EV_PATCH_DEFAULT};
+    CHECK(q2n_ev_patch_order(&x1) == 1, "default order for a C1 class");
+    q2n_ev_patch_kind kd;
+    CHECK(q2n_ev_patch_parse("g1", &kd) == 0 && kd == Q2N_EV_PATCH_G1, "parse g1");
+    CHECK(q2n_ev_patch_parse("G2", &kd) == 0 && kd == Q2N_EV_PATCH_G2, "parse G2");
+    CHECK(q2n_ev_patch_parse("g3", &kd) != 0, "parse g3 refused");
+    free(before);
+    q2n_surface_free(S);
+    q2n_mesh_free(m);
+    /* a triangle: refused with a message */
+    double tp[15] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 0.5, 0};
+    int tfs[3] = {0, 4, 7}, tfv[7] = {0, 1, 2, 3, 1, 4, 2};
+    q2n_mesh *t = NULL;
+    CHECK(q2n_mesh_from_arrays(5, tp, 2, tfs, tfv, "quad+tri", &t, &err) == Q2N_OK, "mixed mesh: %s", err.message);
+    if (t) {
+        q2n_surface *S2 = q2n_surface_create(t->nf);
+        CHECK(q2n_extraordinary_build(t, &x, NULL, S2, &err) == Q2N_ERR_UNSUPPORTED && strstr(err.message, "quad"),
+              "non-quad mesh refused: %s", err.message);
+        q2n_surface_free(S2);
+        q2n_mesh_free(t);
+    }
+}
+
 int main(void)
 {
     mstats st;
+    test_regular_partials();
+    test_contract();
     printf("| mesh | F | EV patches | interp | normal jump | curv. jump | FD | max |kappa| | build s |\n");
+    /* corner cases */
+    {
+        q2n_mesh *m = mg_star_3_8(17);
+        CHECK(m && m->valence[0] == 8 && m->valence[1] == 3 && !m->vert_boundary[1], "valence 3 next to 8");
+        if (m && run_mesh("valence 3 next to valence 8", m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, 1, &st))
+            check_stats("valence 3 next to valence 8", &st, 1);
+        q2n_mesh_free(m);
+        for (int k = 3; k <= 6; k++) {
+            char lab[64];
+            snprintf(lab, sizeof lab, "boundary vertex of valence %d", k + 1);
+            m = mg_halfstar(k, 23 + k);
+            CHECK(m && m->vert_boundary[0] && m->valence[0] == k + 1, "%s", lab);
+            if (m && run_mesh(lab, m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, 1, &st)) check_stats(lab, &st, 1);
+            q2n_mesh_free(m);
+        }
+        m = mg_cube(29);
+        if (m && run_mesh("closed cube (adjacent valence 3)", m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, 1, &st))
+            check_stats("closed cube (adjacent valence 3)", &st, 1);
+        q2n_mesh_free(m);
+    }
     /* a single extraordinary vertex with its one-ring: every patch is a Coons–Gregory patch */
     for (int n = 3; n <= 8; n++) {
         q2n_mesh *m = mg_star(n, 0.8, 11 + n);
@@ -264,6 +488,51 @@ int main(void)
         char lab[96];
         snprintf(lab, sizeof lab, "%s%s", shared[i], sub ? " (subdivided)" : "");
         if (run_mesh(lab, m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, 1, &st)) check_stats(lab, &st, 1);
+        q2n_mesh_free(m);
+    }
+    /* other classes, G1 patches and the mean parametrization on a selection */
+    static const char *const sel[] = {"gismo_ev_valence3_carpet.obj", "gismo_ev_valence5_carpet.obj",
+                                      "gismo_ev_valence6_carpet.obj", "gismo_ev_valence7_carpet.obj",
+                                      "gismo_ev_valence8_carpet.obj", "gismo_polycube.obj", "osd_catmark_cube.obj",
+                                      "osd_catmark_xord_boundary.obj", "osd_catmark_gregory_test1.obj",
+                                      "osd_catmark_helmet.obj", "osd_catmark_pawn.obj", NULL};
+    static const struct { const char *cls; q2n_param_method pm; q2n_ev_patch_kind kind; const char *tag; } var[] = {
+        {"D3C1P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_DEFAULT, "Catmull-Rom, G1"},
+        {"D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G1, "D5C2P2S4, G1"},
+        {"D5C2P4S6", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, "D5C2P4S6 (w=6), G2"},
+        {"D5C2P2S4", Q2N_PARAM_MEAN, Q2N_EV_PATCH_G2, "D5C2P2S4, G2, mean"}};
+    for (int vi = 0; vi < 4; vi++)
+        for (int i = 0; sel[i]; i++) {
+            const char *path = chk_shared_mesh(sel[i]);
+            if (!path) { SKIP("%s not found (../shared/meshes)", sel[i]); continue; }
+            q2n_mesh *m = NULL;
+            q2n_error err;
+            if (q2n_mesh_read_obj(path, &m, &err)) { CHECK(0, "read %s: %s", sel[i], err.message); continue; }
+            char lab[128];
+            snprintf(lab, sizeof lab, "%s [%s]", sel[i], var[vi].tag);
+            int g2 = var[vi].kind == Q2N_EV_PATCH_G2;
+            if (run_mesh(lab, m, var[vi].cls, var[vi].pm, var[vi].kind, g2, &st)) check_stats(lab, &st, g2);
+            q2n_mesh_free(m);
+        }
+    /* the G+Smo carpets: largest principal curvature and where, augmented vs mean intervals */
+    printf("\n| carpet | region | augmented: max |kappa| (face; x, y, z) | mean: max |kappa| (face; x, y, z) |\n");
+    for (int i = 0; i < 5; i++) {
+        const char *path = chk_shared_mesh(sel[i]);
+        if (!path) continue;
+        q2n_mesh *m = NULL;
+        q2n_error err;
+        if (q2n_mesh_read_obj(path, &m, &err)) continue;
+        mstats a, b;
+        int ok = run_mesh("carpet (augmented)", m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, 0, &a) &&
+                 run_mesh("carpet (mean)", m, "D5C2P2S4", Q2N_PARAM_MEAN, Q2N_EV_PATCH_G2, 0, &b);
+        CHECK(ok && a.kmax > 0 && b.kmax > 0 && isfinite(a.kmax) && isfinite(b.kmax), "%s: curvature extremes", sel[i]);
+        if (ok) {
+            printf("| %s | all | %.3g (%d; %.3f, %.3f, %.3f) | %.3g (%d; %.3f, %.3f, %.3f) |\n", sel[i], a.kmax, a.kface,
+                   a.kpos[0], a.kpos[1], a.kpos[2], b.kmax, b.kface, b.kpos[0], b.kpos[1], b.kpos[2]);
+            printf("| %s | EV patches | %.3g (%d; %.3f, %.3f, %.3f) | %.3g (%d; %.3f, %.3f, %.3f) |\n", sel[i], a.kev,
+                   a.kevface, a.kevpos[0], a.kevpos[1], a.kevpos[2], b.kev, b.kevface, b.kevpos[0], b.kevpos[1],
+                   b.kevpos[2]);
+        }
         q2n_mesh_free(m);
     }
     CHECK_DONE("test_extraordinary");

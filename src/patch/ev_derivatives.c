@@ -7,17 +7,23 @@
  *     derivatives divided by its edge intervals (Lemma 1 / eq. (15) of seed 003: at a corner the
  *     local parametrization functions have vanishing derivatives, so ∂u S = d ∂x S,
  *     ∂uv S = d e ∂xy S, ...), and the four edges get the directions (±1,0), (0,±1);
- *   - otherwise it is the least-squares polynomial P of Appendix B (degree 3 for interior
- *     valence n >= 5, else 2) interpolating the vertex and approximating the 2n points q_j taken
- *     on cubic Hermite segments whose end tangents are the estimates (B.1)–(B.2); edge k gets the
- *     direction (cos η_k, sin η_k) with η from the angles between the tangent estimates.
- * Choices made where Appendix B leaves freedom (documented in docs/extraordinary.md):
- *   r_j in (B.3) is the parameter value of q_j (d_i/4, d_i/2), so that the directional
- *   derivatives of P are derivatives in the edge's local variable; valence-4 interior vertices
- *   and boundary vertices with at most two faces use η = kπ/2 so that section curves through
- *   them stay C2; boundary vertices spread their edge angles over a half turn (a quarter turn
- *   for corners); the normal equations get a relative ridge of 1e-9 (boundary fans may not
- *   determine every coefficient). */
+ *   - otherwise it is a least-squares local polynomial in the spirit of Appendix B, eq. (B.3):
+ *     the fan is mapped onto the plane with angles η_k proportional to the angles between the
+ *     edges projected onto the fan's tangent plane (summing to 2π inside, π on the boundary,
+ *     π/2 at a corner; η_k = kπ/2 at valence-4 interior vertices and boundary vertices with at
+ *     most two faces, so that section curves through them stay C2), each edge at the distance
+ *     d_k · |projected edge| / d_k of its local variable.  J1 is the linear map that best sends
+ *     the planar edge vectors X_k onto the spatial ones (weights 1/|X_k|^2); the normal part of
+ *     J2 is the quadratic form fitting the heights of the one-ring neighbours and of the far
+ *     corners of the faces (at X_k + X_k+1) above the tangent plane; the tangential part of J2
+ *     only carries each edge's change of speed (accelerations along the edges).
+ * Why not (B.1)–(B.2) as printed: on fans with very different edge lengths the Bessel-like
+ * estimate (B.1) mixes long edges into the tangent of a short one (on osd_catmark_righthanded a
+ * tangent pointed backwards along its edge) and the degree-3 fit through 2n points is nearly
+ * interpolating and ill-conditioned; both produced folded Coons–Gregory patches.  The
+ * construction above keeps the paper's idea (one local polynomial per vertex, sampled along the
+ * edge directions, hence G1/G2-compatible data) with a better conditioned fit.
+ * docs/extraordinary.md gives the figures. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -115,38 +121,6 @@ static double fan_span(const q2n_mesh *m, int v, int n)
 {
     if (!m->vert_boundary[v]) return 2 * M_PI;
     return n <= 2 ? 0.5 * M_PI : M_PI;
-}
-
-/* Preliminary (uniform) angle of edge k of the fan. */
-static double uniform_angle(const q2n_mesh *m, int v, int n, int k)
-{
-    if (!m->vert_boundary[v]) return 2 * M_PI * k / n;
-    return n <= 1 ? 0 : fan_span(m, v, n) * k / (n - 1);
-}
-
-void q2n_ev_tangent_estimate(const q2n_mesh *m, const double *edge_iv, int v, int k, double T[3])
-{
-    int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
-    int n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, edges, other, faces);
-    const double *p0 = q2n_mesh_vpos(m, v);
-    double fk[3], fbar[3] = {0, 0, 0}, dk, dbar = 0;
-    if (n <= 0 || k < 0 || k >= n) { T[0] = T[1] = T[2] = 0; return; }
-    q2n_v3_sub(fk, q2n_mesh_vpos(m, other[k]), p0);
-    dk = edge_iv[edges[k]];
-    double tk = uniform_angle(m, v, n, k);
-    for (int j = 0; j < n; j++) { /* eq. (B.2) */
-        if (j == k) continue;
-        double c = cos(uniform_angle(m, v, n, j) - tk), fj[3];
-        q2n_v3_sub(fj, q2n_mesh_vpos(m, other[j]), p0);
-        dbar -= c * edge_iv[edges[j]];
-        q2n_v3_axpy(fbar, fabs(c), fj);
-    }
-    if (!(dbar > 1e-3 * dk)) { /* no opposite edge to speak of: the chord slope */
-        q2n_v3_scale(T, 1.0 / dk, fk);
-        return;
-    }
-    double al = dbar / (dk + dbar); /* eq. (B.1) */
-    for (int c = 0; c < 3; c++) T[c] = al / dk * fk[c] - (1 - al) / dbar * fbar[c];
 }
 
 /* ------------------------------------------------------------ jets */

@@ -52,11 +52,6 @@ int q2n_ev_patch_order(const q2n_extraordinary_options *opt);
 struct q2n_augmented_patch;
 void q2n_ev_regular_partials(const struct q2n_augmented_patch *p, double u, double v, double D[27]);
 
-/* Appendix B, eq. (B.1)–(B.2): the heuristic first-derivative estimate T_{p0,pi} at vertex v
- * for its k-th edge in counter-clockwise order (see q2n_ev_vertex_fan); boundary vertices use the
- * same formula with the edge angles spread over a half turn. */
-void q2n_ev_tangent_estimate(const q2n_mesh *m, const double *edge_iv, int v, int k, double T[3]);
-
 /* Counter-clockwise fan of vertex v: edges[0..n-1] (n = valence), other[k] the vertex at the far
  * end of edges[k]; face k lies between edges k and k+1 (cyclic for interior vertices, k < n-1
  * on the boundary).  Returns n, or -1 when more than maxn edges. */
