@@ -456,7 +456,18 @@ static void test_quality_closed_form(void)
     CHECK(q2n_acc_quality_measure(s, m, 9, &q, &err) == Q2N_OK, "%s", err.message);
     const double y0 = (1 - 0.9681602395076261) / 2, y8 = (1 + 0.9681602395076261) / 2; /* GL9 ends */
     CHECK(q.n_edges == 1 && q.n_points == 9, "edges %d", q.n_edges);
-    /* 9-point Gauss quadrature error of this integrand (poles at y = +-i/2): ~2e-9 */
+    /* the integral itself, and its 9-point Gauss–Legendre value (tabulated nodes and weights;
+     * the rule's own error is 1.6e-9 here: poles of the integrand at y = +-i/2) */
+    static const double gx[5] = { 0.0, 0.3242534234038089, 0.6133714327005904, 0.8360311073266358, 0.9681602395076261 };
+    static const double gw[5] = { 0.3302393550012598, 0.3123470770400029, 0.2606106964029354, 0.1806481606948574,
+                                  0.0812743883615744 };
+    double gl = 0;
+    for (int i = 0; i < 5; i++)
+        for (int sg = -1; sg <= (i ? 1 : -1); sg += 2) {
+            double y = (1 + sg * gx[i]) / 2;
+            gl += gw[i] / 2 * (2 - 2 / sqrt(1 + 4 * y * y));
+        }
+    CHECK_NEAR(q.normal_jump_l2, sqrt(gl), 1e-14, "[n^] = 9-point rule of the closed form");
     CHECK_NEAR(q.normal_jump_l2, sqrt(2 - asinh(2.0)), 5e-9, "[n^] closed form");
     CHECK_NEAR(q.normal_jump_max, atan(2 * y8), 1e-14, "max normal angle");
     CHECK_NEAR(q.gauss_jump_max, 4 / pow(1 + 4 * y0 * y0, 2), 1e-13, "<c_G>");
