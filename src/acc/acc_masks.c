@@ -3,7 +3,7 @@
  * (bicubic away from EVs, biquintic G1 around them, see acc_g1.c).
  *
  * Boundary rules (formulas.md §1.4; Loop–Schaefer's own boundary rules were not available):
- *  - every boundary vertex: corner point = limit of the cubic B-spline boundary curve,
+ *  - boundary vertices with 2 or more faces: corner point = limit of the B-spline boundary curve,
  *    (e_0 + 4v + e_k)/6, boundary edge points (2v + e)/3 — exact for the boundary curve;
  *  - valence-2 boundary vertices are corners, as in q2n_mesh_subdivide (and OpenSubdiv
  *    VTX_BOUNDARY_EDGE_AND_CORNER): corner point v, which makes the corner patch the bicubic
