@@ -326,6 +326,55 @@ static void mark_inward(const q2n_mesh *me, q2n_export_topo *t)
     free(vol);
 }
 
+/* Connected components (union-find over interior edges), numbered in face order; a component
+ * is closed when none of its half-edges lies on the boundary.  Returns 0 when out of memory. */
+static int build_components(const q2n_mesh *me, q2n_export_topo *t)
+{
+    int *parent = malloc(sizeof(int) * (size_t)me->nf), *rc = malloc(sizeof(int) * (size_t)me->nf);
+    t->comp_closed = malloc(sizeof(int) * (size_t)me->nf);
+    t->comp_inward = calloc((size_t)me->nf, sizeof(int));
+    if (!parent || !rc || !t->comp_closed || !t->comp_inward) {
+        free(parent);
+        free(rc);
+        return 0;
+    }
+    for (int f = 0; f < me->nf; f++) { parent[f] = f; rc[f] = -1; }
+    for (int h = 0; h < me->nh; h++) {
+        int g = me->he_twin[h];
+        if (g < 0) continue;
+        int a = uf_find(parent, me->he_face[h]), b = uf_find(parent, me->he_face[g]);
+        if (a != b) parent[a > b ? a : b] = a < b ? a : b;
+    }
+    for (int f = 0; f < me->nf; f++) {
+        int r = uf_find(parent, f);
+        if (rc[r] < 0) { rc[r] = t->ncomp; t->comp_closed[t->ncomp] = 1; t->ncomp++; }
+        t->face_comp[f] = rc[r];
+    }
+    for (int h = 0; h < me->nh; h++)
+        if (me->he_twin[h] < 0) t->comp_closed[t->face_comp[me->he_face[h]]] = 0;
+    t->all_closed = 1;
+    for (int c = 0; c < t->ncomp; c++) t->all_closed &= t->comp_closed[c];
+    free(parent);
+    free(rc);
+    return 1;
+}
+
+/* Edge curves: the boundary of the patch of edge_he[e], in that patch's parameter direction
+ * (sides 0, 1 run origin -> dest, sides 2, 3 dest -> origin); he_sense says which half-edges
+ * run along their curve.  Returns 0 when out of memory. */
+static int build_edges(const q2n_nurbs_model *m, q2n_export_topo *t)
+{
+    const q2n_mesh *me = m->mesh;
+    for (int e = 0; e < me->ne; e++) {
+        int h = me->edge_he[e], f = me->he_face[h], side = h - me->face_start[f], fwd = side < 2;
+        if (q2n_export_side_curve(&m->patches[f], side, &t->edge_curve[e]) != Q2N_OK) return 0;
+        t->edge_v[2 * e] = fwd ? q2n_he_origin(me, h) : q2n_he_dest(me, h);
+        t->edge_v[2 * e + 1] = fwd ? q2n_he_dest(me, h) : q2n_he_origin(me, h);
+    }
+    for (int h = 0; h < me->nh; h++) t->he_sense[h] = q2n_he_origin(me, h) == t->edge_v[2 * me->he_edge[h]];
+    return 1;
+}
+
 q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q2n_error *err)
 {
     memset(t, 0, sizeof *t);
@@ -341,12 +390,7 @@ q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q
     t->edge_v = malloc(sizeof(int) * 2 * (size_t)me->ne);
     t->he_sense = malloc(sizeof(int) * (size_t)me->nh);
     t->face_comp = malloc(sizeof(int) * (size_t)me->nf);
-    int *parent = malloc(sizeof(int) * (size_t)me->nf);
-    if (!t->vpos || !t->vused || !t->edge_curve || !t->edge_v || !t->he_sense || !t->face_comp || !parent) {
-        free(parent);
-        q2n_export_topo_free(t);
-        return q2n_error_set(err, Q2N_ERR_NOMEM, "export: out of memory (%d faces)", me->nf);
-    }
+    if (!t->vpos || !t->vused || !t->edge_curve || !t->edge_v || !t->he_sense || !t->face_comp) goto oom;
     /* vertices: the corner of the first patch that uses each vertex */
     for (int h = 0; h < me->nh; h++) {
         int v = me->face_vert[h], f = me->he_face[h];
@@ -354,49 +398,14 @@ q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q
         t->vused[v] = 1;
         side_point(&m->patches[f], h - me->face_start[f], 0.0, t->vpos + 3 * v);
     }
-    st = check_watertight(m, t, err);
-    /* edges: the boundary of the patch of edge_he[e], in that patch's parameter direction */
-    for (int e = 0; e < me->ne && st == Q2N_OK; e++) {
-        int h = me->edge_he[e], f = me->he_face[h], side = h - me->face_start[f];
-        if (q2n_export_side_curve(&m->patches[f], side, &t->edge_curve[e]) != Q2N_OK)
-            st = q2n_error_set(err, Q2N_ERR_NOMEM, "export: out of memory (edge %d)", e);
-        int fwd = side < 2; /* sides 0, 1 run along u / v increasing = origin -> dest */
-        t->edge_v[2 * e] = fwd ? q2n_he_origin(me, h) : q2n_he_dest(me, h);
-        t->edge_v[2 * e + 1] = fwd ? q2n_he_dest(me, h) : q2n_he_origin(me, h);
-    }
-    for (int h = 0; h < me->nh && st == Q2N_OK; h++)
-        t->he_sense[h] = q2n_he_origin(me, h) == t->edge_v[2 * me->he_edge[h]];
-    /* connected components (union-find over interior edges), numbered in face order */
-    for (int f = 0; f < me->nf; f++) parent[f] = f;
-    for (int h = 0; h < me->nh; h++) {
-        int g = me->he_twin[h];
-        if (g < 0) continue;
-        int a = uf_find(parent, me->he_face[h]), b = uf_find(parent, me->he_face[g]);
-        if (a != b) parent[a > b ? a : b] = a < b ? a : b;
-    }
-    for (int f = 0; f < me->nf; f++) t->face_comp[f] = -1;
-    int *root_comp = parent; /* reuse: map roots to component numbers in a second array */
-    int *rc = malloc(sizeof(int) * (size_t)me->nf);
-    t->comp_closed = malloc(sizeof(int) * (size_t)me->nf);
-    t->comp_inward = calloc((size_t)me->nf, sizeof(int));
-    if (!rc || !t->comp_closed || !t->comp_inward) {
-        free(rc); free(parent);
+    if ((st = check_watertight(m, t, err)) != Q2N_OK) {
         q2n_export_topo_free(t);
-        return q2n_error_set(err, Q2N_ERR_NOMEM, "export: out of memory (%d faces)", me->nf);
+        return st;
     }
-    for (int f = 0; f < me->nf; f++) rc[f] = -1;
-    for (int f = 0; f < me->nf; f++) {
-        int r = uf_find(root_comp, f);
-        if (rc[r] < 0) { rc[r] = t->ncomp; t->comp_closed[t->ncomp] = 1; t->ncomp++; }
-        t->face_comp[f] = rc[r];
-    }
-    for (int h = 0; h < me->nh; h++)
-        if (me->he_twin[h] < 0) t->comp_closed[t->face_comp[me->he_face[h]]] = 0;
-    t->all_closed = 1;
-    for (int c = 0; c < t->ncomp; c++) t->all_closed &= t->comp_closed[c];
+    if (!build_edges(m, t) || !build_components(me, t)) goto oom;
     mark_inward(me, t);
-    free(rc);
-    free(parent);
-    if (st != Q2N_OK) q2n_export_topo_free(t);
-    return st;
+    return Q2N_OK;
+oom:
+    q2n_export_topo_free(t);
+    return q2n_error_set(err, Q2N_ERR_NOMEM, "export: out of memory (%d faces)", me->nf);
 }

@@ -175,17 +175,15 @@ static int step_context(step_out *o, const q2n_export_options *opt, const char *
     q2n_strbuf *b = &o->b;
     int app = step_begin(o);
     q2n_strbuf_puts(b, "APPLICATION_CONTEXT('core data for automotive mechanical design processes');\n");
-    int apd = step_begin(o);
+    step_begin(o);
     q2n_strbuf_printf(b, "APPLICATION_PROTOCOL_DEFINITION('international standard','automotive_design',2000,#%d);\n",
                       app);
-    (void)apd;
     int pc = step_begin(o);
     q2n_strbuf_printf(b, "PRODUCT_CONTEXT('',#%d,'mechanical');\n", app);
     int prod = step_begin(o);
     q2n_strbuf_printf(b, "PRODUCT('%s','%s','',(#%d));\n", name, name, pc);
-    int prc = step_begin(o);
+    step_begin(o);
     q2n_strbuf_printf(b, "PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#%d));\n", prod);
-    (void)prc;
     int pdf = step_begin(o);
     q2n_strbuf_printf(b, "PRODUCT_DEFINITION_FORMATION('','',#%d);\n", prod);
     int pdc = step_begin(o);
@@ -220,90 +218,103 @@ static int step_context(step_out *o, const q2n_export_options *opt, const char *
     return ctx;
 }
 
+/* One face: its surface, four ORIENTED_EDGEs on the shared EDGE_CURVEs, the loop, the bound. */
+static int step_face(step_out *o, const q2n_nurbs_model *m, const q2n_export_topo *t, const int *eid, int f)
+{
+    const q2n_mesh *me = m->mesh;
+    int srf = step_surface(o, &m->patches[f]), oe[4];
+    for (int i = 0; i < 4; i++) {
+        int h = q2n_face_he(me, f, i);
+        oe[i] = step_begin(o);
+        q2n_strbuf_printf(&o->b, "ORIENTED_EDGE('',*,*,#%d,%s);\n", eid[me->he_edge[h]], t->he_sense[h] ? ".T." : ".F.");
+    }
+    int loop = step_begin(o);
+    q2n_strbuf_puts(&o->b, "EDGE_LOOP('',");
+    put_id_list(&o->b, oe, 4);
+    q2n_strbuf_puts(&o->b, ");\n");
+    /* an inward closed component: face normal = -(Su x Sv) and, so that the loop still runs
+     * counter-clockwise about it, the bound reversed too (ISO 10303-42 face_bound.orientation) */
+    const char *sense = t->comp_inward[t->face_comp[f]] ? ".F." : ".T.";
+    int bound = step_begin(o);
+    q2n_strbuf_printf(&o->b, "FACE_OUTER_BOUND('',#%d,%s);\n", loop, sense);
+    int id = step_begin(o);
+    q2n_strbuf_printf(&o->b, "ADVANCED_FACE('',(#%d),#%d,%s);\n", bound, srf, sense);
+    return id;
+}
+
+/* Shells per component, then the solids or surface model, the shape representation in context
+ * ctx and its link to the product (pds).  list has room for max(nf, ncomp) ids. */
+static void step_root(step_out *o, const q2n_export_topo *t, const int *fid, int *shell, int *list,
+                      const char *name, int ctx, int pds)
+{
+    for (int c = 0; c < t->ncomp; c++) {
+        int n = 0;
+        for (int f = 0; f < t->nf; f++)
+            if (t->face_comp[f] == c) list[n++] = fid[f];
+        shell[c] = step_begin(o);
+        q2n_strbuf_puts(&o->b, t->comp_closed[c] ? "CLOSED_SHELL('',": "OPEN_SHELL('',");
+        put_id_list(&o->b, list, n);
+        q2n_strbuf_puts(&o->b, ");\n");
+    }
+    int origin_pt = step_point(o, (const double[3]){0, 0, 0});
+    int dz = step_begin(o);
+    q2n_strbuf_puts(&o->b, "DIRECTION('',(0.,0.,1.));\n");
+    int dx = step_begin(o);
+    q2n_strbuf_puts(&o->b, "DIRECTION('',(1.,0.,0.));\n");
+    int ax = step_begin(o);
+    q2n_strbuf_printf(&o->b, "AXIS2_PLACEMENT_3D('',#%d,#%d,#%d);\n", origin_pt, dz, dx);
+    int rep;
+    if (t->all_closed) {
+        for (int c = 0; c < t->ncomp; c++) {
+            list[c] = step_begin(o);
+            q2n_strbuf_printf(&o->b, "MANIFOLD_SOLID_BREP('',#%d);\n", shell[c]);
+        }
+        rep = step_begin(o);
+        q2n_strbuf_printf(&o->b, "ADVANCED_BREP_SHAPE_REPRESENTATION('%s',(#%d", name, ax);
+        for (int c = 0; c < t->ncomp; c++) q2n_strbuf_printf(&o->b, ",#%d", list[c]);
+    } else {
+        int sbsm = step_begin(o);
+        q2n_strbuf_puts(&o->b, "SHELL_BASED_SURFACE_MODEL('',");
+        put_id_list(&o->b, shell, t->ncomp);
+        q2n_strbuf_puts(&o->b, ");\n");
+        rep = step_begin(o);
+        q2n_strbuf_printf(&o->b, "MANIFOLD_SURFACE_SHAPE_REPRESENTATION('%s',(#%d,#%d", name, ax, sbsm);
+    }
+    q2n_strbuf_printf(&o->b, "),#%d);\n", ctx);
+    step_begin(o);
+    q2n_strbuf_printf(&o->b, "SHAPE_DEFINITION_REPRESENTATION(#%d,#%d);\n", pds, rep);
+}
+
 static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t, const q2n_export_options *opt,
                              const char *name, q2n_strbuf *out)
 {
-    const q2n_mesh *me = m->mesh;
     step_out o = {{NULL, 0, 0, 0}, 1};
     int *vid = calloc((size_t)t->nv, sizeof(int));
     int *eid = malloc(sizeof(int) * (size_t)t->ne);
     int *fid = malloc(sizeof(int) * (size_t)t->nf);
     int *shell = malloc(sizeof(int) * (size_t)t->ncomp);
     int *list = malloc(sizeof(int) * (size_t)(t->nf > t->ncomp ? t->nf : t->ncomp));
-    if (!vid || !eid || !fid || !shell || !list) o.b.oom = 1;
-    int pds = 0, ctx = 0;
-    if (!o.b.oom) {
+    if (vid && eid && fid && shell && list) {
+        int pds = 0;
         step_header(&o, opt, name);
-        ctx = step_context(&o, opt, name, t->resolution, &pds);
-    }
-    for (int v = 0; v < t->nv && !o.b.oom; v++) {
-        if (!t->vused[v]) continue;
-        int p = step_point(&o, t->vpos + 3 * v);
-        vid[v] = step_begin(&o);
-        q2n_strbuf_printf(&o.b, "VERTEX_POINT('',#%d);\n", p);
-    }
-    for (int e = 0; e < t->ne && !o.b.oom; e++) {
-        int c = step_curve(&o, &t->edge_curve[e]);
-        eid[e] = step_begin(&o);
-        q2n_strbuf_printf(&o.b, "EDGE_CURVE('',#%d,#%d,#%d,.T.);\n", vid[t->edge_v[2 * e]], vid[t->edge_v[2 * e + 1]], c);
-    }
-    for (int f = 0; f < t->nf && !o.b.oom; f++) {
-        int srf = step_surface(&o, &m->patches[f]), oe[4];
-        for (int i = 0; i < 4; i++) {
-            int h = q2n_face_he(me, f, i);
-            oe[i] = step_begin(&o);
-            q2n_strbuf_printf(&o.b, "ORIENTED_EDGE('',*,*,#%d,%s);\n", eid[me->he_edge[h]], t->he_sense[h] ? ".T." : ".F.");
+        int ctx = step_context(&o, opt, name, t->resolution, &pds);
+        for (int v = 0; v < t->nv && !o.b.oom; v++) {
+            if (!t->vused[v]) continue;
+            int p = step_point(&o, t->vpos + 3 * v);
+            vid[v] = step_begin(&o);
+            q2n_strbuf_printf(&o.b, "VERTEX_POINT('',#%d);\n", p);
         }
-        int loop = step_begin(&o);
-        q2n_strbuf_puts(&o.b, "EDGE_LOOP('',");
-        put_id_list(&o.b, oe, 4);
-        q2n_strbuf_puts(&o.b, ");\n");
-        /* an inward closed component: face normal = -(Su x Sv) and, so that the loop still runs
-         * counter-clockwise about it, the bound reversed too (ISO 10303-42 face_bound.orientation) */
-        const char *sense = t->comp_inward[t->face_comp[f]] ? ".F." : ".T.";
-        int bound = step_begin(&o);
-        q2n_strbuf_printf(&o.b, "FACE_OUTER_BOUND('',#%d,%s);\n", loop, sense);
-        fid[f] = step_begin(&o);
-        q2n_strbuf_printf(&o.b, "ADVANCED_FACE('',(#%d),#%d,%s);\n", bound, srf, sense);
-    }
-    for (int c = 0; c < t->ncomp && !o.b.oom; c++) {
-        int n = 0;
-        for (int f = 0; f < t->nf; f++)
-            if (t->face_comp[f] == c) list[n++] = fid[f];
-        shell[c] = step_begin(&o);
-        q2n_strbuf_puts(&o.b, t->comp_closed[c] ? "CLOSED_SHELL('',": "OPEN_SHELL('',");
-        put_id_list(&o.b, list, n);
-        q2n_strbuf_puts(&o.b, ");\n");
-    }
-    if (!o.b.oom) {
-        int origin_pt = step_point(&o, (const double[3]){0, 0, 0});
-        int dz = step_begin(&o);
-        q2n_strbuf_puts(&o.b, "DIRECTION('',(0.,0.,1.));\n");
-        int dx = step_begin(&o);
-        q2n_strbuf_puts(&o.b, "DIRECTION('',(1.,0.,0.));\n");
-        int ax = step_begin(&o);
-        q2n_strbuf_printf(&o.b, "AXIS2_PLACEMENT_3D('',#%d,#%d,#%d);\n", origin_pt, dz, dx);
-        int rep;
-        if (t->all_closed) {
-            for (int c = 0; c < t->ncomp; c++) {
-                list[c] = step_begin(&o);
-                q2n_strbuf_printf(&o.b, "MANIFOLD_SOLID_BREP('',#%d);\n", shell[c]);
-            }
-            rep = step_begin(&o);
-            q2n_strbuf_printf(&o.b, "ADVANCED_BREP_SHAPE_REPRESENTATION('%s',(#%d", name, ax);
-            for (int c = 0; c < t->ncomp; c++) q2n_strbuf_printf(&o.b, ",#%d", list[c]);
-        } else {
-            int sbsm = step_begin(&o);
-            q2n_strbuf_puts(&o.b, "SHELL_BASED_SURFACE_MODEL('',");
-            put_id_list(&o.b, shell, t->ncomp);
-            q2n_strbuf_puts(&o.b, ");\n");
-            rep = step_begin(&o);
-            q2n_strbuf_printf(&o.b, "MANIFOLD_SURFACE_SHAPE_REPRESENTATION('%s',(#%d,#%d", name, ax, sbsm);
+        for (int e = 0; e < t->ne && !o.b.oom; e++) {
+            int c = step_curve(&o, &t->edge_curve[e]);
+            eid[e] = step_begin(&o);
+            q2n_strbuf_printf(&o.b, "EDGE_CURVE('',#%d,#%d,#%d,.T.);\n", vid[t->edge_v[2 * e]],
+                              vid[t->edge_v[2 * e + 1]], c);
         }
-        q2n_strbuf_printf(&o.b, "),#%d);\n", ctx);
-        step_begin(&o);
-        q2n_strbuf_printf(&o.b, "SHAPE_DEFINITION_REPRESENTATION(#%d,#%d);\n", pds, rep);
+        for (int f = 0; f < t->nf && !o.b.oom; f++) fid[f] = step_face(&o, m, t, eid, f);
+        if (!o.b.oom) step_root(&o, t, fid, shell, list, name, ctx, pds);
         q2n_strbuf_puts(&o.b, "ENDSEC;\nEND-ISO-10303-21;\n");
+    } else {
+        o.b.oom = 1;
     }
     free(vid); free(eid); free(fid); free(shell); free(list);
     *out = o.b;
