@@ -349,38 +349,73 @@ static q2n_status stage_curves(ctx *c)
     return Q2N_OK;
 }
 
-/* Stage 3: the point diagonal to each corner reproduces the construction's corner twist. */
-static q2n_status stage_twists(ctx *c)
+/* One-sided weights at 0 for the nodes h, 2h, .., 6h (the corner itself is avoided: Gregory-type
+ * corners have direction-dependent mixed derivatives there): value, first and second derivative
+ * of the quintic through the six values, exact for polynomials of degree <= 5 (so bi-quintic
+ * patches are reproduced to rounding); h = 0.01 keeps the rounding of the second derivative
+ * near 2e-10 relative. */
+static const double FD[3][6] = {{6, -15, 20, -15, 6, -1},
+                                {-87.0 / 10, 117.0 / 4, -127.0 / 3, 33, -27.0 / 2, 137.0 / 60},
+                                {29.0 / 3, -461.0 / 12, 62, -307.0 / 6, 65.0 / 3, -15.0 / 4}};
+
+/* Mixed corner derivative J = d_t^a d_s^b S(0,0) (a, b in 1..2) of side sd, read along both
+ * edges through the corner and averaged (they agree for a smooth patch; Gregory-type corners
+ * have direction-dependent mixed derivatives, and the average is the compromise).  Along s = 0
+ * it is the k-th t-derivative of an evaluated second-derivative field at (t, 0), along t = 0 the
+ * k-th s-derivative of one at (0, s) (k = 0: extrapolated value). */
+static q2n_status corner_mixed(ctx *c, const side *sd, int a, int b, double J[3])
 {
-    /* The twist is read just off the corner along both edges and extrapolated to it
-     * (Richardson, 2 T(eps) - T(2 eps), error O(eps^2)): Gregory-type corners have no unique
-     * twist at the corner itself, and the two edge-wise limits are averaged. */
-    const double eps = 1e-6;
+    /* [a-1][b-1][edge] = {slot of side_exact's D (3 d_tt, 4 d_ts, 5 d_ss), k} */
+    static const int tab[2][2][2][2] = {{{{4, 0}, {4, 0}}, {{5, 1}, {4, 1}}},
+                                        {{{4, 1}, {3, 1}}, {{5, 2}, {3, 2}}}};
+    const double h = 0.01;
+    memset(J, 0, 3 * sizeof(double));
+    for (int dir = 0; dir < 2; dir++) {
+        int slot = tab[a - 1][b - 1][dir][0], k = tab[a - 1][b - 1][dir][1];
+        const double *w = FD[k];
+        double scale = k == 0 ? 1.0 : k == 1 ? 1.0 / h : 1.0 / (h * h);
+        for (int q = 1; q <= 6; q++) {
+            double D[6][3];
+            q2n_status st = side_exact(c, sd, dir ? 0.0 : q * h, dir ? q * h : 0.0, 2, D);
+            if (st) return st;
+            q2n_v3_axpy(J, 0.5 * w[q - 1] * scale, D[slot]);
+        }
+    }
+    return Q2N_OK;
+}
+
+/* Stage 3: the corner blocks.  Q11, Q21, Q12 (and Q22 in G2 mode) of every corner reproduce the
+ * construction's mixed derivatives d_t^a d_s^b S at the corner (a, b <= 2): exact in the spline
+ * space up to the one-sided differences of corner_mixed (exact for bi-quintic patches).  With
+ * the Hermite edge curves this fixes the full 2-jet (3-jet of rows 0..2 in G2 mode) at every
+ * corner, so the G1/G2 relations of all edges through a vertex hold there to that order: the
+ * vertex-enclosure conditions are inherited from the construction, which satisfies them. */
+static q2n_status stage_corners(ctx *c)
+{
+    static const int order[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
+    int npin = c->o.continuity == 2 ? 4 : 1;
     for (int k = 0; k < c->m->nf; k++)
         for (int i = 0; i < 4; i++) {
             side sd = make_side(c, k, i);
-            double Da[6][3], Db[6][3], Da2[6][3], Db2[6][3], Nt[3][FIT_DEG + 1], Ns[3][FIT_DEG + 1];
-            q2n_status st = side_exact(c, &sd, eps, 0.0, 2, Da);
-            if (!st) st = side_exact(c, &sd, 0.0, eps, 2, Db);
-            if (!st) st = side_exact(c, &sd, 2 * eps, 0.0, 2, Da2);
-            if (!st) st = side_exact(c, &sd, 0.0, 2 * eps, 2, Db2);
-            if (st) return st;
-            for (int q = 0; q < 3; q++) {
-                Da[4][q] = 2 * Da[4][q] - Da2[4][q];
-                Db[4][q] = 2 * Db[4][q] - Db2[4][q];
-            }
-            fit_basis(FIT_DEG, sd.kt, 0.0, 1, Nt);
-            fit_basis(FIT_DEG, sd.ks, 0.0, 1, Ns);
-            /* d_t d_s S(0,0) = N1'(0) M1'(0) (Q11 - Q10 - Q01 + Q00) for clamped knots */
+            double Nt[3][FIT_DEG + 1], Ns[3][FIT_DEG + 1];
+            fit_basis(FIT_DEG, sd.kt, 0.0, 2, Nt);
+            fit_basis(FIT_DEG, sd.ks, 0.0, 2, Ns);
             fpatch *p = &c->p[k];
-            int g11 = side_g(c, &sd, 1, 1);
-            const double *Q00 = p->cp + 3 * (size_t)side_g(c, &sd, 0, 0);
-            const double *Q10 = p->cp + 3 * (size_t)side_g(c, &sd, 1, 0);
-            const double *Q01 = p->cp + 3 * (size_t)side_g(c, &sd, 0, 1);
-            double f = 1.0 / (Nt[1][1] * Ns[1][1]);
-            for (int q = 0; q < 3; q++)
-                p->cp[3 * (size_t)g11 + q] = 0.5 * (Da[4][q] + Db[4][q]) * f + Q10[q] + Q01[q] - Q00[q];
-            p->fixed[g11] = 1;
+            for (int o = 0; o < npin; o++) {
+                int a = order[o][0], b = order[o][1];
+                double J[3];
+                q2n_status st = corner_mixed(c, &sd, a, b, J);
+                if (st) return st;
+                /* J = sum_{p<=a, q<=b} N_p^(a)(0) M_q^(b)(0) Q_pq, solved for Q_ab */
+                for (int pp = 0; pp <= a; pp++)
+                    for (int qq = 0; qq <= b; qq++) {
+                        if (pp == a && qq == b) continue;
+                        q2n_v3_axpy(J, -Nt[a][pp] * Ns[b][qq], p->cp + 3 * (size_t)side_g(c, &sd, pp, qq));
+                    }
+                int g = side_g(c, &sd, a, b);
+                q2n_v3_scale(p->cp + 3 * (size_t)g, 1.0 / (Nt[a][a] * Ns[b][b]), J);
+                p->fixed[g] = 1;
+            }
         }
     return Q2N_OK;
 }
@@ -405,7 +440,6 @@ static q2n_status stage_rows(ctx *c, int order)
     for (int e = 0; e < c->m->ne; e++) {
         side sd[2];
         int two = edge_sides(c, e, &sd[0], &sd[1]);
-        if (order == 2 && !two) continue;
         if (fit_ls_item_begin(&c->ls)) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
         int N = fit_nsamples(sd[0].mt);
         double Ns[2][3][FIT_DEG + 1];
@@ -499,13 +533,6 @@ static q2n_status stage_interior(ctx *c)
 
 /* ------------------------------------------------------------------ rounds */
 
-static int grid_dist(const fpatch *p, int g)
-{
-    int a = g % p->nu, b = g / p->nu;
-    int da = a < p->nu - 1 - a ? a : p->nu - 1 - a, db = b < p->nv - 1 - b ? b : p->nv - 1 - b;
-    return da < db ? da : db;
-}
-
 static q2n_status alloc_patches(ctx *c)
 {
     const q2n_mesh *m = c->m;
@@ -538,31 +565,8 @@ static q2n_status fit_round(ctx *c)
     q2n_status st = alloc_patches(c);
     if (st) return st;
     double t0 = fit_now(), s0 = c->rep->t_sample, v0 = c->rep->t_solve;
-    if ((st = stage_curves(c)) || (st = stage_twists(c)) || (st = stage_rows(c, 1))) return st;
-    if (c->o.continuity == 2) {
-        if ((st = stage_interior(c))) return st;
-        /* free the second rows next to edges (not the corner points shared by two edges) and
-         * everything further in, then refit them with the second-order relation */
-        for (int k = 0; k < c->m->nf; k++) {
-            fpatch *p = &c->p[k];
-            for (int g = 0; g < p->nu * p->nv; g++) {
-                int a = g % p->nu, b = g / p->nu;
-                int da = a < p->nu - 1 - a ? a : p->nu - 1 - a, db = b < p->nv - 1 - b ? b : p->nv - 1 - b;
-                if (grid_dist(p, g) >= 3 || (grid_dist(p, g) == 2 && !(da == 2 && db == 2))) p->fixed[g] = 0;
-            }
-        }
-        for (int e = 0; e < c->m->ne; e++) {   /* second rows next to boundary edges: interior stage */
-            side L, R;
-            if (edge_sides(c, e, &L, &R)) continue;
-            for (int it = 3; it <= L.nt - 4; it++) c->p[L.k].fixed[side_g(c, &L, it, 2)] = 1;
-        }
-        if ((st = stage_rows(c, 2))) return st;
-        for (int e = 0; e < c->m->ne; e++) {
-            side L, R;
-            if (edge_sides(c, e, &L, &R)) continue;
-            for (int it = 3; it <= L.nt - 4; it++) c->p[L.k].fixed[side_g(c, &L, it, 2)] = 0;
-        }
-    }
+    if ((st = stage_curves(c)) || (st = stage_corners(c)) || (st = stage_rows(c, 1))) return st;
+    if (c->o.continuity == 2 && (st = stage_rows(c, 2))) return st;
     if ((st = stage_interior(c))) return st;
     c->rep->t_build += (fit_now() - t0) - (c->rep->t_sample - s0) - (c->rep->t_solve - v0);
     return Q2N_OK;
