@@ -191,11 +191,11 @@ int main()
     else if (!om || !em_model_bicubic(om, &bm)) CHECK(0, "C2 torus model from %s", tp);
     else {
         check_model("torus_c2", &bm, true, true);
-        q2n_nurbs_model_free(&bm);
+        em_model_release(&bm);
     }
     em_mesh_free(om);
-    q2n_nurbs_model_free(&gm); em_mesh_free(g);
-    q2n_nurbs_model_free(&tr); em_mesh_free(tm);
-    q2n_nurbs_model_free(&cy); em_mesh_free(cm);
+    em_model_release(&gm); em_mesh_free(g);
+    em_model_release(&tr); em_mesh_free(tm);
+    em_model_release(&cy); em_mesh_free(cm);
     CHECK_DONE("ref_export_occt");
 }

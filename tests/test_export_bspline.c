@@ -141,6 +141,15 @@ int main(void)
         q2n_bspline_free(&s);
         q2n_bspline_free(NULL);
         q2n_nurbs_model_free(NULL);
+        /* a heap model as the fit stage makes it: free releases patches, arrays and the struct
+         * (run under valgrind / CONFIG=asan to see it leak-free) */
+        q2n_nurbs_model *hm = calloc(1, sizeof *hm);
+        hm->n = 2;
+        hm->patches = calloc(2, sizeof(q2n_bspline_surface));
+        make_surface(&hm->patches[0], 3, 2, 5, 4, 1, 9u);
+        make_surface(&hm->patches[1], 5, 5, 6, 6, 0, 10u);
+        CHECK(q2n_bspline_check(&hm->patches[1], &err) == Q2N_OK, "heap model patch: %s", err.message);
+        q2n_nurbs_model_free(hm);
     }
     CHECK_DONE("test_export_bspline");
 }

@@ -225,7 +225,7 @@ int main(void)
             CHECK(jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g", rn[k], jnum(js, "g1_max_deg"));
             free(js);
         }
-        q2n_nurbs_model_free(&rv);
+        em_model_release(&rv);
         em_mesh_free(rm);
     }
     /* q2n_compare.py: a matching report passes, a wrong face count or G1 figure fails */
@@ -254,7 +254,7 @@ int main(void)
             CHECK(jnum(js, "g2_max_rel") <= 1e-6, "%s: G2 rel %.3g", bn[k], jnum(js, "g2_max_rel"));
             free(js);
         }
-        q2n_nurbs_model_free(&bm);
+        em_model_release(&bm);
     }
     em_mesh_free(om);
 
@@ -302,13 +302,13 @@ int main(void)
         CHECK(jnum(js, "max_vertex_dist_rel") <= 1e-9, "%s: mesh vertices on the shape (%.3g)", out,
               jnum(js, "max_vertex_dist_rel"));
         free(js);
-        q2n_nurbs_model_free(&smd);
+        em_model_release(&smd);
         em_mesh_free(sm);
     }
 
-    q2n_nurbs_model_free(&gm); em_mesh_free(g);
-    q2n_nurbs_model_free(&tr); em_mesh_free(tm);
-    q2n_nurbs_model_free(&cy); em_mesh_free(cm);
-    q2n_nurbs_model_free(&tcm); em_mesh_free(tc);
+    em_model_release(&gm); em_mesh_free(g);
+    em_model_release(&tr); em_mesh_free(tm);
+    em_model_release(&cy); em_mesh_free(cm);
+    em_model_release(&tcm); em_mesh_free(tc);
     CHECK_DONE("test_export_freecad");
 }

@@ -161,6 +161,16 @@ static inline void em_surface_alloc(q2n_bspline_surface *s, int du, int dv, int 
     s->weights = rational ? (double *)malloc(sizeof(double) * (size_t)(nu * nv)) : NULL;
 }
 
+/* Frees the patches of a model built here on the stack (q2n_nurbs_model_free frees the struct
+ * too, for the heap-allocated models of the fit stage). */
+static inline void em_model_release(q2n_nurbs_model *md)
+{
+    for (int k = 0; k < md->n; k++) q2n_bspline_free(&md->patches[k]);
+    free(md->patches);
+    md->patches = NULL;
+    md->n = 0;
+}
+
 /* clamped knots on [0,1] with nin uniform interior knots */
 static inline void em_knots(double *k, int p, int nin)
 {
@@ -258,7 +268,7 @@ static inline int em_model_bicubic(const q2n_mesh *m, q2n_nurbs_model *out)
     q2n_nurbs_model md = em_model_alloc(m);
     for (int f = 0; f < m->nf; f++) {
         int g[4][4];
-        if (!em_regular_ring(m, f, g)) { q2n_nurbs_model_free(&md); return 0; }
+        if (!em_regular_ring(m, f, g)) { em_model_release(&md); return 0; }
         q2n_bspline_surface *s = &md.patches[f];
         em_surface_alloc(s, 3, 3, 4, 4, 0);
         em_knots(s->knots_u, 3, 0);

@@ -422,7 +422,7 @@ int main(void)
         for (const char *p = t; (p = strstr(p, "ADVANCED_FACE('',(")); p++) nf += strncmp(strchr(p, ';') - 5, ",.F.)", 5) == 0;
         CHECK(nf == 0, "outward torus: %d faces reversed", nf);
         free(t);
-        q2n_nurbs_model_free(&rv);
+        em_model_release(&rv);
         em_mesh_free(rm);
     }
     /* 3. two components: a grid and the torus side by side (one open, one closed shell) */
@@ -437,7 +437,7 @@ int main(void)
         q2n_mesh *two = em_mesh_build(nv, pos, nf, fv);
         q2n_nurbs_model both = em_model_bilinear(two);
         roundtrip("grid + torus (2 components)", &both, 2, 1);
-        q2n_nurbs_model_free(&both);
+        em_model_release(&both);
         em_mesh_free(two);
         free(pos); free(fv);
     }
@@ -497,8 +497,8 @@ int main(void)
         CHECK(bad == 0, "%d STEP reals without '.' or with lower-case exponent", bad);
         free(t);
     }
-    q2n_nurbs_model_free(&gm); em_mesh_free(g);
-    q2n_nurbs_model_free(&tr); em_mesh_free(tm);
-    q2n_nurbs_model_free(&cy); em_mesh_free(cm);
+    em_model_release(&gm); em_mesh_free(g);
+    em_model_release(&tr); em_mesh_free(tm);
+    em_model_release(&cy); em_mesh_free(cm);
     CHECK_DONE("test_export_roundtrip");
 }

@@ -170,14 +170,13 @@ void q2n_bspline_free(q2n_bspline_surface *s)
     s->knots_u = s->knots_v = s->cp = s->weights = NULL;
 }
 
-/* Frees the patch array and each patch's arrays; the model struct itself belongs to the caller
- * (it may live on the stack), the mesh is borrowed. */
+/* Frees each patch's arrays, the patch array and the (heap-allocated) model itself, as the fit
+ * stage allocates it; the mesh is borrowed and stays. */
 void q2n_nurbs_model_free(q2n_nurbs_model *m)
 {
     if (!m) return;
     if (m->patches)
         for (int k = 0; k < m->n; k++) q2n_bspline_free(&m->patches[k]);
     free(m->patches);
-    m->patches = NULL;
-    m->n = 0;
+    free(m);
 }
