@@ -450,7 +450,7 @@ int main(void)
     mstats st;
     test_regular_partials();
     test_contract();
-    printf("| mesh | F | EV patches | interp | normal jump | curv. jump | FD | max |kappa| | degenerate | build s |\n");
+    printf("| mesh | F | EV patches | interp | normal jump | curv. jump | FD | max kappa (face) | degenerate | build s |\n");
     /* corner cases */
     {
         q2n_mesh *m = mg_star_3_8(17);
@@ -534,7 +534,7 @@ int main(void)
             q2n_mesh_free(m);
         }
     /* the G+Smo carpets: largest principal curvature and where, augmented vs mean intervals */
-    printf("\n| carpet | region | augmented: max |kappa| (face; x, y, z) | mean: max |kappa| (face; x, y, z) |\n");
+    printf("\n| carpet | region | augmented: max kappa (face; x, y, z) | mean: max kappa (face; x, y, z) |\n");
     for (int i = 0; i < 5; i++) {
         const char *path = chk_shared_mesh(sel[i]);
         if (!path) continue;
