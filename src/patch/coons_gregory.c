@@ -227,7 +227,7 @@ q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_op
         goto done;
     }
     for (int f = 0; f < m->nf; f++) unc[f] = q2n_surface_kind(s, f) == Q2N_PATCH_UNCOVERED;
-    if ((st = ev_vertex_jets(m, s, iv, cls->k, jets, dir, err))) goto done;
+    if ((st = ev_vertex_jets(m, s, iv, cls, jets, dir, err))) goto done;
 
     /* curve network: every edge of an uncovered face not shared with a regular patch */
     for (int f = 0; f < m->nf && !st; f++) {

@@ -411,10 +411,91 @@ static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *jet
     return 1;
 }
 
-q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv, int kblend,
-                          ev_vjet *jets, double (*dir)[2], q2n_error *err)
+/* Derivatives (1st, 2nd, in the local variable) at v of the section curve of class cls through v
+ * that leaves v along the half-edge h0 (v -> ...) and arrives along the opposite edge h_back
+ * (v -> ... backwards); 0 when the section polyline does not reach far enough (§4.3). */
+static int section_derivs(const q2n_mesh *m, const double *iv, const q2n_spline_class *cls, int v, int h0,
+                          int hb, double d1[3], double d2[3])
 {
-    (void)kblend;
+    int w = cls->w, half = w / 2, nf = 0, nb = 0;
+    double pts[3 * (2 * Q2N_SPLINE_MAXW + 1)], ivs[2 * Q2N_SPLINE_MAXW];
+    int fwd[Q2N_SPLINE_MAXW], bwd[Q2N_SPLINE_MAXW];
+    for (int h = h0; h >= 0 && nf < half; h = q2n_mesh_continue(m, h)) fwd[nf++] = h;
+    for (int h = hb; h >= 0 && nb < half; h = q2n_mesh_continue(m, h)) bwd[nb++] = h;
+    /* window for the interval after v (v at x = 0) or before it (v at its end) */
+    int after = nb >= half - 1 && nf >= half, before = nb >= half && nf >= half - 1;
+    if (!after && !before) return 0;
+    int useb = after ? half - 1 : half, usef = after ? half : half - 1, n = useb + 1 + usef;
+    for (int i = 0; i < useb; i++) { /* p_{-useb} .. p_{-1} */
+        int h = bwd[useb - 1 - i];
+        memcpy(pts + 3 * i, q2n_mesh_vpos(m, q2n_he_dest(m, h)), 3 * sizeof(double));
+        ivs[i] = iv[m->he_edge[h]];
+    }
+    memcpy(pts + 3 * useb, q2n_mesh_vpos(m, v), 3 * sizeof(double));
+    for (int i = 0; i < usef; i++) {
+        memcpy(pts + 3 * (useb + 1 + i), q2n_mesh_vpos(m, q2n_he_dest(m, fwd[i])), 3 * sizeof(double));
+        ivs[useb + i] = iv[m->he_edge[fwd[i]]];
+    }
+    double out[9];
+    int sidx = after ? useb : useb - 1;
+    double x = after ? 0 : ivs[useb - 1];
+    if (q2n_spline_curve_eval(cls, n, 3, pts, ivs, 0, sidx, x, 2, out)) return 0;
+    memcpy(d1, out + 3, 3 * sizeof(double));
+    memcpy(d2, out + 6, 3 * sizeof(double));
+    return 1;
+}
+
+/* Valence-4 interior vertex without a regular patch but with both section polylines long enough:
+ * J1, J2xx, J2yy from the class's section curves (§4.3: "section curves of the class where the
+ * section polyline allows it"), J2xy from the four far face corners. */
+static int jet_from_sections(const q2n_mesh *m, const double *iv, const q2n_spline_class *cls, int v,
+                             ev_vjet *J, double (*dir)[2])
+{
+    int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
+    if (m->vert_boundary[v] || m->valence[v] != 4) return 0;
+    if (q2n_ev_vertex_fan(m, v, EV_MAXVAL, edges, other, faces) != 4) return 0;
+    int hout[4];
+    for (int k = 0; k < 4; k++) {
+        int h = m->edge_he[edges[k]];
+        hout[k] = q2n_he_origin(m, h) == v ? h : m->he_twin[h];
+        if (hout[k] < 0) return 0;
+    }
+    double d1[2][3], d2[2][3];
+    for (int l = 0; l < 2; l++)
+        if (!section_derivs(m, iv, cls, v, hout[l], hout[l + 2], d1[l], d2[l])) return 0;
+    static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    for (int c = 0; c < 3; c++) {
+        J->J1[c][0] = d1[0][c];
+        J->J1[c][1] = d1[1][c];
+        J->J2[c][0] = d2[0][c];
+        J->J2[c][2] = d2[1][c];
+    }
+    /* twist: least squares over the far corners q of the faces, at X = d_k u_k + d_k+1 u_k+1:
+     * q - p - J1 X - (J2xx x² + J2yy y²)/2 ≈ J2xy x y */
+    double num[3] = {0, 0, 0}, den = 0;
+    const double *p0 = q2n_mesh_vpos(m, v);
+    for (int k = 0; k < 4; k++) {
+        int fc = faces[k], c = 0;
+        for (int i = 0; i < 4; i++)
+            if (m->face_vert[m->face_start[fc] + i] == v) c = i;
+        const double *q = q2n_mesh_vpos(m, m->face_vert[m->face_start[fc] + (c + 2) % 4]);
+        double x = iv[edges[k]] * ax[k][0] + iv[edges[(k + 1) % 4]] * ax[(k + 1) % 4][0];
+        double y = iv[edges[k]] * ax[k][1] + iv[edges[(k + 1) % 4]] * ax[(k + 1) % 4][1];
+        for (int c2 = 0; c2 < 3; c2++) {
+            double r = q[c2] - p0[c2] - J->J1[c2][0] * x - J->J1[c2][1] * y - 0.5 * (J->J2[c2][0] * x * x + J->J2[c2][2] * y * y);
+            num[c2] += r * x * y;
+        }
+        den += x * x * y * y;
+    }
+    for (int c = 0; c < 3; c++) J->J2[c][1] = num[c] / den;
+    for (int k = 0; k < 4; k++) set_dir(m, dir, edges[k], v, ax[k][0], ax[k][1]);
+    J->source = 3;
+    return 1;
+}
+
+q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
+                          const q2n_spline_class *cls, ev_vjet *jets, double (*dir)[2], q2n_error *err)
+{
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
     char *need = calloc((size_t)m->nv, 1);
     if (!need) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (vertex jets)");
@@ -435,10 +516,10 @@ q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double 
                 jet_from_regular(m, s, iv, v, faces[k], &jets[v], dir))
                 break;
     }
-    /* pass 2: Appendix B */
+    /* pass 2: section curves of the class through regular vertices, else Appendix B */
     for (int v = 0; v < m->nv; v++) {
         if (!need[v] || jets[v].source) continue;
-        if (!jet_from_fit(m, iv, v, jets, dir)) {
+        if (!jet_from_sections(m, iv, cls, v, &jets[v], dir) && !jet_from_fit(m, iv, v, jets, dir)) {
             free(need);
             return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: vertex %d: derivative estimate failed (Appendix B)",
                                  m->name, v);

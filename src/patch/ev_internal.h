@@ -24,7 +24,7 @@ typedef struct ev_poly {
 } ev_poly;
 
 typedef struct ev_vjet {
-    int source;        /* 0 none, 1 corner of a regular patch, 2 Appendix B fit */
+    int source;        /* 0 none, 1 corner of a regular patch, 2 fit (Appendix B), 3 section curves */
     double J1[3][2];   /* [xyz][x|y] */
     double J2[3][3];   /* [xyz][xx|xy|yy] */
 } ev_vjet;
@@ -45,8 +45,8 @@ typedef struct ev_edge {
 /* ---- ev_derivatives.c ---- */
 /* Jets and edge-end directions of all vertices touching an uncovered face.  dir[2*e + end]
  * (end 0: origin of edge_he[e]).  jets[v].source == 0 for vertices not needed. */
-q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv, int kblend,
-                          ev_vjet *jets, double (*dir)[2], q2n_error *err);
+q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
+                          const q2n_spline_class *cls, ev_vjet *jets, double (*dir)[2], q2n_error *err);
 void ev_jet_d1(const ev_vjet *J, const double u[2], double out[3]);
 void ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3]);
 /* Unit normal of the jet, and its derivative along the 2D direction a (Weingarten map of the
