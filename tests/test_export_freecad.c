@@ -57,15 +57,18 @@ static void write_obj(const q2n_mesh *m, const char *path)
     fclose(f);
 }
 
-/* Export (format from the extension), audit, return the JSON text (caller frees) or NULL. */
+/* Export (format from the extension), audit, return the JSON text (caller frees) or NULL.
+ * Models under 50 faces also get the full BRepCheck (seconds on larger ones). */
 static char *export_audit(const q2n_nurbs_model *m, const q2n_export_options *o, const char *file, const char *obj)
 {
+    int full = m->n < 50;
     q2n_error err;
     char path[256], json[300], cmd[1024];
     snprintf(path, sizeof path, OUTDIR "%s", file);
     snprintf(json, sizeof json, "%s.json", path);
     if (q2n_export_file(m, o, path, &err) != Q2N_OK) { CHECK(0, "%s: %s", file, err.message); return NULL; }
-    snprintf(cmd, sizeof cmd, AUDIT " %s --no-edges --json %s%s%s", path, json, obj ? " --mesh " : "", obj ? obj : "");
+    snprintf(cmd, sizeof cmd, AUDIT " %s --no-edges%s --json %s%s%s", path, full ? " --check" : "", json,
+             obj ? " --mesh " : "", obj ? obj : "");
     int rc = system(cmd);
     CHECK(rc == 0, "%s: audit exit status %d", file, rc);
     return rc == 0 ? slurp(json) : NULL;
@@ -75,6 +78,11 @@ static void check_topology(const char *what, const char *js, const q2n_mesh *m, 
 {
     CHECK(jnum(js, "faces") == m->nf, "%s: %g faces for %d mesh faces", what, jnum(js, "faces"), m->nf);
     CHECK(jnum(js, "valid") == 1.0, "%s: isValid", what);
+    CHECK(js && (!strstr(js, "\"check\": ") || strstr(js, "\"check\": \"ok\"")),
+          "%s: BRepCheck (shape.check(True)) reports a problem", what);
+    /* OCCT widens edge/vertex tolerances to cover gaps it finds on import: none here */
+    CHECK(jnum(js, "max_edge_tolerance") <= 1e-7 && jnum(js, "max_vertex_tolerance") <= 1e-7,
+          "%s: import tolerances %g / %g", what, jnum(js, "max_edge_tolerance"), jnum(js, "max_vertex_tolerance"));
     CHECK(jnum(js, "shells") == shells && jnum(js, "solids") == solids, "%s: %g shells %g solids (want %d, %d)", what,
           jnum(js, "shells"), jnum(js, "solids"), shells, solids);
     if (shells > 0) {
@@ -227,6 +235,40 @@ int main(void)
         }
         em_model_release(&rv);
         em_mesh_free(rm);
+    }
+    /* the audit must see a defect: move one boundary control point of patch 0's surface by 1e-3
+     * (its edge curve stays put) in the STEP text and import that */
+    {
+        q2n_error err;
+        char *t;
+        size_t l;
+        CHECK(q2n_export_step_text(&tr, NULL, &t, &l, &err) == Q2N_OK, "torus STEP text: %s", err.message);
+        const char *key = "(BOUNDED_SURFACE()B_SPLINE_SURFACE(2,2,((#";
+        const char *p = strstr(t, key);
+        int a = 0, b = 0;
+        if (p) sscanf(p + strlen(key), "%d,#%d", &a, &b); /* b: control point (u=0, v=1), on side u = 0 */
+        char pat[64];
+        snprintf(pat, sizeof pat, "\n#%d=CARTESIAN_POINT('',(", b);
+        char *q = b ? strstr(t, pat) : NULL;
+        FILE *f = q ? fopen(OUTDIR "export_fc_tampered.step", "w") : NULL;
+        CHECK(f != NULL, "tampering: control point #%d not found", b);
+        if (f) {
+            char *num = q + strlen(pat), *end;
+            double x = strtod(num, &end);
+            fprintf(f, "%.*s%.17g%s", (int)(num - t), t, x + 1e-3, end);
+            fclose(f);
+            char cmd[512];
+            snprintf(cmd, sizeof cmd, AUDIT " " OUTDIR "export_fc_tampered.step --no-edges --check --json "
+                     OUTDIR "export_fc_tampered.json");
+            CHECK(system(cmd) == 0, "audit of the tampered file");
+            char *js = slurp(OUTDIR "export_fc_tampered.json");
+            CHECK(js && strstr(js, "\"check\": ") && !strstr(js, "\"check\": \"ok\""), "tampered: BRepCheck must fail");
+            CHECK(jnum(js, "g0_max_rel") > 1e-6, "tampered: G0 %.3g must show the gap", jnum(js, "g0_max_rel"));
+            CHECK(jnum(js, "max_edge_tolerance") > 1e-5, "tampered: OCCT widened an edge to %.3g",
+                  jnum(js, "max_edge_tolerance"));
+            free(js);
+        }
+        free(t);
     }
     /* q2n_compare.py: a matching report passes, a wrong face count or G1 figure fails */
     CHECK(run_compare(OUTDIR "export_fc_torus_rat.step.json",

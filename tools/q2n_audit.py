@@ -3,7 +3,9 @@
 
 An importer nobody here wrote checks what quad2nurbs exported:
   * topology: face count, isValid(), shells, solids, edges, free edges (used by one face only),
-    non-manifold edges (used by more than two faces);
+    non-manifold edges (used by more than two faces), the largest edge / vertex tolerance OCCT
+    assigned on import (it raises them to cover gaps it finds: 1e-7 means none), and with --check
+    the full BRepCheck (shape.check(True), seconds on ~1000 faces);
   * continuity across every shared edge, in the terms of Rhino's EdgeContinuity, sampled at the
     N points t_i = t0 + (i + 0.5)/N (t1 - t0) that lie between the fit's collocation points
     (default: N = 4 m + 3 for an edge curve of m knot spans, the fit's rule in src/fit/, so the
@@ -222,7 +224,16 @@ def bbox_diag_of(shape):
     return math.sqrt(bb.XLength ** 2 + bb.YLength ** 2 + bb.ZLength ** 2)
 
 
-def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True):
+def full_check(shape):
+    """'ok' or BRepCheck's first message (shape.check(True) raises on the first problem)."""
+    try:
+        shape.check(True)
+        return 'ok'
+    except Exception as ex:
+        return str(ex).strip().splitlines()[0][:300] if str(ex).strip() else 'failed'
+
+
+def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False):
     Part = load_freecad()
     if Part is None:
         return None
@@ -257,6 +268,8 @@ def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True):
         'samples_per_edge': nsamp if nsamp > 0 else '4 spans + 3',
         'flat_radius': flat * diag,
         'area': shape.Area,
+        'max_edge_tolerance': max((e.Tolerance for e in shape.Edges), default=0.0),
+        'max_vertex_tolerance': max((v.Tolerance for v in shape.Vertexes), default=0.0),
         'volume': shape.Volume if shape.Solids else None,
     }
     worst = {'g0': (0.0, None, None), 'g1_deg': (0.0, None, None), 'g2_rel': (0.0, None, None)}
@@ -292,6 +305,8 @@ def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True):
         out['mesh'] = {'file': os.path.basename(mesh), 'vertices': len(verts),
                        'max_vertex_dist': dmax, 'max_vertex_dist_rel': dmax / diag if diag > 0 else dmax,
                        'worst_vertex': imax}
+    if check:
+        out['check'] = full_check(shape)
     out['seconds_read'] = t_read
     out['seconds_audit'] = time.time() - t_start - t_read
     if per_edge:
@@ -308,6 +323,7 @@ def main():
     ap.add_argument('--flat', type=float, default=100.0,
                     help='G2 flatness cut-off: radii above FLAT x bbox diagonal count as flat (default 100)')
     ap.add_argument('--no-edges', action='store_true', help='omit the per-edge table')
+    ap.add_argument('--check', action='store_true', help="also run BRepCheck (shape.check(True)): field 'check'")
     ap.add_argument('--json', help='write the JSON here instead of stdout')
     a = ap.parse_args()
     if load_freecad() is None:
@@ -317,7 +333,7 @@ def main():
         sys.stderr.write('q2n_audit: %s: no such file\n' % a.file)
         return 1
     try:
-        res = audit(a.file, a.mesh, max(0, a.samples), a.flat, not a.no_edges)
+        res = audit(a.file, a.mesh, max(0, a.samples), a.flat, not a.no_edges, a.check)
     except Exception as ex:  # FreeCAD raises plain exceptions for unreadable files
         sys.stderr.write('q2n_audit: %s: %s\n' % (a.file, ex))
         return 1
