@@ -70,7 +70,7 @@ static double max_principal(const double *e)
 
 typedef struct mstats {
     int nf, nev, covered;
-    double interp, njump, cjump, time_build, fd;
+    double interp, njump, cjump, time_build, fd, grid;
     double kmax, kpos[3], kev, kevpos[3]; /* largest |principal curvature|: all patches, extraordinary ones */
     int kface, kevface;
     int ndegen;       /* Coons–Gregory patches where Su, Sv get within 3° of parallel (fold or near fold) */
@@ -169,6 +169,19 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
             }
         st->ndegen += mn < 0.05;
     }
+    /* the grid fast path agrees with point evaluation */
+    for (int f = 0, ng = 0; f < m->nf && ng < 4; f++) {
+        if (q2n_surface_kind(S, f) != Q2N_PATCH_COONS_GREGORY) continue;
+        ng++;
+        double us[3] = {0, 0.37, 1}, vs[2] = {0.2, 0.9}, g[9 * 6], e[Q2N_EVAL_MAX], d = 0;
+        CHECK(q2n_surface_eval_grid(S, f, 3, us, 2, vs, g) == Q2N_OK, "%s: grid evaluation", label);
+        for (int b = 0; b < 2; b++)
+            for (int a = 0; a < 3; a++) {
+                q2n_surface_eval(S, f, us[a], vs[b], 1, e);
+                for (int c = 0; c < 9; c++) d = fmax(d, fabs(e[c] - g[9 * (b * 3 + a) + c]));
+            }
+        st->grid = fmax(st->grid, d / diag);
+    }
     /* finite differences on a few Coons–Gregory patches (incl. near a corner) */
     int nfd = 0;
     for (int f = 0; f < m->nf && nfd < 6; f++) {
@@ -206,6 +219,7 @@ static void check_stats(const char *label, const mstats *st, int g2)
     CHECK(st->njump <= 1e-8, "%s: normal jump %.3g rad", label, st->njump);
     if (g2) CHECK(st->cjump <= 1e-6, "%s: curvature jump %.3g", label, st->cjump);
     CHECK(st->fd <= 1e-5, "%s: finite differences %.3g", label, st->fd);
+    CHECK(st->grid <= 1e-14, "%s: grid vs point evaluation %.3g", label, st->grid);
     char cj[32];
     snprintf(cj, sizeof cj, g2 ? "%8.1e" : "       -", st->cjump);
     printf("| %-34s | %4d | %4d | %8.1e | %8.1e | %s | %8.1e | %8.3g (face %d) | %3d | %6.3f |\n", label, st->nf,

@@ -94,17 +94,33 @@ static void gregory_weight(int r, int i, int j, double u, double v, double W[3][
     W[1][1] = Uu * Vv / g2 - 2 * Uu * V * Vv / g3;
 }
 
-static q2n_status patch_eval(const void *data, double u, double v, int nder, double *out)
+/* What a point evaluation needs from one parameter line: the two sides' uv fields at that
+ * parameter and the Hermite weights (u-lines: sides 0, 2 and H(u); v-lines: sides 3, 1 and H(v)). */
+typedef struct line_data {
+    double side[2][3][3][3];
+    double H[3][2][3];
+} line_data;
+
+static void line_u(const ev_patch *P, double u, line_data *L)
 {
-    const ev_patch *P = data;
+    side_uv(P, 0, u, L->side[0]);
+    side_uv(P, 2, u, L->side[1]);
+    hermite(P->K, u, L->H);
+}
+
+static void line_v(const ev_patch *P, double v, line_data *L)
+{
+    side_uv(P, 3, v, L->side[0]);
+    side_uv(P, 1, v, L->side[1]);
+    hermite(P->K, v, L->H);
+}
+
+/* S = P_u + P_v - P_uv (formulas.md §4.1) with Gregory mixed terms (§4.2), partials up to nder. */
+static void patch_sum(const ev_patch *P, double u, double v, int nder, const line_data *Lu, const line_data *Lv,
+                      double *out)
+{
     int K = P->K;
-    double G[2][3][3][3], F[2][3][3][3], Hu[3][2][3], Hv[3][2][3];
-    side_uv(P, 3, v, G[0]);
-    side_uv(P, 1, v, G[1]);
-    side_uv(P, 0, u, F[0]);
-    side_uv(P, 2, u, F[1]);
-    hermite(K, u, Hu);
-    hermite(K, v, Hv);
+    const double (*Hu)[2][3] = Lu->H, (*Hv)[2][3] = Lv->H;
     double W[2][2][3][3];
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 2; j++) gregory_weight(P->r, i, j, u, v, W[i][j]);
@@ -116,8 +132,8 @@ static q2n_status patch_eval(const void *data, double u, double v, int nder, dou
         double r[3] = {0, 0, 0};
         for (int i = 0; i < 2; i++)
             for (int a = 0; a <= K; a++) {
-                q2n_v3_axpy(r, Hu[a][i][al], G[i][a][be]); /* P_u */
-                q2n_v3_axpy(r, Hv[a][i][be], F[i][a][al]); /* P_v (j = i, b = a) */
+                q2n_v3_axpy(r, Hu[a][i][al], Lv->side[i][a][be]); /* P_u: G_{i,a}(v) */
+                q2n_v3_axpy(r, Hv[a][i][be], Lu->side[i][a][al]); /* P_v: F_{j,b}(u), j = i, b = a */
             }
         for (int i = 0; i < 2; i++)
             for (int j = 0; j < 2; j++)
@@ -143,6 +159,31 @@ static q2n_status patch_eval(const void *data, double u, double v, int nder, dou
                     }
         memcpy(out + 3 * o, r, sizeof r);
     }
+}
+
+static q2n_status patch_eval(const void *data, double u, double v, int nder, double *out)
+{
+    const ev_patch *P = data;
+    line_data Lu, Lv;
+    line_u(P, u, &Lu);
+    line_v(P, v, &Lv);
+    patch_sum(P, u, v, nder, &Lu, &Lv, out);
+    return Q2N_OK;
+}
+
+/* Grid fast path: the side data depend on u only (sides 0, 2) or v only (sides 1, 3). */
+static q2n_status patch_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out)
+{
+    const ev_patch *P = data;
+    line_data *Lu = malloc((size_t)nu * sizeof *Lu);
+    if (!Lu) return Q2N_ERR_NOMEM;
+    for (int a = 0; a < nu; a++) line_u(P, us[a], &Lu[a]);
+    for (int b = 0; b < nv; b++) {
+        line_data Lv;
+        line_v(P, vs[b], &Lv);
+        for (int a = 0; a < nu; a++) patch_sum(P, us[a], vs[b], 1, &Lu[a], &Lv, out + 9 * ((size_t)b * nu + a));
+    }
+    free(Lu);
     return Q2N_OK;
 }
 
@@ -291,6 +332,7 @@ q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_op
             q2n_error_set(err, st, "%s: face %d: cannot attach the patch", m->name, f);
             goto done;
         }
+        q2n_surface_set_patch_grid(s, f, patch_grid);
         patches[f] = NULL;
     }
 done:
