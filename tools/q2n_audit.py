@@ -21,7 +21,8 @@ An importer nobody here wrote checks what quad2nurbs exported:
           |k| of both sides in those directions (at least 1/diagonal);
     each with the worst sample's location;
   * with --mesh: the distance of every mesh vertex to the imported shape.
-Run with /usr/bin/python3 (Debian freecad-python3), not freecadcmd.  Output: JSON (stdout or --json).
+Run with /usr/bin/python3 (Debian freecad-python3), not freecadcmd.  Output: JSON (stdout or --json);
+--batch LIST audits many files in one process (FreeCAD loads once, ~0.5 s saved per file).
 Exit status 0 after a successful audit, 2 when FreeCAD is missing, 1 when the file cannot be read.
 Summary fields g0_max_rel (gap / bbox diagonal), g1_max_deg, g2_max_rel and faces use the names of
 quad2nurbs' own report, so tools/q2n_compare.py can put the two side by side.
@@ -30,6 +31,7 @@ import argparse
 import json
 import math
 import os
+import shlex
 import sys
 import time
 
@@ -314,9 +316,9 @@ def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False):
     return out
 
 
-def main():
+def make_parser():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('file', help='.step/.stp or .igs/.iges file')
+    ap.add_argument('file', nargs='?', help='.step/.stp or .igs/.iges file')
     ap.add_argument('--mesh', help='the quad mesh (.obj): report vertex distances to the shape')
     ap.add_argument('--samples', type=int, default=0,
                     help='samples per edge, at (i+0.5)/N (default 0: N = 4 spans + 3 as the fit report)')
@@ -325,11 +327,15 @@ def main():
     ap.add_argument('--no-edges', action='store_true', help='omit the per-edge table')
     ap.add_argument('--check', action='store_true', help="also run BRepCheck (shape.check(True)): field 'check'")
     ap.add_argument('--json', help='write the JSON here instead of stdout')
-    a = ap.parse_args()
-    if load_freecad() is None:
-        sys.stderr.write('q2n_audit: FreeCAD is not installed (apt-get install freecad-python3)\n')
-        return 2
-    if not os.path.exists(a.file):
+    ap.add_argument('--batch', metavar='LIST',
+                    help='run many audits in one process (FreeCAD loads once): each line of LIST holds the '
+                         'arguments of one run, e.g. "a.step --mesh a.obj --no-edges --json a.json"')
+    return ap
+
+
+def run_one(a):
+    """One audit from parsed arguments; returns the exit status."""
+    if not a.file or not os.path.exists(a.file):
         sys.stderr.write('q2n_audit: %s: no such file\n' % a.file)
         return 1
     try:
@@ -344,6 +350,26 @@ def main():
     else:
         print(text)
     return 0
+
+
+def main():
+    ap = make_parser()
+    a = ap.parse_args()
+    if load_freecad() is None:
+        sys.stderr.write('q2n_audit: FreeCAD is not installed (apt-get install freecad-python3)\n')
+        return 2
+    if not a.batch:
+        return run_one(a)
+    rc = 0
+    with open(a.batch) as f:
+        for line in f:
+            if not line.strip() or line.lstrip().startswith('#'):
+                continue
+            try:
+                rc = max(rc, run_one(make_parser().parse_args(shlex.split(line))))
+            except SystemExit:  # argparse error in this line
+                rc = max(rc, 1)
+    return rc
 
 
 if __name__ == '__main__':
