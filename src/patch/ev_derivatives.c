@@ -251,162 +251,184 @@ static int solve_sys(int n, double N[9][9], double r[9][3])
 }
 
 /* Least-squares local polynomial at v (Appendix B, adapted; see the file comment). */
-static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *jets, double (*dir)[2])
-{
+/* The fan of a vertex mapped onto the parameter plane (the η, r of (B.3)). */
+typedef struct fan {
+    int n, nfan;                       /* edges, faces */
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
-    int n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, edges, other, faces);
-    if (n < 2) return 0;
-    const double *p0 = q2n_mesh_vpos(m, v);
-    int boundary = m->vert_boundary[v], nfan = boundary ? n - 1 : n;
-    double f[EV_MAXVAL][3], nrm[3] = {0, 0, 0}, eta[EV_MAXVAL], len[EV_MAXVAL];
-    for (int k = 0; k < n; k++) q2n_v3_sub(f[k], q2n_mesh_vpos(m, other[k]), p0);
-    for (int k = 0; k < nfan; k++) { /* area-weighted normal of the fan */
+    double f[EV_MAXVAL][3];            /* edge vectors p_k - p0 */
+    double X[EV_MAXVAL][2];            /* planar positions of the neighbours, in local variables */
+    double q[EV_MAXVAL][3], Xq[EV_MAXVAL][2]; /* far corner of face k (minus p0) and its position */
+} fan;
+
+/* Angles between consecutive projected edges mapped onto the fan's span, sectors capped at 0.8π
+ * (else the two faces at an edge would not lie on its two sides); folded fans get uniform angles. */
+static void fan_angles(const q2n_mesh *m, int v, const fan *F, double g[][3], const double nrm[3], double *eta)
+{
+    double zeta[EV_MAXVAL], tot = 0, span = fan_span(m, v, F->n);
+    int folded = 0;
+    for (int k = 0; k < F->nfan; k++) {
         double c[3];
-        q2n_v3_cross(c, f[k], f[(k + 1) % n]);
+        q2n_v3_cross(c, g[k], g[(k + 1) % F->n]);
+        zeta[k] = atan2(q2n_v3_dot(c, nrm), q2n_v3_dot(g[k], g[(k + 1) % F->n]));
+        folded |= !(zeta[k] > 0.05);
+        tot += fmax(zeta[k], 0.05);
+    }
+    for (int k = 0; k < F->nfan; k++) zeta[k] = folded ? span / F->nfan : zeta[k] * span / tot;
+    for (int it = 0; it < 8; it++) {
+        double cap = 0.8 * M_PI, over = 0, rest = 0;
+        for (int k = 0; k < F->nfan; k++) {
+            if (zeta[k] > cap) over += zeta[k] - cap, zeta[k] = cap;
+            else rest += zeta[k];
+        }
+        if (over <= 0 || rest <= 0) break;
+        for (int k = 0; k < F->nfan; k++)
+            if (zeta[k] < cap) zeta[k] += over * zeta[k] / rest;
+    }
+    eta[0] = 0;
+    for (int k = 1; k < F->n; k++) eta[k] = eta[k - 1] + zeta[k - 1];
+}
+
+/* Gather the fan of v and map it onto the plane: edges projected onto the fan's tangent plane
+ * (area-weighted normal), angles from fan_angles (kπ/2 at regular vertices, opposite edges then
+ * sharing their length so that section lines through v stay C2), each neighbour at its projected
+ * distance.  0 when the fan has no tangent plane. */
+static int fan_gather(const q2n_mesh *m, const double *iv, int v, fan *F)
+{
+    F->n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, F->edges, F->other, F->faces);
+    if (F->n < 2) return 0;
+    F->nfan = m->vert_boundary[v] ? F->n - 1 : F->n;
+    const double *p0 = q2n_mesh_vpos(m, v);
+    double nrm[3] = {0, 0, 0}, g[EV_MAXVAL][3], len[EV_MAXVAL], eta[EV_MAXVAL];
+    for (int k = 0; k < F->n; k++) q2n_v3_sub(F->f[k], q2n_mesh_vpos(m, F->other[k]), p0);
+    for (int k = 0; k < F->nfan; k++) {
+        double c[3];
+        q2n_v3_cross(c, F->f[k], F->f[(k + 1) % F->n]);
         q2n_v3_add(nrm, nrm, c);
     }
     double nn = q2n_v3_norm(nrm);
     if (!(nn > 0)) return 0;
     q2n_v3_scale(nrm, 1 / nn, nrm);
-    /* edges projected onto the tangent plane: angles ζ between consecutive ones, mapped onto the
-     * fan's span (the η of Appendix B), lengths per unit local variable */
-    double g[EV_MAXVAL][3];
-    for (int k = 0; k < n; k++) {
-        memcpy(g[k], f[k], sizeof g[k]);
-        q2n_v3_axpy(g[k], -q2n_v3_dot(f[k], nrm), nrm);
-        len[k] = q2n_v3_norm(g[k]) / iv[edges[k]];
-        if (!(len[k] > 0)) len[k] = q2n_v3_norm(f[k]) / iv[edges[k]];
+    for (int k = 0; k < F->n; k++) {
+        memcpy(g[k], F->f[k], sizeof g[k]);
+        q2n_v3_axpy(g[k], -q2n_v3_dot(F->f[k], nrm), nrm);
+        len[k] = q2n_v3_norm(g[k]);
+        if (!(len[k] > 0)) len[k] = q2n_v3_norm(F->f[k]);
     }
-    if (vertex_regular(m, v)) {
-        for (int k = 0; k < n; k++) eta[k] = 0.5 * M_PI * k;
-        for (int k = 0; k + 2 < n; k++) len[k] = len[k + 2] = 0.5 * (len[k] + len[k + 2]);
+    int regular = vertex_regular(m, v);
+    if (regular) {
+        for (int k = 0; k + 2 < F->n; k++) { /* equal speeds (len/d) on the two sides */
+            double sp = 0.5 * (len[k] / iv[F->edges[k]] + len[k + 2] / iv[F->edges[k + 2]]);
+            len[k] = sp * iv[F->edges[k]];
+            len[k + 2] = sp * iv[F->edges[k + 2]];
+        }
     } else {
-        double zeta[EV_MAXVAL], tot = 0;
-        for (int k = 0; k < nfan; k++) {
-            const double *a = g[k], *b = g[(k + 1) % n];
-            double c[3];
-            q2n_v3_cross(c, a, b);
-            zeta[k] = atan2(q2n_v3_dot(c, nrm), q2n_v3_dot(a, b));
-            if (!(zeta[k] > 0.05)) zeta[k] = 0.05;
-            tot += zeta[k];
-        }
-        double span = fan_span(m, v, n);
-        /* folded fans (a projected angle <= 0 was clamped): uniform angles; then no sector may
-         * exceed 0.8π, or the two faces at an edge would not lie on its two sides */
-        int folded = 0;
-        for (int k = 0; k < nfan; k++) folded |= zeta[k] <= 0.05;
-        for (int k = 0; k < nfan; k++) zeta[k] = folded ? span / nfan : zeta[k] * span / tot;
-        for (int it = 0; it < 8; it++) {
-            double cap = 0.8 * M_PI, over = 0, rest = 0;
-            for (int k = 0; k < nfan; k++) {
-                if (zeta[k] > cap) over += zeta[k] - cap, zeta[k] = cap;
-                else rest += zeta[k];
-            }
-            if (over <= 0 || rest <= 0) break;
-            for (int k = 0; k < nfan; k++)
-                if (zeta[k] < cap) zeta[k] += over * zeta[k] / rest;
-        }
-        eta[0] = 0;
-        for (int k = 1; k < n; k++) eta[k] = eta[k - 1] + zeta[k - 1];
+        fan_angles(m, v, F, g, nrm, eta);
     }
-    double X[EV_MAXVAL][2];
-    for (int k = 0; k < n; k++) {
-        X[k][0] = iv[edges[k]] * len[k] * cos(eta[k]);
-        X[k][1] = iv[edges[k]] * len[k] * sin(eta[k]);
-        if (vertex_regular(m, v)) { /* exact axis directions */
-            static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-            X[k][0] = iv[edges[k]] * len[k] * ax[k % 4][0];
-            X[k][1] = iv[edges[k]] * len[k] * ax[k % 4][1];
-        }
+    static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    for (int k = 0; k < F->n; k++) {
+        F->X[k][0] = len[k] * (regular ? ax[k % 4][0] : cos(eta[k]));
+        F->X[k][1] = len[k] * (regular ? ax[k % 4][1] : sin(eta[k]));
     }
-    /* first derivatives: the linear map X_k -> f_k in the least-squares sense, each neighbour
-     * weighted by 1/|X_k|^2 (relative errors, so short and long edges count alike) */
-    ev_vjet *J = &jets[v];
-    double A2[2][2] = {{0, 0}, {0, 0}}, r2[2][3] = {{0}};
-    for (int k = 0; k < n; k++) {
-        double w = 1 / (X[k][0] * X[k][0] + X[k][1] * X[k][1]);
+    for (int k = 0; k < F->nfan; k++) {
+        int fc = F->faces[k], c = 0;
+        for (int i = 0; i < 4; i++)
+            if (m->face_vert[m->face_start[fc] + i] == v) c = i;
+        q2n_v3_sub(F->q[k], q2n_mesh_vpos(m, m->face_vert[m->face_start[fc] + (c + 2) % 4]), p0);
+        F->Xq[k][0] = F->X[k][0] + F->X[(k + 1) % F->n][0];
+        F->Xq[k][1] = F->X[k][1] + F->X[(k + 1) % F->n][1];
+    }
+    return 1;
+}
+
+/* J1: the linear map X_k -> f_k in the least-squares sense, weights 1/|X_k|^2 (relative errors,
+ * so short and long edges count alike). */
+static int fit_first(const fan *F, ev_vjet *J)
+{
+    double A[2][2] = {{0, 0}, {0, 0}}, r[2][3] = {{0}};
+    for (int k = 0; k < F->n; k++) {
+        const double *X = F->X[k];
+        double w = 1 / (X[0] * X[0] + X[1] * X[1]);
         for (int i = 0; i < 2; i++) {
-            for (int j = 0; j < 2; j++) A2[i][j] += w * X[k][i] * X[k][j];
-            for (int c = 0; c < 3; c++) r2[i][c] += w * X[k][i] * f[k][c];
+            for (int j = 0; j < 2; j++) A[i][j] += w * X[i] * X[j];
+            for (int c = 0; c < 3; c++) r[i][c] += w * X[i] * F->f[k][c];
         }
     }
-    double det = A2[0][0] * A2[1][1] - A2[0][1] * A2[1][0];
-    if (!(fabs(det) > 1e-14 * (A2[0][0] + A2[1][1]) * (A2[0][0] + A2[1][1]))) return 0;
+    double det = A[0][0] * A[1][1] - A[0][1] * A[1][0], tr = A[0][0] + A[1][1];
+    if (!(fabs(det) > 1e-14 * tr * tr)) return 0;
     for (int c = 0; c < 3; c++) {
-        J->J1[c][0] = (A2[1][1] * r2[0][c] - A2[0][1] * r2[1][c]) / det;
-        J->J1[c][1] = (A2[0][0] * r2[1][c] - A2[1][0] * r2[0][c]) / det;
+        J->J1[c][0] = (A[1][1] * r[0][c] - A[0][1] * r[1][c]) / det;
+        J->J1[c][1] = (A[0][0] * r[1][c] - A[1][0] * r[0][c]) / det;
     }
-    double a1[3] = {J->J1[0][0], J->J1[1][0], J->J1[2][0]}, a2[3] = {J->J1[0][1], J->J1[1][1], J->J1[2][1]}, nj[3];
-    q2n_v3_cross(nj, a1, a2);
-    double nl = q2n_v3_norm(nj);
-    if (!(nl > 0)) return 0;
-    q2n_v3_scale(nj, 1 / nl, nj);
-    /* second derivatives: only their normal part carries shape (the tangential part would be a
-     * parametric distortion, and G2 compatibility concerns the normal part only); fit the
-     * heights of the neighbours and of the far corners of the faces (at X_k + X_k+1) above the
-     * tangent plane by a quadratic form, weighted by 1/|X|^4 */
-    double N[3][3] = {{0}}, rh[3] = {0};
-    for (int k = 0; k < n + nfan; k++) {
-        double x, y, q[3];
-        if (k < n) {
-            x = X[k][0], y = X[k][1];
-            memcpy(q, f[k], sizeof q);
-        } else {
-            int j = k - n, fc = faces[j], c = 0;
-            for (int i = 0; i < 4; i++)
-                if (m->face_vert[m->face_start[fc] + i] == v) c = i;
-            x = X[j][0] + X[(j + 1) % n][0], y = X[j][1] + X[(j + 1) % n][1];
-            q2n_v3_sub(q, q2n_mesh_vpos(m, m->face_vert[m->face_start[fc] + (c + 2) % 4]), p0);
-        }
-        double r2x = x * x + y * y, w = 1 / (r2x * r2x), h = q2n_v3_dot(q, nj);
+    return 1;
+}
+
+/* Normal part of J2: the quadratic form fitting the heights above the tangent plane of the
+ * neighbours (at X_k) and of the far face corners (at X_k + X_k+1), weights 1/|X|^4.  Only the
+ * normal part carries shape; G2 compatibility concerns it alone. */
+static int fit_normal_second(const fan *F, const double nj[3], ev_vjet *J)
+{
+    double N[9][9] = {{0}}, R[9][3] = {{0}};
+    for (int k = 0; k < F->n + F->nfan; k++) {
+        const double *X = k < F->n ? F->X[k] : F->Xq[k - F->n], *q = k < F->n ? F->f[k] : F->q[k - F->n];
+        double x = X[0], y = X[1], r2 = x * x + y * y, w = 1 / (r2 * r2), h = q2n_v3_dot(q, nj);
         double mono[3] = {0.5 * x * x, x * y, 0.5 * y * y};
         for (int i = 0; i < 3; i++) {
             for (int j = 0; j < 3; j++) N[i][j] += w * mono[i] * mono[j];
-            rh[i] += w * mono[i] * h;
+            R[i][0] += w * mono[i] * h;
         }
     }
-    double tr = N[0][0] + N[1][1] + N[2][2], N9[9][9] = {{0}}, R9[9][3] = {{0}};
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++) N9[i][j] = N[i][j];
-        N9[i][i] += 1e-9 * tr;
-        R9[i][0] = rh[i];
-    }
-    if (!solve_sys(3, N9, R9)) return 0;
+    double tr = N[0][0] + N[1][1] + N[2][2];
+    for (int i = 0; i < 3; i++) N[i][i] += 1e-9 * tr; /* fans on two lines leave xy free */
+    if (!solve_sys(3, N, R)) return 0;
     for (int q = 0; q < 3; q++)
-        for (int c = 0; c < 3; c++) J->J2[c][q] = R9[q][0] * nj[c];
-    /* tangential part: only the acceleration along each edge is meaningful (the change of speed
-     * from the vertex to its neighbour, which keeps the Hermite segments evenly parametrized);
-     * write it as J1·C m(X) with C a 2x3 matrix, fit t_k·J1·C m(X_k) = t_k·(f_k - J1 X_k) with
-     * t_k the unit tangent of edge k, weights 1/|X_k|^4 and a ridge (minimum norm) */
-    {
-        double M6[9][9] = {{0}}, R6[9][3] = {{0}};
-        for (int k = 0; k < n; k++) {
-            double x = X[k][0], y = X[k][1], t[3], r[3], g[2];
-            ev_jet_d1(J, X[k], t);
-            double tl = q2n_v3_norm(t);
-            if (!(tl > 0)) continue;
-            q2n_v3_scale(t, 1 / tl, t);
-            q2n_v3_sub(r, f[k], (ev_jet_d1(J, X[k], r), r));
-            g[0] = t[0] * J->J1[0][0] + t[1] * J->J1[1][0] + t[2] * J->J1[2][0];
-            g[1] = t[0] * J->J1[0][1] + t[1] * J->J1[1][1] + t[2] * J->J1[2][1];
-            double mk[3] = {0.5 * x * x, x * y, 0.5 * y * y}, row[6], a = q2n_v3_dot(t, r);
-            for (int i = 0; i < 2; i++)
-                for (int q = 0; q < 3; q++) row[3 * i + q] = g[i] * mk[q];
-            double r2x = x * x + y * y, w = 1 / (r2x * r2x);
-            for (int i = 0; i < 6; i++) {
-                for (int j = 0; j < 6; j++) M6[i][j] += w * row[i] * row[j];
-                R6[i][0] += w * row[i] * a;
-            }
+        for (int c = 0; c < 3; c++) J->J2[c][q] = R[q][0] * nj[c];
+    return 1;
+}
+
+/* Tangential part of J2: only the acceleration along each edge is meaningful (the change of
+ * speed from the vertex to its neighbour, which keeps the Hermite segments evenly
+ * parametrized).  Written as J1·C m(X) with C a 2x3 matrix and m = (x²/2, xy, y²/2), fitted to
+ * t_k·J1·C m(X_k) = t_k·(f_k - J1 X_k), t_k the unit tangent of edge k, weights 1/|X_k|^4, with a
+ * ridge (minimum norm: fans do not determine all six numbers). */
+static void fit_tangential_second(const fan *F, ev_vjet *J)
+{
+    double M[9][9] = {{0}}, R[9][3] = {{0}};
+    for (int k = 0; k < F->n; k++) {
+        double x = F->X[k][0], y = F->X[k][1], t[3], r[3], g[2];
+        ev_jet_d1(J, F->X[k], t);
+        q2n_v3_sub(r, F->f[k], t);
+        double tl = q2n_v3_norm(t);
+        if (!(tl > 0)) continue;
+        q2n_v3_scale(t, 1 / tl, t);
+        for (int i = 0; i < 2; i++) g[i] = t[0] * J->J1[0][i] + t[1] * J->J1[1][i] + t[2] * J->J1[2][i];
+        double mk[3] = {0.5 * x * x, x * y, 0.5 * y * y}, row[6], a = q2n_v3_dot(t, r);
+        for (int i = 0; i < 2; i++)
+            for (int q = 0; q < 3; q++) row[3 * i + q] = g[i] * mk[q];
+        double r2 = x * x + y * y, w = 1 / (r2 * r2);
+        for (int i = 0; i < 6; i++) {
+            for (int j = 0; j < 6; j++) M[i][j] += w * row[i] * row[j];
+            R[i][0] += w * row[i] * a;
         }
-        double tr6 = 0;
-        for (int i = 0; i < 6; i++) tr6 += M6[i][i];
-        for (int i = 0; i < 6; i++) M6[i][i] += 1e-3 * tr6 / 6 + 1e-300;
-        if (tr6 > 0 && solve_sys(6, M6, R6))
-            for (int q = 0; q < 3; q++)
-                for (int c = 0; c < 3; c++) J->J2[c][q] += J->J1[c][0] * R6[q][0] + J->J1[c][1] * R6[3 + q][0];
     }
-    for (int k = 0; k < n; k++)
-        set_dir(m, dir, edges[k], v, X[k][0] / iv[edges[k]], X[k][1] / iv[edges[k]]);
+    double tr = 0;
+    for (int i = 0; i < 6; i++) tr += M[i][i];
+    if (!(tr > 0)) return;
+    for (int i = 0; i < 6; i++) M[i][i] += 1e-3 * tr / 6;
+    if (!solve_sys(6, M, R)) return;
+    for (int q = 0; q < 3; q++)
+        for (int c = 0; c < 3; c++) J->J2[c][q] += J->J1[c][0] * R[q][0] + J->J1[c][1] * R[3 + q][0];
+}
+
+/* Least-squares local polynomial at v (Appendix B, adapted; see the file comment). */
+static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, double (*dir)[2])
+{
+    fan F;
+    double nj[3];
+    if (!fan_gather(m, iv, v, &F) || !fit_first(&F, J) || !ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
+        return 0;
+    fit_tangential_second(&F, J);
+    for (int k = 0; k < F.n; k++)
+        set_dir(m, dir, F.edges[k], v, F.X[k][0] / iv[F.edges[k]], F.X[k][1] / iv[F.edges[k]]);
     J->source = 2;
     return 1;
 }
@@ -519,7 +541,7 @@ q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double 
     /* pass 2: section curves of the class through regular vertices, else Appendix B */
     for (int v = 0; v < m->nv; v++) {
         if (!need[v] || jets[v].source) continue;
-        if (!jet_from_sections(m, iv, cls, v, &jets[v], dir) && !jet_from_fit(m, iv, v, jets, dir)) {
+        if (!jet_from_sections(m, iv, cls, v, &jets[v], dir) && !jet_from_fit(m, iv, v, &jets[v], dir)) {
             free(need);
             return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: vertex %d: derivative estimate failed (Appendix B)",
                                  m->name, v);
