@@ -7,14 +7,21 @@
  *         J1·u, J2[u,u] from the vertex jets (ev_derivatives.c) — when a jet comes from a
  *         regular patch these are the derivatives of the neighbouring regular section segment,
  *         so the section curve keeps its C1/C2 continuity through the vertex;
- *   base side (face of edge_he): χ_L cubic Hermite with χ_L = J1·w, dχ_L/dx = J2[u,w] at both
- *         ends (w: the face's other edge at that end), ξ_L linear between J2[w,w];
- *   derived side (face of the twin): χ_R = α χ_L + β γ_x and
- *         ξ_R = α² ξ_L + 2αβ ∂xχ_L + β² γ_xx   (the G1 and G2 conditions with scalar α, β
- *         linear in t; the γ/δ terms of the G2 condition are zero), α, β solved at each end
- *         from w' = α w + β u in the jet's plane.  Both patches therefore join G1/G2 exactly,
- *         and at the ends every field equals the derivative of the adjacent curve (corner
- *         compatibility), also for the derived side, because all come from one jet.
+ *   n(t)  a cubic Hermite field between the unit normals of the two jets, its end derivatives
+ *         the jets' Weingarten maps along the edge (ev_jet_dn);
+ *   a ribbon frame T = γ_x/|γ_x|, D = n × T/|n × T| shared by the two faces (formulas.md §4.3,
+ *         the "perpendicular ribbon" of Salvi–Várady), and for each face χ = a(t) D + b(t) T with
+ *         a, b linear between the values that give χ = J1·w at the two ends (w: the face's other
+ *         edge there).  Hence χ_R = α χ_L + β γ_x with scalar α = a_R/a_L, β: the G1 condition;
+ *   base side (face of edge_he): ξ_L linear between J2[w,w] at the ends;
+ *   derived side (face of the twin): ξ_R = τ1 D + τ2 T + c N, N = D × T, c making its normal part
+ *         equal that of α² ξ_L + 2αβ ∂xχ_L + β² γ_xx (the G2 condition of formulas.md §4.2; its
+ *         γ, δ terms are absorbed by τ1, τ2, linear between the tangential parts of the corner
+ *         values J2[w',w']).  Since n' is the Weingarten derivative, n·∂xχ_L equals the jet's
+ *         II(u,w) at the ends, so the derived side meets its corner values exactly (corner
+ *         compatibility, needed by the Coons patch), and both patches join G1/G2 exactly.
+ * The derived quantities are rational in t; they are evaluated with derivative arrays up to order
+ * 3 (Leibniz, Faà di Bruno), since the patch needs ξ_R and its two t-derivatives.
  * Sides shared with a regular patch are not built here: ev_side_eval samples that patch's
  * boundary and cross fields and divides them by its local parametrization function (§4.1). */
 #include <math.h>

@@ -7,12 +7,15 @@
  *     derivatives divided by its edge intervals (Lemma 1 / eq. (15) of seed 003: at a corner the
  *     local parametrization functions have vanishing derivatives, so ∂u S = d ∂x S,
  *     ∂uv S = d e ∂xy S, ...), and the four edges get the directions (±1,0), (0,±1);
+ *   - a valence-4 vertex whose two section polylines are long enough for the class (§4.3) takes
+ *     the derivatives of those section curves, and its twist from the four far face corners;
  *   - otherwise it is a least-squares local polynomial in the spirit of Appendix B, eq. (B.3):
  *     the fan is mapped onto the plane with angles η_k proportional to the angles between the
  *     edges projected onto the fan's tangent plane (summing to 2π inside, π on the boundary,
  *     π/2 at a corner; η_k = kπ/2 at valence-4 interior vertices and boundary vertices with at
- *     most two faces, so that section curves through them stay C2), each edge at the distance
- *     d_k · |projected edge| / d_k of its local variable.  J1 is the linear map that best sends
+ *     most two faces, so that section curves through them stay C2), each neighbour at its
+ *     projected distance (so J1·u_k is close to the edge's speed |p_k - p0|/d_k in its local
+ *     variable, whatever the ratio of the edge lengths).  J1 is the linear map that best sends
  *     the planar edge vectors X_k onto the spatial ones (weights 1/|X_k|^2); the normal part of
  *     J2 is the quadratic form fitting the heights of the one-ring neighbours and of the far
  *     corners of the faces (at X_k + X_k+1) above the tangent plane; the tangential part of J2
