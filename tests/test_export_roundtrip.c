@@ -128,6 +128,35 @@ static int exact_cps(const double *par, const q2n_bspline_surface *s)
     return ok;
 }
 
+/* Global section fields (up to 26): Hollerith strings nH... unwrapped, numbers as text; blanks
+ * outside strings (record padding) skipped.  Returns the field count. */
+static int iges_global(const iges_file *F, char fields[26][160])
+{
+    char g[8192] = {0};
+    for (int i = 0; i < F->nG && i < 100; i++) strncat(g, F->line[F->nS + i], 72);
+    int n = 0;
+    const char *p = g;
+    while (*p && n < 26) {
+        while (*p == ' ') p++;
+        char *out = fields[n];
+        size_t k = 0;
+        if (isdigit((unsigned char)*p)) {
+            char *e;
+            long len = strtol(p, &e, 10);
+            if (*e == 'H') { /* Hollerith: the next len characters verbatim */
+                for (long i = 0; i < len && e[1 + i] && k < 159; i++) out[k++] = e[1 + i];
+                p = e + 1 + len;
+            }
+        }
+        while (*p && *p != ',' && *p != ';' && k < 159) { if (*p != ' ') out[k++] = *p; p++; }
+        out[k] = 0;
+        n++;
+        if (*p == ';' || !*p) break;
+        p++;
+    }
+    return n;
+}
+
 static int count_type(const iges_file *F, int type)
 {
     int n = 0;
@@ -147,6 +176,23 @@ static void check_iges(const char *what, const char *text, const q2n_nurbs_model
     CHECK(strncmp(g, "1H,,1H;,", 8) == 0, "%s: Global delimiters: %.8s", what, g);
     CHECK(strstr(g, ",1.,2,2HMM,") != NULL, "%s: Global scale 1.0, units flag 2 (mm)", what);
     CHECK(strstr(g, ",11,0,,;") != NULL, "%s: Global IGES 5.3 version flag", what);
+    /* field by field: scale, units, resolution (tol_abs or 1e-9 x control-net diagonal), max coordinate */
+    char gf[26][160];
+    int ngf = iges_global(&F, gf);
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300}, mc = 0.0;
+    for (int f = 0; f < m->n; f++)
+        for (int i = 0; i < 3 * m->patches[f].ncp_u * m->patches[f].ncp_v; i++) {
+            double x = m->patches[f].cp[i];
+            lo[i % 3] = fmin(lo[i % 3], x); hi[i % 3] = fmax(hi[i % 3], x); mc = fmax(mc, fabs(x));
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double res = m->tol_abs > 0 ? m->tol_abs : 1e-9 * diag;
+    CHECK(ngf == 26, "%s: %d Global fields", what, ngf);
+    CHECK(ngf == 26 && strcmp(gf[0], ",") == 0 && strcmp(gf[1], ";") == 0 && strcmp(gf[12], "1.") == 0 &&
+          strcmp(gf[13], "2") == 0 && strcmp(gf[14], "MM") == 0 && strcmp(gf[22], "11") == 0,
+          "%s: Global delimiters, scale, units, version: '%s' '%s' '%s'", what, gf[12], gf[13], gf[14]);
+    CHECK(ngf == 26 && fabs(strtod(gf[18], NULL) - res) <= 1e-15 * res && strtod(gf[19], NULL) == mc,
+          "%s: Global resolution %s (want %.17g), max coordinate %s (want %.17g)", what, gf[18], res, gf[19], mc);
     int n128 = count_type(&F, 128);
     CHECK(n128 == me->nf, "%s: %d entities 128 for %d faces", what, n128, me->nf);
     int exact = 1;
@@ -399,6 +445,17 @@ int main(void)
     q2n_mesh *g = em_mesh_grid(5, 3);
     q2n_nurbs_model gm = em_model_bilinear(g);
     roundtrip("grid 5x3 bilinear", &gm, 1, 0);
+    gm.tol_abs = 2.5e-4; /* the fit tolerance becomes the IGES resolution and the STEP uncertainty */
+    roundtrip("grid with tolerance", &gm, 1, 0);
+    {
+        char *t;
+        size_t l;
+        const char *key = "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(";
+        CHECK(q2n_export_step_text(&gm, NULL, &t, &l, &err) == Q2N_OK && strstr(t, key) &&
+              strtod(strstr(t, key) + strlen(key), NULL) == 2.5e-4, "STEP uncertainty = tol_abs");
+        free(t);
+    }
+    gm.tol_abs = 0.0;
     /* 2. closed rational torus, open rational cylinder */
     q2n_mesh *tm, *cm;
     q2n_nurbs_model tr = em_model_torus_rational(3.0, 1.0, &tm);
