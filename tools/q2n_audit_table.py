@@ -8,7 +8,7 @@ with the report.  One row per mesh x method x format: faces, isValid, shells/sol
 parentheses), the compare verdict and the import + audit time.  A run the executable refuses
 (e.g. a construction that does not cover a mesh yet) is listed with its message.
 
-usage: tools/q2n_audit_table.py [--exe build/quad2nurbs] [--meshes ../shared/meshes]
+usage: tools/q2n_audit_table.py [--exe build/quad2nurbs] [--meshes-dir ../shared/meshes]
                                 [--methods augmented,acc3,acc-g1] [--out build/audit] [MESH.obj ...]
 """
 import argparse
@@ -58,7 +58,7 @@ def run(cmd):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('meshes', nargs='*', help='OBJ files (default: every *.obj in --meshes)')
+    ap.add_argument('meshes', nargs='*', help='OBJ files (default: every *.obj in --meshes-dir)')
     ap.add_argument('--exe', default='build/quad2nurbs')
     ap.add_argument('--meshes-dir', default='../shared/meshes')
     ap.add_argument('--methods', default='augmented,acc3,acc-g1')
@@ -66,45 +66,59 @@ def main():
     ap.add_argument('--out', default='build/audit')
     a = ap.parse_args()
     meshes = a.meshes or sorted(glob.glob(os.path.join(a.meshes_dir, '*.obj')))
+    fmts = a.formats.split(',')
     os.makedirs(a.out, exist_ok=True)
+    # 1. every model (quad2nurbs writes all formats and its report in one run)
+    rows, batch = [], []
+    for mesh in meshes:
+        mname = os.path.splitext(os.path.basename(mesh))[0]
+        counts = mesh_counts(mesh)
+        for method in a.methods.split(','):
+            base = os.path.join(a.out, '%s_%s' % (mname, method))
+            cmd = [a.exe, '-q', '--surface', method, mesh] + sum([['-o', base + '.' + f] for f in fmts], [])
+            rc, _, err = run(cmd + ['-o', base + '.json'])
+            msg = None
+            if rc != 0:
+                msg = err.strip().splitlines()[-1] if err.strip() else 'exit %d' % rc
+            rows.append((mesh, mname, counts, method, base, msg))
+            if msg is None:
+                for fmt in fmts:
+                    aj = '%s.%s.audit.json' % (base, fmt)
+                    if os.path.exists(aj):
+                        os.remove(aj)
+                    batch.append('%s.%s --no-edges --mesh %s --json %s' % (base, fmt, mesh, aj))
+    # 2. one FreeCAD process audits them all
+    lst = os.path.join(a.out, 'batch.txt')
+    with open(lst, 'w') as f:
+        f.write('\n'.join(batch) + '\n')
+    run([sys.executable, os.path.join(HERE, 'q2n_audit.py'), '--batch', lst])
+    # 3. the table
     print('| mesh | method | format | faces | valid | shells/solids | free edges (mesh bnd) | G0 gap/diag '
           '| G1 deg (report) | G2 rel (report) | compare | import+audit s |')
     print('|---|---|---|---|---|---|---|---|---|---|---|---|')
-    for mesh in meshes:
-        mname = os.path.splitext(os.path.basename(mesh))[0]
-        nf, nbnd, ncomp = mesh_counts(mesh)
-        for method in a.methods.split(','):
-            base = os.path.join(a.out, '%s_%s' % (mname, method))
-            fmts = a.formats.split(',')
-            cmd = [a.exe, '-q', '--surface', method, mesh] + sum([['-o', base + '.' + f] for f in fmts], [])
-            cmd += ['-o', base + '.json']
-            rc, _, err = run(cmd)
-            if rc != 0:
-                msg = err.strip().splitlines()[-1] if err.strip() else 'exit %d' % rc
-                print('| %s | %s | – | – | – | – | – | – | – | – | not built: %s | – |' %
-                      (mname, method, msg.replace('|', '/')[:90]))
+    for mesh, mname, (nf, nbnd, _), method, base, msg in rows:
+        if msg is not None:
+            print('| %s | %s | – | – | – | – | – | – | – | – | not built: %s | – |' %
+                  (mname, method, msg.replace('|', '/')[:90]))
+            continue
+        with open(base + '.json') as f:
+            rep = json.load(f)
+        scale = 1
+        while nf * scale * scale < rep.get('faces', nf):
+            scale *= 2
+        for fmt in fmts:
+            aj = '%s.%s.audit.json' % (base, fmt)
+            if not os.path.exists(aj):
+                print('| %s | %s | %s | import failed | | | | | | | | |' % (mname, method, fmt))
                 continue
-            with open(base + '.json') as f:
-                rep = json.load(f)
-            scale = 1
-            while nf * scale * scale < rep.get('faces', nf):
-                scale *= 2
-            for fmt in fmts:
-                aj = '%s.%s.audit.json' % (base, fmt)
-                rc, _, err = run([sys.executable, os.path.join(HERE, 'q2n_audit.py'), '%s.%s' % (base, fmt),
-                                  '--no-edges', '--mesh', mesh, '--json', aj])
-                if rc != 0:
-                    print('| %s | %s | %s | import failed: %s |' % (mname, method, fmt, err.strip()[:80]))
-                    continue
-                with open(aj) as f:
-                    d = json.load(f)
-                rc, out, _ = run([sys.executable, os.path.join(HERE, 'q2n_compare.py'), aj, base + '.json'])
-                print('| %s | %s | %s | %d | %s | %d/%d | %d (%d) | %.1e | %.3g (%.3g) | %.3g (%.3g) | %s | %.1f |' % (
-                    mname, method, fmt, d['faces'], 'yes' if d['valid'] else 'NO', d['shells'], d['solids'],
-                    d['free_edges'], nbnd * scale, d['g0_max_rel'], d['g1_max_deg'], rep.get('g1_max_deg', -1),
-                    d['g2_max_rel'], rep.get('g2_max_rel', -1), 'agree' if rc == 0 else 'DISAGREE',
-                    d['seconds_read'] + d['seconds_audit']))
-                sys.stdout.flush()
+            with open(aj) as f:
+                d = json.load(f)
+            rc, _, _ = run([sys.executable, os.path.join(HERE, 'q2n_compare.py'), aj, base + '.json'])
+            print('| %s | %s | %s | %d | %s | %d/%d | %d (%d) | %.1e | %.3g (%.3g) | %.3g (%.3g) | %s | %.1f |' % (
+                mname, method, fmt, d['faces'], 'yes' if d['valid'] else 'NO', d['shells'], d['solids'],
+                d['free_edges'], nbnd * scale, d['g0_max_rel'], d['g1_max_deg'], rep.get('g1_max_deg', -1),
+                d['g2_max_rel'], rep.get('g2_max_rel', -1), 'agree' if rc == 0 else 'DISAGREE',
+                d['seconds_read'] + d['seconds_audit']))
     return 0
 
 
