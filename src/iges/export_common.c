@@ -398,6 +398,8 @@ q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q
         t->vused[v] = 1;
         side_point(&m->patches[f], h - me->face_start[f], 0.0, t->vpos + 3 * v);
     }
+    for (int v = 0; v < me->nv; v++) /* unused vertices (listed in IGES 502 only): the mesh position */
+        if (!t->vused[v]) memcpy(t->vpos + 3 * v, me->pos + 3 * v, 3 * sizeof(double));
     if ((st = check_watertight(m, t, err)) != Q2N_OK) {
         q2n_export_topo_free(t);
         return st;
