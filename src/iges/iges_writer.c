@@ -153,7 +153,7 @@ static void write_global(q2n_strbuf *b, const q2n_export_options *opt, const cha
     snprintf(f[nf++], sizeof f[0], "%d", opt->units == Q2N_UNITS_IN ? 1 : 2); /* 14 units flag */
     hollerith(f[nf++], sizeof f[0], opt->units == Q2N_UNITS_IN ? "INCH" : "MM"); /* 15 units name */
     snprintf(f[nf++], sizeof f[0], "1");                        /* 16 line weight gradations */
-    q2n_export_fmt_real(f[nf++], 0.0);                          /* 17 max line width: unused */
+    q2n_export_fmt_real(f[nf++], 0.01);                         /* 17 width of the heaviest line (unused) */
     if (opt->timestamp) hollerith(f[nf++], sizeof f[0], opt->timestamp); /* 18 date of generation */
     else f[nf++][0] = '\0';                                     /*    omitted: deterministic output */
     q2n_export_fmt_real(f[nf++], t->resolution);                /* 19 minimum resolution */
