@@ -2,7 +2,8 @@
  * against the format rules and the model they came from (no CAD system needed):
  *   IGES: 80-column records, section letters and sequence numbers, Terminate counts, Directory
  *         pairs and Parameter back-pointers, Global fields (units, scale, resolution, max
- *         coordinate), entity counts per type, every pointer, 128/126 data equal to the model's
+ *         coordinate), entity counts per type, every pointer, 110 p-curves along the loops,
+ *         128/126 data equal to the model's
  *         control points, knots and weights bit for bit (%.17g round trip), loops using each
  *         interior edge twice in opposite senses;
  *   STEP: entity ids, every #reference defined, counts per type, each EDGE_CURVE used by two
@@ -212,6 +213,7 @@ static void check_iges(const char *what, const char *text, const q2n_nurbs_model
     CHECK(count_type(&F, 126) == me->ne, "%s: %d curves 126 for %d edges", what, count_type(&F, 126), me->ne);
     CHECK(count_type(&F, 502) == 1 && count_type(&F, 504) == 1, "%s: one 502 and one 504", what);
     CHECK(count_type(&F, 508) == me->nf && count_type(&F, 510) == me->nf, "%s: loops/faces per patch", what);
+    CHECK(count_type(&F, 110) == 4 * me->nf, "%s: %d parameter-space lines 110 (4 per face)", what, count_type(&F, 110));
     CHECK(count_type(&F, 514) == ncomp, "%s: %d shells (%d components)", what, count_type(&F, 514), ncomp);
     CHECK(count_type(&F, 186) == nclosed, "%s: %d solids (%d closed)", what, count_type(&F, 186), nclosed);
     /* pointers and edge usage: every 510 -> its 128 and 508; every 508 edge -> 504 index; 504 -> 126 */
@@ -224,11 +226,22 @@ static void check_iges(const char *what, const char *text, const q2n_nurbs_model
             ok &= (int)par[1] == 2 * face_no + 1 && (int)par[2] == 1 && F.ent_type[((int)par[4] - 1) / 2] == 508;
             face_no++;
         } else if (F.ent_type[k] == 508) {
-            ok &= (int)par[1] == 4 && n == 2 + 4 * 5;
-            for (int i = 0; i < 4 && n == 22; i++) {
-                int e = (int)par[2 + 5 * i + 2] - 1;
-                ok &= F.ent_type[((int)par[2 + 5 * i + 1] - 1) / 2] == 504 && e >= 0 && e < me->ne;
-                if (e >= 0 && e < me->ne) { use[e]++; sense_sum[e] += (int)par[2 + 5 * i + 3]; }
+            /* per edge: TYPE 0, EDGE (504), NDX, OF, K = 1, ISOP = 1, CURV (110 from corner i to i+1) */
+            static const double corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            ok &= (int)par[1] == 4 && n == 2 + 4 * 7;
+            for (int i = 0; i < 4 && n == 30; i++) {
+                const double *q = par + 2 + 7 * i;
+                int e = (int)q[2] - 1, c = ((int)q[6] - 1) / 2;
+                ok &= q[0] == 0 && F.ent_type[((int)q[1] - 1) / 2] == 504 && e >= 0 && e < me->ne;
+                ok &= q[4] == 1 && q[5] == 1 && c >= 0 && c < F.nent && F.ent_type[c] == 110 && F.ent_status[c] == 10500;
+                if (e >= 0 && e < me->ne) { use[e]++; sense_sum[e] += (int)q[3]; }
+                if (c >= 0 && c < F.nent && F.ent_type[c] == 110) {
+                    int nl;
+                    double *ln = iges_params(&F, c, &nl);
+                    ok &= nl == 7 && ln[1] == corner[i][0] && ln[2] == corner[i][1] && ln[3] == 0 &&
+                          ln[4] == corner[(i + 1) & 3][0] && ln[5] == corner[(i + 1) & 3][1] && ln[6] == 0;
+                    free(ln);
+                }
             }
         } else if (F.ent_type[k] == 504) {
             n504 = (int)par[1];
@@ -251,7 +264,8 @@ static void check_iges(const char *what, const char *text, const q2n_nurbs_model
         }
         free(par);
     }
-    CHECK(ok, "%s: B-rep pointers, 126 end points at the mesh vertices, independent top entities", what);
+    CHECK(ok, "%s: B-rep pointers, 126 end points at the mesh vertices, p-curves along the loops, independent "
+              "top entities", what);
     CHECK(n504 == me->ne, "%s: 504 lists %d edges", what, n504);
     int usage_ok = 1;
     for (int e = 0; e < me->ne; e++) {

@@ -8,8 +8,8 @@
  * unless iges_plain, the shared-edge B-rep of §4.139-4.149 after them:
  *   126 Rational B-Spline Curve (§4.23), one per mesh edge (the patch boundary);
  *   502 Vertex List form 1, 504 Edge List form 1 (one each);
- *   508 Loop form 1 (4 edges, no parameter-space curves: receivers compute them), 510 Face
- *   form 1, one per patch; 514 Shell (form 1 closed, 2 open) per connected component; 186
+ *   110 Line in parameter space (entity use 05) per face side, 508 Loop form 1 (4 edges, each
+ *   with its isoparametric p-curve), 510 Face form 1, one per patch; 514 Shell (form 1 closed, 2 open) per connected component; 186
  *   Manifold Solid B-Rep Object per closed component.
  * Only the top-level entities (128s when plain, otherwise 186 / open 514) are independent;
  * the rest are physically dependent (status digits 3-4 = 01). */
@@ -25,6 +25,7 @@ enum { IGES_PCOLS = 64, IGES_GCOLS = 72 };
 typedef struct iges_ent {
     int type, form, dependent;
     int pstart, pcount;   /* first parameter record and number of records */
+    int use;              /* entity use flag (status digits 5-6): 0 geometry, 5 2D parametric */
 } iges_ent;
 
 /* Parameter writer: tokens are packed into 64-column records and never split (a %.17g real is
@@ -187,9 +188,9 @@ static void write_directory(q2n_strbuf *b, const iges_ent *ents, int n)
 {
     for (int k = 0; k < n; k++) {
         const iges_ent *e = &ents[k];
-        /* status: blank 00, subordinate 00/01, entity use 00 (geometry), hierarchy 00 */
-        q2n_strbuf_printf(b, "%8d%8d%8d%8d%8d%8d%8d%8d00%02d0000D%7d\n", e->type, e->pstart, 0, 0, 0, 0, 0, 0,
-                          e->dependent ? 1 : 0, 2 * k + 1);
+        /* status: blank 00, subordinate 00/01, entity use 00 (geometry) / 05 (2D parametric), hierarchy 00 */
+        q2n_strbuf_printf(b, "%8d%8d%8d%8d%8d%8d%8d%8d00%02d%02d00D%7d\n", e->type, e->pstart, 0, 0, 0, 0, 0, 0,
+                          e->dependent ? 1 : 0, e->use, 2 * k + 1);
         q2n_strbuf_printf(b, "%8d%8d%8d%8d%8d%8s%8s%8s%8dD%7d\n", e->type, 0, 0, e->pcount, e->form, "", "", "", 0,
                           2 * k + 2);
     }
@@ -197,7 +198,7 @@ static void write_directory(q2n_strbuf *b, const iges_ent *ents, int n)
 
 /* Entity indices of the B-rep part; DE pointer of index k is 2k+1. */
 typedef struct iges_layout {
-    int n128, c126, i502, i504, c508, c510, c514, c186, nent;
+    int n128, c126, i502, i504, c110, c508, c510, c514, c186, nent;
 } iges_layout;
 
 static iges_layout layout(const q2n_export_topo *t, int plain)
@@ -206,11 +207,16 @@ static iges_layout layout(const q2n_export_topo *t, int plain)
     int nclosed = 0;
     for (int c = 0; c < t->ncomp; c++) nclosed += t->comp_closed[c];
     L.n128 = t->nf;
-    if (plain) { L.nent = t->nf; L.c126 = L.i502 = L.i504 = L.c508 = L.c510 = L.c514 = L.c186 = L.nent; return L; }
+    if (plain) {
+        L.nent = t->nf;
+        L.c126 = L.i502 = L.i504 = L.c110 = L.c508 = L.c510 = L.c514 = L.c186 = L.nent;
+        return L;
+    }
     L.c126 = L.n128;
     L.i502 = L.c126 + t->ne;
     L.i504 = L.i502 + 1;
-    L.c508 = L.i504 + 1;
+    L.c110 = L.i504 + 1;
+    L.c508 = L.c110 + 4 * t->nf;
     L.c510 = L.c508 + t->nf;
     L.c514 = L.c510 + t->nf;
     L.c186 = L.c514 + t->ncomp;
@@ -226,21 +232,21 @@ static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q
     const q2n_mesh *me = m->mesh;
     for (int e = 0; e < t->ne; e++) {
         iges_ent *en = &ents[L->c126 + e];
-        *en = (iges_ent){126, 0, 1, 0, 0};
+        *en = (iges_ent){126, 0, 1, 0, 0, 0};
         pw_begin(w, en, DE(L->c126 + e));
         write_126(w, &t->edge_curve[e]);
         pw_end(w, en);
     }
     /* 502: all mesh vertices (index v+1); unused ones are harmless but keep the numbering simple */
     iges_ent *vl = &ents[L->i502];
-    *vl = (iges_ent){502, 1, 1, 0, 0};
+    *vl = (iges_ent){502, 1, 1, 0, 0, 0};
     pw_begin(w, vl, DE(L->i502));
     pw_int(w, t->nv);
     for (int i = 0; i < 3 * t->nv; i++) pw_real(w, t->vpos[i]);
     pw_end(w, vl);
     /* 504: edge e (index e+1) = curve, start vertex, end vertex */
     iges_ent *el = &ents[L->i504];
-    *el = (iges_ent){504, 1, 1, 0, 0};
+    *el = (iges_ent){504, 1, 1, 0, 0, 0};
     pw_begin(w, el, DE(L->i504));
     pw_int(w, t->ne);
     for (int e = 0; e < t->ne; e++) {
@@ -249,23 +255,37 @@ static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q
         pw_int(w, DE(L->i502)); pw_int(w, t->edge_v[2 * e + 1] + 1);
     }
     pw_end(w, el);
-    /* 508 loops: edge type 0, list, index, orientation (1 = along the curve), 0 p-curves */
+    /* 110 parameter-space lines (2D parametric use, §4.13): side i of face f runs from corner i
+     * to corner i+1 of [0,1]^2 in (u,v,0), the loop's direction (as OCCT's own B-rep writer does) */
+    static const double corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (int f = 0; f < t->nf; f++)
+        for (int i = 0; i < 4; i++) {
+            int k = L->c110 + 4 * f + i;
+            iges_ent *en = &ents[k];
+            *en = (iges_ent){110, 0, 1, 0, 0, 5};
+            pw_begin(w, en, DE(k));
+            pw_real(w, corner[i][0]); pw_real(w, corner[i][1]); pw_real(w, 0.0);
+            pw_real(w, corner[(i + 1) & 3][0]); pw_real(w, corner[(i + 1) & 3][1]); pw_real(w, 0.0);
+            pw_end(w, en);
+        }
+    /* 508 loops: per edge type 0, list, index, orientation (1 = along the curve), one
+     * isoparametric p-curve (K = 1, ISOP = 1) */
     for (int f = 0; f < t->nf; f++) {
         iges_ent *en = &ents[L->c508 + f];
-        *en = (iges_ent){508, 1, 1, 0, 0};
+        *en = (iges_ent){508, 1, 1, 0, 0, 0};
         pw_begin(w, en, DE(L->c508 + f));
         pw_int(w, 4);
         for (int i = 0; i < 4; i++) {
             int h = q2n_face_he(me, f, i);
             pw_int(w, 0); pw_int(w, DE(L->i504)); pw_int(w, me->he_edge[h] + 1);
-            pw_int(w, t->he_sense[h]); pw_int(w, 0);
+            pw_int(w, t->he_sense[h]); pw_int(w, 1); pw_int(w, 1); pw_int(w, DE(L->c110 + 4 * f + i));
         }
         pw_end(w, en);
     }
     /* 510 faces: surface, one loop, outer-loop flag 1 */
     for (int f = 0; f < t->nf; f++) {
         iges_ent *en = &ents[L->c510 + f];
-        *en = (iges_ent){510, 1, 1, 0, 0};
+        *en = (iges_ent){510, 1, 1, 0, 0, 0};
         pw_begin(w, en, DE(L->c510 + f));
         pw_int(w, DE(f)); pw_int(w, 1); pw_int(w, 1); pw_int(w, DE(L->c508 + f));
         pw_end(w, en);
@@ -277,7 +297,7 @@ static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q
         int n = 0;
         for (int f = 0; f < t->nf; f++) n += t->face_comp[f] == c;
         iges_ent *en = &ents[L->c514 + c];
-        *en = (iges_ent){514, t->comp_closed[c] ? 1 : 2, t->comp_closed[c], 0, 0};
+        *en = (iges_ent){514, t->comp_closed[c] ? 1 : 2, t->comp_closed[c], 0, 0, 0};
         pw_begin(w, en, DE(L->c514 + c));
         pw_int(w, n);
         for (int f = 0; f < t->nf; f++)
@@ -285,7 +305,7 @@ static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q
         pw_end(w, en);
         if (!t->comp_closed[c]) continue;
         iges_ent *so = &ents[k186];
-        *so = (iges_ent){186, 0, 0, 0, 0};
+        *so = (iges_ent){186, 0, 0, 0, 0, 0};
         pw_begin(w, so, DE(k186));
         pw_int(w, DE(L->c514 + c)); pw_int(w, 1); pw_int(w, 0);
         pw_end(w, so);
@@ -302,7 +322,7 @@ static q2n_status iges_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
     if (!ents) return Q2N_ERR_NOMEM;
     iges_pw w = {&pb, 0, 0, 0, {0}, 0};
     for (int f = 0; f < t->nf; f++) {
-        ents[f] = (iges_ent){128, 0, !opt->iges_plain, 0, 0};
+        ents[f] = (iges_ent){128, 0, !opt->iges_plain, 0, 0, 0};
         pw_begin(&w, &ents[f], DE(f));
         write_128(&w, &m->patches[f]);
         pw_end(&w, &ents[f]);
