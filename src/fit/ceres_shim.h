@@ -10,12 +10,13 @@ extern "C" {
 /* Solve the sparse linear least-squares problem  min sum_r | sum_e val_e x[col_e] - rhs_r |^2 over
  * 3-vectors x[0..nvar-1] (row r has entries row_start[r] .. row_start[r+1]-1; same coefficients
  * for x, y, z).  dense == 0: one SPARSE_NORMAL_CHOLESKY solve of everything; dense != 0: one
- * DENSE_QR solve per independent block of rows item_row[i] .. item_row[i+1]-1 (nitem blocks).  x holds the start
+ * DENSE_QR solve per independent block of rows item_row[i] .. item_row[i+1]-1 whose unknowns
+ * are item_var[i] .. item_var[i+1]-1 (nitem blocks).  x holds the start
  * point on entry (any; the problem is linear) and the solution on return.  Returns 0 on success,
  * else 1 with a message. */
 int q2n_ceres_linear_ls(int nvar, int nrow, const int *row_start, const int *col, const double *val,
                         const double *rhs, double *x, int threads, int dense, int nitem, const int *item_row,
-                        char *msg, int msglen);
+                        const int *item_var, char *msg, int msglen);
 
 #ifdef __cplusplus
 }

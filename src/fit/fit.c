@@ -58,6 +58,7 @@ typedef struct fpatch {
     double *cp;              /* 3*nu*nv, u fastest */
     unsigned char *fixed;    /* nu*nv */
     int *var;                /* nu*nv: unknown index in the current stage, or -1 */
+    int unsafe22;            /* bit i: corner i's Q22 comes from the preliminary fit (G2 mode) */
 } fpatch;
 
 /* Frame of side i of a patch: t along the side (corner i -> i+1), s into the patch. */
@@ -370,13 +371,13 @@ static const double FD[3][6] = {{6, -15, 20, -15, 6, -1},
  * have direction-dependent mixed derivatives, and the average is the compromise).  Along s = 0
  * it is the k-th t-derivative of an evaluated second-derivative field at (t, 0), along t = 0 the
  * k-th s-derivative of one at (0, s) (k = 0: extrapolated value). */
-static q2n_status corner_mixed(ctx *c, const side *sd, int a, int b, double J[3])
+static q2n_status corner_mixed(ctx *c, const side *sd, int a, int b, double J[3], double *spread)
 {
     /* [a-1][b-1][edge] = {slot of side_exact's D (3 d_tt, 4 d_ts, 5 d_ss), k} */
     static const int tab[2][2][2][2] = {{{{4, 0}, {4, 0}}, {{5, 1}, {4, 1}}},
                                         {{{4, 1}, {3, 1}}, {{5, 2}, {3, 2}}}};
     const double h = 0.01;
-    memset(J, 0, 3 * sizeof(double));
+    double E[2][3] = {{0, 0, 0}, {0, 0, 0}};
     for (int dir = 0; dir < 2; dir++) {
         int slot = tab[a - 1][b - 1][dir][0], k = tab[a - 1][b - 1][dir][1];
         const double *w = FD[k];
@@ -385,34 +386,48 @@ static q2n_status corner_mixed(ctx *c, const side *sd, int a, int b, double J[3]
             double D[6][3];
             q2n_status st = side_exact(c, sd, dir ? 0.0 : q * h, dir ? q * h : 0.0, 2, D);
             if (st) return st;
-            q2n_v3_axpy(J, 0.5 * w[q - 1] * scale, D[slot]);
+            q2n_v3_axpy(E[dir], w[q - 1] * scale, D[slot]);
         }
     }
+    for (int r = 0; r < 3; r++) J[r] = 0.5 * (E[0][r] + E[1][r]);
+    double n0 = q2n_v3_norm(E[0]), n1 = q2n_v3_norm(E[1]), big = n0 > n1 ? n0 : n1;
+    *spread = q2n_v3_dist(E[0], E[1]) / (big > 1e-3 * c->diag ? big : 1e-3 * c->diag);
     return Q2N_OK;
 }
 
-/* Stage 3: the corner blocks.  Q11, Q21, Q12 (and Q22 in G2 mode) of every corner reproduce the
- * construction's mixed derivatives d_t^a d_s^b S at the corner (a, b <= 2): exact in the spline
- * space up to the one-sided differences of corner_mixed (exact for bi-quintic patches).  With
- * the Hermite edge curves this fixes the full 2-jet (3-jet of rows 0..2 in G2 mode) at every
- * corner, so the G1/G2 relations of all edges through a vertex hold there to that order: the
- * vertex-enclosure conditions are inherited from the construction, which satisfies them. */
+/* Stage 3: the corner blocks.  Q11 (and in G2 mode Q21, Q12, Q22) of every corner reproduce the
+ * construction's mixed derivatives d_t^a d_s^b S at the corner: exact in the spline space up to
+ * the one-sided differences of corner_mixed (exact for bi-quintic patches).  With the Hermite
+ * edge curves this fixes the 2-jet (the jets of rows 0..2 in G2 mode) at every corner, so the
+ * G1/G2 relations of all edges through a vertex hold there to that order: the vertex-enclosure
+ * conditions are inherited from the construction, which satisfies them.  Where the two edges
+ * through a corner disagree about a higher mixed derivative (Gregory-type corners, whose rational
+ * blends make it direction-dependent), Q21/Q12 are left to the row fits and Q22 to a preliminary
+ * interior fit (stage_prefit); the twist is always the average of the two edge-wise values. */
+#define FIT_JET_SPREAD 1e-5
 static q2n_status stage_corners(ctx *c)
 {
     static const int order[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
     int npin = c->o.continuity == 2 ? 4 : 1;
-    for (int k = 0; k < c->m->nf; k++)
+    for (int k = 0; k < c->m->nf; k++) {
+        c->p[k].unsafe22 = 0;
         for (int i = 0; i < 4; i++) {
             side sd = make_side(c, k, i);
             double Nt[3][FIT_DEG + 1], Ns[3][FIT_DEG + 1];
             fit_basis(FIT_DEG, sd.kt, 0.0, 2, Nt);
             fit_basis(FIT_DEG, sd.ks, 0.0, 2, Ns);
             fpatch *p = &c->p[k];
+            int unsafe = 0;
             for (int o = 0; o < npin; o++) {
                 int a = order[o][0], b = order[o][1];
-                double J[3];
-                q2n_status st = corner_mixed(c, &sd, a, b, J);
+                double J[3], spread;
+                q2n_status st = corner_mixed(c, &sd, a, b, J, &spread);
                 if (st) return st;
+                if (o > 0 && (unsafe || spread > FIT_JET_SPREAD)) {
+                    unsafe = 1;
+                    if (o == 3) p->unsafe22 |= 1 << i;
+                    continue;
+                }
                 /* J = sum_{p<=a, q<=b} N_p^(a)(0) M_q^(b)(0) Q_pq, solved for Q_ab */
                 for (int pp = 0; pp <= a; pp++)
                     for (int qq = 0; qq <= b; qq++) {
@@ -424,6 +439,7 @@ static q2n_status stage_corners(ctx *c)
                 p->fixed[g] = 1;
             }
         }
+    }
     return Q2N_OK;
 }
 
@@ -644,14 +660,15 @@ static int sep_touches(const sep_patch *sp, const fpatch *p, int i)
  * the fixed points' part) has the solution X = A^+ R B^+T: pass 1 fits every sample column in v
  * (Z = R B^+T), pass 2 every column of Z in u — the same solution as the 2-D least-squares
  * problem at a fraction of its cost (1-D blocks instead of (m_u+1)(m_v+1) unknowns at once). */
-static q2n_status stage_interior(ctx *c)
+static q2n_status stage_interior(ctx *c, const int *list, int nlist)
 {
-    const int nf = c->m->nf;
+    const int nf = list ? nlist : c->m->nf;
     sep_patch *sp = calloc((size_t)nf, sizeof *sp);
     int *gen = malloc(sizeof(int) * (size_t)nf), ngen = 0, nsp = 0;
     q2n_status st = Q2N_OK;
     if (!sp || !gen) { st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory"); goto out; }
-    for (int k = 0; k < nf; k++) {
+    for (int l = 0; l < nf; l++) {
+        int k = list ? list[l] : l;
         sep_patch q = {0};
         q.k = k;
         if (!free_block(&c->p[k], &q.lu, &q.hu, &q.lv, &q.hv)) { gen[ngen++] = k; continue; }
@@ -758,14 +775,53 @@ static q2n_status alloc_patches(ctx *c)
     return Q2N_OK;
 }
 
+/* G2 mode, corners whose Q22 could not be read from the construction: a preliminary interior
+ * fit of those patches (rows 0 and 1 fixed, everything further in free) supplies it; all else
+ * it fitted is restored / freed again for the G2 rows and the final interior fit. */
+static q2n_status stage_prefit(ctx *c)
+{
+    int *list = malloc(sizeof(int) * (size_t)c->m->nf), n = 0;
+    unsigned char **save = calloc((size_t)c->m->nf, sizeof *save);
+    q2n_status st = Q2N_OK;
+    if (!list || !save) { st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory"); goto out; }
+    for (int k = 0; k < c->m->nf; k++) {
+        fpatch *p = &c->p[k];
+        if (!p->unsafe22) continue;
+        save[k] = malloc((size_t)p->nu * p->nv);
+        if (!save[k]) { st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory"); goto out; }
+        memcpy(save[k], p->fixed, (size_t)p->nu * p->nv);
+        list[n++] = k;
+    }
+    for (int l = 0; l < n; l++) {      /* free everything two or more rows in: a tensor block */
+        fpatch *p = &c->p[list[l]];
+        for (int b = 2; b < p->nv - 2; b++)
+            for (int a = 2; a < p->nu - 2; a++) p->fixed[b * p->nu + a] = 0;
+    }
+    if ((st = stage_interior(c, list, n))) goto out;
+    for (int l = 0; l < n; l++) {
+        fpatch *p = &c->p[list[l]];
+        memcpy(p->fixed, save[list[l]], (size_t)p->nu * p->nv);
+        for (int i = 0; i < 4; i++)
+            if (p->unsafe22 & (1 << i)) {
+                side sd = make_side(c, list[l], i);
+                p->fixed[side_g(c, &sd, 2, 2)] = 1;
+            }
+    }
+out:
+    for (int k = 0; save && k < c->m->nf; k++) free(save[k]);
+    free(save);
+    free(list);
+    return st;
+}
+
 static q2n_status fit_round(ctx *c)
 {
     q2n_status st = alloc_patches(c);
     if (st) return st;
     double t0 = fit_now(), s0 = c->rep->t_sample, v0 = c->rep->t_solve;
     if ((st = stage_curves(c)) || (st = stage_corners(c)) || (st = stage_rows(c, 1))) return st;
-    if (c->o.continuity == 2 && (st = stage_rows(c, 2))) return st;
-    if ((st = stage_interior(c))) return st;
+    if (c->o.continuity == 2 && ((st = stage_prefit(c)) || (st = stage_rows(c, 2)))) return st;
+    if ((st = stage_interior(c, NULL, 0))) return st;
     c->rep->t_build += (fit_now() - t0) - (c->rep->t_sample - s0) - (c->rep->t_solve - v0);
     return Q2N_OK;
 }
@@ -823,6 +879,28 @@ static int bump(int m, double ratio, int cap)
     return n > cap ? cap : n;
 }
 
+/* Refinement state of one edge's continuity (G1 or G2): value and failure in the previous round.
+ * An edge that failed twice in a row without the improvement refinement brings to smooth
+ * constructions is "stalled" (e.g. next to Gregory-type corners, whose rational blends no
+ * polynomial spline follows to second order): it stops driving refinement and is reported. */
+typedef struct refine_item {
+    double prev;
+    int failed, prev_m;
+} refine_item;
+
+/* Stalled: failed last round too, was refined since (m > prev_m spans), and improved by less
+ * than (m / prev_m)^power (at least 1.2x) — convergent edges do better (the normal and
+ * curvature jumps fall like h^5 and h^4 for smooth constructions; power 2 is conservative). */
+static int stalled(refine_item *it, double now, int fails, int m, double power)
+{
+    double need = it->prev_m > 0 ? pow((double)m / it->prev_m, power) : 1.0;
+    int st = fails && it->failed && m > it->prev_m && now > it->prev / (need > 1.2 ? need : 1.2);
+    it->failed = fails;
+    it->prev = now;
+    it->prev_m = m;
+    return st;
+}
+
 static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
 {
     const q2n_mesh *m = c->m;
@@ -832,9 +910,10 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
     c->rspan = malloc(sizeof(int) * (size_t)c->nrib);
     int *next = malloc(sizeof(int) * (size_t)c->nrib);
     double *pdev = malloc(sizeof(double) * (size_t)m->nf);
+    refine_item *rf = calloc(2 * (size_t)m->ne, sizeof *rf);
     double *eg[4];
     for (int i = 0; i < 4; i++) eg[i] = malloc(sizeof(double) * (size_t)m->ne);
-    if (!c->rspan || !next || !pdev || !eg[0] || !eg[1] || !eg[2] || !eg[3]) {
+    if (!c->rspan || !next || !pdev || !rf || !eg[0] || !eg[1] || !eg[2] || !eg[3]) {
         st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
         goto done;
     }
@@ -850,13 +929,14 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
         rep->t_measure += fit_now() - t0;
         if (st) { q2n_nurbs_model_free(md); goto done; }
         rep->rounds = round + 1;
-        /* refine: ribbons of patches over tolerance (both directions), ribbons along edges whose
-         * continuity misses its target where the construction itself meets it */
-        int changed = 0, worst_f = -1, worst_e = -1;
+        /* refine: both ribbons of a patch over tolerance; the ribbon along an edge whose
+         * continuity misses its target (only where the construction itself meets it) */
+        int worst_f = -1, worst_e1 = -1, worst_e2 = -1, active = 0;
         memcpy(next, c->rspan, sizeof(int) * (size_t)c->nrib);
         for (int k = 0; k < m->nf; k++) {
-            if (pdev[k] <= c->o.tol) continue;
-            if (worst_f < 0 || pdev[k] > pdev[worst_f]) worst_f = k;
+            int fails = pdev[k] > c->o.tol;
+            if (fails && (worst_f < 0 || pdev[k] > pdev[worst_f])) worst_f = k;
+            if (!fails) continue;         /* the deviation must be met: no stall rule here */
             for (int d = 0; d < 2; d++) {
                 int r = c->rib[m->he_edge[4 * k + d]];
                 int n = bump(c->rspan[r], pdev[k] / c->o.tol, c->o.max_spans);
@@ -867,41 +947,48 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             double r1 = eg[0][e] / c->o.g1_target_deg, r2 = eg[1][e] / c->o.g2_target_rel;
             int bad1 = r1 > 1.0 && eg[2][e] < 0.5 * c->o.g1_target_deg;
             int bad2 = c->o.continuity == 2 && r2 > 1.0 && eg[3][e] < 0.5 * c->o.g2_target_rel;
+            if (bad1 && (worst_e1 < 0 || eg[0][e] > eg[0][worst_e1])) worst_e1 = e;
+            if (bad2 && (worst_e2 < 0 || eg[1][e] > eg[1][worst_e2])) worst_e2 = e;
+            int me = c->rspan[c->rib[e]];
+            if (stalled(&rf[e], eg[0][e], bad1, me, 2.0)) bad1 = 0;
+            if (stalled(&rf[m->ne + e], eg[1][e], bad2, me, 2.0)) bad2 = 0;
             if (!bad1 && !bad2) continue;
-            if (worst_e < 0) worst_e = e;
-            int r = c->rib[e];
             double ratio = bad1 ? r1 : 1.0;
             if (bad2 && r2 > ratio) ratio = r2;
-            int n = bump(c->rspan[r], ratio, c->o.max_spans);
-            if (n > next[r]) next[r] = n;
+            int n = bump(c->rspan[c->rib[e]], ratio, c->o.max_spans);
+            if (n > next[c->rib[e]]) next[c->rib[e]] = n;
         }
-        for (int r = 0; r < c->nrib; r++) changed |= next[r] != c->rspan[r];
-        int ok = worst_f < 0 && worst_e < 0;
-        if (ok || !changed || round + 1 >= c->o.max_rounds) {
-            rep->tol_met = ok;
-            span_stats(md, rep);
-            rep->ribbon_spans_max = 0;
-            for (int r = 0; r < c->nrib; r++)
-                if (c->rspan[r] > rep->ribbon_spans_max) rep->ribbon_spans_max = c->rspan[r];
-            *out = md;
-            if (!ok) {
-                if (worst_f >= 0)
-                    st = q2n_error_set(c->err, Q2N_ERR_GEOMETRY,
-                                       "fit: face %d: deviation %.3g (relative) > tol %.3g with %d x %d spans",
-                                       worst_f, pdev[worst_f], c->o.tol, c->p[worst_f].mu, c->p[worst_f].mv);
-                else
-                    st = q2n_error_set(c->err, Q2N_ERR_GEOMETRY,
-                                       "fit: edge %d: normal jump %.3g deg / curvature jump %.3g over target",
-                                       worst_e, eg[0][worst_e], eg[1][worst_e]);
-            }
-            goto done;
+        for (int r = 0; r < c->nrib; r++) active |= next[r] != c->rspan[r];
+        if (active && round + 1 < c->o.max_rounds) {
+            q2n_nurbs_model_free(md);
+            memcpy(c->rspan, next, sizeof(int) * (size_t)c->nrib);
+            continue;
         }
-        q2n_nurbs_model_free(md);
-        memcpy(c->rspan, next, sizeof(int) * (size_t)c->nrib);
+        rep->dev_met = worst_f < 0;
+        rep->g1_met = worst_e1 < 0;
+        rep->g2_met = c->o.continuity == 1 || worst_e2 < 0;
+        rep->tol_met = rep->dev_met && rep->g1_met && rep->g2_met;
+        span_stats(md, rep);
+        rep->ribbon_spans_max = 0;
+        for (int r = 0; r < c->nrib; r++)
+            if (c->rspan[r] > rep->ribbon_spans_max) rep->ribbon_spans_max = c->rspan[r];
+        if (worst_e1 >= 0 || worst_e2 >= 0) {
+            int e = worst_e1 >= 0 ? worst_e1 : worst_e2;
+            snprintf(rep->note, sizeof rep->note,
+                     "edge %d: normal jump %.3g deg, curvature jump %.3g (targets %.3g deg, %.3g) not reached",
+                     e, eg[0][e], eg[1][e], c->o.g1_target_deg, c->o.g2_target_rel);
+        }
+        *out = md;
+        if (worst_f >= 0)
+            st = q2n_error_set(c->err, Q2N_ERR_GEOMETRY,
+                               "fit: face %d: deviation %.3g (relative) > tol %.3g with %d x %d spans", worst_f,
+                               pdev[worst_f], c->o.tol, c->p[worst_f].mu, c->p[worst_f].mv);
+        goto done;
     }
 done:
     free(next);
     free(pdev);
+    free(rf);
     for (int i = 0; i < 4; i++) free(eg[i]);
     return st;
 }
@@ -985,7 +1072,9 @@ static q2n_status convert_bezier(ctx *c, q2n_nurbs_model **out)
     c->rep->t_measure += fit_now() - t0;
     c->rep->exact = 1;
     c->rep->rounds = 0;
-    c->rep->tol_met = c->rep->max_dev_rel <= c->o.tol;
+    c->rep->dev_met = c->rep->max_dev_rel <= c->o.tol;
+    c->rep->g1_met = c->rep->g2_met = 1;   /* the conversion is exact: continuity is the construction's */
+    c->rep->tol_met = c->rep->dev_met;
     span_stats(*out, c->rep);
     c->rep->ribbon_spans_max = 1;
     return st;

@@ -39,7 +39,11 @@ typedef struct q2n_fit_report {
     int exact;                 /* 1: all patches were Bézier and converted exactly */
     int continuity;            /* 1 or 2 */
     double tol;                /* requested relative tolerance */
-    int tol_met;               /* max_dev_rel <= tol and the continuity targets held */
+    int tol_met;               /* dev_met && g1_met && g2_met */
+    int dev_met;               /* max_dev_rel <= tol (else q2n_fit_surface fails) */
+    int g1_met, g2_met;        /* continuity targets held on every edge where the construction
+                                  meets them itself (g2_met is 1 in G1 mode) */
+    char note[200];            /* which edge missed a continuity target, or "" */
     int rounds;                /* refinement rounds used */
     int spans_min, spans_median, spans_max;   /* knot spans per patch (m_u * m_v) */
     int ribbon_spans_max;      /* largest span count of any ribbon */
@@ -59,8 +63,11 @@ void q2n_fit_options_default(q2n_fit_options *o);
 /* Fit (or convert) every patch of s (one per face of m; all faces quads) into *out (free with
  * q2n_nurbs_model_free).  rep may be NULL.  Fails with Q2N_ERR_UNSUPPORTED for uncovered
  * patches, non-quads or a mix of Bézier and non-polynomial patches; with Q2N_ERR_GEOMETRY
- * (message names the worst face or edge) when the tolerance or continuity targets are not met
- * within max_spans — *out is then still set, so the caller may inspect or export it. */
+ * (message names the worst face) when the deviation tolerance is not met within max_spans /
+ * max_rounds — *out is then still set, so the caller may inspect or export it.  Continuity
+ * targets that refinement cannot reach (the construction's own limits, e.g. curvature at
+ * Gregory-type corners) do not fail the call: rep->g1_met / g2_met say so and rep->note names
+ * the worst edge. */
 q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fit_options *opt,
                            q2n_nurbs_model **out, q2n_fit_report *rep, q2n_error *err);
 

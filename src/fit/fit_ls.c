@@ -217,7 +217,7 @@ q2n_status fit_ls_solve_ceres(fit_ls *ls, int threads, int dense, q2n_error *err
     if (!ls->x) return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (solution)");
     char msg[256] = "";
     if (q2n_ceres_linear_ls(ls->nvar, ls->nrow, ls->row_start, ls->col, ls->val, ls->rhs, ls->x, threads,
-                            dense, ls->nitem, ls->item_row, msg, (int)sizeof msg))
+                            dense, ls->nitem, ls->item_row, ls->item_var, msg, (int)sizeof msg))
         return q2n_error_set(err, Q2N_ERR_GEOMETRY, "fit: %s", msg);
     return Q2N_OK;
 }

@@ -228,6 +228,8 @@ q2n_status q2n_fit_report_write_json(const q2n_fit_report *r, const char *path, 
     fprintf(f, "  \"mode\": \"%s\",\n  \"continuity\": \"G%d\",\n  \"tol\": %.17g,\n  \"tol_met\": %s,\n",
             r->exact ? "exact_bezier_conversion" : "least_squares_fit", r->continuity, r->tol,
             r->tol_met ? "true" : "false");
+    fprintf(f, "  \"dev_met\": %s,\n  \"g1_met\": %s,\n  \"g2_met\": %s,\n  \"note\": \"%s\",\n",
+            r->dev_met ? "true" : "false", r->g1_met ? "true" : "false", r->g2_met ? "true" : "false", r->note);
     fprintf(f, "  \"degree\": [5, 5],\n  \"rounds\": %d,\n", r->rounds);
     fprintf(f, "  \"spans_per_patch\": {\"min\": %d, \"median\": %d, \"max\": %d},\n  \"ribbon_spans_max\": %d,\n",
             r->spans_min, r->spans_median, r->spans_max, r->ribbon_spans_max);
