@@ -8,6 +8,7 @@
 #include "fit/fit.h"
 #include "mesh/mesh.h"
 #include "patch/augmented.h"
+#include "patch/extraordinary.h"
 #include "patch/surface.h"
 
 #include <string.h>
@@ -75,7 +76,7 @@ static int shared_rows_identical(const q2n_nurbs_model *md)
 
 /* Fit s (on mesh) and check the targets; prints the figures. */
 static void fit_and_check(const char *name, const q2n_mesh *mesh, const q2n_surface *s, double tol, int cont,
-                          int threads, q2n_fit_report *rout)
+                          int threads, int expect_g2, q2n_fit_report *rout)
 {
     q2n_fit_options o;
     q2n_fit_options_default(&o);
@@ -89,7 +90,7 @@ static void fit_and_check(const char *name, const q2n_mesh *mesh, const q2n_surf
     q2n_status st = q2n_fit_surface(s, mesh, &o, &md, &r, &err);
     double t = now() - t0;
     CHECK(st == Q2N_OK, "%s: %s", name, err.message);
-    printf("%-34s faces %4d spans %d/%d/%d rounds %d max_dev %.2e rms %.2e vdev %.1e g0 %.1e g1 %.2e deg g2 %.2e "
+    printf("%-40s faces %4d spans %d/%d/%d rounds %d max_dev %.2e rms %.2e vdev %.1e g0 %.1e g1 %.2e deg g2 %.2e "
            "(constr g1 %.1e deg g2 %.1e)  fit %.3f s (solve %.3f, %d thr)\n",
            name, r.faces, r.spans_min, r.spans_median, r.spans_max, r.rounds, r.max_dev_rel, r.rms_dev_rel,
            r.vertex_dev_max_rel, r.g0_max_rel, r.g1_max_deg, r.g2_max_rel, r.g1_construction_deg,
@@ -99,7 +100,7 @@ static void fit_and_check(const char *name, const q2n_mesh *mesh, const q2n_surf
         CHECK(r.g0_max_rel <= 1e-12, "%s: g0 %g", name, r.g0_max_rel);
         CHECK(shared_rows_identical(md), "%s: shared rows differ", name);
         if (r.g1_construction_deg < 1e-3) CHECK(r.g1_max_deg <= 0.01, "%s: g1 %g deg", name, r.g1_max_deg);
-        if (cont == 2 && r.g2_construction_rel < 1e-3)
+        if (cont == 2 && expect_g2 && r.g2_construction_rel < 1e-3)
             CHECK(r.g2_max_rel <= 0.01, "%s: g2 %g", name, r.g2_max_rel);
     }
     if (rout) *rout = r;
@@ -118,7 +119,7 @@ static void augmented_case(const char *name, q2n_mesh *mesh, double tol, int con
     if (q2n_surface_count(s, Q2N_PATCH_UNCOVERED)) {
         SKIP("%s: %d faces not covered by the regular construction", name, q2n_surface_count(s, Q2N_PATCH_UNCOVERED));
     } else
-        fit_and_check(name, mesh, s, tol, cont, 1, NULL);
+        fit_and_check(name, mesh, s, tol, cont, 1, 1, NULL);
     q2n_surface_free(s);
 }
 
@@ -130,6 +131,47 @@ static q2n_mesh *shared(const char *file)
     q2n_error err;
     if (q2n_mesh_read_obj(p, &m, &err)) { fprintf(stderr, "%s\n", err.message); return NULL; }
     return m;
+}
+
+/* Extraordinary vertices: augmented surface completed by Coons–Gregory patches (seed 003 §4).
+ * Their rational corner blends are only C1 at the patch corner, so the fit needs more spans
+ * there, and in G2 mode the curvature jump next to those corners stays above target (reported,
+ * not failed); deviation, watertightness and G1 must still hold. */
+static void ev_cases(void)
+{
+    const char *files[] = {"gismo_ev_valence3_carpet.obj", "gismo_ev_valence5_carpet.obj"};
+    for (int i = 0; i < 2; i++) {
+        q2n_mesh *m = shared(files[i]);
+        if (!m) { SKIP("%s absent", files[i]); continue; }
+        q2n_augmented_options ao;
+        memset(&ao, 0, sizeof ao);
+        ao.param.alpha = -1;
+        q2n_extraordinary_options eo;
+        memset(&eo, 0, sizeof eo);
+        eo.param.alpha = -1;
+        q2n_surface *s = NULL;
+        q2n_error err;
+        if (q2n_augmented_build(m, &ao, NULL, &s, &err) || q2n_extraordinary_build(m, &eo, NULL, s, &err)) {
+            CHECK(0, "%s: %s", files[i], err.message);
+            q2n_surface_free(s);
+            q2n_mesh_free(m);
+            continue;
+        }
+        CHECK(q2n_surface_count(s, Q2N_PATCH_COONS_GREGORY) > 0, "%s: no Coons-Gregory patch", files[i]);
+        for (int cont = 1; cont <= 2; cont++) {
+            char nm[128];
+            q2n_fit_report r;
+            snprintf(nm, sizeof nm, "%s EV G%d 1e-5", files[i], cont);
+            fit_and_check(nm, m, s, 1e-5, cont, 1, 0, &r);
+            CHECK(r.g1_max_deg <= 0.01, "%s: g1 %g", nm, r.g1_max_deg);
+            if (!r.g2_met) {
+                CHECK(r.note[0] != 0, "%s: G2 missed without a note", nm);
+                printf("  note: %s\n", r.note);
+            }
+        }
+        q2n_surface_free(s);
+        q2n_mesh_free(m);
+    }
 }
 
 /* Catmull–Clark path: Bézier patches convert exactly (elevated to 5 x 5), shared edges
@@ -183,8 +225,8 @@ static void timing(void)
     q2n_error err;
     if (!t || q2n_augmented_build(t, &ao, NULL, &s, &err)) { CHECK(0, "timing mesh"); return; }
     q2n_fit_report r1, r2;
-    fit_and_check("augmented torus 30x20 G1 1e-5", t, s, 1e-5, 1, 1, &r1);
-    fit_and_check("augmented torus 30x20 G1 1e-5", t, s, 1e-5, 1, 2, &r2);
+    fit_and_check("augmented torus 30x20 G1 1e-5", t, s, 1e-5, 1, 1, 1, &r1);
+    fit_and_check("augmented torus 30x20 G1 1e-5", t, s, 1e-5, 1, 2, 1, &r2);
     printf("TIMING 600-face fit (G1, tol 1e-5): %.3f s with 1 thread, %.3f s with 2 threads\n", r1.t_total, r2.t_total);
     q2n_surface_free(s);
     q2n_mesh_free(t);
@@ -208,6 +250,7 @@ int main(void)
         augmented_case(nm, m, 1e-6, 1);
         q2n_mesh_free(m);
     }
+    ev_cases();
     acc_cases();
     timing();
     CHECK_DONE("test_fit_meshes");
