@@ -228,6 +228,8 @@ static void timing(void)
     fit_and_check("augmented torus 30x20 G1 1e-5", t, s, 1e-5, 1, 1, 1, &r1);
     fit_and_check("augmented torus 30x20 G1 1e-5", t, s, 1e-5, 1, 2, 1, &r2);
     printf("TIMING 600-face fit (G1, tol 1e-5): %.3f s with 1 thread, %.3f s with 2 threads\n", r1.t_total, r2.t_total);
+    fit_and_check("augmented torus 30x20 G2 1e-5", t, s, 1e-5, 2, 2, 1, &r2);
+    printf("TIMING 600-face fit (G2, tol 1e-5): %.3f s with 2 threads\n", r2.t_total);
     q2n_surface_free(s);
     q2n_mesh_free(t);
 }

@@ -390,8 +390,7 @@ static q2n_status corner_mixed(ctx *c, const side *sd, int a, int b, double J[3]
         }
     }
     for (int r = 0; r < 3; r++) J[r] = 0.5 * (E[0][r] + E[1][r]);
-    double n0 = q2n_v3_norm(E[0]), n1 = q2n_v3_norm(E[1]), big = n0 > n1 ? n0 : n1;
-    *spread = q2n_v3_dist(E[0], E[1]) / (big > 1e-3 * c->diag ? big : 1e-3 * c->diag);
+    *spread = q2n_v3_dist(E[0], E[1]);
     return Q2N_OK;
 }
 
@@ -401,10 +400,11 @@ static q2n_status corner_mixed(ctx *c, const side *sd, int a, int b, double J[3]
  * edge curves this fixes the 2-jet (the jets of rows 0..2 in G2 mode) at every corner, so the
  * G1/G2 relations of all edges through a vertex hold there to that order: the vertex-enclosure
  * conditions are inherited from the construction, which satisfies them.  Where the two edges
- * through a corner disagree about a higher mixed derivative (Gregory-type corners, whose rational
- * blends make it direction-dependent), Q21/Q12 are left to the row fits and Q22 to a preliminary
- * interior fit (stage_prefit); the twist is always the average of the two edge-wise values. */
-#define FIT_JET_SPREAD 1e-5
+ * through a corner disagree about a higher mixed derivative by more than a tenth of the
+ * tolerance in control-point terms (Gregory-type corners, whose rational blends make it
+ * direction-dependent), Q21/Q12 are left to the row fits and Q22 to a preliminary interior fit
+ * (stage_prefit); the twist is always the average of the two edge-wise values. */
+#define FIT_JET_SPREAD 0.1   /* fraction of the tolerance two corner estimates may disagree by */
 static q2n_status stage_corners(ctx *c)
 {
     static const int order[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
@@ -423,7 +423,11 @@ static q2n_status stage_corners(ctx *c)
                 double J[3], spread;
                 q2n_status st = corner_mixed(c, &sd, a, b, J, &spread);
                 if (st) return st;
-                if (o > 0 && (unsafe || spread > FIT_JET_SPREAD)) {
+                /* the two edge-wise estimates as positions of the control point they fix, for one
+                 * span (Bézier factors d^a B_a(0) = 5, 20 for a = 1, 2), so that the verdict does
+                 * not change as refinement shrinks the corner's influence */
+                double dq = spread / ((a == 1 ? 5.0 : 20.0) * (b == 1 ? 5.0 : 20.0));
+                if (o > 0 && (unsafe || dq > FIT_JET_SPREAD * c->o.tol * c->diag)) {
                     unsafe = 1;
                     if (o == 3) p->unsafe22 |= 1 << i;
                     continue;
@@ -871,10 +875,11 @@ static void span_stats(const q2n_nurbs_model *md, q2n_fit_report *rep)
     free(s);
 }
 
-/* New span count of a ribbon whose error is ratio times the target (quintic: error ~ h^6). */
-static int bump(int m, double ratio, int cap)
+/* New span count of a ribbon whose error is ratio times the target and falls like h^order
+ * (quintic: deviation h^6, normal jump h^5, curvature jump h^4). */
+static int bump(int m, double ratio, double order, int cap)
 {
-    int n = (int)ceil(1.15 * m * pow(ratio, 1.0 / 6.0));
+    int n = (int)ceil(1.15 * m * pow(ratio, 1.0 / order));
     if (n < m + 1) n = m + 1;
     return n > cap ? cap : n;
 }
@@ -939,7 +944,7 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             if (!fails) continue;         /* the deviation must be met: no stall rule here */
             for (int d = 0; d < 2; d++) {
                 int r = c->rib[m->he_edge[4 * k + d]];
-                int n = bump(c->rspan[r], pdev[k] / c->o.tol, c->o.max_spans);
+                int n = bump(c->rspan[r], pdev[k] / c->o.tol, 6.0, c->o.max_spans);
                 if (n > next[r]) next[r] = n;
             }
         }
@@ -953,9 +958,11 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             if (stalled(&rf[e], eg[0][e], bad1, me, 2.0)) bad1 = 0;
             if (stalled(&rf[m->ne + e], eg[1][e], bad2, me, 2.0)) bad2 = 0;
             if (!bad1 && !bad2) continue;
-            double ratio = bad1 ? r1 : 1.0;
-            if (bad2 && r2 > ratio) ratio = r2;
-            int n = bump(c->rspan[c->rib[e]], ratio, c->o.max_spans);
+            /* continuity alone refines a ribbon up to half the span cap */
+            int cap = c->o.max_spans / 2 > 1 ? c->o.max_spans / 2 : 1, me0 = c->rspan[c->rib[e]];
+            int n1 = bad1 && me0 < cap ? bump(me0, r1, 5.0, cap) : 0;
+            int n2 = bad2 && me0 < cap ? bump(me0, r2, 4.0, cap) : 0;
+            int n = n1 > n2 ? n1 : n2;
             if (n > next[c->rib[e]]) next[c->rib[e]] = n;
         }
         for (int r = 0; r < c->nrib; r++) active |= next[r] != c->rspan[r];
@@ -1135,3 +1142,4 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     }
     return st;
 }
+
