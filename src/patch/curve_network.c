@@ -66,115 +66,6 @@ static void poly_hermite(int K, const double v0[3][3], const double v1[3][3], ev
         }
 }
 
-/* ------------------------------------------------------------ constructed edges */
-
-static const double *edge_dir(const q2n_mesh *m, const double (*dir)[2], int e, int v)
-{
-    return dir[2 * e + (q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1)];
-}
-
-/* The face's other edges at p and q for the half-edge hF of edge e (p = origin(edge_he)). */
-static void other_edges(const q2n_mesh *m, int hF, int p, int *ep, int *eq)
-{
-    int fwd = q2n_he_origin(m, hF) == p;
-    *ep = m->he_edge[fwd ? q2n_he_prev(m, hF) : q2n_he_next(m, hF)];
-    *eq = m->he_edge[fwd ? q2n_he_next(m, hF) : q2n_he_prev(m, hF)];
-}
-
-/* Coefficients (a, b) with a D + b G = r for r in the plane of D and G (least squares). */
-static int decompose(const double D[3], const double G[3], const double r[3], double *a, double *b)
-{
-    double dd = q2n_v3_dot(D, D), dg = q2n_v3_dot(D, G), gg = q2n_v3_dot(G, G);
-    double rd = q2n_v3_dot(r, D), rg = q2n_v3_dot(r, G), det = dd * gg - dg * dg;
-    if (!(det > 1e-14 * dd * gg)) return 0;
-    *a = (rd * gg - rg * dg) / det;
-    *b = (rg * dd - rd * dg) / det;
-    return 1;
-}
-
-/* Unit vectors D = n × T / |n × T| and T = γ_x / |γ_x| at an end (t = 0 or 1). */
-static void ribbon_frame(const ev_edge *E, double t, double D[3], double G[3])
-{
-    double g[3][3], n[1][3];
-    ev_poly_eval(&E->gamma, t, 1, g);
-    ev_poly_eval(&E->nrm, t, 0, n);
-    q2n_v3_scale(G, 1.0 / q2n_v3_norm(g[1]), g[1]);
-    q2n_v3_cross(D, n[0], G);
-    q2n_v3_scale(D, 1.0 / q2n_v3_norm(D), D);
-}
-
-q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
-                         const double (*dir)[2], int order, int e, ev_edge *out, q2n_error *err)
-{
-    int h = m->edge_he[e], p = q2n_he_origin(m, h), q = q2n_he_dest(m, h), tw = m->he_twin[h];
-    double d = iv[e];
-    const ev_vjet *Jp = &jets[p], *Jq = &jets[q];
-    memset(out, 0, sizeof *out);
-    out->d = d;
-    if (!Jp->source || !Jq->source)
-        return q2n_error_set(err, Q2N_ERR_ARG, "%s: edge %d: missing vertex derivative data", m->name, e);
-    const double *up = edge_dir(m, dir, e, p), *uq = edge_dir(m, dir, e, q);
-    /* boundary curve γ: Hermite data in t (x = t d) */
-    double g0[3][3], g1[3][3];
-    memcpy(g0[0], q2n_mesh_vpos(m, p), sizeof g0[0]);
-    memcpy(g1[0], q2n_mesh_vpos(m, q), sizeof g1[0]);
-    ev_jet_d1(Jp, up, g0[1]);
-    ev_jet_d1(Jq, uq, g1[1]);
-    ev_jet_d2(Jp, up, up, g0[2]);
-    ev_jet_d2(Jq, uq, uq, g1[2]);
-    for (int c = 0; c < 3; c++) {
-        g0[1][c] *= d; g1[1][c] *= -d; /* towards q: the jet at q looks back along -x */
-        g0[2][c] *= d * d; g1[2][c] *= d * d;
-    }
-    poly_hermite(order, g0, g1, &out->gamma);
-    /* normal field: the jets' normals, with their Weingarten derivatives along the edge (this
-     * makes the normal twist of the fields equal to the jets' II(u, w), which G2 needs) */
-    double n0[3][3], n1[3][3];
-    if (!ev_jet_normal(Jp, n0[0]) || !ev_jet_normal(Jq, n1[0]))
-        return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d: degenerate tangent plane at a vertex", m->name, e);
-    ev_jet_dn(Jp, up, n0[1]);
-    ev_jet_dn(Jq, uq, n1[1]);
-    for (int c = 0; c < 3; c++) { n0[1][c] *= d; n1[1][c] *= -d; n0[2][c] = n1[2][c] = 0; }
-    poly_hermite(1, n0, n1, &out->nrm);
-    out->face[0] = m->he_face[h];
-    out->face[1] = tw >= 0 ? m->he_face[tw] : -1;
-    double D0[3], G0[3], D1[3], G1[3];
-    ribbon_frame(out, 0, D0, G0);
-    ribbon_frame(out, 1, D1, G1);
-    for (int side = 0; side < (tw >= 0 ? 2 : 1); side++) {
-        int ep, eq;
-        other_edges(m, side ? tw : h, p, &ep, &eq);
-        const double *wb = edge_dir(m, dir, ep, p), *wc = edge_dir(m, dir, eq, q);
-        double c0[3], c1[3], x0[3], x1[3];
-        ev_jet_d1(Jp, wb, c0);
-        ev_jet_d1(Jq, wc, c1);
-        ev_jet_d2(Jp, wb, wb, x0);
-        ev_jet_d2(Jq, wc, wc, x1);
-        if (!decompose(D0, G0, c0, &out->a[side][0], &out->b[side][0]) ||
-            !decompose(D1, G1, c1, &out->a[side][1], &out->b[side][1]))
-            return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d (%d-%d): degenerate ribbon", m->name, e, p, q);
-        if (side == 0) {
-            poly_zero(&out->xi);
-            out->xi.deg = 1;
-            for (int c = 0; c < 3; c++) { out->xi.c[0][c] = x0[c]; out->xi.c[1][c] = x1[c] - x0[c]; }
-        } else { /* tangential part of the corner values of the derived side's ξ */
-            double N[3], xt[3];
-            for (int end = 0; end < 2; end++) {
-                const double *X = end ? x1 : x0, *D = end ? D1 : D0, *G = end ? G1 : G0;
-                q2n_v3_cross(N, D, G);
-                memcpy(xt, X, sizeof xt);
-                q2n_v3_axpy(xt, -q2n_v3_dot(X, N) / q2n_v3_dot(N, N), N);
-                decompose(D, G, xt, &out->tau[end][0], &out->tau[end][1]);
-            }
-        }
-    }
-    if (tw >= 0 && !(out->a[0][0] * out->a[1][0] < 0 && out->a[0][1] * out->a[1][1] < 0))
-        return q2n_error_set(err, Q2N_ERR_GEOMETRY,
-                             "%s: edge %d (%d-%d): fan directions do not separate the two faces", m->name, e, p, q);
-    out->built = 1;
-    return Q2N_OK;
-}
-
 /* ------------------------------------------------------------ derivative arrays
  * f[k] = k-th t-derivative, k = 0..3; products by Leibniz' rule. */
 #define JO 4
@@ -255,31 +146,176 @@ static void lin(double v0, double v1, double t, double *r)
     r[2] = r[3] = 0;
 }
 
+/* Cubic Hermite scalar: values v[0], v[1] and t-slopes s[0], s[1] at t = 0, 1. */
+static void herm(const double v[2], const double s[2], double t, double *r)
+{
+    double t2 = t * t, t3 = t2 * t;
+    double h[4][4] = {{1 - 3 * t2 + 2 * t3, -6 * t + 6 * t2, -6 + 12 * t, 12},
+                      {3 * t2 - 2 * t3, 6 * t - 6 * t2, 6 - 12 * t, -12},
+                      {t - 2 * t2 + t3, 1 - 4 * t + 3 * t2, -4 + 6 * t, 6},
+                      {t3 - t2, 3 * t2 - 2 * t, 6 * t - 2, 6}};
+    for (int k = 0; k < JO; k++) r[k] = h[0][k] * v[0] + h[1][k] * v[1] + h[2][k] * s[0] + h[3][k] * s[1];
+}
+
+/* The ribbon frame along a constructed edge as derivative arrays: γ's t-derivatives g[0..5],
+ * γ_x and γ_xx, T = γ_x/|γ_x| (with rs = 1/|γ_x|) and D = n × T/|n × T|. */
+typedef struct ribbon {
+    double g[6][3], Gx[JO][3], Gxx[JO][3], T[JO][3], D[JO][3], rs[JO];
+} ribbon;
+
+static void ribbon_at(const ev_edge *E, double t, ribbon *R)
+{
+    double n[JO][3] = {{0}}, sq[JO], rd[JO], d = E->d;
+    memset(R, 0, sizeof *R);
+    ev_poly_eval(&E->gamma, t, E->gamma.deg < 5 ? E->gamma.deg : 5, R->g);
+    ev_poly_eval(&E->nrm, t, 3, n);
+    for (int k = 0; k < JO; k++)
+        for (int c = 0; c < 3; c++) {
+            R->Gx[k][c] = R->g[k + 1][c] / d;
+            R->Gxx[k][c] = k + 2 < 6 ? R->g[k + 2][c] / (d * d) : 0;
+        }
+    vj_dot(R->Gx, R->Gx, sq);
+    sj_rsqrt(sq, R->rs);
+    vj_scale(R->rs, R->Gx, R->T);
+    vj_cross(n, R->T, R->D);
+    vj_dot(R->D, R->D, sq);
+    sj_rsqrt(sq, rd);
+    vj_scale(rd, R->D, R->D);
+}
+
+/* ------------------------------------------------------------ constructed edges */
+
+static const double *edge_dir(const q2n_mesh *m, const double (*dir)[2], int e, int v)
+{
+    return dir[2 * e + (q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1)];
+}
+
+/* The face's other edges at p and q for the half-edge hF of edge e (p = origin(edge_he)). */
+static void other_edges(const q2n_mesh *m, int hF, int p, int *ep, int *eq)
+{
+    int fwd = q2n_he_origin(m, hF) == p;
+    *ep = m->he_edge[fwd ? q2n_he_prev(m, hF) : q2n_he_next(m, hF)];
+    *eq = m->he_edge[fwd ? q2n_he_next(m, hF) : q2n_he_prev(m, hF)];
+}
+
+/* Coefficients (a, b) with a D + b G = r for r in the plane of D and G (least squares). */
+static int decompose(const double D[3], const double G[3], const double r[3], double *a, double *b)
+{
+    double dd = q2n_v3_dot(D, D), dg = q2n_v3_dot(D, G), gg = q2n_v3_dot(G, G);
+    double rd = q2n_v3_dot(r, D), rg = q2n_v3_dot(r, G), det = dd * gg - dg * dg;
+    if (!(det > 1e-14 * dd * gg)) return 0;
+    *a = (rd * gg - rg * dg) / det;
+    *b = (rg * dd - rd * dg) / det;
+    return 1;
+}
+
+
+q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
+                         const double (*dir)[2], int order, int e, ev_edge *out, q2n_error *err)
+{
+    int h = m->edge_he[e], p = q2n_he_origin(m, h), q = q2n_he_dest(m, h), tw = m->he_twin[h];
+    double d = iv[e];
+    const ev_vjet *Jp = &jets[p], *Jq = &jets[q];
+    memset(out, 0, sizeof *out);
+    out->d = d;
+    if (!Jp->source || !Jq->source)
+        return q2n_error_set(err, Q2N_ERR_ARG, "%s: edge %d: missing vertex derivative data", m->name, e);
+    const double *up = edge_dir(m, dir, e, p), *uq = edge_dir(m, dir, e, q);
+    /* boundary curve γ: Hermite data in t (x = t d) */
+    double g0[3][3], g1[3][3];
+    memcpy(g0[0], q2n_mesh_vpos(m, p), sizeof g0[0]);
+    memcpy(g1[0], q2n_mesh_vpos(m, q), sizeof g1[0]);
+    ev_jet_d1(Jp, up, g0[1]);
+    ev_jet_d1(Jq, uq, g1[1]);
+    ev_jet_d2(Jp, up, up, g0[2]);
+    ev_jet_d2(Jq, uq, uq, g1[2]);
+    for (int c = 0; c < 3; c++) {
+        g0[1][c] *= d; g1[1][c] *= -d; /* towards q: the jet at q looks back along -x */
+        g0[2][c] *= d * d; g1[2][c] *= d * d;
+    }
+    poly_hermite(order, g0, g1, &out->gamma);
+    /* normal field: the jets' normals, with their Weingarten derivatives along the edge (this
+     * makes the normal twist of the fields equal to the jets' II(u, w), which G2 needs) */
+    double n0[3][3], n1[3][3];
+    if (!ev_jet_normal(Jp, n0[0]) || !ev_jet_normal(Jq, n1[0]))
+        return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d: degenerate tangent plane at a vertex", m->name, e);
+    ev_jet_dn(Jp, up, n0[1]);
+    ev_jet_dn(Jq, uq, n1[1]);
+    for (int c = 0; c < 3; c++) { n0[1][c] *= d; n1[1][c] *= -d; n0[2][c] = n1[2][c] = 0; }
+    poly_hermite(1, n0, n1, &out->nrm);
+    out->face[0] = m->he_face[h];
+    out->face[1] = tw >= 0 ? m->he_face[tw] : -1;
+    ribbon R0, R1;
+    ribbon_at(out, 0, &R0);
+    ribbon_at(out, 1, &R1);
+    const double *D0 = R0.D[0], *G0 = R0.T[0], *D1 = R1.D[0], *G1 = R1.T[0];
+    for (int side = 0; side < (tw >= 0 ? 2 : 1); side++) {
+        int ep, eq;
+        other_edges(m, side ? tw : h, p, &ep, &eq);
+        const double *wb = edge_dir(m, dir, ep, p), *wc = edge_dir(m, dir, eq, q);
+        double c0[3], c1[3], x0[3], x1[3], t0[3], t1[3];
+        ev_jet_d1(Jp, wb, c0);
+        ev_jet_d1(Jq, wc, c1);
+        ev_jet_d2(Jp, wb, wb, x0);
+        ev_jet_d2(Jq, wc, wc, x1);
+        if (!decompose(D0, G0, c0, &out->a[side][0], &out->b[side][0]) ||
+            !decompose(D1, G1, c1, &out->a[side][1], &out->b[side][1]))
+            return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d (%d-%d): degenerate ribbon", m->name, e, p, q);
+        /* slopes of a, b: the field's t-derivative at each end is the jet's twist d·J2[u,w]
+         * (its normal part holds by the choice of n'; the slopes fix the tangential part), so
+         * that the two sides of a patch corner that both come from one jet have compatible
+         * twists and the Gregory correction is not needed there */
+        ev_jet_d2(Jp, up, wb, t0);
+        ev_jet_d2(Jq, uq, wc, t1);
+        for (int end = 0; end < 2; end++) {
+            const ribbon *R = end ? &R1 : &R0;
+            double want[3], rest[3];
+            double a = out->a[side][end], b = out->b[side][end];
+            for (int c = 0; c < 3; c++) {
+                want[c] = (end ? -d * t1[c] : d * t0[c]);
+                rest[c] = want[c] - a * R->D[1][c] - b * R->T[1][c];
+            }
+            out->as[side][end] = q2n_v3_dot(rest, R->D[0]);
+            out->bs[side][end] = q2n_v3_dot(rest, R->T[0]);
+        }
+        /* a must keep its sign along the edge (a = 0 would fold the ribbon): keep the Bézier
+         * coefficients a0 + s0/3, a1 - s1/3 of the cubic on the side of a0, a1 (at least a sixth) */
+        double *av = out->a[side], *sl = out->as[side];
+        double sg = av[0] > 0 ? 1 : -1;
+        if (sg * (av[0] + sl[0] / 3) < sg * av[0] / 6) sl[0] = 3 * (av[0] / 6 - av[0]);
+        if (sg * (av[1] - sl[1] / 3) < sg * av[1] / 6) sl[1] = -3 * (av[1] / 6 - av[1]);
+        if (side == 0) {
+            poly_zero(&out->xi);
+            out->xi.deg = 1;
+            for (int c = 0; c < 3; c++) { out->xi.c[0][c] = x0[c]; out->xi.c[1][c] = x1[c] - x0[c]; }
+        } else { /* tangential part of the corner values of the derived side's ξ */
+            double N[3], xt[3];
+            for (int end = 0; end < 2; end++) {
+                const double *X = end ? x1 : x0, *D = end ? D1 : D0, *G = end ? G1 : G0;
+                q2n_v3_cross(N, D, G);
+                memcpy(xt, X, sizeof xt);
+                q2n_v3_axpy(xt, -q2n_v3_dot(X, N) / q2n_v3_dot(N, N), N);
+                decompose(D, G, xt, &out->tau[end][0], &out->tau[end][1]);
+            }
+        }
+    }
+    if (tw >= 0 && !(out->a[0][0] * out->a[1][0] < 0 && out->a[0][1] * out->a[1][1] < 0))
+        return q2n_error_set(err, Q2N_ERR_GEOMETRY,
+                             "%s: edge %d (%d-%d): fan directions do not separate the two faces", m->name, e, p, q);
+    out->built = 1;
+    return Q2N_OK;
+}
+
 /* Constructed edge: fields of one side at t, t-derivatives 0..2. */
 static void constructed_eval(const ev_edge *E, int derived, double t, double out[3][3][3])
 {
-    double g[6][3] = {{0}}, n[JO][3] = {{0}}, Gx[JO][3], Gxx[JO][3] = {{0}}, D[JO][3];
-    ev_poly_eval(&E->gamma, t, 5 < E->gamma.deg ? 5 : E->gamma.deg, g);
-    ev_poly_eval(&E->nrm, t, 3, n);
-    double d = E->d;
-    for (int k = 0; k < JO; k++)
-        for (int c = 0; c < 3; c++) {
-            Gx[k][c] = g[k + 1][c] / d;
-            Gxx[k][c] = k + 2 < 6 ? g[k + 2][c] / (d * d) : 0;
-        }
-    /* unit ribbon frame: T = γ_x/|γ_x|, D = n × T/|n × T| (so that the fields do not inherit the
-     * speed variations of the curve) */
-    double Tu[JO][3], rs[JO], sq[JO], rd[JO];
-    vj_dot(Gx, Gx, sq);
-    sj_rsqrt(sq, rs);
-    vj_scale(rs, Gx, Tu);
-    vj_cross(n, Tu, D);
-    vj_dot(D, D, sq);
-    sj_rsqrt(sq, rd);
-    vj_scale(rd, D, D);
+    ribbon R;
+    ribbon_at(E, t, &R);
+    double (*D)[3] = R.D, (*Tu)[3] = R.T, (*Gx)[3] = R.Gx, (*Gxx)[3] = R.Gxx, (*g)[3] = R.g, *rs = R.rs, d = E->d;
+    (void)Gx;
     double aL[JO], bL[JO], CL[JO][3], tmp[JO][3];
-    lin(E->a[0][0], E->a[0][1], t, aL);
-    lin(E->b[0][0], E->b[0][1], t, bL);
+    herm(E->a[0], E->as[0], t, aL);
+    herm(E->b[0], E->bs[0], t, bL);
     vj_scale(aL, D, CL);
     vj_scale(bL, Tu, tmp);
     vj_add(CL, tmp, CL);
@@ -293,8 +329,8 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     /* derived side: χ_R = a_R D + b_R γ_x; G2 condition (formulas.md §4.2) with α = a_R / a_L,
      * β = b_R - b_L α: the normal part of ξ_R is that of α² ξ_L + 2αβ ∂xχ_L + β² γ_xx */
     double aR[JO], bR[JO], CR[JO][3], al[JO], be[JO], inv[JO];
-    lin(E->a[1][0], E->a[1][1], t, aR);
-    lin(E->b[1][0], E->b[1][1], t, bR);
+    herm(E->a[1], E->as[1], t, aR);
+    herm(E->b[1], E->bs[1], t, bR);
     vj_scale(aR, D, CR);
     vj_scale(bR, Tu, tmp);
     vj_add(CR, tmp, CR);

@@ -37,7 +37,9 @@ typedef struct ev_edge {
     ev_poly gamma;       /* boundary curve */
     ev_poly nrm;         /* normal field n(t) (cubic, not unit) spanning the ribbon with γ_x */
     int face[2];         /* face of edge_he (base side) and of its twin (derived side), -1 none */
-    double a[2][2], b[2][2]; /* [side][end]: χ_side = a D + b T (unit ribbon frame T = γ_x/|γ_x|, D = n × T/|n × T|), a, b linear in t */
+    double a[2][2], b[2][2]; /* [side][end]: χ_side = a D + b T (unit ribbon frame T = γ_x/|γ_x|,
+                                D = n × T/|n × T|), a, b cubic Hermite in t with ... */
+    double as[2][2], bs[2][2]; /* ... the t-slopes as, bs at the ends */
     ev_poly xi;          /* base side ξ (linear) */
     double tau[2][2];    /* derived side: tangential part of ξ = τ1 D + τ2 γ_x at each end [end][1|2] */
 } ev_edge;
