@@ -11,30 +11,31 @@
  *     owner patch's edge at 4m+4 samples) with Hermite end conditions — value, first and second
  *     derivative along the edge equal the construction's at both ends (exact) — and copied into
  *     both neighbours' boundary rows (bit-identical shared control points: G0 is exact);
- *  3. corner twists: the point next to each corner (Q11) reproduces the construction's twist
- *     d2S/dtds at the corner (exact in the spline space; for Gregory-type corners, whose twist is
- *     not unique, the average of the two edge-wise limits).  Because corner points, end tangents,
- *     end curvature vectors and twists all come from the construction, the G1 conditions of all
- *     edges meeting at a vertex are consistent there to first order (vertex enclosure inherited
- *     from the construction, which is G1 at its vertices);
- *  4. G1 rows: for each interior edge the first control rows of BOTH sides are fitted jointly:
- *     fidelity to each side's exact cross-boundary derivative at the edge samples, plus the
- *     gluing relation  d_s S_R = alpha d_s S_L + beta d_t S_L  (formulas.md §4.2, G1; seed 003
- *     Prop. 2, eqs. 13–14) with alpha(t), beta(t) computed from the construction's exact
- *     derivatives, weighted by g1_weight, at the same samples.  The relation therefore holds in
- *     the least-squares sense at the collocation points (not exactly between them); the measured
- *     angle jump at the midpoints is reported and drives refinement;
- *  5. (G2 mode) a preliminary interior fit, then the second rows next to each interior edge are
- *     refitted jointly with the second-order relation of formulas.md §4.2 (gamma, delta again from
- *     the construction), same weighting; the points two rows in from a corner stay from the
- *     preliminary fit (they belong to two edges), so with one span the relation is carried by
- *     refinement alone;
+ *  3. corner jets: the point diagonal to each corner (Q11) reproduces the construction's twist
+ *     d2S/dtds there, and in G2 mode Q21, Q12, Q22 reproduce d_t^2 d_s, d_t d_s^2, d_t^2 d_s^2
+ *     (exact in the spline space up to one-sided differences that are exact for quintics).
+ *     With the Hermite edge curves this fixes each corner's jet from the construction, so the
+ *     G1 (G2) relations of all edges meeting at a vertex are consistent there: vertex
+ *     enclosure is inherited from the construction.  Gregory-type corners, where the two edges
+ *     disagree about a mixed derivative, get the average twist and leave the higher points to
+ *     the fits (stage_corners, stage_prefit);
+ *  4. G1 rows: for each interior edge the free points of the first control rows of BOTH sides
+ *     are fitted jointly: fidelity to each side's exact cross-boundary derivative at the edge
+ *     samples, plus the gluing relation  d_s S_R = alpha d_s S_L + beta d_t S_L  (formulas.md
+ *     §4.2, G1; seed 003 Prop. 2, eqs. 13–14) with alpha(t), beta(t) computed from the
+ *     construction's exact derivatives, weighted by g1_weight, at the same samples.  The
+ *     relation therefore holds in the least-squares sense at the collocation points, not
+ *     exactly between them; the measured angle jump at the midpoints is reported and drives
+ *     refinement.  Boundary edges: fidelity only;
+ *  5. (G2 mode) the same for the second rows with the second-order relation of formulas.md
+ *     §4.2 (gamma, delta = tangential part of the construction's own second-order residual);
  *  6. interiors: the remaining control points of each patch, least squares at a (4m_u+4) x
- *     (4m_v+4) sample grid.
+ *     (4m_v+4) sample grid, solved separably (stage_interior).
  * Then deviation (at the midpoints of the sample grid) and continuity (at the midpoints of the
  * edge samples) are measured, and the ribbons of failing patches / edges get more spans
- * (m <- max(m+1, ceil(1.15 m (dev/tol)^(1/6))), the quintic error order), until all targets hold
- * or max_spans is reached.
+ * (m <- max(m+1, ceil(1.15 m ratio^(1/order))), order 6, 5, 4 for deviation, normal and
+ * curvature jumps of quintics), until all targets hold, continuity stalls (fit_all), or the
+ * caps are reached.
  *
  * Bézier patches (ACC path) are converted exactly: degree elevated to 5 x 5 (Farin, Curves and
  * Surfaces for CAGD, §5.1: b_i' = i/(n+1) b_{i-1} + (1 - i/(n+1)) b_i), one span.  Why quintic
@@ -48,7 +49,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <stdio.h>
+#include <stdio.h>   /* snprintf */
 
 static const int corner_uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
 
