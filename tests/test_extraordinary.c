@@ -74,6 +74,7 @@ typedef struct mstats {
     double kmax, kpos[3], kev, kevpos[3]; /* largest |principal curvature|: all patches, extraordinary ones */
     int kface, kevface;
     int ndegen;       /* Coons–Gregory patches where Su, Sv get within 3° of parallel (fold or near fold) */
+    int wiggles;      /* sign changes of the normal curvature along the mid-lines of those patches */
 } mstats;
 
 /* Build regular + extraordinary patches and measure everything. */
@@ -168,6 +169,28 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
                 mn = fmin(mn, q2n_v3_norm(n) / (q2n_v3_norm(e + Q2N_EV_U) * q2n_v3_norm(e + Q2N_EV_V)));
             }
         st->ndegen += mn < 0.05;
+    }
+    /* wiggles: sign changes of the normal curvature along u = 1/2 (direction Sv) and v = 1/2
+     * (direction Su) of every Coons–Gregory patch, ignoring values below 1e-3 of the largest */
+    for (int f = 0; f < m->nf; f++) {
+        if (q2n_surface_kind(S, f) != Q2N_PATCH_COONS_GREGORY) continue;
+        for (int dirn = 0; dirn < 2; dirn++) {
+            double k[41], kmx = 0;
+            for (int i = 0; i <= 40; i++) {
+                double t = i / 40.0, e[Q2N_EVAL_MAX], n[3];
+                q2n_surface_eval(S, f, dirn ? t : 0.5, dirn ? 0.5 : t, 2, e);
+                q2n_v3_cross(n, e + Q2N_EV_U, e + Q2N_EV_V);
+                q2n_v3_scale(n, 1 / q2n_v3_norm(n), n);
+                k[i] = normal_curv(e, n, dirn ? e + Q2N_EV_U : e + Q2N_EV_V);
+                kmx = fmax(kmx, fabs(k[i]));
+            }
+            int last = 0;
+            for (int i = 0; i <= 40; i++) {
+                int sg = k[i] > 1e-3 * kmx ? 1 : k[i] < -1e-3 * kmx ? -1 : 0;
+                if (sg && last && sg != last) st->wiggles++;
+                if (sg) last = sg;
+            }
+        }
     }
     /* the grid fast path agrees with point evaluation */
     for (int f = 0, ng = 0; f < m->nf && ng < 4; f++) {
@@ -549,6 +572,8 @@ int main(void)
         }
     /* the G+Smo carpets: largest principal curvature and where, augmented vs mean intervals */
     printf("\n| carpet | region | augmented: max kappa (face; x, y, z) | mean: max kappa (face; x, y, z) |\n");
+    char wig[5][64];
+    int nwig = 0;
     for (int i = 0; i < 5; i++) {
         const char *path = chk_shared_mesh(sel[i]);
         if (!path) continue;
@@ -565,8 +590,11 @@ int main(void)
             printf("| %s | EV patches | %.3g (%d; %.3f, %.3f, %.3f) | %.3g (%d; %.3f, %.3f, %.3f) |\n", sel[i], a.kev,
                    a.kevface, a.kevpos[0], a.kevpos[1], a.kevpos[2], b.kev, b.kevface, b.kevpos[0], b.kevpos[1],
                    b.kevpos[2]);
+            snprintf(wig[nwig++], sizeof wig[0], "| %s | %d | %d |", sel[i], a.wiggles, b.wiggles);
         }
         q2n_mesh_free(m);
     }
+    printf("\n| carpet | curvature sign changes on EV-patch mid-lines, augmented | mean |\n");
+    for (int i = 0; i < nwig; i++) printf("%s\n", wig[i]);
     CHECK_DONE("test_extraordinary");
 }
