@@ -9,6 +9,7 @@
 #include "core/outfile.h"
 #include "core/vec3.h"
 #include "patch/augmented.h"
+#include "patch/extraordinary.h"
 
 double q2n_now(void)
 {
@@ -30,9 +31,14 @@ void q2n_model_free(q2n_model *m)
 static q2n_status build_augmented(q2n_model *m, q2n_error *err)
 {
     q2n_augmented_options ao = {m->opt.cls, m->opt.param};
+    q2n_extraordinary_options eo = {m->opt.cls, m->opt.param, (q2n_ev_patch_kind)m->opt.ev_patch};
     q2n_status st = q2n_param_edge_intervals(m->mesh, &m->opt.param, &m->edge_iv, err);
     if (!st) st = q2n_augmented_build(m->mesh, &ao, m->edge_iv, &m->surface, err);
-    m->continuity = m->opt.cls->k >= 2 ? 2 : 1;
+    /* faces at extraordinary vertices: augmented Coons–Gregory patches (§4) */
+    if (!st && q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED) > 0)
+        st = q2n_extraordinary_build(m->mesh, &eo, m->edge_iv, m->surface, err);
+    int regular = m->opt.cls->k >= 2 ? 2 : 1, ev = q2n_ev_patch_order(&eo);
+    m->continuity = (q2n_surface_count(m->surface, Q2N_PATCH_COONS_GREGORY) > 0 && ev < regular) ? ev : regular;
     return st;
 }
 

@@ -26,7 +26,7 @@ typedef struct q2n_model_options {
     q2n_surface_method method;
     const q2n_spline_class *cls;  /* augmented: NULL = D5C2P2S4 */
     q2n_param_options param;      /* augmented: zeroed = centripetal */
-    int ev_patch;                 /* augmented: 0 default, 1 = G1, 2 = G2 Coons–Gregory patches */
+    int ev_patch;                 /* augmented: a q2n_ev_patch_kind (0 default: G2 for C2 classes) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */
 } q2n_model_options;

@@ -8,6 +8,7 @@
 #include <strings.h>
 
 #include "api/model.h"
+#include "patch/extraordinary.h"
 
 #define Q2N_VERSION_STRING "0.1.0"
 #define MAX_OUTPUTS 8
@@ -40,6 +41,8 @@ static void usage(FILE *f)
           "      --acc-strategy S  acc-g1 masks: cs-s (default), ncs-s, cs-as, ncs-as\n"
           "      --class C         spline class of the augmented surface: D5C2P2S4 (default, C2),\n"
           "                        D3C1P2S4 (Catmull-Rom, C1), D2C1P2S4, D3C2P2S4, D5C2P4S6\n"
+          "      --ev-patch G      patches at extraordinary vertices: g2 (default for C2 classes,\n"
+          "                        biquintic Coons-Gregory) or g1 (bicubic; default for C1 classes)\n"
           "      --param P         edge parameter intervals: centripetal (default), chordal,\n"
           "                        uniform, mean (ribbon-averaged baseline of the paper)\n"
           "      --alpha A         exponent of |edge|^A for centripetal/mean (default 0.5)\n"
@@ -79,7 +82,7 @@ static const char *extension(const char *path)
 static int parse_args(int argc, char **argv, cli_options *o)
 {
     enum { OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT,
-           OPT_TOL, OPT_THREADS, OPT_UNITS };
+           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},   {"tess", required_argument, 0, OPT_TESS},
         {"grid", required_argument, 0, OPT_GRID}, {"class", required_argument, 0, OPT_CLASS},
@@ -87,7 +90,7 @@ static int parse_args(int argc, char **argv, cli_options *o)
         {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
         {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
         {"tol", required_argument, 0, OPT_TOL},  {"threads", required_argument, 0, OPT_THREADS},
-        {"units", required_argument, 0, OPT_UNITS},
+        {"units", required_argument, 0, OPT_UNITS}, {"ev-patch", required_argument, 0, OPT_EVPATCH},
         {"help", no_argument, 0, 'h'},           {"version", no_argument, 0, 'V'},
         {0, 0, 0, 0}};
     int c;
@@ -143,6 +146,15 @@ static int parse_args(int argc, char **argv, cli_options *o)
                 return 2;
             }
             o->fit.tol = t;
+            break;
+        }
+        case OPT_EVPATCH: {
+            q2n_ev_patch_kind k;
+            if (q2n_ev_patch_parse(optarg, &k)) {
+                fprintf(stderr, "quad2nurbs: --ev-patch: expected g1 or g2, got '%s'\n", optarg);
+                return 2;
+            }
+            o->model.ev_patch = (int)k;
             break;
         }
         case OPT_UNITS:
