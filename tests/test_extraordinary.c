@@ -380,6 +380,53 @@ static q2n_mesh *mg_cube(unsigned seed)
     return mesh;
 }
 
+/* Jittered polyhedra with non-quad faces, made all-quad by one Catmull–Clark step: face points
+ * of triangles (valence 3), pentagons (5) and hexagons (6) next to the old vertices. */
+static q2n_mesh *mg_polyhedron(int kind, unsigned seed)
+{
+    static const double tet[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+    static const int tetf[4][3] = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+    double pos[3 * 12];
+    int fs[9], fv[40], nv, nf;
+    if (kind == 0) { /* tetrahedron */
+        nv = 4, nf = 4;
+        for (int v = 0; v < 4; v++)
+            for (int c = 0; c < 3; c++) pos[3 * v + c] = tet[v][c];
+        for (int f = 0; f < 4; f++) {
+            fs[f] = 3 * f;
+            for (int i = 0; i < 3; i++) fv[3 * f + i] = tetf[f][i];
+        }
+        fs[4] = 12;
+    } else { /* prism over a (kind+4)-gon: two n-gons and n quads */
+        int n = kind + 4, k = 0;
+        nv = 2 * n, nf = n + 2;
+        for (int i = 0; i < n; i++)
+            for (int h = 0; h < 2; h++) {
+                double a = 2 * M_PI * i / n;
+                pos[3 * (h * n + i) + 0] = cos(a);
+                pos[3 * (h * n + i) + 1] = sin(a);
+                pos[3 * (h * n + i) + 2] = h ? 1.2 : -0.2;
+            }
+        fs[0] = 0;
+        for (int i = 0; i < n; i++) fv[k++] = n - 1 - i; /* bottom, facing down */
+        fs[1] = k;
+        for (int i = 0; i < n; i++) fv[k++] = n + i; /* top */
+        for (int i = 0; i < n; i++) {
+            fs[2 + i] = k;
+            int j = (i + 1) % n;
+            fv[k++] = i; fv[k++] = j; fv[k++] = n + j; fv[k++] = n + i;
+        }
+        fs[nf] = k;
+    }
+    for (int i = 0; i < 3 * nv; i++) pos[i] += 0.15 * (2 * mg_rnd(&seed) - 1);
+    q2n_mesh *m = NULL, *sub = NULL;
+    q2n_error err;
+    if (q2n_mesh_from_arrays(nv, pos, nf, fs, fv, "polyhedron", &m, &err)) fprintf(stderr, "mg_polyhedron: %s\n", err.message);
+    if (m && q2n_mesh_subdivide(m, 1, &sub, &err)) fprintf(stderr, "mg_polyhedron: %s\n", err.message);
+    q2n_mesh_free(m);
+    return sub;
+}
+
 /* q2n_ev_regular_partials against q2n_augmented_eval (orders <= 2) and central differences of it
  * (orders 3 and 4). */
 static void test_regular_partials(void)
@@ -503,6 +550,19 @@ int main(void)
             if (m && run_mesh(lab, m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, 1, &st)) check_stats(lab, &st, 1);
             q2n_mesh_free(m);
         }
+        static const char *const pname[3] = {"tetrahedron", "pentagonal prism", "hexagonal prism"};
+        for (int kind = 0; kind < 3; kind++)
+            for (unsigned seed = 1; seed <= 4; seed++) {
+                char lab[64];
+                snprintf(lab, sizeof lab, "%s, subdivided (seed %u)", pname[kind], seed);
+                m = mg_polyhedron(kind, seed * 7 + kind);
+                CHECK(m != NULL, "%s", lab);
+                for (int g = 1; m && g <= 2; g++)
+                    if (run_mesh(lab, m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, g == 1 ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2,
+                                 g == 2, &st))
+                        check_stats(lab, &st, g == 2);
+                q2n_mesh_free(m);
+            }
         m = mg_cube(29);
         if (m && run_mesh("closed cube (adjacent valence 3)", m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, 1, &st))
             check_stats("closed cube (adjacent valence 3)", &st, 1);
