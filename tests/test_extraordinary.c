@@ -616,8 +616,10 @@ int main(void)
         {"D3C1P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_DEFAULT, "Catmull-Rom, G1"},
         {"D5C2P2S4", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G1, "D5C2P2S4, G1"},
         {"D5C2P4S6", Q2N_PARAM_CENTRIPETAL, Q2N_EV_PATCH_G2, "D5C2P4S6 (w=6), G2"},
-        {"D5C2P2S4", Q2N_PARAM_MEAN, Q2N_EV_PATCH_G2, "D5C2P2S4, G2, mean"}};
-    for (int vi = 0; vi < 4; vi++)
+        {"D5C2P2S4", Q2N_PARAM_MEAN, Q2N_EV_PATCH_G2, "D5C2P2S4, G2, mean"},
+        {"D3C2P2S4", Q2N_PARAM_CHORDAL, Q2N_EV_PATCH_G2, "D3C2P2S4, G2, chordal"},
+        {"D2C1P2S4", Q2N_PARAM_UNIFORM, Q2N_EV_PATCH_DEFAULT, "D2C1P2S4, G1, uniform"}};
+    for (int vi = 0; vi < 6; vi++)
         for (int i = 0; sel[i]; i++) {
             const char *path = chk_shared_mesh(sel[i]);
             if (!path) { SKIP("%s not found (../shared/meshes)", sel[i]); continue; }
