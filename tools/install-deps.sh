@@ -6,10 +6,9 @@
 #   libosd-dev                 OpenSubdiv: Catmull-Clark limit reference in tests and the evaluation benchmark
 #   libocct-*-dev              OpenCASCADE: STEP/IGES import and fitting reference in tests/benchmarks
 #   freecad-python3            FreeCAD (headless): import audit of the exported STEP/IGES files (tools/)
-#   python3-numpy              used by the FreeCAD audit scripts
 set -e
 PKGS="gcc g++ make libceres-dev liblapacke-dev libopenblas-dev libosd-dev libocct-foundation-dev \
-libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev freecad-python3 python3-numpy"
+libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev freecad-python3"
 missing=""
 for p in $PKGS; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
