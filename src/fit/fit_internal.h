@@ -28,7 +28,7 @@ void fit_surface_eval(const q2n_bspline_surface *s, double u, double v, int nder
  * functions — acts coordinate-wise).  Items own contiguous ranges of variables and rows. */
 typedef struct fit_ls {
     int nvar, nrow, nent, nitem;
-    int cap_var, cap_row, cap_ent, cap_item;
+    int cap_row, cap_ent, cap_item;
     int *row_start;   /* nrow+1 */
     int *col;         /* nent: global variable index */
     double *val;      /* nent */
@@ -47,8 +47,6 @@ q2n_status fit_ls_new_var(fit_ls *ls, int *id);
 /* Start a row with right-hand side rhs[3]; entries follow with fit_ls_entry. */
 q2n_status fit_ls_row(fit_ls *ls, const double rhs[3]);
 q2n_status fit_ls_entry(fit_ls *ls, int var, double val);
-/* Remove the last row (used when a row ends up with no unknowns). */
-void fit_ls_drop_row(fit_ls *ls);
 
 /* Direct reference solver: Householder QR per item (3 right-hand sides). */
 q2n_status fit_ls_solve_direct(fit_ls *ls, q2n_error *err);

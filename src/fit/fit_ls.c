@@ -115,14 +115,6 @@ q2n_status fit_ls_entry(fit_ls *ls, int var, double val)
     return Q2N_OK;
 }
 
-void fit_ls_drop_row(fit_ls *ls)
-{
-    if (ls->nrow == 0) return;
-    ls->nrow--;
-    ls->nent = ls->row_start[ls->nrow];
-    ls->item_row[ls->nitem] = ls->nrow;
-}
-
 /* Householder QR least squares of one dense item: A (m x n, column-major, lda = m) and B (m x 3,
  * column-major) are overwritten; the solution goes to x[3*n] (xyz per unknown).  Returns 0 when
  * a column is numerically dependent (|R_jj| <= 1e-13 * max column norm). */
