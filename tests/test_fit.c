@@ -274,6 +274,37 @@ static void solver_agreement(void)
     q2n_mesh_free(mesh);
 }
 
+/* Same input, same bytes: the model does not depend on the thread count (G2 mode, refinement). */
+static void determinism(void)
+{
+    q2n_mesh *mesh;
+    q2n_surface *s;
+    if (!build(1, 6, 4, 1.0, &mesh, &s)) { CHECK(0, "build"); return; }
+    q2n_nurbs_model *md[2] = {NULL, NULL};
+    q2n_fit_report r[2];
+    for (int i = 0; i < 2; i++) {
+        q2n_fit_options o;
+        q2n_fit_options_default(&o);
+        o.continuity = 2;
+        o.tol = 1e-6;
+        o.threads = i ? 3 : 1;
+        q2n_error err;
+        CHECK(q2n_fit_surface(s, mesh, &o, &md[i], &r[i], &err) == Q2N_OK, "determinism fit");
+    }
+    int same = md[0] && md[1];
+    for (int k = 0; same && k < mesh->nf; k++) {
+        const q2n_bspline_surface *a = &md[0]->patches[k], *b = &md[1]->patches[k];
+        same = a->ncp_u == b->ncp_u && a->ncp_v == b->ncp_v &&
+               !memcmp(a->cp, b->cp, 3 * sizeof(double) * (size_t)a->ncp_u * a->ncp_v) &&
+               !memcmp(a->knots_u, b->knots_u, sizeof(double) * (size_t)(a->ncp_u + 6));
+    }
+    CHECK(same, "1 and 3 threads give different models");
+    CHECK(r[0].max_dev_rel == r[1].max_dev_rel && r[0].g2_max_rel == r[1].g2_max_rel, "reports differ");
+    for (int i = 0; i < 2; i++) q2n_nurbs_model_free(md[i]);
+    q2n_surface_free(s);
+    q2n_mesh_free(mesh);
+}
+
 /* A surface inside the spline space (bi-quintic polynomial graph, linear parametrisation) is
  * reproduced to rounding with one span, by every stage (Hermite ends, twists, rows, interior). */
 static void reproduction(void)
@@ -411,6 +442,7 @@ int main(void)
     internals();
     reproduction();
     solver_agreement();
+    determinism();
     errors_and_report();
     run_case("torus 8x6 G1 1e-5", 0, 8, 6, 1.0, 1e-5, 1, Q2N_FIT_SOLVER_CERES);
     run_case("torus 8x6 G1 1e-6", 0, 8, 6, 1.0, 1e-6, 1, Q2N_FIT_SOLVER_CERES);

@@ -48,8 +48,9 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
+#include <pthread.h>
 #include <stdio.h>   /* snprintf */
+#include <string.h>
 
 static const int corner_uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
 
@@ -601,7 +602,7 @@ static void sep_free(sep_patch *sp, int n)
 }
 
 /* Sample patch k, build its basis matrices and the residual R of the fixed control points. */
-static q2n_status sep_prepare(ctx *c, sep_patch *sp)
+static q2n_status sep_prepare(const ctx *c, sep_patch *sp)
 {
     fpatch *p = &c->p[sp->k];
     int Nu = sp->Nu = fit_nsamples(p->mu), Nv = sp->Nv = fit_nsamples(p->mv);
@@ -616,12 +617,10 @@ static q2n_status sep_prepare(ctx *c, sep_patch *sp)
     sp->var2 = malloc(sizeof(int) * (size_t)(sp->hv - sp->lv + 1));
     if (!S || !sp->R || !sp->Bu || !sp->Bv || !sp->var1 || !sp->var2) {
         free(S);
-        return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (samples)");
+        return Q2N_ERR_NOMEM;
     }
-    double t0 = fit_now();
     q2n_status st = q2n_surface_eval_grid(c->s, sp->k, Nu, us, Nv, vs, S);
-    c->rep->t_sample += fit_now() - t0;
-    if (st) { free(S); return q2n_error_set(c->err, st, "fit: face %d: grid evaluation failed", sp->k); }
+    if (st) { free(S); return st; }
     double B[3][FIT_DEG + 1];
     for (int i = 0; i < Nu; i++) {
         int su = fit_span(p->nu, p->ku, us[i]);
@@ -645,10 +644,55 @@ static q2n_status sep_prepare(ctx *c, sep_patch *sp)
                     if (w != 0.0 && p->fixed[b * p->nu + a]) q2n_v3_axpy(r, -w, p->cp + 3 * ((size_t)b * p->nu + a));
                 }
             }
-            c->rep->samples++;
         }
     free(S);
     return Q2N_OK;
+}
+
+typedef struct prep_arg {
+    const ctx *c;
+    sep_patch *sp;
+    int n, w, nthreads;
+    q2n_status *st;            /* per patch */
+} prep_arg;
+
+static void *prep_worker(void *arg)
+{
+    prep_arg *a = arg;
+    for (int l = a->w; l < a->n; l += a->nthreads) a->st[l] = sep_prepare(a->c, &a->sp[l]);
+    return NULL;
+}
+
+/* sep_prepare for all n patches on c->o.threads workers (patch l on worker l mod threads);
+ * the first failing patch in index order is reported. */
+static q2n_status prepare_all(ctx *c, sep_patch *sp, int n)
+{
+    int T = c->o.threads < 1 ? 1 : c->o.threads > 64 ? 64 : c->o.threads;
+    q2n_status *st = calloc((size_t)(n > 0 ? n : 1), sizeof *st);
+    if (!st) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+    prep_arg args[64];
+    pthread_t tid[64];
+    int started[64] = {0};
+    double t0 = fit_now();
+    for (int w = 0; w < T; w++) {
+        args[w] = (prep_arg){c, sp, n, w, T, st};
+        if (w > 0) started[w] = pthread_create(&tid[w], NULL, prep_worker, &args[w]) == 0;
+    }
+    prep_worker(&args[0]);
+    for (int w = 1; w < T; w++) {
+        if (started[w]) pthread_join(tid[w], NULL);
+        else prep_worker(&args[w]);
+    }
+    c->rep->t_sample += fit_now() - t0;
+    q2n_status r = Q2N_OK;
+    for (int l = 0; l < n; l++) {
+        c->rep->samples += (long)sp[l].Nu * sp[l].Nv;
+        if (st[l] && !r)
+            r = q2n_error_set(c->err, st[l], "fit: face %d: %s", sp[l].k,
+                              st[l] == Q2N_ERR_NOMEM ? "out of memory (samples)" : "grid evaluation failed");
+    }
+    free(st);
+    return r;
 }
 
 /* Does sample i (u) touch the free block? */
@@ -678,9 +722,9 @@ static q2n_status stage_interior(ctx *c, const int *list, int nlist)
         q.k = k;
         if (!free_block(&c->p[k], &q.lu, &q.hu, &q.lv, &q.hv)) { gen[ngen++] = k; continue; }
         if (q.hu < q.lu) continue;                 /* nothing free */
-        sp[nsp] = q;
-        if ((st = sep_prepare(c, &sp[nsp++]))) goto out;
+        sp[nsp++] = q;
     }
+    if ((st = prepare_all(c, sp, nsp))) goto out;
     /* pass 1: for each sample column i, min_z |Bv[:, lv..hv] z - R[i, :]| */
     for (int l = 0; l < nsp; l++) {
         sep_patch *q = &sp[l];
@@ -931,7 +975,7 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
         if ((st = make_model(c, &md))) goto done;
         double t0 = fit_now();
         fit_measure_out mo = {pdev, eg[0], eg[1], round == 0 ? eg[2] : NULL, round == 0 ? eg[3] : NULL};
-        st = fit_measure_model(md, c->s, rep, &mo, c->err);
+        st = fit_measure_model(md, c->s, rep, &mo, c->o.threads, c->err);
         rep->t_measure += fit_now() - t0;
         if (st) { q2n_nurbs_model_free(md); goto done; }
         rep->rounds = round + 1;
@@ -1073,7 +1117,7 @@ static q2n_status convert_bezier(ctx *c, q2n_nurbs_model **out)
     double t0 = fit_now();
     double *g1c = malloc(sizeof(double) * (size_t)m->ne), *g2c = malloc(sizeof(double) * (size_t)m->ne);
     fit_measure_out mo = {NULL, NULL, NULL, g1c, g2c};
-    st = g1c && g2c ? fit_measure_model(*out, c->s, c->rep, &mo, c->err)
+    st = g1c && g2c ? fit_measure_model(*out, c->s, c->rep, &mo, c->o.threads, c->err)
                     : q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     free(g1c);
     free(g2c);

@@ -71,10 +71,11 @@ void q2n_fit_options_default(q2n_fit_options *o);
 q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fit_options *opt,
                            q2n_nurbs_model **out, q2n_fit_report *rep, q2n_error *err);
 
-/* Measure a model against the construction (deviation, G0/G1/G2 across edges) into rep's
- * measured fields; used by q2n_fit_surface and by tests. */
-q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
-                           q2n_error *err);
+/* Measure a model against the construction (deviation, G0/G1/G2 across edges, also on the
+ * construction itself) into rep's measured fields, with `threads` workers; used by
+ * q2n_fit_surface and by tests. */
+q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, int threads,
+                           q2n_fit_report *rep, q2n_error *err);
 
 /* Write the report as JSON (atomic: temp file + rename). */
 q2n_status q2n_fit_report_write_json(const q2n_fit_report *rep, const char *path, q2n_error *err);

@@ -71,6 +71,9 @@ typedef struct fit_measure_out {
     double *edge_g2_c;
 } fit_measure_out;
 
+/* threads: workers over patches and edges (results reduced in index order: thread-count
+ * independent).  The construction's evaluators must be safe to call concurrently (they are pure
+ * functions of const data in this project). */
 q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
-                             fit_measure_out *mo, q2n_error *err);
+                             fit_measure_out *mo, int threads, q2n_error *err);
 double fit_now(void);   /* monotonic seconds */

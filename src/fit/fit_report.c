@@ -10,6 +10,7 @@
 #include "core/vec3.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -118,70 +119,148 @@ static q2n_status edge_measure(const q2n_nurbs_model *model, const q2n_surface *
     return Q2N_OK;
 }
 
-q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
-                             fit_measure_out *mo, q2n_error *err)
+/* Per-item results of a measurement, filled by the workers and reduced in index order (so the
+ * report does not depend on the thread count). */
+typedef struct measure_job {
+    const q2n_nurbs_model *model;
+    const q2n_surface *s;
+    double diag;
+    int construction;          /* also measure the construction's own continuity */
+    int nthreads;
+    double *pd, *ps2, *pvd;    /* per patch: max deviation, sum of squares, corner-vertex gap */
+    double *eg[5];             /* per edge: g0, g1, g2 (fitted), g1, g2 (construction) */
+    int *fail_k, *fail_e;      /* per worker: first failing patch / edge (or -1) */
+    q2n_status *fail_st;
+} measure_job;
+
+typedef struct measure_arg {
+    measure_job *job;
+    int w;
+} measure_arg;
+
+/* Deviation of patch k at the midpoints of its sample grid; buf holds 9 doubles per point. */
+static q2n_status measure_patch(const measure_job *j, int k, double *buf)
 {
-    const q2n_mesh *m = model->mesh;
-    double diag = q2n_mesh_bbox_diag(m);
-    double maxd = 0.0, sum2 = 0.0, vdev = 0.0;
-    long nchk = 0;
-    double *buf = NULL;
-    size_t cap = 0;
-    for (int k = 0; k < model->n; k++) {
-        const q2n_bspline_surface *p = &model->patches[k];
-        int Nu = fit_nsamples(p->ncp_u - FIT_DEG), Nv = fit_nsamples(p->ncp_v - FIT_DEG);
-        int nu = Nu - 1, nv = Nv - 1;
-        double us[4 * FIT_MAX_SPANS + 4], vs[4 * FIT_MAX_SPANS + 4];
-        for (int i = 0; i < nu; i++) us[i] = (i + 0.5) / (Nu - 1);
-        for (int j = 0; j < nv; j++) vs[j] = (j + 0.5) / (Nv - 1);
-        if ((size_t)nu * nv * 9 > cap) {
-            cap = (size_t)nu * nv * 9;
-            double *t = realloc(buf, cap * sizeof *t);
-            if (!t) { free(buf); return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (measure)"); }
-            buf = t;
+    const q2n_bspline_surface *p = &j->model->patches[k];
+    const q2n_mesh *m = j->model->mesh;
+    int Nu = fit_nsamples(p->ncp_u - FIT_DEG), Nv = fit_nsamples(p->ncp_v - FIT_DEG);
+    int nu = Nu - 1, nv = Nv - 1;
+    double us[4 * FIT_MAX_SPANS + 4] = {0}, vs[4 * FIT_MAX_SPANS + 4] = {0};
+    for (int i = 0; i < nu; i++) us[i] = (i + 0.5) / (Nu - 1);
+    for (int jj = 0; jj < nv; jj++) vs[jj] = (jj + 0.5) / (Nv - 1);
+    q2n_status st = q2n_surface_eval_grid(j->s, k, nu, us, nv, vs, buf);
+    if (st) return st;
+    double pd = 0.0, s2 = 0.0, vd = 0.0;
+    for (int b = 0; b < nv; b++)
+        for (int a = 0; a < nu; a++) {
+            double f[3];
+            fit_surface_eval(p, us[a], vs[b], 0, f);
+            double d = q2n_v3_dist(f, buf + 9 * ((size_t)b * nu + a)) / j->diag;
+            s2 += d * d;
+            if (d > pd) pd = d;
         }
-        q2n_status st = q2n_surface_eval_grid(s, k, nu, us, nv, vs, buf);
-        if (st) { free(buf); return q2n_error_set(err, st, "fit: face %d: construction evaluation failed", k); }
-        double pd = 0.0;
-        for (int j = 0; j < nv; j++)
-            for (int i = 0; i < nu; i++) {
-                double f[3];
-                fit_surface_eval(p, us[i], vs[j], 0, f);
-                double d = q2n_v3_dist(f, buf + 9 * ((size_t)j * nu + i)) / diag;
-                sum2 += d * d;
-                if (d > pd) pd = d;
-            }
-        nchk += (long)nu * nv;
-        if (pd > maxd) maxd = pd;
-        if (mo && mo->patch_dev) mo->patch_dev[k] = pd;
-        for (int c = 0; c < 4; c++) {   /* construction corners vs mesh vertices */
-            double S[3];
-            st = q2n_surface_eval(s, k, corner_uv[c][0], corner_uv[c][1], 0, S);
-            if (st) { free(buf); return q2n_error_set(err, st, "fit: face %d: corner evaluation failed", k); }
-            double d = q2n_v3_dist(S, q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + c])) / diag;
-            if (d > vdev) vdev = d;
-        }
+    for (int c = 0; c < 4; c++) {   /* construction corners vs mesh vertices */
+        double S[3];
+        if ((st = q2n_surface_eval(j->s, k, corner_uv[c][0], corner_uv[c][1], 0, S))) return st;
+        double d = q2n_v3_dist(S, q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + c])) / j->diag;
+        if (d > vd) vd = d;
+    }
+    j->pd[k] = pd;
+    j->ps2[k] = s2;
+    j->pvd[k] = vd;
+    return Q2N_OK;
+}
+
+static void *measure_worker(void *arg)
+{
+    measure_arg *a = arg;
+    measure_job *j = a->job;
+    const q2n_mesh *m = j->model->mesh;
+    j->fail_k[a->w] = j->fail_e[a->w] = -1;
+    size_t cap = 9 * (size_t)(4 * FIT_MAX_SPANS + 4) * (4 * FIT_MAX_SPANS + 4);
+    double *buf = malloc(cap * sizeof *buf);
+    if (!buf) { j->fail_k[a->w] = 0; j->fail_st[a->w] = Q2N_ERR_NOMEM; return NULL; }
+    for (int k = a->w; k < j->model->n; k += j->nthreads) {
+        q2n_status st = measure_patch(j, k, buf);
+        if (st) { j->fail_k[a->w] = k; j->fail_st[a->w] = st; break; }
     }
     free(buf);
-    double g0 = 0, g1 = 0, g2 = 0, g1c = 0, g2c = 0;
-    for (int e = 0; e < m->ne; e++) {
-        double a, b, c;
-        q2n_status st = edge_measure(model, s, 1, e, diag, &a, &b, &c);
-        if (st) return q2n_error_set(err, st, "fit: edge %d: evaluation failed", e);
-        if (a > g0) g0 = a;
-        if (b > g1) g1 = b;
-        if (c > g2) g2 = c;
-        if (mo && mo->edge_g1) mo->edge_g1[e] = b;
-        if (mo && mo->edge_g2) mo->edge_g2[e] = c;
-        if (mo && mo->edge_g1_c) {
-            st = edge_measure(model, s, 0, e, diag, &a, &b, &c);
-            if (st) return q2n_error_set(err, st, "fit: edge %d: construction evaluation failed", e);
-            mo->edge_g1_c[e] = b;
-            mo->edge_g2_c[e] = c;
-            if (b > g1c) g1c = b;
-            if (c > g2c) g2c = c;
+    for (int e = a->w; e < m->ne && j->fail_k[a->w] < 0; e += j->nthreads) {
+        q2n_status st = edge_measure(j->model, j->s, 1, e, j->diag, &j->eg[0][e], &j->eg[1][e], &j->eg[2][e]);
+        double g0;
+        if (!st && j->construction) st = edge_measure(j->model, j->s, 0, e, j->diag, &g0, &j->eg[3][e], &j->eg[4][e]);
+        if (st) { j->fail_e[a->w] = e; j->fail_st[a->w] = st; break; }
+    }
+    return NULL;
+}
+
+q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
+                             fit_measure_out *mo, int threads, q2n_error *err)
+{
+    const q2n_mesh *m = model->mesh;
+    measure_job j;
+    memset(&j, 0, sizeof j);
+    j.model = model;
+    j.s = s;
+    j.diag = q2n_mesh_bbox_diag(m);
+    j.construction = mo && mo->edge_g1_c;
+    j.nthreads = threads < 1 ? 1 : threads > 64 ? 64 : threads;
+    size_t nf = (size_t)model->n, ne = (size_t)m->ne;
+    double *mem = calloc(3 * nf + 5 * ne, sizeof(double));
+    int fk[64], fe[64];
+    q2n_status fs[64];
+    measure_arg args[64];
+    pthread_t tid[64];
+    if (!mem) return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (measure)");
+    j.pd = mem; j.ps2 = mem + nf; j.pvd = mem + 2 * nf;
+    for (int i = 0; i < 5; i++) j.eg[i] = mem + 3 * nf + i * ne;
+    j.fail_k = fk; j.fail_e = fe; j.fail_st = fs;
+    int started[64] = {0};
+    for (int w = 0; w < j.nthreads; w++) {
+        args[w].job = &j;
+        args[w].w = w;
+        if (w > 0) started[w] = pthread_create(&tid[w], NULL, measure_worker, &args[w]) == 0;
+    }
+    measure_worker(&args[0]);
+    for (int w = 1; w < j.nthreads; w++) {
+        if (started[w]) pthread_join(tid[w], NULL);
+        else measure_worker(&args[w]);   /* could not start a thread: do its share here */
+    }
+    int bad_k = -1, bad_e = -1;
+    q2n_status bad_st = Q2N_OK;
+    for (int w = 0; w < j.nthreads; w++) {
+        if (fk[w] >= 0 && (bad_k < 0 || fk[w] < bad_k)) { bad_k = fk[w]; bad_st = fs[w]; }
+        if (fe[w] >= 0 && (bad_e < 0 || fe[w] < bad_e) && bad_k < 0) { bad_e = fe[w]; bad_st = fs[w]; }
+    }
+    if (bad_k >= 0 || bad_e >= 0) {
+        free(mem);
+        return bad_k >= 0 ? q2n_error_set(err, bad_st, "fit: face %d: construction evaluation failed", bad_k)
+                          : q2n_error_set(err, bad_st, "fit: edge %d: evaluation failed", bad_e);
+    }
+    double maxd = 0, sum2 = 0, vdev = 0, g0 = 0, g1 = 0, g2 = 0, g1c = 0, g2c = 0;
+    long nchk = 0;
+    for (size_t k = 0; k < nf; k++) {
+        const q2n_bspline_surface *p = &model->patches[k];
+        nchk += (long)(fit_nsamples(p->ncp_u - FIT_DEG) - 1) * (fit_nsamples(p->ncp_v - FIT_DEG) - 1);
+        sum2 += j.ps2[k];
+        if (j.pd[k] > maxd) maxd = j.pd[k];
+        if (j.pvd[k] > vdev) vdev = j.pvd[k];
+        if (mo && mo->patch_dev) mo->patch_dev[k] = j.pd[k];
+    }
+    for (size_t e = 0; e < ne; e++) {
+        if (j.eg[0][e] > g0) g0 = j.eg[0][e];
+        if (j.eg[1][e] > g1) g1 = j.eg[1][e];
+        if (j.eg[2][e] > g2) g2 = j.eg[2][e];
+        if (mo && mo->edge_g1) mo->edge_g1[e] = j.eg[1][e];
+        if (mo && mo->edge_g2) mo->edge_g2[e] = j.eg[2][e];
+        if (j.construction) {
+            mo->edge_g1_c[e] = j.eg[3][e];
+            mo->edge_g2_c[e] = j.eg[4][e];
+            if (j.eg[3][e] > g1c) g1c = j.eg[3][e];
+            if (j.eg[4][e] > g2c) g2c = j.eg[4][e];
         }
     }
+    free(mem);
     rep->max_dev_rel = maxd;
     rep->rms_dev_rel = nchk ? sqrt(sum2 / (double)nchk) : 0.0;
     rep->checks = nchk;
@@ -189,15 +268,15 @@ q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s,
     rep->g0_max_rel = g0;
     rep->g1_max_deg = g1;
     rep->g2_max_rel = g2;
-    if (mo && mo->edge_g1_c) {
+    if (j.construction) {
         rep->g1_construction_deg = g1c;
         rep->g2_construction_rel = g2c;
     }
     return Q2N_OK;
 }
 
-q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
-                           q2n_error *err)
+q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, int threads,
+                           q2n_fit_report *rep, q2n_error *err)
 {
     if (!model || !s || !rep || !model->mesh || q2n_surface_npatches(s) != model->n)
         return q2n_error_set(err, Q2N_ERR_ARG, "fit_measure: model and surface do not match");
@@ -209,7 +288,7 @@ q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, q
     double *g2c = malloc(sizeof(double) * (size_t)model->mesh->ne);
     if (!g1c || !g2c) { free(g1c); free(g2c); return q2n_error_set(err, Q2N_ERR_NOMEM, "fit_measure: out of memory"); }
     fit_measure_out mo = {NULL, NULL, NULL, g1c, g2c};
-    q2n_status st = fit_measure_model(model, s, rep, &mo, err);
+    q2n_status st = fit_measure_model(model, s, rep, &mo, threads, err);
     free(g1c);
     free(g2c);
     return st;
