@@ -61,6 +61,7 @@ typedef struct fpatch {
     unsigned char *fixed;    /* nu*nv */
     int *var;                /* nu*nv: unknown index in the current stage, or -1 */
     int unsafe22;            /* bit i: corner i's Q22 comes from the preliminary fit (G2 mode) */
+    int gregory;             /* bit i: the edges through corner i disagree about a mixed derivative */
 } fpatch;
 
 /* Frame of side i of a patch: t along the side (corner i -> i+1), s into the patch. */
@@ -412,7 +413,7 @@ static q2n_status stage_corners(ctx *c)
     static const int order[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
     int npin = c->o.continuity == 2 ? 4 : 1;
     for (int k = 0; k < c->m->nf; k++) {
-        c->p[k].unsafe22 = 0;
+        c->p[k].unsafe22 = c->p[k].gregory = 0;
         for (int i = 0; i < 4; i++) {
             side sd = make_side(c, k, i);
             double Nt[3][FIT_DEG + 1], Ns[3][FIT_DEG + 1];
@@ -429,6 +430,7 @@ static q2n_status stage_corners(ctx *c)
                  * span (Bézier factors d^a B_a(0) = 5, 20 for a = 1, 2), so that the verdict does
                  * not change as refinement shrinks the corner's influence */
                 double dq = spread / ((a == 1 ? 5.0 : 20.0) * (b == 1 ? 5.0 : 20.0));
+                if (dq > FIT_JET_SPREAD * c->o.tol * c->diag) p->gregory |= 1 << i;
                 if (o > 0 && (unsafe || dq > FIT_JET_SPREAD * c->o.tol * c->diag)) {
                     unsafe = 1;
                     if (o == 3) p->unsafe22 |= 1 << i;
@@ -462,6 +464,18 @@ static double glue1(const double dR[3], const double dL[3], const double T[3], d
     return q2n_v3_norm(r) / q2n_v3_norm(dR);
 }
 
+/* Does edge e end at a Gregory-type corner of either neighbour? */
+static int edge_gregory(const ctx *c, int e)
+{
+    side sd[2];
+    int two = edge_sides(c, e, &sd[0], &sd[1]);
+    for (int x = 0; x < 1 + two; x++) {
+        int g = c->p[sd[x].k].gregory, i = sd[x].i;
+        if (g & ((1 << i) | (1 << ((i + 1) & 3)))) return 1;
+    }
+    return 0;
+}
+
 /* Stage 4 (order 1) or 5 (order 2): joint fit of the order-th rows next to every interior edge
  * (and, for order 1, of the first row next to boundary edges) with the gluing relation. */
 static q2n_status stage_rows(ctx *c, int order)
@@ -471,6 +485,9 @@ static q2n_status stage_rows(ctx *c, int order)
         int two = edge_sides(c, e, &sd[0], &sd[1]);
         if (fit_ls_item_begin(&c->ls)) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
         int N = fit_nsamples(sd[0].mt);
+        /* second-order gluing is left out next to Gregory-type corners, where no polynomial
+         * spline can satisfy it (it would only cost deviation); those edges get fidelity rows */
+        int glue = two && !(order == 2 && edge_gregory(c, e));
         double Ns[2][3][FIT_DEG + 1];
         for (int x = 0; x < 1 + two; x++) fit_basis(FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
         for (int k = 1; k + 1 < N; k++) {
@@ -485,7 +502,7 @@ static q2n_status stage_rows(ctx *c, int order)
                 row_start(&r, D[x][order == 1 ? 2 : 5], sc);
                 if ((st = add_deriv(c, &r, &sd[x], tx, 0, order, sc)) || (st = row_push(c, &r))) return st;
             }
-            if (!two) continue;
+            if (!glue) continue;
             double al, be, zero[3] = {0, 0, 0};
             glue1(D[1][2], D[0][2], D[0][1], &al, &be);
             double w = c->o.g1_weight / Ns[1][order][order];
@@ -1002,6 +1019,9 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             int me = c->rspan[c->rib[e]];
             if (stalled(&rf[e], eg[0][e], bad1, me, 2.0)) bad1 = 0;
             if (stalled(&rf[m->ne + e], eg[1][e], bad2, me, 2.0)) bad2 = 0;
+            /* curvature next to Gregory-type corners cannot follow the construction (docs/fit.md,
+             * Limits): reported, never a reason to refine */
+            if (bad2 && edge_gregory(c, e)) bad2 = 0;
             if (!bad1 && !bad2) continue;
             /* continuity alone refines a ribbon up to half the span cap */
             int cap = c->o.max_spans / 2 > 1 ? c->o.max_spans / 2 : 1, me0 = c->rspan[c->rib[e]];
