@@ -10,7 +10,12 @@
 #include <string.h>
 #include <unistd.h>
 
-static int chk_passed, chk_failed, chk_skipped;
+#if defined(__GNUC__)
+#define CHK_UNUSED __attribute__((unused))
+#else
+#define CHK_UNUSED
+#endif
+static int chk_passed CHK_UNUSED, chk_failed CHK_UNUSED, chk_skipped CHK_UNUSED;
 
 #define CHECK(cond, ...)                                                            \
     do {                                                                            \

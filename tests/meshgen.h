@@ -13,11 +13,11 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-static double mg_rnd(unsigned *s) { *s = *s * 1103515245u + 12345u; return ((*s >> 8) & 0xffff) / 65536.0; }
+static inline double mg_rnd(unsigned *s) { *s = *s * 1103515245u + 12345u; return ((*s >> 8) & 0xffff) / 65536.0; }
 
 /* Torus with n x m quads (radii R, r); vertices jittered by up to jitter*r when jitter > 0;
  * uneven spacing in the long direction when uneven != 0. */
-static q2n_mesh *mg_torus(int n, int m, double R, double r, double jitter, int uneven, unsigned seed)
+static inline q2n_mesh *mg_torus(int n, int m, double R, double r, double jitter, int uneven, unsigned seed)
 {
     int nv = n * m;
     double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
@@ -52,7 +52,7 @@ static q2n_mesh *mg_torus(int n, int m, double R, double r, double jitter, int u
 }
 
 /* Open n x m grid of quads over z = f(x,y), with uneven x spacing. */
-static q2n_mesh *mg_grid(int n, int m, unsigned seed)
+static inline q2n_mesh *mg_grid(int n, int m, unsigned seed)
 {
     int nv = (n + 1) * (m + 1), nf = n * m;
     double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
