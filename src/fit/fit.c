@@ -82,6 +82,7 @@ typedef struct ctx {
     fpatch *p;
     fit_ls ls;
     int *var_k, *var_g, cap_var;
+    double (*jet)[4][4][4];  /* cached corner jets (compute_jets) */
     q2n_fit_report *rep;
     q2n_error *err;
 } ctx;
@@ -127,18 +128,6 @@ static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
 
 /* ------------------------------------------------------------------ construction access */
 
-static q2n_status eval_exact(ctx *c, int k, double u, double v, int nder, double *out)
-{
-    double t0 = fit_now();
-    q2n_status st = q2n_surface_eval(c->s, k, u, v, nder, out);
-    c->rep->t_sample += fit_now() - t0;
-    if (st) return q2n_error_set(c->err, st, "fit: face %d: evaluation at (%g, %g) failed", k, u, v);
-    for (int i = 0; i < 3 * (nder == 0 ? 1 : nder == 1 ? 3 : 6); i++)
-        if (!isfinite(out[i]))
-            return q2n_error_set(c->err, Q2N_ERR_GEOMETRY, "fit: face %d: non-finite value at (%g, %g)", k, u, v);
-    return Q2N_OK;
-}
-
 static side make_side(const ctx *c, int k, int i)
 {
     const fpatch *p = &c->p[k];
@@ -162,16 +151,18 @@ static int side_g(const ctx *c, const side *sd, int it, int js)
     return b * c->p[sd->k].nu + a;
 }
 
-/* Exact derivatives in the side frame at (t, s): D[0] = S, D[1] = d_t, D[2] = d_s, D[3] = d_tt,
- * D[4] = d_ts, D[5] = d_ss (3 each). */
-static q2n_status side_exact(ctx *c, const side *sd, double t, double s, int nder, double D[6][3])
+/* Exact derivatives of patch k in the frame of its side i at (t, s): D[0] = S, D[1] = d_t,
+ * D[2] = d_s, D[3] = d_tt, D[4] = d_ts, D[5] = d_ss (3 each).  Reads shared data only. */
+static q2n_status frame_eval(const q2n_surface *surf, int k, int i, double t, double s, int nder, double D[6][3])
 {
-    double u = corner_uv[sd->i][0] + t * sd->tx + s * sd->sx;
-    double v = corner_uv[sd->i][1] + t * sd->ty + s * sd->sy;
+    const int *c0 = corner_uv[i], *c1 = corner_uv[(i + 1) & 3], *c3 = corner_uv[(i + 3) & 3];
+    int ax[2] = {c1[0] - c0[0], c3[0] - c0[0]}, ay[2] = {c1[1] - c0[1], c3[1] - c0[1]};
+    double u = c0[0] + t * ax[0] + s * ax[1], v = c0[1] + t * ay[0] + s * ay[1];
     double e[Q2N_EVAL_MAX];
-    q2n_status st = eval_exact(c, sd->k, u, v, nder, e);
+    q2n_status st = q2n_surface_eval(surf, k, u, v, nder, e);
     if (st) return st;
-    int ax[2] = {sd->tx, sd->sx}, ay[2] = {sd->ty, sd->sy};
+    for (int q = 0; q < 3 * (nder == 0 ? 1 : nder == 1 ? 3 : 6); q++)
+        if (!isfinite(e[q])) return Q2N_ERR_GEOMETRY;
     for (int q = 0; q < 3; q++) {
         D[0][q] = e[q];
         if (nder < 1) continue;
@@ -185,6 +176,19 @@ static q2n_status side_exact(ctx *c, const side *sd, double t, double s, int nde
                           ay[a] * ay[b] * e[Q2N_EV_VV + q];
         }
     }
+    return Q2N_OK;
+}
+
+/* Exact derivatives in the side frame at (t, s): D[0] = S, D[1] = d_t, D[2] = d_s, D[3] = d_tt,
+ * D[4] = d_ts, D[5] = d_ss (3 each); errors name the face and the point. */
+static q2n_status side_exact(ctx *c, const side *sd, double t, double s, int nder, double D[6][3])
+{
+    double t0 = fit_now();
+    q2n_status st = frame_eval(c->s, sd->k, sd->i, t, s, nder, D);
+    c->rep->t_sample += fit_now() - t0;
+    if (st)
+        return q2n_error_set(c->err, st, "fit: face %d: evaluation %s at side %d (t %g, s %g)", sd->k,
+                             st == Q2N_ERR_GEOMETRY ? "not finite" : "failed", sd->i, t, s);
     return Q2N_OK;
 }
 
@@ -372,22 +376,22 @@ static const double FD[3][6] = {{6, -15, 20, -15, 6, -1},
 /* Mixed corner derivative J = d_t^a d_s^b S(0,0) (a, b in 1..2) of side sd, read along both
  * edges through the corner and averaged (they agree for a smooth patch; Gregory-type corners
  * have direction-dependent mixed derivatives, and the average is the compromise).  Along s = 0
- * it is the k-th t-derivative of an evaluated second-derivative field at (t, 0), along t = 0 the
- * k-th s-derivative of one at (0, s) (k = 0: extrapolated value). */
-static q2n_status corner_mixed(ctx *c, const side *sd, int a, int b, double J[3], double *spread)
+ * it is the nd-th t-derivative of an evaluated second-derivative field at (t, 0), along t = 0
+ * the nd-th s-derivative of one at (0, s) (nd = 0: extrapolated value).  Patch k, corner i. */
+static q2n_status corner_mixed(const q2n_surface *surf, int k, int i, int a, int b, double J[3], double *spread)
 {
-    /* [a-1][b-1][edge] = {slot of side_exact's D (3 d_tt, 4 d_ts, 5 d_ss), k} */
+    /* [a-1][b-1][edge] = {slot of frame_eval's D (3 d_tt, 4 d_ts, 5 d_ss), nd} */
     static const int tab[2][2][2][2] = {{{{4, 0}, {4, 0}}, {{5, 1}, {4, 1}}},
                                         {{{4, 1}, {3, 1}}, {{5, 2}, {3, 2}}}};
     const double h = 0.01;
     double E[2][3] = {{0, 0, 0}, {0, 0, 0}};
     for (int dir = 0; dir < 2; dir++) {
-        int slot = tab[a - 1][b - 1][dir][0], k = tab[a - 1][b - 1][dir][1];
-        const double *w = FD[k];
-        double scale = k == 0 ? 1.0 : k == 1 ? 1.0 / h : 1.0 / (h * h);
+        int slot = tab[a - 1][b - 1][dir][0], nd = tab[a - 1][b - 1][dir][1];
+        const double *w = FD[nd];
+        double scale = nd == 0 ? 1.0 : nd == 1 ? 1.0 / h : 1.0 / (h * h);
         for (int q = 1; q <= 6; q++) {
             double D[6][3];
-            q2n_status st = side_exact(c, sd, dir ? 0.0 : q * h, dir ? q * h : 0.0, 2, D);
+            q2n_status st = frame_eval(surf, k, i, dir ? 0.0 : q * h, dir ? q * h : 0.0, 2, D);
             if (st) return st;
             q2n_v3_axpy(E[dir], w[q - 1] * scale, D[slot]);
         }
@@ -407,11 +411,63 @@ static q2n_status corner_mixed(ctx *c, const side *sd, int a, int b, double J[3]
  * tolerance in control-point terms (Gregory-type corners, whose rational blends make it
  * direction-dependent), Q21/Q12 are left to the row fits and Q22 to a preliminary interior fit
  * (stage_prefit); the twist is always the average of the two edge-wise values. */
+/* Corner jets depend on the construction only, not on the knots: computed once per fit, patches
+ * spread over the worker threads (jet[k][corner][order] = J[3], spread). */
+typedef struct jet_arg {
+    const q2n_surface *s;
+    double (*jet)[4][4][4];
+    int nf, npin, w, T;
+    q2n_status *st;
+} jet_arg;
+
+static const int jet_order[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
+
+static void *jet_worker(void *arg)
+{
+    jet_arg *a = arg;
+    for (int k = a->w; k < a->nf; k += a->T)
+        for (int i = 0; i < 4 && !a->st[k]; i++)
+            for (int o = 0; o < a->npin && !a->st[k]; o++) {
+                double *J = a->jet[k][i][o];
+                a->st[k] = corner_mixed(a->s, k, i, jet_order[o][0], jet_order[o][1], J, &J[3]);
+            }
+    return NULL;
+}
+
+static q2n_status compute_jets(ctx *c)
+{
+    int nf = c->m->nf, T = c->o.threads < 1 ? 1 : c->o.threads > 64 ? 64 : c->o.threads;
+    c->jet = malloc(sizeof *c->jet * (size_t)nf);
+    q2n_status *st = calloc((size_t)nf, sizeof *st);
+    if (!c->jet || !st) { free(st); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (jets)"); }
+    jet_arg args[64];
+    pthread_t tid[64];
+    int started[64] = {0};
+    double t0 = fit_now();
+    for (int w = 0; w < T; w++) {
+        args[w] = (jet_arg){c->s, c->jet, nf, c->o.continuity == 2 ? 4 : 1, w, T, st};
+        if (w > 0) started[w] = pthread_create(&tid[w], NULL, jet_worker, &args[w]) == 0;
+    }
+    jet_worker(&args[0]);
+    for (int w = 1; w < T; w++) {
+        if (started[w]) pthread_join(tid[w], NULL);
+        else jet_worker(&args[w]);
+    }
+    c->rep->t_sample += fit_now() - t0;
+    q2n_status r = Q2N_OK;
+    for (int k = 0; k < nf && !r; k++)
+        if (st[k]) r = q2n_error_set(c->err, st[k], "fit: face %d: corner derivatives %s", k,
+                                     st[k] == Q2N_ERR_GEOMETRY ? "not finite" : "cannot be evaluated");
+    free(st);
+    return r;
+}
+
 #define FIT_JET_SPREAD 0.1   /* fraction of the tolerance two corner estimates may disagree by */
 static q2n_status stage_corners(ctx *c)
 {
-    static const int order[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
     int npin = c->o.continuity == 2 ? 4 : 1;
+    q2n_status st0 = c->jet ? Q2N_OK : compute_jets(c);
+    if (st0) return st0;
     for (int k = 0; k < c->m->nf; k++) {
         c->p[k].unsafe22 = c->p[k].gregory = 0;
         for (int i = 0; i < 4; i++) {
@@ -422,10 +478,9 @@ static q2n_status stage_corners(ctx *c)
             fpatch *p = &c->p[k];
             int unsafe = 0;
             for (int o = 0; o < npin; o++) {
-                int a = order[o][0], b = order[o][1];
-                double J[3], spread;
-                q2n_status st = corner_mixed(c, &sd, a, b, J, &spread);
-                if (st) return st;
+                int a = jet_order[o][0], b = jet_order[o][1];
+                double J[3], spread = c->jet[k][i][o][3];
+                memcpy(J, c->jet[k][i][o], sizeof J);
                 /* the two edge-wise estimates as positions of the control point they fix, for one
                  * span (Bézier factors d^a B_a(0) = 5, 20 for a = 1, 2), so that the verdict does
                  * not change as refinement shrinks the corner's influence */
@@ -1200,6 +1255,7 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     free(c.rspan);
     free(c.var_k);
     free(c.var_g);
+    free(c.jet);
     fit_ls_free(&c.ls);
     if (st && st != Q2N_ERR_GEOMETRY && *out) {
         q2n_nurbs_model_free(*out);
