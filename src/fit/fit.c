@@ -48,7 +48,6 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <pthread.h>
 #include <stdio.h>   /* snprintf */
 #include <string.h>
 
@@ -416,43 +415,31 @@ static q2n_status corner_mixed(const q2n_surface *surf, int k, int i, int a, int
 typedef struct jet_arg {
     const q2n_surface *s;
     double (*jet)[4][4][4];
-    int nf, npin, w, T;
+    int npin;
     q2n_status *st;
 } jet_arg;
 
 static const int jet_order[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
 
-static void *jet_worker(void *arg)
+static void jet_one(void *arg, int k)
 {
     jet_arg *a = arg;
-    for (int k = a->w; k < a->nf; k += a->T)
-        for (int i = 0; i < 4 && !a->st[k]; i++)
-            for (int o = 0; o < a->npin && !a->st[k]; o++) {
-                double *J = a->jet[k][i][o];
-                a->st[k] = corner_mixed(a->s, k, i, jet_order[o][0], jet_order[o][1], J, &J[3]);
-            }
-    return NULL;
+    for (int i = 0; i < 4 && !a->st[k]; i++)
+        for (int o = 0; o < a->npin && !a->st[k]; o++) {
+            double *J = a->jet[k][i][o];
+            a->st[k] = corner_mixed(a->s, k, i, jet_order[o][0], jet_order[o][1], J, &J[3]);
+        }
 }
 
 static q2n_status compute_jets(ctx *c)
 {
-    int nf = c->m->nf, T = c->o.threads < 1 ? 1 : c->o.threads > 64 ? 64 : c->o.threads;
+    int nf = c->m->nf;
     c->jet = malloc(sizeof *c->jet * (size_t)nf);
     q2n_status *st = calloc((size_t)nf, sizeof *st);
     if (!c->jet || !st) { free(st); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (jets)"); }
-    jet_arg args[64];
-    pthread_t tid[64];
-    int started[64] = {0};
+    jet_arg arg = {c->s, c->jet, c->o.continuity == 2 ? 4 : 1, st};
     double t0 = fit_now();
-    for (int w = 0; w < T; w++) {
-        args[w] = (jet_arg){c->s, c->jet, nf, c->o.continuity == 2 ? 4 : 1, w, T, st};
-        if (w > 0) started[w] = pthread_create(&tid[w], NULL, jet_worker, &args[w]) == 0;
-    }
-    jet_worker(&args[0]);
-    for (int w = 1; w < T; w++) {
-        if (started[w]) pthread_join(tid[w], NULL);
-        else jet_worker(&args[w]);
-    }
+    fit_par_for(nf, c->o.threads, jet_one, &arg);
     c->rep->t_sample += fit_now() - t0;
     q2n_status r = Q2N_OK;
     for (int k = 0; k < nf && !r; k++)
@@ -724,37 +711,24 @@ static q2n_status sep_prepare(const ctx *c, sep_patch *sp)
 typedef struct prep_arg {
     const ctx *c;
     sep_patch *sp;
-    int n, w, nthreads;
     q2n_status *st;            /* per patch */
 } prep_arg;
 
-static void *prep_worker(void *arg)
+static void prep_one(void *arg, int l)
 {
     prep_arg *a = arg;
-    for (int l = a->w; l < a->n; l += a->nthreads) a->st[l] = sep_prepare(a->c, &a->sp[l]);
-    return NULL;
+    a->st[l] = sep_prepare(a->c, &a->sp[l]);
 }
 
-/* sep_prepare for all n patches on c->o.threads workers (patch l on worker l mod threads);
- * the first failing patch in index order is reported. */
+/* sep_prepare for all n patches on the worker threads; the first failing patch in index order
+ * is reported. */
 static q2n_status prepare_all(ctx *c, sep_patch *sp, int n)
 {
-    int T = c->o.threads < 1 ? 1 : c->o.threads > 64 ? 64 : c->o.threads;
     q2n_status *st = calloc((size_t)(n > 0 ? n : 1), sizeof *st);
     if (!st) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
-    prep_arg args[64];
-    pthread_t tid[64];
-    int started[64] = {0};
+    prep_arg arg = {c, sp, st};
     double t0 = fit_now();
-    for (int w = 0; w < T; w++) {
-        args[w] = (prep_arg){c, sp, n, w, T, st};
-        if (w > 0) started[w] = pthread_create(&tid[w], NULL, prep_worker, &args[w]) == 0;
-    }
-    prep_worker(&args[0]);
-    for (int w = 1; w < T; w++) {
-        if (started[w]) pthread_join(tid[w], NULL);
-        else prep_worker(&args[w]);
-    }
+    fit_par_for(n, c->o.threads, prep_one, &arg);
     c->rep->t_sample += fit_now() - t0;
     q2n_status r = Q2N_OK;
     for (int l = 0; l < n; l++) {

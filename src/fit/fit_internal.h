@@ -77,3 +77,8 @@ typedef struct fit_measure_out {
 q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
                              fit_measure_out *mo, int threads, q2n_error *err);
 double fit_now(void);   /* monotonic seconds */
+
+/* Run fn(arg, i) for i = 0..n-1 on `threads` workers (item i on worker i mod threads, so the
+ * assignment does not depend on timing); falls back to the calling thread when a thread cannot be
+ * started.  fn must only write data owned by item i. */
+void fit_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg);

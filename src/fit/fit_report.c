@@ -10,7 +10,6 @@
 #include "core/vec3.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -126,21 +125,15 @@ typedef struct measure_job {
     const q2n_surface *s;
     double diag;
     int construction;          /* also measure the construction's own continuity */
-    int nthreads;
     double *pd, *ps2, *pvd;    /* per patch: max deviation, sum of squares, corner-vertex gap */
     double *eg[5];             /* per edge: g0, g1, g2 (fitted), g1, g2 (construction) */
-    int *fail_k, *fail_e;      /* per worker: first failing patch / edge (or -1) */
-    q2n_status *fail_st;
+    q2n_status *pst, *est;     /* per patch / edge status */
 } measure_job;
 
-typedef struct measure_arg {
-    measure_job *job;
-    int w;
-} measure_arg;
-
-/* Deviation of patch k at the midpoints of its sample grid; buf holds 9 doubles per point. */
-static q2n_status measure_patch(const measure_job *j, int k, double *buf)
+/* Deviation of patch k at the midpoints of its sample grid. */
+static void measure_patch(void *arg, int k)
 {
+    measure_job *j = arg;
     const q2n_bspline_surface *p = &j->model->patches[k];
     const q2n_mesh *m = j->model->mesh;
     int Nu = fit_nsamples(p->ncp_u - FIT_DEG), Nv = fit_nsamples(p->ncp_v - FIT_DEG);
@@ -148,10 +141,11 @@ static q2n_status measure_patch(const measure_job *j, int k, double *buf)
     double us[4 * FIT_MAX_SPANS + 4] = {0}, vs[4 * FIT_MAX_SPANS + 4] = {0};
     for (int i = 0; i < nu; i++) us[i] = (i + 0.5) / (Nu - 1);
     for (int jj = 0; jj < nv; jj++) vs[jj] = (jj + 0.5) / (Nv - 1);
+    double *buf = malloc(9 * sizeof(double) * (size_t)nu * nv);
+    if (!buf) { j->pst[k] = Q2N_ERR_NOMEM; return; }
     q2n_status st = q2n_surface_eval_grid(j->s, k, nu, us, nv, vs, buf);
-    if (st) return st;
     double pd = 0.0, s2 = 0.0, vd = 0.0;
-    for (int b = 0; b < nv; b++)
+    for (int b = 0; !st && b < nv; b++)
         for (int a = 0; a < nu; a++) {
             double f[3];
             fit_surface_eval(p, us[a], vs[b], 0, f);
@@ -159,39 +153,26 @@ static q2n_status measure_patch(const measure_job *j, int k, double *buf)
             s2 += d * d;
             if (d > pd) pd = d;
         }
-    for (int c = 0; c < 4; c++) {   /* construction corners vs mesh vertices */
+    free(buf);
+    for (int c = 0; !st && c < 4; c++) {   /* construction corners vs mesh vertices */
         double S[3];
-        if ((st = q2n_surface_eval(j->s, k, corner_uv[c][0], corner_uv[c][1], 0, S))) return st;
+        if ((st = q2n_surface_eval(j->s, k, corner_uv[c][0], corner_uv[c][1], 0, S))) break;
         double d = q2n_v3_dist(S, q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + c])) / j->diag;
         if (d > vd) vd = d;
     }
+    j->pst[k] = st;
     j->pd[k] = pd;
     j->ps2[k] = s2;
     j->pvd[k] = vd;
-    return Q2N_OK;
 }
 
-static void *measure_worker(void *arg)
+static void measure_edge(void *arg, int e)
 {
-    measure_arg *a = arg;
-    measure_job *j = a->job;
-    const q2n_mesh *m = j->model->mesh;
-    j->fail_k[a->w] = j->fail_e[a->w] = -1;
-    size_t cap = 9 * (size_t)(4 * FIT_MAX_SPANS + 4) * (4 * FIT_MAX_SPANS + 4);
-    double *buf = malloc(cap * sizeof *buf);
-    if (!buf) { j->fail_k[a->w] = 0; j->fail_st[a->w] = Q2N_ERR_NOMEM; return NULL; }
-    for (int k = a->w; k < j->model->n; k += j->nthreads) {
-        q2n_status st = measure_patch(j, k, buf);
-        if (st) { j->fail_k[a->w] = k; j->fail_st[a->w] = st; break; }
-    }
-    free(buf);
-    for (int e = a->w; e < m->ne && j->fail_k[a->w] < 0; e += j->nthreads) {
-        q2n_status st = edge_measure(j->model, j->s, 1, e, j->diag, &j->eg[0][e], &j->eg[1][e], &j->eg[2][e]);
-        double g0;
-        if (!st && j->construction) st = edge_measure(j->model, j->s, 0, e, j->diag, &g0, &j->eg[3][e], &j->eg[4][e]);
-        if (st) { j->fail_e[a->w] = e; j->fail_st[a->w] = st; break; }
-    }
-    return NULL;
+    measure_job *j = arg;
+    q2n_status st = edge_measure(j->model, j->s, 1, e, j->diag, &j->eg[0][e], &j->eg[1][e], &j->eg[2][e]);
+    double g0;
+    if (!st && j->construction) st = edge_measure(j->model, j->s, 0, e, j->diag, &g0, &j->eg[3][e], &j->eg[4][e]);
+    j->est[e] = st;
 }
 
 q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
@@ -204,39 +185,31 @@ q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s,
     j.s = s;
     j.diag = q2n_mesh_bbox_diag(m);
     j.construction = mo && mo->edge_g1_c;
-    j.nthreads = threads < 1 ? 1 : threads > 64 ? 64 : threads;
     size_t nf = (size_t)model->n, ne = (size_t)m->ne;
     double *mem = calloc(3 * nf + 5 * ne, sizeof(double));
-    int fk[64], fe[64];
-    q2n_status fs[64];
-    measure_arg args[64];
-    pthread_t tid[64];
-    if (!mem) return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (measure)");
+    q2n_status *sts = calloc(nf + ne, sizeof *sts);
+    if (!mem || !sts) {
+        free(mem);
+        free(sts);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (measure)");
+    }
     j.pd = mem; j.ps2 = mem + nf; j.pvd = mem + 2 * nf;
     for (int i = 0; i < 5; i++) j.eg[i] = mem + 3 * nf + i * ne;
-    j.fail_k = fk; j.fail_e = fe; j.fail_st = fs;
-    int started[64] = {0};
-    for (int w = 0; w < j.nthreads; w++) {
-        args[w].job = &j;
-        args[w].w = w;
-        if (w > 0) started[w] = pthread_create(&tid[w], NULL, measure_worker, &args[w]) == 0;
-    }
-    measure_worker(&args[0]);
-    for (int w = 1; w < j.nthreads; w++) {
-        if (started[w]) pthread_join(tid[w], NULL);
-        else measure_worker(&args[w]);   /* could not start a thread: do its share here */
-    }
-    int bad_k = -1, bad_e = -1;
-    q2n_status bad_st = Q2N_OK;
-    for (int w = 0; w < j.nthreads; w++) {
-        if (fk[w] >= 0 && (bad_k < 0 || fk[w] < bad_k)) { bad_k = fk[w]; bad_st = fs[w]; }
-        if (fe[w] >= 0 && (bad_e < 0 || fe[w] < bad_e) && bad_k < 0) { bad_e = fe[w]; bad_st = fs[w]; }
-    }
-    if (bad_k >= 0 || bad_e >= 0) {
-        free(mem);
-        return bad_k >= 0 ? q2n_error_set(err, bad_st, "fit: face %d: construction evaluation failed", bad_k)
-                          : q2n_error_set(err, bad_st, "fit: edge %d: evaluation failed", bad_e);
-    }
+    j.pst = sts; j.est = sts + nf;
+    fit_par_for(model->n, threads, measure_patch, &j);
+    fit_par_for(m->ne, threads, measure_edge, &j);
+    for (size_t k = 0; k < nf; k++)
+        if (j.pst[k]) {
+            q2n_status st = j.pst[k];
+            free(mem); free(sts);
+            return q2n_error_set(err, st, "fit: face %zu: construction evaluation failed", k);
+        }
+    for (size_t e = 0; e < ne; e++)
+        if (j.est[e]) {
+            q2n_status st = j.est[e];
+            free(mem); free(sts);
+            return q2n_error_set(err, st, "fit: edge %zu: evaluation failed", e);
+        }
     double maxd = 0, sum2 = 0, vdev = 0, g0 = 0, g1 = 0, g2 = 0, g1c = 0, g2c = 0;
     long nchk = 0;
     for (size_t k = 0; k < nf; k++) {
@@ -261,6 +234,7 @@ q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s,
         }
     }
     free(mem);
+    free(sts);
     rep->max_dev_rel = maxd;
     rep->rms_dev_rel = nchk ? sqrt(sum2 / (double)nchk) : 0.0;
     rep->checks = nchk;
