@@ -82,6 +82,8 @@ typedef struct ctx {
     fit_ls ls;
     int *var_k, *var_g, cap_var;
     double (*jet)[4][4][4];  /* cached corner jets (compute_jets) */
+    double *edata;           /* edge samples of the current round (edge_samples) */
+    size_t *eoff;
     q2n_fit_report *rep;
     q2n_error *err;
 } ctx;
@@ -520,8 +522,64 @@ static int edge_gregory(const ctx *c, int e)
 
 /* Stage 4 (order 1) or 5 (order 2): joint fit of the order-th rows next to every interior edge
  * (and, for order 1, of the first row next to boundary edges) with the gluing relation. */
+/* Exact derivatives of both sides of every edge at its interior samples, evaluated once per round
+ * on the worker threads and shared by the G1 and G2 row stages: edge e's block starts at
+ * c->eoff[e] and holds, per sample k = 1..N-2 and side x, the 6 x 3 doubles of frame_eval. */
+typedef struct edata_arg {
+    ctx *c;
+    q2n_status *st;
+} edata_arg;
+
+static void edata_one(void *arg, int e)
+{
+    edata_arg *a = arg;
+    ctx *c = a->c;
+    side sd[2];
+    int two = edge_sides(c, e, &sd[0], &sd[1]), N = fit_nsamples(sd[0].mt);
+    double *D = c->edata + c->eoff[e];
+    for (int k = 1; k + 1 < N && !a->st[e]; k++)
+        for (int x = 0; x < 1 + two && !a->st[e]; x++) {
+            double t = (double)k / (N - 1);
+            a->st[e] = frame_eval(c->s, sd[x].k, sd[x].i, x ? 1.0 - t : t, 0.0, 2,
+                                  (double (*)[3])(D + ((size_t)(k - 1) * 2 + x) * 18));
+        }
+}
+
+static q2n_status edge_samples(ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    free(c->edata);
+    free(c->eoff);
+    c->edata = NULL;
+    c->eoff = malloc(sizeof(size_t) * ((size_t)m->ne + 1));
+    if (!c->eoff) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+    c->eoff[0] = 0;
+    for (int e = 0; e < m->ne; e++) {
+        side L, R;
+        edge_sides(c, e, &L, &R);
+        c->eoff[e + 1] = c->eoff[e] + (size_t)(fit_nsamples(L.mt) - 2) * 2 * 18;
+    }
+    c->edata = malloc(sizeof(double) * (c->eoff[m->ne] ? c->eoff[m->ne] : 1));
+    q2n_status *st = calloc((size_t)m->ne + 1, sizeof *st);
+    if (!c->edata || !st) { free(st); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (edge samples)"); }
+    edata_arg arg = {c, st};
+    double t0 = fit_now();
+    fit_par_for(m->ne, c->o.threads, edata_one, &arg);
+    c->rep->t_sample += fit_now() - t0;
+    q2n_status r = Q2N_OK;
+    for (int e = 0; e < m->ne && !r; e++)
+        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d: evaluation %s", e,
+                                     st[e] == Q2N_ERR_GEOMETRY ? "not finite" : "failed");
+    free(st);
+    return r;
+}
+
 static q2n_status stage_rows(ctx *c, int order)
 {
+    if (order == 1) {
+        q2n_status st = edge_samples(c);
+        if (st) return st;
+    }
     for (int e = 0; e < c->m->ne; e++) {
         side sd[2];
         int two = edge_sides(c, e, &sd[0], &sd[1]);
@@ -533,12 +591,12 @@ static q2n_status stage_rows(ctx *c, int order)
         double Ns[2][3][FIT_DEG + 1];
         for (int x = 0; x < 1 + two; x++) fit_basis(FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
         for (int k = 1; k + 1 < N; k++) {
-            double t = (double)k / (N - 1), D[2][6][3];
+            double t = (double)k / (N - 1);
+            const double(*D)[6][3] = (const double(*)[6][3])(c->edata + c->eoff[e] + (size_t)(k - 1) * 2 * 18);
             row r;
             q2n_status st;
             for (int x = 0; x < 1 + two; x++) {
                 double tx = x ? 1.0 - t : t;
-                if ((st = side_exact(c, &sd[x], tx, 0.0, 2, D[x]))) return st;
                 /* fidelity to the exact order-th cross derivative, in units of control points */
                 double sc = 1.0 / Ns[x][order][order];
                 row_start(&r, D[x][order == 1 ? 2 : 5], sc);
@@ -1230,6 +1288,8 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     free(c.var_k);
     free(c.var_g);
     free(c.jet);
+    free(c.edata);
+    free(c.eoff);
     fit_ls_free(&c.ls);
     if (st && st != Q2N_ERR_GEOMETRY && *out) {
         q2n_nurbs_model_free(*out);
