@@ -90,7 +90,15 @@ static double frand(unsigned *s) { *s = *s * 1103515245u + 12345u; return ((*s >
 
 /* n x m faces: torus (closed, periodic) or graph (open) with reparametrised patches.
  * strength 0 gives the plain (linear) parametrisation. */
+static int build_off(int kind, int n, int m, double strength, double offset, q2n_mesh **mesh, q2n_surface **surf);
 static int build(int kind, int n, int m, double strength, q2n_mesh **mesh, q2n_surface **surf)
+{
+    return build_off(kind, n, m, strength, 0.0, mesh, surf);
+}
+
+/* offset != 0 moves the mesh vertices off the surface along z (a construction that does not
+ * interpolate its vertices, like the Catmull-Clark limit). */
+static int build_off(int kind, int n, int m, double strength, double offset, q2n_mesh **mesh, q2n_surface **surf)
 {
     int closed = kind == 0;
     int nvu = closed ? n : n + 1, nvv = closed ? m : m + 1, nv = nvu * nvv, nf = n * m;
@@ -102,6 +110,7 @@ static int build(int kind, int n, int m, double strength, q2n_mesh **mesh, q2n_s
             double F[6][3];
             base_map(kind, X0 + DX * i, Y0 + DY * j, F);
             memcpy(pos + 3 * (i * nvv + j), F[0], 3 * sizeof(double));
+            pos[3 * (i * nvv + j) + 2] += offset;
         }
     for (int i = 0; i < n; i++)
         for (int j = 0; j < m; j++) {
@@ -270,6 +279,27 @@ static void solver_agreement(void)
     CHECK(d1 <= 1e-11, "Ceres dense vs direct: %g", d1);
     CHECK(d2 <= 1e-8, "Ceres sparse vs direct: %g", d2);
     for (int k = 0; k < 3; k++) q2n_nurbs_model_free(md[k]);
+    q2n_surface_free(s);
+    q2n_mesh_free(mesh);
+}
+
+/* A construction that does not pass through the mesh vertices: corners come from the patches
+ * (one point per vertex, still bit-identical), the tolerance is met, and the report says how far
+ * the corners are from the vertices. */
+static void non_interpolating(void)
+{
+    q2n_mesh *mesh;
+    q2n_surface *s;
+    if (!build_off(1, 6, 4, 1.0, 0.01, &mesh, &s)) { CHECK(0, "build"); return; }
+    q2n_nurbs_model *md = NULL;
+    q2n_fit_report r;
+    q2n_error err;
+    q2n_status st = q2n_fit_surface(s, mesh, NULL, &md, &r, &err);
+    CHECK(st == Q2N_OK, "non-interpolating: %s", st ? err.message : "");
+    double expect = 0.01 / q2n_mesh_bbox_diag(mesh);
+    CHECK_NEAR(r.vertex_dev_max_rel, expect, 1e-9, "vertex_dev_max_rel");
+    CHECK(r.max_dev_rel <= 1e-5 && r.g0_max_rel <= 1e-12, "non-interpolating: dev %g g0 %g", r.max_dev_rel, r.g0_max_rel);
+    q2n_nurbs_model_free(md);
     q2n_surface_free(s);
     q2n_mesh_free(mesh);
 }
@@ -443,6 +473,7 @@ int main(void)
     reproduction();
     solver_agreement();
     determinism();
+    non_interpolating();
     errors_and_report();
     run_case("torus 8x6 G1 1e-5", 0, 8, 6, 1.0, 1e-5, 1, Q2N_FIT_SOLVER_CERES);
     run_case("torus 8x6 G1 1e-6", 0, 8, 6, 1.0, 1e-6, 1, Q2N_FIT_SOLVER_CERES);

@@ -6,7 +6,8 @@
  * along it.  One fitting round for given span counts runs these linear stages (each a set of
  * independent least-squares blocks solved by Ceres, or by the direct QR reference):
  *
- *  1. corners: the patch corners are the mesh vertices (exact, bit-identical everywhere);
+ *  1. corners: the patch corners are the mesh vertices (exact, bit-identical everywhere; for a
+ *     construction that does not interpolate its vertices, one patch's corner point);
  *  2. edge curves: each mesh edge's boundary curve is fitted ONCE (1-D least squares of the
  *     owner patch's edge at 4m+4 samples) with Hermite end conditions — value, first and second
  *     derivative along the edge equal the construction's at both ends (exact) — and copied into
@@ -83,6 +84,7 @@ typedef struct ctx {
     int *var_k, *var_g, cap_var;
     double (*jet)[4][4][4];  /* cached corner jets (compute_jets) */
     double *edata;           /* edge samples of the current round (edge_samples) */
+    double *vpos;            /* nv: patch corner point of every vertex (stage_curves) */
     size_t *eoff;
     q2n_fit_report *rep;
     q2n_error *err;
@@ -304,11 +306,29 @@ static int edge_sides(const ctx *c, int e, side *L, side *R)
 static q2n_status stage_curves(ctx *c)
 {
     const q2n_mesh *m = c->m;
+    if (!c->vpos) {   /* corner points, once per fit */
+        c->vpos = malloc(3 * sizeof(double) * (size_t)m->nv);
+        if (!c->vpos) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+        for (int v = 0; v < m->nv; v++) {
+            double *P = c->vpos + 3 * (size_t)v;
+            memcpy(P, q2n_mesh_vpos(m, v), 3 * sizeof(double));
+            int h = m->vert_he[v];
+            if (h < 0) continue;
+            /* an interpolating construction passes through the vertex: keep the vertex exactly;
+             * otherwise (a construction whose corners are not the vertices) take the corner of
+             * the patch of the vertex's first half-edge, the same point for every patch */
+            double D[6][3];
+            side sd = make_side(c, m->he_face[h], h - m->face_start[m->he_face[h]]);
+            q2n_status st = side_exact(c, &sd, 0.0, 0.0, 0, D);
+            if (st) return st;
+            if (q2n_v3_dist(D[0], P) > 1e-9 * c->diag) memcpy(P, D[0], 3 * sizeof(double));
+        }
+    }
     for (int k = 0; k < m->nf; k++)
         for (int i = 0; i < 4; i++) {
             side sd = make_side(c, k, i);
             int g = side_g(c, &sd, 0, 0);
-            memcpy(c->p[k].cp + 3 * (size_t)g, q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + i]), 3 * sizeof(double));
+            memcpy(c->p[k].cp + 3 * (size_t)g, c->vpos + 3 * (size_t)m->face_vert[m->face_start[k] + i], 3 * sizeof(double));
             c->p[k].fixed[g] = 1;
         }
     for (int e = 0; e < m->ne; e++) {
@@ -1290,6 +1310,7 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     free(c.jet);
     free(c.edata);
     free(c.eoff);
+    free(c.vpos);
     fit_ls_free(&c.ls);
     if (st && st != Q2N_ERR_GEOMETRY && *out) {
         q2n_nurbs_model_free(*out);
