@@ -1083,11 +1083,11 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
     if (st) return st;
     c->rspan = malloc(sizeof(int) * (size_t)c->nrib);
     int *next = malloc(sizeof(int) * (size_t)c->nrib);
-    double *pdev = malloc(sizeof(double) * (size_t)m->nf);
+    double *pdev = malloc(sizeof(double) * (size_t)m->nf), *pdir = malloc(2 * sizeof(double) * (size_t)m->nf);
     refine_item *rf = calloc(2 * (size_t)m->ne, sizeof *rf);
     double *eg[4];
     for (int i = 0; i < 4; i++) eg[i] = malloc(sizeof(double) * (size_t)m->ne);
-    if (!c->rspan || !next || !pdev || !rf || !eg[0] || !eg[1] || !eg[2] || !eg[3]) {
+    if (!c->rspan || !next || !pdev || !pdir || !rf || !eg[0] || !eg[1] || !eg[2] || !eg[3]) {
         st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
         goto done;
     }
@@ -1098,7 +1098,7 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
         q2n_nurbs_model *md = NULL;
         if ((st = make_model(c, &md))) goto done;
         double t0 = fit_now();
-        fit_measure_out mo = {pdev, eg[0], eg[1], round == 0 ? eg[2] : NULL, round == 0 ? eg[3] : NULL};
+        fit_measure_out mo = {pdev, pdir, eg[0], eg[1], round == 0 ? eg[2] : NULL, round == 0 ? eg[3] : NULL};
         st = fit_measure_model(md, c->s, rep, &mo, c->o.threads, c->err);
         rep->t_measure += fit_now() - t0;
         if (st) { q2n_nurbs_model_free(md); goto done; }
@@ -1111,9 +1111,13 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             int fails = pdev[k] > c->o.tol;
             if (fails && (worst_f < 0 || pdev[k] > pdev[worst_f])) worst_f = k;
             if (!fails) continue;         /* the deviation must be met: no stall rule here */
+            /* refine the direction(s) whose estimated share of the error is at least 1/4, each
+             * by its share of the excess (fit_measure_model estimates the shares) */
             for (int d = 0; d < 2; d++) {
+                double share = pdir[2 * k + d];
+                if (share < 0.25) continue;
                 int r = c->rib[m->he_edge[4 * k + d]];
-                int n = bump(c->rspan[r], pdev[k] / c->o.tol, 6.0, c->o.max_spans);
+                int n = bump(c->rspan[r], share * pdev[k] / c->o.tol, 6.0, c->o.max_spans);
                 if (n > next[r]) next[r] = n;
             }
         }
@@ -1167,6 +1171,7 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
 done:
     free(next);
     free(pdev);
+    free(pdir);
     free(rf);
     for (int i = 0; i < 4; i++) free(eg[i]);
     return st;
@@ -1243,7 +1248,7 @@ static q2n_status convert_bezier(ctx *c, q2n_nurbs_model **out)
     if (st) return st;
     double t0 = fit_now();
     double *g1c = malloc(sizeof(double) * (size_t)m->ne), *g2c = malloc(sizeof(double) * (size_t)m->ne);
-    fit_measure_out mo = {NULL, NULL, NULL, g1c, g2c};
+    fit_measure_out mo = {NULL, NULL, NULL, NULL, g1c, g2c};
     st = g1c && g2c ? fit_measure_model(*out, c->s, c->rep, &mo, c->o.threads, c->err)
                     : q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     free(g1c);

@@ -65,6 +65,7 @@ static inline int fit_nsamples(int m) { return 4 * m + 4; }
 /* Per-patch and per-edge results of a measurement (arrays may be NULL). */
 typedef struct fit_measure_out {
     double *patch_dev;     /* nf: max deviation / diag */
+    double *patch_dir;     /* 2*nf: share of the u- and v-direction in the error estimate (sum 1) */
     double *edge_g1;       /* ne: max normal-angle jump (degrees), fitted */
     double *edge_g2;       /* ne: max relative normal-curvature jump, fitted */
     double *edge_g1_c;     /* ne: the same on the construction (NULL: skip) */

@@ -126,6 +126,7 @@ typedef struct measure_job {
     double diag;
     int construction;          /* also measure the construction's own continuity */
     double *pd, *ps2, *pvd;    /* per patch: max deviation, sum of squares, corner-vertex gap */
+    double *pdir;              /* per patch: u and v shares of the error estimate */
     double *eg[5];             /* per edge: g0, g1, g2 (fitted), g1, g2 (construction) */
     q2n_status *pst, *est;     /* per patch / edge status */
 } measure_job;
@@ -153,6 +154,29 @@ static void measure_patch(void *arg, int k)
             s2 += d * d;
             if (d > pd) pd = d;
         }
+    /* Which direction limits the spline: the quintic error term is ~ h^6 |d^6 S| per direction;
+     * 6th differences of the construction on the check grid give spacing^6 |d^6 S|, and the
+     * ratio h / spacing = (Nu - 1) / m_u converts them to the knot spacing. */
+    double e6[2] = {0, 0};
+    for (int dir = 0; !st && dir < 2; dir++) {
+        int n1 = dir ? nv : nu, n2 = dir ? nu : nv;
+        static const double bin[7] = {1, -6, 15, -20, 15, -6, 1};
+        for (int b = 0; b + 6 < n1; b++)
+            for (int a = 0; a < n2; a++) {
+                double d6[3] = {0, 0, 0};
+                for (int q = 0; q <= 6; q++) {
+                    size_t idx = dir ? (size_t)(b + q) * nu + a : (size_t)a * nu + b + q;
+                    q2n_v3_axpy(d6, bin[q], buf + 9 * idx);
+                }
+                double v6 = q2n_v3_norm(d6);
+                if (v6 > e6[dir]) e6[dir] = v6;
+            }
+        double ratio = (double)((dir ? Nv : Nu) - 1) / (dir ? p->ncp_v - FIT_DEG : p->ncp_u - FIT_DEG);
+        e6[dir] *= pow(ratio, 6.0);
+    }
+    double tot = e6[0] + e6[1];
+    j->pdir[2 * k] = tot > 0 ? e6[0] / tot : 0.5;
+    j->pdir[2 * k + 1] = tot > 0 ? e6[1] / tot : 0.5;
     free(buf);
     for (int c = 0; !st && c < 4; c++) {   /* construction corners vs mesh vertices */
         double S[3];
@@ -186,15 +210,15 @@ q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s,
     j.diag = q2n_mesh_bbox_diag(m);
     j.construction = mo && mo->edge_g1_c;
     size_t nf = (size_t)model->n, ne = (size_t)m->ne;
-    double *mem = calloc(3 * nf + 5 * ne, sizeof(double));
+    double *mem = calloc(5 * nf + 5 * ne, sizeof(double));
     q2n_status *sts = calloc(nf + ne, sizeof *sts);
     if (!mem || !sts) {
         free(mem);
         free(sts);
         return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (measure)");
     }
-    j.pd = mem; j.ps2 = mem + nf; j.pvd = mem + 2 * nf;
-    for (int i = 0; i < 5; i++) j.eg[i] = mem + 3 * nf + i * ne;
+    j.pd = mem; j.ps2 = mem + nf; j.pvd = mem + 2 * nf; j.pdir = mem + 3 * nf;
+    for (int i = 0; i < 5; i++) j.eg[i] = mem + 5 * nf + i * ne;
     j.pst = sts; j.est = sts + nf;
     fit_par_for(model->n, threads, measure_patch, &j);
     fit_par_for(m->ne, threads, measure_edge, &j);
@@ -219,6 +243,10 @@ q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s,
         if (j.pd[k] > maxd) maxd = j.pd[k];
         if (j.pvd[k] > vdev) vdev = j.pvd[k];
         if (mo && mo->patch_dev) mo->patch_dev[k] = j.pd[k];
+        if (mo && mo->patch_dir) {
+            mo->patch_dir[2 * k] = j.pdir[2 * k];
+            mo->patch_dir[2 * k + 1] = j.pdir[2 * k + 1];
+        }
     }
     for (size_t e = 0; e < ne; e++) {
         if (j.eg[0][e] > g0) g0 = j.eg[0][e];
@@ -261,7 +289,7 @@ q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, i
     double *g1c = malloc(sizeof(double) * (size_t)model->mesh->ne);
     double *g2c = malloc(sizeof(double) * (size_t)model->mesh->ne);
     if (!g1c || !g2c) { free(g1c); free(g2c); return q2n_error_set(err, Q2N_ERR_NOMEM, "fit_measure: out of memory"); }
-    fit_measure_out mo = {NULL, NULL, NULL, g1c, g2c};
+    fit_measure_out mo = {NULL, NULL, NULL, NULL, g1c, g2c};
     q2n_status st = fit_measure_model(model, s, rep, &mo, threads, err);
     free(g1c);
     free(g2c);
