@@ -33,7 +33,8 @@
  *  6. interiors: the remaining control points of each patch, least squares at a (4m_u+4) x
  *     (4m_v+4) sample grid, solved separably (stage_interior).
  * Then deviation (at the midpoints of the sample grid) and continuity (at the midpoints of the
- * edge samples) are measured, and the ribbons of failing patches / edges get more spans
+ * edge samples) are measured, and the limiting ribbons of failing patches (by direction, from
+ * 6th differences of the construction) and the ribbons along failing edges get more spans
  * (m <- max(m+1, ceil(1.15 m ratio^(1/order))), order 6, 5, 4 for deviation, normal and
  * curvature jumps of quintics), until all targets hold, continuity stalls (fit_all), or the
  * caps are reached.
@@ -1103,8 +1104,8 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
         rep->t_measure += fit_now() - t0;
         if (st) { q2n_nurbs_model_free(md); goto done; }
         rep->rounds = round + 1;
-        /* refine: both ribbons of a patch over tolerance; the ribbon along an edge whose
-         * continuity misses its target (only where the construction itself meets it) */
+        /* refine: the limiting ribbon(s) of a patch over tolerance; the ribbon along an edge
+         * whose continuity misses its target (only where the construction itself meets it) */
         int worst_f = -1, worst_e1 = -1, worst_e2 = -1, active = 0;
         memcpy(next, c->rspan, sizeof(int) * (size_t)c->nrib);
         for (int k = 0; k < m->nf; k++) {
