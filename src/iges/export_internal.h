@@ -74,6 +74,15 @@ typedef struct q2n_export_topo {
  * each interior edge agree along it within the resolution, shared corners agree) and builds the
  * topology.  Errors name the face / edge. */
 q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q2n_error *err);
+
+/* A format's text builder, and the driver both writers share: option checks, topology, C locale,
+ * then the text into *out (q2n_export_text) or atomically into path (q2n_export_write). */
+typedef q2n_status (*q2n_export_build_fn)(const q2n_nurbs_model *m, const q2n_export_topo *t,
+                                          const q2n_export_options *opt, const char *name, q2n_strbuf *out);
+q2n_status q2n_export_text(const char *format, q2n_export_build_fn build, const q2n_nurbs_model *m,
+                           const q2n_export_options *opts, char **text, size_t *len, q2n_error *err);
+q2n_status q2n_export_write(const char *format, q2n_export_build_fn build, const q2n_nurbs_model *m,
+                            const q2n_export_options *opts, const char *path, q2n_error *err);
 void q2n_export_topo_free(q2n_export_topo *t);
 
 /* Boundary curve of patch k along side i (0: v=0, 1: u=1, 2: v=1, 3: u=0), in the patch's own

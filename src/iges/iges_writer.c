@@ -346,53 +346,16 @@ static q2n_status iges_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
     return oom ? Q2N_ERR_NOMEM : Q2N_OK;
 }
 
-static q2n_status iges_text(const q2n_nurbs_model *m, const q2n_export_options *opts, const char *path,
-                            q2n_strbuf *out, q2n_error *err)
-{
-    q2n_export_options def = {0};
-    const q2n_export_options *opt = opts ? opts : &def;
-    memset(out, 0, sizeof *out);
-    q2n_status st;
-    if ((st = q2n_export_check_string(opt->author, "author", err)) != Q2N_OK) return st;
-    if ((st = q2n_export_check_string(opt->organization, "organization", err)) != Q2N_OK) return st;
-    if ((st = q2n_export_check_string(opt->timestamp, "timestamp", err)) != Q2N_OK) return st;
-    if ((st = q2n_export_check_string(opt->name, "name", err)) != Q2N_OK) return st;
-    if (opt->units != Q2N_UNITS_MM && opt->units != Q2N_UNITS_IN)
-        return q2n_error_set(err, Q2N_ERR_ARG, "export: unknown units %d", (int)opt->units);
-    char name[72];
-    if (opt->name) snprintf(name, sizeof name, "%s", opt->name);
-    else q2n_export_basename(path ? path : "quad2nurbs", name, sizeof name);
-    q2n_export_topo t;
-    if ((st = q2n_export_topo_build(m, &t, err)) != Q2N_OK) return st;
-    q2n_export_locale loc = q2n_export_locale_begin();
-    st = iges_build(m, &t, opt, name, out);
-    q2n_export_locale_end(loc);
-    q2n_export_topo_free(&t);
-    if (st != Q2N_OK) {
-        q2n_strbuf_free(out);
-        return q2n_error_set(err, st, "%s: out of memory while writing IGES", path ? path : "IGES");
-    }
-    return Q2N_OK;
-}
-
 q2n_status q2n_export_iges_text(const q2n_nurbs_model *m, const q2n_export_options *opts, char **text,
                                 size_t *len, q2n_error *err)
 {
-    q2n_strbuf b;
-    q2n_status st = iges_text(m, opts, NULL, &b, err);
-    *text = st == Q2N_OK ? b.data : NULL;
-    *len = st == Q2N_OK ? b.len : 0;
-    return st;
+    return q2n_export_text("IGES", iges_build, m, opts, text, len, err);
 }
 
 q2n_status q2n_export_iges(const q2n_nurbs_model *m, const q2n_export_options *opts, const char *path,
                            q2n_error *err)
 {
-    q2n_strbuf b;
-    q2n_status st = iges_text(m, opts, path, &b, err);
-    if (st == Q2N_OK) st = q2n_export_write_atomic(path, b.data, b.len, err);
-    q2n_strbuf_free(&b);
-    return st;
+    return q2n_export_write("IGES", iges_build, m, opts, path, err);
 }
 
 static int ends_with_ci(const char *s, const char *suf)
