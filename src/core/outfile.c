@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 q2n_status q2n_outfile_open(q2n_outfile *o, const char *path, q2n_error *err)
@@ -26,6 +27,7 @@ q2n_status q2n_outfile_open(q2n_outfile *o, const char *path, q2n_error *err)
         q2n_outfile_abort(o);
         return st;
     }
+    (void)fchmod(fd, 0644); /* mkstemp creates 0600; outputs are ordinary files */
     o->f = fdopen(fd, "w");
     if (!o->f) {
         close(fd);
@@ -58,4 +60,16 @@ void q2n_outfile_abort(q2n_outfile *o)
     free(o->tmp);
     free(o->path);
     memset(o, 0, sizeof *o);
+}
+
+q2n_status q2n_outfile_write_buffer(const char *path, const char *buf, size_t len, q2n_error *err)
+{
+    q2n_outfile o;
+    q2n_status st = q2n_outfile_open(&o, path, err);
+    if (st) return st;
+    if (len && fwrite(buf, 1, len, o.f) != len) {
+        q2n_outfile_abort(&o);
+        return q2n_error_set(err, Q2N_ERR_IO, "%s: write failed", path);
+    }
+    return q2n_outfile_commit(&o, err);
 }

@@ -3,6 +3,7 @@
 #ifndef Q2N_CORE_OUTFILE_H
 #define Q2N_CORE_OUTFILE_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 #include "core/error.h"
@@ -18,5 +19,7 @@ q2n_status q2n_outfile_open(q2n_outfile *o, const char *path, q2n_error *err);
 q2n_status q2n_outfile_commit(q2n_outfile *o, q2n_error *err);
 /* Discard (close and remove the temporary file); safe on a zeroed or committed struct. */
 void q2n_outfile_abort(q2n_outfile *o);
+/* The whole of buf into path, atomically. */
+q2n_status q2n_outfile_write_buffer(const char *path, const char *buf, size_t len, q2n_error *err);
 
 #endif

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/outfile.h"
 #include "core/vec3.h"
 
 /* ---------------------------------------------------------------- text buffer */
@@ -102,26 +103,7 @@ void q2n_export_locale_end(q2n_export_locale l)
 
 q2n_status q2n_export_write_atomic(const char *path, const char *buf, size_t len, q2n_error *err)
 {
-    size_t pl = strlen(path);
-    char *tmp = malloc(pl + 5);
-    if (!tmp) return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", path);
-    memcpy(tmp, path, pl);
-    memcpy(tmp + pl, ".tmp", 5);
-    FILE *f = fopen(tmp, "wb");
-    if (!f) {
-        free(tmp);
-        return q2n_error_set(err, Q2N_ERR_IO, "%s: cannot open %s.tmp for writing", path, path);
-    }
-    int ok = fwrite(buf, 1, len, f) == len;
-    ok = (fflush(f) == 0) && ok;
-    ok = (fclose(f) == 0) && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        remove(tmp);
-        free(tmp);
-        return q2n_error_set(err, Q2N_ERR_IO, "%s: write or rename failed", path);
-    }
-    free(tmp);
-    return Q2N_OK;
+    return q2n_outfile_write_buffer(path, buf, len, err);
 }
 
 q2n_status q2n_export_check_string(const char *s, const char *what, q2n_error *err)

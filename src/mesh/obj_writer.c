@@ -4,13 +4,12 @@
  * reader never sees a half-written file.  Numbers are formatted in the "C" locale. */
 #include "mesh/mesh.h"
 
-#include <errno.h>
+#include "core/outfile.h"
+
 #include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 static int write_records(const q2n_mesh *m, FILE *fp)
 {
@@ -30,51 +29,19 @@ static int write_records(const q2n_mesh *m, FILE *fp)
 q2n_status q2n_mesh_write_obj(const q2n_mesh *m, const char *path, q2n_error *err)
 {
     if (!m || !path) return q2n_error_set(err, Q2N_ERR_ARG, "write_obj: NULL argument");
-    size_t n = strlen(path);
-    char *tmp = malloc(n + 12);
-    if (!tmp) return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", path);
-    memcpy(tmp, path, n);
-    memcpy(tmp + n, ".tmp.XXXXXX", 12);
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: %s", tmp, strerror(errno));
-        free(tmp);
-        return st;
-    }
-    (void)fchmod(fd, 0644); /* mkstemp creates 0600; an exported mesh is an ordinary file */
-    FILE *fp = fdopen(fd, "w");
-    if (!fp) {
-        q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: %s", tmp, strerror(errno));
-        close(fd);
-        unlink(tmp);
-        free(tmp);
-        return st;
-    }
+    q2n_outfile o;
+    q2n_status st = q2n_outfile_open(&o, path, err);
+    if (st) return st;
     locale_t cloc = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0), old = (locale_t)0;
     if (cloc) old = uselocale(cloc);
-    int bad = write_records(m, fp);
+    int bad = write_records(m, o.f);
     if (cloc) {
         uselocale(old);
         freelocale(cloc);
     }
-    int saved = errno;
-    if (fflush(fp) != 0 && !bad) bad = -1, saved = errno;
-    if (fclose(fp) != 0 && !bad) bad = -1, saved = errno;
-    if (!bad && rename(tmp, path) != 0) {
-        saved = errno;
-        unlink(tmp);
-        q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: rename failed: %s", path,
-                                      strerror(saved));
-        free(tmp);
-        return st;
-    }
     if (bad) {
-        unlink(tmp);
-        q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: write failed: %s", path,
-                                      strerror(saved));
-        free(tmp);
-        return st;
+        q2n_outfile_abort(&o);
+        return q2n_error_set(err, Q2N_ERR_IO, "%s: write failed", path);
     }
-    free(tmp);
-    return Q2N_OK;
+    return q2n_outfile_commit(&o, err);
 }
