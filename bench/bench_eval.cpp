@@ -12,7 +12,7 @@
 
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
-#include <opensubdiv/far/topologyDescriptor.h>
+#include "osd_ref.h"
 
 extern "C" {
 #include "check.h"
@@ -57,18 +57,8 @@ static double bench_ours(const q2n_surface *S, int nf, int N, int per_point, dou
 
 static double bench_osd(const q2n_mesh *m, int N, double min_s, double *setup_s)
 {
-    Far::TopologyDescriptor desc;
-    std::vector<int> counts(m->nf);
-    for (int f = 0; f < m->nf; f++) counts[f] = m->face_start[f + 1] - m->face_start[f];
-    desc.numVertices = m->nv;
-    desc.numFaces = m->nf;
-    desc.numVertsPerFace = counts.data();
-    desc.vertIndicesPerFace = m->face_vert;
-    Sdc::Options sopt;
-    sopt.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-    typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> RF;
     double t0 = now();
-    Far::TopologyRefiner *ref = RF::Create(desc, RF::Options(Sdc::SCHEME_CATMARK, sopt));
+    Far::TopologyRefiner *ref = osd_refiner_create(m, Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     Bfr::RefinerSurfaceFactory<> factory(*ref);
     std::vector<Bfr::Surface<double>> surf(m->nf);
     std::vector<std::vector<double>> pp(m->nf);

@@ -11,6 +11,7 @@
  *  3. Convergence (seed 001 §6.3): max distance to the limit under successive subdivision of the
  *     input, acc3 and acc-g1 (cs-s); table of errors and rates; acc-g1 must converge at about
  *     rate 2 and acc3 at about 1.5 (asserted with margins, see below). */
+#include "osd_ref.h"
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/far/primvarRefiner.h>
@@ -44,17 +45,7 @@ struct Limit {
 std::unique_ptr<Limit> make_limit(const q2n_mesh *m, int approx_level)
 {
     std::unique_ptr<Limit> L(new Limit);
-    std::vector<int> nverts(m->nf);
-    for (int f = 0; f < m->nf; f++) nverts[f] = q2n_face_size(m, f);
-    Far::TopologyDescriptor desc;
-    desc.numVertices = m->nv;
-    desc.numFaces = m->nf;
-    desc.numVertsPerFace = nverts.data();
-    desc.vertIndicesPerFace = m->face_vert;
-    Sdc::Options sdc;
-    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-    typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
-    L->refiner.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
+    L->refiner.reset(osd_refiner_create(m));
     if (!L->refiner) return L;
     Bfr::RefinerSurfaceFactory<>::Options opt;
     opt.SetApproxLevelSmooth(approx_level);

@@ -9,6 +9,7 @@
  * face f -> GetFaceChildFaces(f')[i].  Positions must agree to 1e-12 x bbox diagonal and every
  * sub-face must have the same vertices in the same cyclic order (same first vertex).  Whether
  * OpenSubdiv's numbering coincides with ours is printed (informative, not asserted). */
+#include "osd_ref.h"
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
@@ -39,18 +40,7 @@ struct Vtx {
 
 std::unique_ptr<Far::TopologyRefiner> make_refiner(const q2n_mesh *m, int levels)
 {
-    std::vector<int> nverts(m->nf);
-    for (int f = 0; f < m->nf; f++) nverts[f] = q2n_face_size(m, f);
-    Far::TopologyDescriptor desc;
-    desc.numVertices = m->nv;
-    desc.numFaces = m->nf;
-    desc.numVertsPerFace = nverts.data();
-    desc.vertIndicesPerFace = m->face_vert;
-    Sdc::Options sdc;
-    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-    typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
-    std::unique_ptr<Far::TopologyRefiner> r(
-        Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc)));
+    std::unique_ptr<Far::TopologyRefiner> r(osd_refiner_create(m));
     if (r) {
         Far::TopologyRefiner::UniformOptions uo(levels);
         uo.fullTopologyInLastLevel = true;
