@@ -49,7 +49,9 @@ static void usage(FILE *f)
           "      --subdivide N     apply N Catmull-Clark steps first (needed for non-quad faces)\n"
           "      --tess N          tessellation points per patch side (default 9)\n"
           "      --tol T           fit tolerance relative to the bounding-box diagonal (default 1e-5)\n"
-          "      --threads N       fit solver threads (default 1)\n"
+          "      --threads N       fit threads (default 1; results do not depend on it)\n"
+          "      --solver S        fit solver: ceres (default) or direct (own QR, same result, faster)\n"
+          "      --continuity C    continuity the fit imposes: g1 or g2 (default: the construction's)\n"
           "      --units U         CAD file units: mm (default) or in\n"
           "      --grid N          sample points per patch side (default 5)\n"
           "  -q, --quiet           no progress/summary on stderr\n"
@@ -82,7 +84,7 @@ static const char *extension(const char *path)
 static int parse_args(int argc, char **argv, cli_options *o)
 {
     enum { OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT,
-           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH };
+           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},   {"tess", required_argument, 0, OPT_TESS},
         {"grid", required_argument, 0, OPT_GRID}, {"class", required_argument, 0, OPT_CLASS},
@@ -91,6 +93,7 @@ static int parse_args(int argc, char **argv, cli_options *o)
         {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
         {"tol", required_argument, 0, OPT_TOL},  {"threads", required_argument, 0, OPT_THREADS},
         {"units", required_argument, 0, OPT_UNITS}, {"ev-patch", required_argument, 0, OPT_EVPATCH},
+        {"solver", required_argument, 0, OPT_SOLVER}, {"continuity", required_argument, 0, OPT_CONT},
         {"help", no_argument, 0, 'h'},           {"version", no_argument, 0, 'V'},
         {0, 0, 0, 0}};
     int c;
@@ -157,6 +160,22 @@ static int parse_args(int argc, char **argv, cli_options *o)
             o->model.ev_patch = (int)k;
             break;
         }
+        case OPT_SOLVER:
+            if (strcmp(optarg, "ceres") == 0) o->fit.solver = Q2N_FIT_SOLVER_CERES;
+            else if (strcmp(optarg, "direct") == 0) o->fit.solver = Q2N_FIT_SOLVER_DIRECT;
+            else {
+                fprintf(stderr, "quad2nurbs: --solver: expected ceres or direct, got '%s'\n", optarg);
+                return 2;
+            }
+            break;
+        case OPT_CONT:
+            if (strcmp(optarg, "g1") == 0) o->fit.continuity = 1;
+            else if (strcmp(optarg, "g2") == 0) o->fit.continuity = 2;
+            else {
+                fprintf(stderr, "quad2nurbs: --continuity: expected g1 or g2, got '%s'\n", optarg);
+                return 2;
+            }
+            break;
         case OPT_UNITS:
             if (strcmp(optarg, "mm") == 0) o->xopt.units = Q2N_UNITS_MM;
             else if (strcmp(optarg, "in") == 0) o->xopt.units = Q2N_UNITS_IN;
@@ -255,6 +274,9 @@ int main(int argc, char **argv)
         q2n_model_free(m);
         return st == Q2N_ERR_GEOMETRY ? 1 : exit_code(st);
     }
+    if (fit && (!m->fit.g1_met || !m->fit.g2_met) && !o.quiet)
+        fprintf(stderr, "quad2nurbs: warning: continuity target not met: %s (max G1 %.3g deg, G2 %.3g)\n",
+                m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
     if (o.sample) st = q2n_model_write_samples(m, o.grid, stdout, &err);
     for (int i = 0; !st && i < o.noutputs; i++) st = q2n_model_write(m, o.outputs[i], o.tess, &o.xopt, &err);
     if (st) {
