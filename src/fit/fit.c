@@ -107,7 +107,7 @@ void q2n_fit_options_default(q2n_fit_options *o)
     o->continuity = 1;
     o->threads = 1;
     o->solver = Q2N_FIT_SOLVER_CERES;
-    o->max_spans = 32;
+    o->max_spans = 48;
     o->max_rounds = 10;
     o->g1_target_deg = 0.005;
     o->g2_target_rel = 0.005;
@@ -1031,6 +1031,15 @@ static q2n_status make_model(ctx *c, q2n_nurbs_model **out)
     return Q2N_OK;
 }
 
+/* Continuity-driven refinement stops at this many spans per ribbon (the deviation may go on to
+ * max_spans): beyond it the normal / curvature jumps that remain sit next to Gregory-type
+ * corners, where more uniform spans buy little (docs/fit.md, Limits). */
+#define FIT_CONT_SPANS 16
+/* fit_scan_construction ratio above which a failed fit is blamed on the construction: smooth
+ * patches of the shared meshes stay below 3.3 (pawn 1.5, helmet 3.3, spot 2.1); the spikes of
+ * gregory_test1 reach 15-31, those of righthanded 1e6-1e7. */
+#define FIT_SPIKE_RATIO 10.0
+
 static int cmp_int(const void *a, const void *b) { return *(const int *)a - *(const int *)b; }
 
 static void span_stats(const q2n_nurbs_model *md, q2n_fit_report *rep)
@@ -1135,8 +1144,9 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
              * Limits): reported, never a reason to refine */
             if (bad2 && edge_gregory(c, e)) bad2 = 0;
             if (!bad1 && !bad2) continue;
-            /* continuity alone refines a ribbon up to half the span cap */
+            /* continuity alone refines a ribbon up to half the span cap, at most FIT_CONT_SPANS */
             int cap = c->o.max_spans / 2 > 1 ? c->o.max_spans / 2 : 1, me0 = c->rspan[c->rib[e]];
+            if (cap > FIT_CONT_SPANS) cap = FIT_CONT_SPANS;
             int n1 = bad1 && me0 < cap ? bump(me0, r1, 5.0, cap) : 0;
             int n2 = bad2 && me0 < cap ? bump(me0, r2, 4.0, cap) : 0;
             int n = n1 > n2 ? n1 : n2;
@@ -1163,10 +1173,20 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
                      e, eg[0][e], eg[1][e], c->o.g1_target_deg, c->o.g2_target_rel);
         }
         *out = md;
-        if (worst_f >= 0)
+        if (worst_f >= 0) {
+            /* say whether the construction itself is to blame: a derivative far above its
+             * median on the patch is a feature narrower than any knot spacing (docs/fit.md,
+             * Limits: near-poles of the Coons–Gregory side data) */
+            double ratio = 1.0, su = 0.0, sv = 0.0, dmax = 0.0;
+            char why[200] = "";
+            if (!fit_scan_construction(c->s, worst_f, &ratio, &su, &sv, &dmax) && !(ratio <= FIT_SPIKE_RATIO))
+                snprintf(why, sizeof why,
+                         "; the construction is not smooth there: |dS| = %.3g at (u %.3f, v %.3f) is %.3g x its "
+                         "median on the face (a spike narrower than any knot spacing)", dmax, su, sv, ratio);
             st = q2n_error_set(c->err, Q2N_ERR_GEOMETRY,
-                               "fit: face %d: deviation %.3g (relative) > tol %.3g with %d x %d spans", worst_f,
-                               pdev[worst_f], c->o.tol, c->p[worst_f].mu, c->p[worst_f].mv);
+                               "fit: face %d: deviation %.3g (relative) > tol %.3g with %d x %d spans%s", worst_f,
+                               pdev[worst_f], c->o.tol, c->p[worst_f].mu, c->p[worst_f].mv, why);
+        }
         goto done;
     }
 done:

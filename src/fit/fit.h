@@ -25,7 +25,7 @@ typedef struct q2n_fit_options {
     int continuity;        /* 1 = G1, 2 = G2 [1] */
     int threads;           /* solver threads [1] (--threads) */
     int solver;            /* q2n_fit_solver [Q2N_FIT_SOLVER_CERES] */
-    int max_spans;         /* cap on knot spans per ribbon [32] */
+    int max_spans;         /* cap on knot spans per ribbon [48] */
     int max_rounds;        /* refinement rounds [10] */
     double g1_target_deg;  /* normal-angle jump target across edges [0.005 degrees] */
     double g2_target_rel;  /* relative normal-curvature jump target, G2 mode [0.005] */

@@ -277,6 +277,35 @@ q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s,
     return Q2N_OK;
 }
 
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+q2n_status fit_scan_construction(const q2n_surface *s, int k, double *ratio, double *u, double *v, double *dmax)
+{
+    const int n = FIT_SCAN_N;
+    double *ts = malloc(sizeof(double) * n), *buf = malloc(9 * sizeof(double) * (size_t)n * n);
+    double *g = malloc(sizeof(double) * (size_t)n * n);
+    *ratio = 1.0; *u = *v = *dmax = 0.0;
+    if (!ts || !buf || !g) { free(ts); free(buf); free(g); return Q2N_ERR_NOMEM; }
+    for (int i = 0; i < n; i++) ts[i] = (double)i / (n - 1);
+    q2n_status st = q2n_surface_eval_grid(s, k, n, ts, n, ts, buf);
+    for (size_t q = 0; !st && q < (size_t)n * n; q++) {
+        double a = q2n_v3_norm(buf + 9 * q + 3), b = q2n_v3_norm(buf + 9 * q + 6);
+        g[q] = a > b ? a : b;
+        if (!(g[q] <= *dmax)) { *dmax = g[q]; *u = ts[q % n]; *v = ts[q / n]; }   /* NaN wins too */
+    }
+    if (!st) {
+        qsort(g, (size_t)n * n, sizeof *g, cmp_double);
+        double med = g[(size_t)n * n / 2];
+        *ratio = med > 0 ? *dmax / med : HUGE_VAL;
+    }
+    free(ts); free(buf); free(g);
+    return st;
+}
+
 q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, int threads,
                            q2n_fit_report *rep, q2n_error *err)
 {
