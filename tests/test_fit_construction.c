@@ -12,6 +12,7 @@
 #include "fit/fit.h"
 #include "fit/fit_internal.h"
 
+#include <math.h>
 #include <string.h>
 
 static q2n_model *build(const char *file)
@@ -23,6 +24,8 @@ static q2n_model *build(const char *file)
     }
     q2n_model_options mo;
     memset(&mo, 0, sizeof mo);
+    mo.param.method = Q2N_PARAM_CENTRIPETAL;   /* the CLI's defaults */
+    mo.param.alpha = NAN;
     q2n_model *m = NULL;
     q2n_error err;
     q2n_status st = q2n_model_build(path, &mo, &m, &err);
@@ -55,7 +58,7 @@ static double random_dev(const q2n_nurbs_model *md, const q2n_surface *s, int n)
 static void check_spike(const q2n_surface *s, int k, double min_ratio, const char *name)
 {
     double ratio, u, v, dmax;
-    CHECK(fit_scan_construction(s, k, &ratio, &u, &v, &dmax) == Q2N_OK, "fit_scan_construction(s, k, &ratio, &u, &v, &dmax) == Q2N_OK");
+    CHECK(fit_scan_construction(s, k, FIT_SCAN_N, &ratio, &u, &v, &dmax) == Q2N_OK, "fit_scan_construction(s, k, FIT_SCAN_N, &ratio, &u, &v, &dmax) == Q2N_OK");
     printf("  %s face %d: max |dS| %.3g at (%.4f, %.4f), %.3g x median\n", name, k, dmax, u, v, ratio);
     CHECK(ratio > min_ratio, "ratio > min_ratio");
     const double h = 1e-7;
@@ -99,7 +102,7 @@ int main(void)
                rep.spans_max, rep.ribbon_spans_max, rep.t_total);
         check_spike(m->surface, 42, 0.0, "helmet (smooth)");
         double r, u, v, d;
-        fit_scan_construction(m->surface, 42, &r, &u, &v, &d);
+        fit_scan_construction(m->surface, 42, FIT_SCAN_N, &r, &u, &v, &d);
         CHECK(r < 10.0, "r < 10.0");   /* a Gregory corner layer is no spike */
         q2n_nurbs_model_free(md);
         q2n_model_free(m);
@@ -128,7 +131,7 @@ int main(void)
         check_spike(m->surface, 6, 10.0, "gregory_test1");
         for (int k = 2; k <= 5; k++) {   /* faces away from the spiky edge are smooth */
             double r, u, v, d;
-            fit_scan_construction(m->surface, k, &r, &u, &v, &d);
+            fit_scan_construction(m->surface, k, FIT_SCAN_N, &r, &u, &v, &d);
             CHECK(r < 3.3, "r < 3.3");
         }
         q2n_nurbs_model_free(md);

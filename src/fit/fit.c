@@ -1095,9 +1095,11 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
     int *next = malloc(sizeof(int) * (size_t)c->nrib);
     double *pdev = malloc(sizeof(double) * (size_t)m->nf), *pdir = malloc(2 * sizeof(double) * (size_t)m->nf);
     refine_item *rf = calloc(2 * (size_t)m->ne, sizeof *rf);
+    /* per patch: 0 not scanned, 1 scanned smooth, 2 spiky construction (no longer refined for) */
+    unsigned char *spiky = calloc((size_t)m->nf, 1);
     double *eg[4];
     for (int i = 0; i < 4; i++) eg[i] = malloc(sizeof(double) * (size_t)m->ne);
-    if (!c->rspan || !next || !pdev || !pdir || !rf || !eg[0] || !eg[1] || !eg[2] || !eg[3]) {
+    if (!c->rspan || !next || !pdev || !pdir || !rf || !spiky || !eg[0] || !eg[1] || !eg[2] || !eg[3]) {
         st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
         goto done;
     }
@@ -1120,15 +1122,33 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
         for (int k = 0; k < m->nf; k++) {
             int fails = pdev[k] > c->o.tol;
             if (fails && (worst_f < 0 || pdev[k] > pdev[worst_f])) worst_f = k;
-            if (!fails) continue;         /* the deviation must be met: no stall rule here */
-            /* refine the direction(s) whose estimated share of the error is at least 1/4, each
-             * by its share of the excess (fit_measure_model estimates the shares) */
+            if (!fails) continue;         /* the deviation must be met: no stall rule here ... */
+            /* ... except where the construction has a spike below any knot spacing (docs/fit.md,
+             * Limits): before a failing patch gets FIT_CONT_SPANS or more spans in some direction,
+             * its construction is scanned (once); a spiky one stops driving refinement (the fit
+             * fails on it anyway, and its ribbons' spans would only cost time elsewhere) */
+            int nd[2] = {0, 0};
             for (int d = 0; d < 2; d++) {
                 double share = pdir[2 * k + d];
                 if (share < 0.25) continue;
+                nd[d] = bump(c->rspan[c->rib[m->he_edge[4 * k + d]]], share * pdev[k] / c->o.tol, 6.0, c->o.max_spans);
+            }
+            if (!spiky[k] && (nd[0] >= FIT_CONT_SPANS || nd[1] >= FIT_CONT_SPANS)) {
+                double ratio = 1.0, su, sv, dmax, t1 = fit_now();
+                if ((st = fit_scan_construction(c->s, k, FIT_SCAN_N_QUICK, &ratio, &su, &sv, &dmax))) {
+                    q2n_nurbs_model_free(md);
+                    st = q2n_error_set(c->err, st, "fit: face %d: construction scan failed", k);
+                    goto done;
+                }
+                rep->t_measure += fit_now() - t1;
+                spiky[k] = ratio <= FIT_SPIKE_RATIO ? 1 : 2;
+            }
+            if (spiky[k] == 2) continue;
+            /* refine the direction(s) whose estimated share of the error is at least 1/4, each
+             * by its share of the excess (fit_measure_model estimates the shares) */
+            for (int d = 0; d < 2; d++) {
                 int r = c->rib[m->he_edge[4 * k + d]];
-                int n = bump(c->rspan[r], share * pdev[k] / c->o.tol, 6.0, c->o.max_spans);
-                if (n > next[r]) next[r] = n;
+                if (nd[d] > next[r]) next[r] = nd[d];
             }
         }
         for (int e = 0; e < m->ne; e++) {
@@ -1179,7 +1199,7 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
              * Limits: near-poles of the Coons–Gregory side data) */
             double ratio = 1.0, su = 0.0, sv = 0.0, dmax = 0.0;
             char why[200] = "";
-            if (!fit_scan_construction(c->s, worst_f, &ratio, &su, &sv, &dmax) && !(ratio <= FIT_SPIKE_RATIO))
+            if (!fit_scan_construction(c->s, worst_f, FIT_SCAN_N, &ratio, &su, &sv, &dmax) && !(ratio <= FIT_SPIKE_RATIO))
                 snprintf(why, sizeof why,
                          "; the construction is not smooth there: |dS| = %.3g at (u %.3f, v %.3f) is %.3g x its "
                          "median on the face (a spike narrower than any knot spacing)", dmax, su, sv, ratio);
@@ -1190,6 +1210,7 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
         goto done;
     }
 done:
+    free(spiky);
     free(next);
     free(pdev);
     free(pdir);

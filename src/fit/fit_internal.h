@@ -79,12 +79,15 @@ q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s,
                              fit_measure_out *mo, int threads, q2n_error *err);
 double fit_now(void);   /* monotonic seconds */
 
-/* Smoothness scan of the construction's patch k (used to explain a failed fit): first
- * derivatives on a FIT_SCAN_N^2 grid; *ratio = max(|Su|, |Sv|) / its median over the grid, at
+/* Smoothness scan of the construction's patch k (explains a failed fit, and stops refinement of
+ * patches that no spline can follow): first derivatives on an n x n grid (FIT_SCAN_N for the
+ * final message, FIT_SCAN_N_QUICK during refinement); *ratio = max(|Su|, |Sv|) / its median over the grid, at
  * (*u, *v), *dmax the maximum itself.  A ratio in the hundreds means a feature narrower than any
  * knot spacing the fit may use (a near-pole of the construction), not slow convergence. */
 #define FIT_SCAN_N 513
-q2n_status fit_scan_construction(const q2n_surface *s, int k, double *ratio, double *u, double *v, double *dmax);
+#define FIT_SCAN_N_QUICK 257
+q2n_status fit_scan_construction(const q2n_surface *s, int k, int n, double *ratio, double *u, double *v,
+                                 double *dmax);
 
 /* Run fn(arg, i) for i = 0..n-1 on `threads` workers (item i on worker i mod threads, so the
  * assignment does not depend on timing); falls back to the calling thread when a thread cannot be

@@ -283,9 +283,10 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-q2n_status fit_scan_construction(const q2n_surface *s, int k, double *ratio, double *u, double *v, double *dmax)
+q2n_status fit_scan_construction(const q2n_surface *s, int k, int n, double *ratio, double *u, double *v,
+                                 double *dmax)
 {
-    const int n = FIT_SCAN_N;
+    if (n < 2) n = 2;
     double *ts = malloc(sizeof(double) * n), *buf = malloc(9 * sizeof(double) * (size_t)n * n);
     double *g = malloc(sizeof(double) * (size_t)n * n);
     *ratio = 1.0; *u = *v = *dmax = 0.0;
