@@ -196,6 +196,14 @@ static void check_mean_rectangles(const q2n_mesh *m)
 int main(void)
 {
     stats st;
+    /* zeroed options are the defaults: centripetal, alpha 1/2 (eq. 6) */
+    q2n_param_options zero;
+    memset(&zero, 0, sizeof zero);
+    CHECK(zero.method == Q2N_PARAM_CENTRIPETAL && q2n_param_alpha(&zero) == 0.5, "zeroed options: alpha 1/2");
+    q2n_param_options uni = {Q2N_PARAM_UNIFORM, 0.7}, cho = {Q2N_PARAM_CHORDAL, 0.7};
+    CHECK(q2n_param_alpha(&uni) == 0 && q2n_param_alpha(&cho) == 1, "uniform / chordal exponents");
+    double a[3] = {0, 0, 0}, b[3] = {3, 4, 0};
+    CHECK_NEAR(q2n_param_interval(a, b, 0.5), sqrt(5.0), 1e-15, "centripetal interval |5|^1/2");
     static const char *const shared_regular[] = {"osd_catmark_torus.obj", "gismo_octtorus.obj",
                                                  "osd_catmark_flap.obj", "osd_catmark_tent.obj",
                                                  "osd_catmark_square_hedit0.obj", "gismo_octtorus_hole.obj"};

@@ -134,8 +134,9 @@ static int parse_args(int argc, char **argv, cli_options *o)
         case OPT_ALPHA: {
             char *end;
             double a = strtod(optarg, &end);
-            if (*end || end == optarg || !(a >= 0 && a <= 2)) {
-                fprintf(stderr, "quad2nurbs: --alpha: expected a number in [0, 2], got '%s'\n", optarg);
+            if (*end || end == optarg || !(a > 0 && a <= 2)) {
+                fprintf(stderr, "quad2nurbs: --alpha: expected a number in (0, 2] (use --param uniform for "
+                                "alpha 0), got '%s'\n", optarg);
                 return 2;
             }
             o->model.param.alpha = a;

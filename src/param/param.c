@@ -12,7 +12,7 @@ double q2n_param_alpha(const q2n_param_options *opt)
     switch (opt->method) {
     case Q2N_PARAM_CHORDAL: return 1.0;
     case Q2N_PARAM_UNIFORM: return 0.0;
-    default: return (opt->alpha >= 0) ? opt->alpha : 0.5; /* NaN fails the test: default */
+    default: return (opt->alpha > 0) ? opt->alpha : 0.5; /* zero or NaN: the default */
     }
 }
 

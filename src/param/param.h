@@ -20,7 +20,8 @@ typedef enum q2n_param_method {
 
 typedef struct q2n_param_options {
     q2n_param_method method;
-    double alpha;      /* exponent; NaN or < 0 means the method's default */
+    double alpha;      /* exponent > 0; 0 (zeroed options) or NaN means 1/2 — uniform is
+                          Q2N_PARAM_UNIFORM, not alpha 0 */
 } q2n_param_options;
 
 /* Exponent actually used by the options. */
