@@ -8,7 +8,8 @@
  *         regular patch these are the derivatives of the neighbouring regular section segment,
  *         so the section curve keeps its C1/C2 continuity through the vertex;
  *   n(t)  a cubic Hermite field between the unit normals of the two jets, its end derivatives
- *         the jets' Weingarten maps along the edge (ev_jet_dn);
+ *         the D-components of the jets' Weingarten maps along the edge (ev_jet_dn; the other
+ *         components do not reach D and D' at the ends, and would tilt n towards T inside);
  *   a ribbon frame T = γ_x/|γ_x|, D = n × T/|n × T| shared by the two faces (formulas.md §4.3,
  *         the "perpendicular ribbon" of Salvi–Várady), and for each face χ = a(t) D + b(t) T with
  *         a, b linear between the values that give χ = J1·w at the two ends (w: the face's other
@@ -246,6 +247,21 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
     out->face[0] = m->he_face[h];
     out->face[1] = tw >= 0 ? m->he_face[tw] : -1;
     ribbon R0, R1;
+    ribbon_at(out, 0, &R0);
+    ribbon_at(out, 1, &R1);
+    /* Keep only the D-component of the end slopes n'.  At an end n is the unit jet normal and
+     * T lies in its tangent plane, so (n × T)' = n' × T + n × T' and: the n-component of n'
+     * gives a multiple of n × T, removed by the normalisation of D; the T-component gives
+     * T × T = 0; only n'·D turns D (D' · n = -n'·D).  D and D' at the ends, hence the corner
+     * values, the twists and the G1/G2 argument above, are unchanged.  The T-component (the
+     * normal curvature along the edge) otherwise tilts the interior of the cubic n(t) towards
+     * the edge tangent: on osd_catmark_gregory_test1 (face 6) |n × T|/|n| fell to 0.0047 and D
+     * swung around the edge within Δt ≈ 0.1, a derivative spike of 48 x the median. */
+    {
+        double k0 = q2n_v3_dot(n0[1], R0.D[0]), k1 = q2n_v3_dot(n1[1], R1.D[0]);
+        for (int c = 0; c < 3; c++) { n0[1][c] = k0 * R0.D[0][c]; n1[1][c] = k1 * R1.D[0][c]; }
+    }
+    poly_hermite(1, n0, n1, &out->nrm);
     ribbon_at(out, 0, &R0);
     ribbon_at(out, 1, &R1);
     const double *D0 = R0.D[0], *G0 = R0.T[0], *D1 = R1.D[0], *G1 = R1.T[0];
