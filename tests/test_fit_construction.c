@@ -1,9 +1,10 @@
 /* test_fit_construction.c — the fit on shared meshes where it used to fail (osd_catmark_helmet,
  * osd_catmark_gregory_test1, osd_catmark_righthanded).  Helmet: a Gregory-type corner layer that
  * uniform quintic knots follow only like h^2..h^3, within tolerance since the span cap is 48
- * (32 gave 1.8e-5 > 1e-5).  gregory_test1 / righthanded: the construction itself has spikes
- * narrower than any knot spacing (the Coons–Gregory side data of a constructed edge; see
- * docs/fit.md, Limits); the fit must fail with a message that says so and must stay bounded.
+ * (32 gave 1.8e-5 > 1e-5).  gregory_test1 / righthanded: the construction used to have spikes
+ * narrower than any knot spacing (ribbon frame, fitted edge speeds; fixed, docs/extraordinary.md
+ * "Derivative spikes"); gregory_test1 must now fit within tolerance and the former spike faces
+ * must scan smooth.
  * References: the construction's evaluator (deviation at random points, central differences
  * of positions for the spike), bspline.c's evaluator. */
 #include "check.h"
@@ -55,12 +56,12 @@ static double random_dev(const q2n_nurbs_model *md, const q2n_surface *s, int n)
 
 /* The spike fit_scan_construction reports is the construction's: |dS| from central differences
  * of evaluated positions at that point agrees with it. */
-static void check_spike(const q2n_surface *s, int k, double min_ratio, const char *name)
+static void check_spike(const q2n_surface *s, int k, double min_ratio, double max_ratio, const char *name)
 {
     double ratio, u, v, dmax;
     CHECK(fit_scan_construction(s, k, FIT_SCAN_N, &ratio, &u, &v, &dmax) == Q2N_OK, "fit_scan_construction(s, k, FIT_SCAN_N, &ratio, &u, &v, &dmax) == Q2N_OK");
     printf("  %s face %d: max |dS| %.3g at (%.4f, %.4f), %.3g x median\n", name, k, dmax, u, v, ratio);
-    CHECK(ratio > min_ratio, "ratio > min_ratio");
+    CHECK(ratio > min_ratio && ratio < max_ratio, "min_ratio < ratio < max_ratio");
     const double h = 1e-7;
     double a[Q2N_EVAL_MAX], b[Q2N_EVAL_MAX], du[3], dv[3];
     q2n_surface_eval(s, k, u + h, v, 0, a);
@@ -100,7 +101,7 @@ int main(void)
         printf("  helmet G%d: max_dev %.3g (random points %.3g), G1 %.3g deg, G2 %.3g, spans %d/%d/%d, ribbon max %d, %.2f s\n",
                o.continuity, rep.max_dev_rel, rd, rep.g1_max_deg, rep.g2_max_rel, rep.spans_min, rep.spans_median,
                rep.spans_max, rep.ribbon_spans_max, rep.t_total);
-        check_spike(m->surface, 42, 0.0, "helmet (smooth)");
+        check_spike(m->surface, 42, 0.0, 1e300, "helmet (smooth)");
         double r, u, v, d;
         fit_scan_construction(m->surface, 42, FIT_SCAN_N, &r, &u, &v, &d);
         CHECK(r < 10.0, "r < 10.0");   /* a Gregory corner layer is no spike */
@@ -116,31 +117,22 @@ int main(void)
         q2n_fit_report rep;
         q2n_error err;
         q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &md, &rep, &err);
-        printf("  gregory_test1: %s\n", err.message);
-        CHECK(st == Q2N_ERR_GEOMETRY, "st == Q2N_ERR_GEOMETRY");
-        CHECK(strstr(err.message, "face 6:") != NULL, "strstr(err.message, \"face 6:\") != NULL");
-        CHECK(strstr(err.message, "not smooth") != NULL, "strstr(err.message, \"not smooth\") != NULL");
-        /* the fit itself stays bounded: every control point within one diagonal of the mesh */
-        double diag = q2n_mesh_bbox_diag(m->mesh), far = 0;
-        for (int k = 0; md && k < md->n; k++)
-            for (int g = 0; g < md->patches[k].ncp_u * md->patches[k].ncp_v; g++) {
-                double d = q2n_v3_dist(md->patches[k].cp + 3 * g, q2n_mesh_vpos(m->mesh, 0)) / diag;
-                if (d > far) far = d;
-            }
-        CHECK(md != NULL && far < 2.0, "md != NULL && far < 2.0");
-        check_spike(m->surface, 6, 10.0, "gregory_test1");
-        for (int k = 2; k <= 5; k++) {   /* faces away from the spiky edge are smooth */
-            double r, u, v, d;
-            fit_scan_construction(m->surface, k, FIT_SCAN_N, &r, &u, &v, &d);
-            CHECK(r < 3.3, "r < 3.3");
-        }
+        if (st) printf("  %s\n", err.message);
+        CHECK(st == Q2N_OK, "gregory_test1: st == Q2N_OK");
+        CHECK(rep.max_dev_rel <= o.tol, "gregory_test1: rep.max_dev_rel <= o.tol");
+        double rd = md ? random_dev(md, m->surface, 40) : 1e300;
+        CHECK(rd <= 2 * o.tol, "gregory_test1: rd <= 2 * o.tol");
+        printf("  gregory_test1 G%d: max_dev %.3g (random points %.3g), G1 %.3g deg, G2 %.3g, spans %d/%d/%d, %.2f s\n",
+               o.continuity, rep.max_dev_rel, rd, rep.g1_max_deg, rep.g2_max_rel, rep.spans_min, rep.spans_median,
+               rep.spans_max, rep.t_total);
+        check_spike(m->surface, 6, 0.0, 10.0, "gregory_test1 (was 52 x median)");
         q2n_nurbs_model_free(md);
         q2n_model_free(m);
     }
 
     m = build("osd_catmark_righthanded.obj");
-    if (m) {   /* no fit here (14 s); the construction's near-pole on face 117 */
-        check_spike(m->surface, 117, 1e4, "righthanded");
+    if (m) {   /* no fit here (11 s); the former near-pole on face 117 */
+        check_spike(m->surface, 117, 0.0, 10.0, "righthanded (was 3.6e4 x median)");
         q2n_model_free(m);
     }
     CHECK_DONE("test_fit_construction");
