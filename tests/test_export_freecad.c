@@ -19,32 +19,6 @@
 #define AUDIT "/usr/bin/python3 tools/q2n_audit.py"
 #define OUTDIR "build/tests/"
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    size_t k = fread(b, 1, (size_t)n, f);
-    b[k] = 0;
-    fclose(f);
-    return b;
-}
-
-/* value of "key": NUMBER / true / false / null in the audit's JSON (keys used here are unique) */
-static double jnum(const char *json, const char *key)
-{
-    char pat[96];
-    snprintf(pat, sizeof pat, "\"%s\": ", key);
-    const char *p = json ? strstr(json, pat) : NULL;
-    if (!p) return NAN;
-    p += strlen(pat);
-    if (!strncmp(p, "true", 4)) return 1.0;
-    if (!strncmp(p, "false", 5)) return 0.0;
-    return strtod(p, NULL);
-}
 
 static void write_obj(const q2n_mesh *m, const char *path)
 {
@@ -75,7 +49,7 @@ static char *audit_file(int pass, const char *path, const char *obj, int full)
         remove(json);
         return NULL;
     }
-    char *js = slurp(json);
+    char *js = em_slurp(json);
     CHECK(js != NULL, "%s: no audit (see the audit's stderr)", path);
     return js;
 }
@@ -94,20 +68,20 @@ static char *export_audit(int pass, const q2n_nurbs_model *m, const q2n_export_o
 
 static void check_topology(const char *what, const char *js, const q2n_mesh *m, int shells, int solids)
 {
-    CHECK(jnum(js, "faces") == m->nf, "%s: %g faces for %d mesh faces", what, jnum(js, "faces"), m->nf);
-    CHECK(jnum(js, "valid") == 1.0, "%s: isValid", what);
+    CHECK(em_jnum(js, "faces") == m->nf, "%s: %g faces for %d mesh faces", what, em_jnum(js, "faces"), m->nf);
+    CHECK(em_jnum(js, "valid") == 1.0, "%s: isValid", what);
     CHECK(js && (!strstr(js, "\"check\": ") || strstr(js, "\"check\": \"ok\"")),
           "%s: BRepCheck (shape.check(True)) reports a problem", what);
     /* OCCT widens edge/vertex tolerances to cover gaps it finds on import: none here */
-    CHECK(jnum(js, "max_edge_tolerance") <= 1e-7 && jnum(js, "max_vertex_tolerance") <= 1e-7,
-          "%s: import tolerances %g / %g", what, jnum(js, "max_edge_tolerance"), jnum(js, "max_vertex_tolerance"));
-    CHECK(jnum(js, "shells") == shells && jnum(js, "solids") == solids, "%s: %g shells %g solids (want %d, %d)", what,
-          jnum(js, "shells"), jnum(js, "solids"), shells, solids);
+    CHECK(em_jnum(js, "max_edge_tolerance") <= 1e-7 && em_jnum(js, "max_vertex_tolerance") <= 1e-7,
+          "%s: import tolerances %g / %g", what, em_jnum(js, "max_edge_tolerance"), em_jnum(js, "max_vertex_tolerance"));
+    CHECK(em_jnum(js, "shells") == shells && em_jnum(js, "solids") == solids, "%s: %g shells %g solids (want %d, %d)", what,
+          em_jnum(js, "shells"), em_jnum(js, "solids"), shells, solids);
     if (shells > 0) {
-        CHECK(jnum(js, "free_edges") == em_mesh_boundary_edges(m), "%s: %g free edges, mesh boundary has %d", what,
-              jnum(js, "free_edges"), em_mesh_boundary_edges(m));
-        CHECK(jnum(js, "nonmanifold_edges") == 0.0, "%s: non-manifold edges", what);
-        CHECK(jnum(js, "g0_max_rel") <= 1e-9, "%s: G0 gap %.3g x diag", what, jnum(js, "g0_max_rel"));
+        CHECK(em_jnum(js, "free_edges") == em_mesh_boundary_edges(m), "%s: %g free edges, mesh boundary has %d", what,
+              em_jnum(js, "free_edges"), em_mesh_boundary_edges(m));
+        CHECK(em_jnum(js, "nonmanifold_edges") == 0.0, "%s: non-manifold edges", what);
+        CHECK(em_jnum(js, "g0_max_rel") <= 1e-9, "%s: G0 gap %.3g x diag", what, em_jnum(js, "g0_max_rel"));
     }
 }
 
@@ -234,14 +208,14 @@ static void cases(int pass)
         char *js = export_audit(pass, &gm, NULL, names[k], NULL);
         if (!js) continue;
         check_topology(names[k], js, g, 1, 0);
-        CHECK_NEAR(jnum(js, "g1_max_deg"), g1_ref, 1e-6, "bilinear grid G1 vs closed form");
+        CHECK_NEAR(em_jnum(js, "g1_max_deg"), g1_ref, 1e-6, "bilinear grid G1 vs closed form");
         CHECK(g1_ref > 1.0, "the grid has real kinks (%.3g deg)", g1_ref);
         free(js);
     }
     {
         char *js = export_audit(pass, &gm, &plain, "export_fc_grid_plain.igs", NULL);
-        if (js) CHECK(jnum(js, "faces") == g->nf && jnum(js, "valid") == 1.0, "plain IGES: one face per patch (%g)", jnum(js, "faces"));
-        if (js) CHECK(jnum(js, "shells") == 0 && jnum(js, "free_edges") == 4 * g->nf, "plain IGES: unconnected faces");
+        if (js) CHECK(em_jnum(js, "faces") == g->nf && em_jnum(js, "valid") == 1.0, "plain IGES: one face per patch (%g)", em_jnum(js, "faces"));
+        if (js) CHECK(em_jnum(js, "shells") == 0 && em_jnum(js, "free_edges") == 4 * g->nf, "plain IGES: unconnected faces");
         free(js);
     }
 
@@ -254,11 +228,11 @@ static void cases(int pass)
         char *js = export_audit(pass, &tr, NULL, tnames[k], OUTDIR "export_fc_torus.obj");
         if (!js) continue;
         check_topology(tnames[k], js, tm, 1, 1);
-        CHECK(jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g deg", tnames[k], jnum(js, "g1_max_deg"));
-        CHECK(jnum(js, "g2_max_rel") <= 1e-6, "%s: G2 rel %.3g", tnames[k], jnum(js, "g2_max_rel"));
-        CHECK_NEAR(jnum(js, "volume"), 2 * EM_PI * EM_PI * 3.0, 1e-6 * 2 * EM_PI * EM_PI * 3.0, "torus volume 2 pi^2 R r^2");
-        CHECK(jnum(js, "max_vertex_dist_rel") <= 1e-9, "%s: mesh vertices on the torus (%.3g)", tnames[k],
-              jnum(js, "max_vertex_dist_rel"));
+        CHECK(em_jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g deg", tnames[k], em_jnum(js, "g1_max_deg"));
+        CHECK(em_jnum(js, "g2_max_rel") <= 1e-6, "%s: G2 rel %.3g", tnames[k], em_jnum(js, "g2_max_rel"));
+        CHECK_NEAR(em_jnum(js, "volume"), 2 * EM_PI * EM_PI * 3.0, 1e-6 * 2 * EM_PI * EM_PI * 3.0, "torus volume 2 pi^2 R r^2");
+        CHECK(em_jnum(js, "max_vertex_dist_rel") <= 1e-9, "%s: mesh vertices on the torus (%.3g)", tnames[k],
+              em_jnum(js, "max_vertex_dist_rel"));
         free(js);
     }
     /* the same torus on the inward-oriented mesh: still a valid solid of positive volume, its
@@ -271,9 +245,9 @@ static void cases(int pass)
             char *js = export_audit(pass, &rv, NULL, rn[k], NULL);
             if (!js) continue;
             check_topology(rn[k], js, rm, 1, 1);
-            CHECK_NEAR(jnum(js, "volume"), 2 * EM_PI * EM_PI * 3.0, 1e-6 * 2 * EM_PI * EM_PI * 3.0, "inward torus volume");
-            CHECK(jnum(js, "reversed_faces") == 16, "%s: %g faces reversed", rn[k], jnum(js, "reversed_faces"));
-            CHECK(jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g", rn[k], jnum(js, "g1_max_deg"));
+            CHECK_NEAR(em_jnum(js, "volume"), 2 * EM_PI * EM_PI * 3.0, 1e-6 * 2 * EM_PI * EM_PI * 3.0, "inward torus volume");
+            CHECK(em_jnum(js, "reversed_faces") == 16, "%s: %g faces reversed", rn[k], em_jnum(js, "reversed_faces"));
+            CHECK(em_jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g", rn[k], em_jnum(js, "g1_max_deg"));
             free(js);
         }
         em_model_release(&rv);
@@ -286,9 +260,9 @@ static void cases(int pass)
         char *js = pass ? audit_file(1, tpath, NULL, 1) : NULL;
         if (js) {
             CHECK(strstr(js, "\"check\": ") && !strstr(js, "\"check\": \"ok\""), "tampered: BRepCheck must fail");
-            CHECK(jnum(js, "g0_max_rel") > 1e-6, "tampered: G0 %.3g must show the gap", jnum(js, "g0_max_rel"));
-            CHECK(jnum(js, "max_edge_tolerance") > 1e-5, "tampered: OCCT widened an edge to %.3g",
-                  jnum(js, "max_edge_tolerance"));
+            CHECK(em_jnum(js, "g0_max_rel") > 1e-6, "tampered: G0 %.3g must show the gap", em_jnum(js, "g0_max_rel"));
+            CHECK(em_jnum(js, "max_edge_tolerance") > 1e-5, "tampered: OCCT widened an edge to %.3g",
+                  em_jnum(js, "max_edge_tolerance"));
             free(js);
         }
     }
@@ -315,8 +289,8 @@ static void cases(int pass)
             char *js = export_audit(pass, &bm, NULL, bn[k], tp);
             if (!js) continue;
             check_topology(bn[k], js, om, 1, 1);
-            CHECK(jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g deg", bn[k], jnum(js, "g1_max_deg"));
-            CHECK(jnum(js, "g2_max_rel") <= 1e-6, "%s: G2 rel %.3g", bn[k], jnum(js, "g2_max_rel"));
+            CHECK(em_jnum(js, "g1_max_deg") <= 0.01, "%s: G1 %.3g deg", bn[k], em_jnum(js, "g1_max_deg"));
+            CHECK(em_jnum(js, "g2_max_rel") <= 1e-6, "%s: G2 rel %.3g", bn[k], em_jnum(js, "g2_max_rel"));
             free(js);
         }
         em_model_release(&bm);
@@ -330,8 +304,8 @@ static void cases(int pass)
         char *js = export_audit(pass, &cy, NULL, "export_fc_cyl.igs", NULL);
         if (js) {
             check_topology("export_fc_cyl.igs", js, cm, 1, 0);
-            CHECK(jnum(js, "g1_max_deg") <= 0.01, "cylinder G1 %.3g", jnum(js, "g1_max_deg"));
-            CHECK_NEAR(jnum(js, "area"), 2 * EM_PI * 2.0 * 3.0, 1e-9 * 37.7, "cylinder area 2 pi r h");
+            CHECK(em_jnum(js, "g1_max_deg") <= 0.01, "cylinder G1 %.3g", em_jnum(js, "g1_max_deg"));
+            CHECK_NEAR(em_jnum(js, "area"), 2 * EM_PI * 2.0 * 3.0, 1e-9 * 37.7, "cylinder area 2 pi r h");
             free(js);
         }
     }
@@ -344,11 +318,11 @@ static void cases(int pass)
         char *js = export_audit(pass, &tcm, NULL, n, NULL);
         if (!js) continue;
         check_topology(n, js, tc, 1, 0);
-        CHECK(jnum(js, "g1_max_deg") <= 1e-6, "%s: tangent cylinders G1 %.3g", n, jnum(js, "g1_max_deg"));
-        CHECK_NEAR(jnum(js, "g2_max_abs"), 0.5, 1e-9, "G2 |1/R1 - 1/R2|");
-        CHECK_NEAR(jnum(js, "g2_max_rel_radii"), 1.0 / 3.0, 1e-9, "G2 (R2-R1)/(R1+R2)");
+        CHECK(em_jnum(js, "g1_max_deg") <= 1e-6, "%s: tangent cylinders G1 %.3g", n, em_jnum(js, "g1_max_deg"));
+        CHECK_NEAR(em_jnum(js, "g2_max_abs"), 0.5, 1e-9, "G2 |1/R1 - 1/R2|");
+        CHECK_NEAR(em_jnum(js, "g2_max_rel_radii"), 1.0 / 3.0, 1e-9, "G2 (R2-R1)/(R1+R2)");
         /* the fit report's measure: jump 0.5 across, over the largest curvature 1 */
-        CHECK_NEAR(jnum(js, "g2_max_rel"), 0.5, 1e-9, "G2 jump / max curvature");
+        CHECK_NEAR(em_jnum(js, "g2_max_rel"), 0.5, 1e-9, "G2 jump / max curvature");
         free(js);
     }
 
@@ -367,9 +341,9 @@ static void cases(int pass)
         char *js = export_audit(pass, &smd, NULL, out, p);
         if (js) {
             check_topology(out, js, sm, ncomp, closed ? ncomp : 0);
-            CHECK(!closed || jnum(js, "volume") > 0.0, "%s: positive volume %g", out, jnum(js, "volume"));
-            CHECK(jnum(js, "max_vertex_dist_rel") <= 1e-9, "%s: mesh vertices on the shape (%.3g)", out,
-                  jnum(js, "max_vertex_dist_rel"));
+            CHECK(!closed || em_jnum(js, "volume") > 0.0, "%s: positive volume %g", out, em_jnum(js, "volume"));
+            CHECK(em_jnum(js, "max_vertex_dist_rel") <= 1e-9, "%s: mesh vertices on the shape (%.3g)", out,
+                  em_jnum(js, "max_vertex_dist_rel"));
             free(js);
         }
         em_model_release(&smd);

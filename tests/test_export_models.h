@@ -429,4 +429,32 @@ static inline q2n_mesh *em_mesh_grid(int nx, int ny)
     return m;
 }
 
+/* Whole file as a NUL-terminated string (caller frees), or NULL. */
+static inline char *em_slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = (char *)malloc((size_t)n + 1);
+    size_t k = fread(b, 1, (size_t)n, f);
+    b[k] = 0;
+    fclose(f);
+    return b;
+}
+
+/* Value of "key": NUMBER / true / false / null in an audit or report JSON (keys used are unique). */
+static inline double em_jnum(const char *json, const char *key)
+{
+    char pat[96];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char *p = json ? strstr(json, pat) : NULL;
+    if (!p) return NAN;
+    p += strlen(pat);
+    if (!strncmp(p, "true", 4)) return 1.0;
+    if (!strncmp(p, "false", 5)) return 0.0;
+    return strtod(p, NULL);
+}
+
 #endif

@@ -17,31 +17,6 @@
 #define EXE "build/quad2nurbs"
 #define OUT "build/tests/export_pl_"
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    size_t k = fread(b, 1, (size_t)n, f);
-    b[k] = 0;
-    fclose(f);
-    return b;
-}
-
-static double jnum(const char *json, const char *key)
-{
-    char pat[96];
-    snprintf(pat, sizeof pat, "\"%s\": ", key);
-    const char *p = json ? strstr(json, pat) : NULL;
-    if (!p) return NAN;
-    p += strlen(pat);
-    if (!strncmp(p, "true", 4)) return 1.0;
-    if (!strncmp(p, "false", 5)) return 0.0;
-    return strtod(p, NULL);
-}
 
 typedef struct pl_case {
     const char *mesh, *method;
@@ -81,10 +56,10 @@ static void run_case(int pass, const pl_case *c)
         if (f) fclose(f);
         return;
     }
-    char *rep = slurp(rp);
+    char *rep = em_slurp(rp);
     if (!rep) {
         snprintf(cmd, sizeof cmd, "%s.stderr", base);
-        char *msg = slurp(cmd);
+        char *msg = em_slurp(cmd);
         char *nl = msg ? strchr(msg, '\n') : NULL;
         if (nl) *nl = 0;
         if (c->must) CHECK(0, "%s %s: quad2nurbs wrote no model (%s)", c->mesh, c->method, msg ? msg : "?");
@@ -96,37 +71,37 @@ static void run_case(int pass, const pl_case *c)
     CHECK(m != NULL, "%s: mesh not read", obj);
     if (!m || !rep) { free(rep); em_mesh_free(m); return; }
     int ncomp = em_mesh_components(m), bnd = em_mesh_boundary_edges(m);
-    int faces = (int)jnum(rep, "faces"), scale = 1;
+    int faces = (int)em_jnum(rep, "faces"), scale = 1;
     while (m->nf * scale * scale < faces) scale *= 2; /* Catmull–Clark steps: faces x4, boundary x2 */
     CHECK(m->nf * scale * scale == faces, "%s: report has %d faces for %d mesh faces", base, faces, m->nf);
     for (int k = 0; k < 1 + c->iges; k++) {
         const char *ext = k ? "igs" : "step";
         char ap[300];
         snprintf(ap, sizeof ap, "%s.%s.audit.json", base, ext);
-        char *js = slurp(ap);
+        char *js = em_slurp(ap);
         CHECK(js != NULL, "%s: no audit", ap);
         if (!js) continue;
-        CHECK(jnum(js, "faces") == faces, "%s.%s: %g faces imported, report %d", base, ext, jnum(js, "faces"), faces);
-        CHECK(jnum(js, "valid") == 1.0, "%s.%s: isValid", base, ext);
-        CHECK(jnum(js, "shells") == ncomp && jnum(js, "solids") == (bnd ? 0 : ncomp), "%s.%s: %g shells %g solids",
-              base, ext, jnum(js, "shells"), jnum(js, "solids"));
-        CHECK(jnum(js, "free_edges") == bnd * scale && jnum(js, "nonmanifold_edges") == 0.0,
-              "%s.%s: %g free edges, mesh boundary %d", base, ext, jnum(js, "free_edges"), bnd * scale);
-        CHECK(jnum(js, "g0_max_rel") <= 1e-9, "%s.%s: G0 %.3g", base, ext, jnum(js, "g0_max_rel"));
-        CHECK(jnum(js, "max_edge_tolerance") <= 1e-7, "%s.%s: OCCT widened an edge to %g", base, ext,
-              jnum(js, "max_edge_tolerance"));
-        if (c->g1_target) CHECK(jnum(js, "g1_max_deg") <= 0.01, "%s.%s: G1 %.3g deg", base, ext, jnum(js, "g1_max_deg"));
+        CHECK(em_jnum(js, "faces") == faces, "%s.%s: %g faces imported, report %d", base, ext, em_jnum(js, "faces"), faces);
+        CHECK(em_jnum(js, "valid") == 1.0, "%s.%s: isValid", base, ext);
+        CHECK(em_jnum(js, "shells") == ncomp && em_jnum(js, "solids") == (bnd ? 0 : ncomp), "%s.%s: %g shells %g solids",
+              base, ext, em_jnum(js, "shells"), em_jnum(js, "solids"));
+        CHECK(em_jnum(js, "free_edges") == bnd * scale && em_jnum(js, "nonmanifold_edges") == 0.0,
+              "%s.%s: %g free edges, mesh boundary %d", base, ext, em_jnum(js, "free_edges"), bnd * scale);
+        CHECK(em_jnum(js, "g0_max_rel") <= 1e-9, "%s.%s: G0 %.3g", base, ext, em_jnum(js, "g0_max_rel"));
+        CHECK(em_jnum(js, "max_edge_tolerance") <= 1e-7, "%s.%s: OCCT widened an edge to %g", base, ext,
+              em_jnum(js, "max_edge_tolerance"));
+        if (c->g1_target) CHECK(em_jnum(js, "g1_max_deg") <= 0.01, "%s.%s: G1 %.3g deg", base, ext, em_jnum(js, "g1_max_deg"));
         if (c->g2_target) {
-            CHECK(jnum(js, "g2_max_rel") <= 0.01, "%s.%s: G2 %.3g", base, ext, jnum(js, "g2_max_rel"));
-            CHECK(jnum(js, "max_vertex_dist_rel") <= 1e-6, "%s.%s: vertex distance %.3g", base, ext,
-                  jnum(js, "max_vertex_dist_rel"));
+            CHECK(em_jnum(js, "g2_max_rel") <= 0.01, "%s.%s: G2 %.3g", base, ext, em_jnum(js, "g2_max_rel"));
+            CHECK(em_jnum(js, "max_vertex_dist_rel") <= 1e-6, "%s.%s: vertex distance %.3g", base, ext,
+                  em_jnum(js, "max_vertex_dist_rel"));
         }
         snprintf(cmd, sizeof cmd, "/usr/bin/python3 tools/q2n_compare.py %s %s > %s.%s.compare.txt", ap, rp, base, ext);
         int rc = system(cmd);
         CHECK(rc == 0, "%s: import audit disagrees with the report (see %s.%s.compare.txt)", cmd, base, ext);
         printf("%-28s %-9s %-8s %-4s faces %4d  G0 %.1e  G1 %.3g deg (report %.3g)  G2 %.3g (report %.3g)\n", c->mesh,
-               c->method, c->cls ? c->cls : "", ext, faces, jnum(js, "g0_max_rel"), jnum(js, "g1_max_deg"), jnum(rep, "g1_max_deg"),
-               jnum(js, "g2_max_rel"), jnum(rep, "g2_max_rel"));
+               c->method, c->cls ? c->cls : "", ext, faces, em_jnum(js, "g0_max_rel"), em_jnum(js, "g1_max_deg"), em_jnum(rep, "g1_max_deg"),
+               em_jnum(js, "g2_max_rel"), em_jnum(rep, "g2_max_rel"));
         free(js);
     }
     free(rep);
