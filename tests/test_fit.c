@@ -7,6 +7,7 @@
  * References are independent of the fit: the closed-form maps, bspline.c's evaluator (not the
  * fit's own), closed-form polynomial reproduction, and the direct QR path vs Ceres. */
 #include "check.h"
+#include "fit_check.h"
 #include "fit/fit.h"
 #include "fit/fit_internal.h"
 #include "mesh/mesh.h"
@@ -151,7 +152,7 @@ static void independent(const q2n_nurbs_model *md, const q2n_surface *s, double 
     const q2n_mesh *m = md->mesh;
     double diag = q2n_mesh_bbox_diag(m);
     unsigned seed = 99;
-    *dev = 0; *ang = 0; *bitsame = 1;
+    *dev = 0; *ang = 0;
     for (int k = 0; k < md->n; k++)
         for (int q = 0; q < 40; q++) {
             double u = frand(&seed), v = frand(&seed), p[3], e[3];
@@ -160,6 +161,7 @@ static void independent(const q2n_nurbs_model *md, const q2n_surface *s, double 
             double d = sqrt((p[0] - e[0]) * (p[0] - e[0]) + (p[1] - e[1]) * (p[1] - e[1]) + (p[2] - e[2]) * (p[2] - e[2])) / diag;
             if (d > *dev) *dev = d;
         }
+    *bitsame = fit_shared_rows_identical(md); /* shared boundary rows: bit-identical, reversed */
     static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     for (int e = 0; e < m->ne; e++) {
         int h = m->edge_he[e], ht = m->he_twin[h];
@@ -182,19 +184,6 @@ static void independent(const q2n_nurbs_model *md, const q2n_surface *s, double 
                    cz = nrm[0][0] * nrm[1][1] - nrm[0][1] * nrm[1][0];
             double a = atan2(sqrt(cx * cx + cy * cy + cz * cz), dot) * 180 / PI;
             if (a > *ang) *ang = a;
-        }
-        /* shared boundary rows: bit-identical, reversed */
-        const q2n_bspline_surface *P[2] = {&md->patches[f[0]], &md->patches[f[1]]};
-        int nt = (sd[0] & 1) ? P[0]->ncp_v : P[0]->ncp_u;
-        for (int it = 0; it < nt; it++) {
-            const double *pt[2];
-            for (int x = 0; x < 2; x++) {
-                int i = x ? nt - 1 - it : it;
-                const int *c0 = cuv[sd[x]], *c1 = cuv[(sd[x] + 1) & 3];
-                int a = c0[0] * (P[x]->ncp_u - 1) + i * (c1[0] - c0[0]), b = c0[1] * (P[x]->ncp_v - 1) + i * (c1[1] - c0[1]);
-                pt[x] = P[x]->cp + 3 * (b * P[x]->ncp_u + a);
-            }
-            if (memcmp(pt[0], pt[1], 3 * sizeof(double)) != 0) *bitsame = 0;
         }
     }
 }

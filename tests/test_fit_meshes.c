@@ -4,6 +4,7 @@
  * itself (deviation at points off the fit samples), bspline.c's evaluator, bit-identical shared
  * control points. */
 #include "check.h"
+#include "fit_check.h"
 #include "acc/acc.h"
 #include "fit/fit.h"
 #include "mesh/mesh.h"
@@ -50,29 +51,6 @@ static q2n_mesh *torus_mesh(int n, int m, int uneven)
     return mesh;
 }
 
-static int shared_rows_identical(const q2n_nurbs_model *md)
-{
-    static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    const q2n_mesh *m = md->mesh;
-    for (int e = 0; e < m->ne; e++) {
-        int h = m->edge_he[e], ht = m->he_twin[h];
-        if (ht < 0) continue;
-        int f[2] = {m->he_face[h], m->he_face[ht]}, sd[2] = {h - m->face_start[f[0]], ht - m->face_start[f[1]]};
-        const q2n_bspline_surface *P[2] = {&md->patches[f[0]], &md->patches[f[1]]};
-        int nt = (sd[0] & 1) ? P[0]->ncp_v : P[0]->ncp_u;
-        for (int it = 0; it < nt; it++) {
-            const double *pt[2];
-            for (int x = 0; x < 2; x++) {
-                int i = x ? nt - 1 - it : it;
-                const int *c0 = cuv[sd[x]], *c1 = cuv[(sd[x] + 1) & 3];
-                int a = c0[0] * (P[x]->ncp_u - 1) + i * (c1[0] - c0[0]), b = c0[1] * (P[x]->ncp_v - 1) + i * (c1[1] - c0[1]);
-                pt[x] = P[x]->cp + 3 * (b * P[x]->ncp_u + a);
-            }
-            if (memcmp(pt[0], pt[1], 3 * sizeof(double)) != 0) return 0;
-        }
-    }
-    return 1;
-}
 
 /* Fit s (on mesh) and check the targets; prints the figures. */
 static void fit_and_check(const char *name, const q2n_mesh *mesh, const q2n_surface *s, double tol, int cont,
@@ -98,7 +76,7 @@ static void fit_and_check(const char *name, const q2n_mesh *mesh, const q2n_surf
     if (md) {
         CHECK(r.max_dev_rel <= tol, "%s: max_dev_rel %g", name, r.max_dev_rel);
         CHECK(r.g0_max_rel <= 1e-12, "%s: g0 %g", name, r.g0_max_rel);
-        CHECK(shared_rows_identical(md), "%s: shared rows differ", name);
+        CHECK(fit_shared_rows_identical(md), "%s: shared rows differ", name);
         if (r.g1_construction_deg < 1e-3) CHECK(r.g1_max_deg <= 0.01, "%s: g1 %g deg", name, r.g1_max_deg);
         if (cont == 2 && expect_g2 && r.g2_construction_rel < 1e-3)
             CHECK(r.g2_max_rel <= 0.01, "%s: g2 %g", name, r.g2_max_rel);
@@ -205,7 +183,7 @@ static void acc_cases(void)
             CHECK(r.g0_max_rel <= 1e-12, "%s: g0 %g", files[i], r.g0_max_rel);
             CHECK(fabs(r.g1_max_deg - r.g1_construction_deg) <= 1e-6 * (1 + r.g1_construction_deg),
                   "%s: g1 %g vs construction %g", files[i], r.g1_max_deg, r.g1_construction_deg);
-            if (md) CHECK(shared_rows_identical(md), "%s: shared rows differ", files[i]);
+            if (md) CHECK(fit_shared_rows_identical(md), "%s: shared rows differ", files[i]);
             q2n_nurbs_model_free(md);
             q2n_surface_free(s);
             q2n_acc_info_free(&info);
