@@ -15,6 +15,16 @@
 
 static inline double mg_rnd(unsigned *s) { *s = *s * 1103515245u + 12345u; return ((*s >> 8) & 0xffff) / 65536.0; }
 
+/* Build a mesh from malloc'ed arrays and free them; reports a failure on stderr (NULL). */
+static inline q2n_mesh *mg_finish(int nv, double *pos, int nf, int *fs, int *fv, const char *name)
+{
+    q2n_mesh *mesh = NULL;
+    q2n_error err;
+    if (q2n_mesh_from_arrays(nv, pos, nf, fs, fv, name, &mesh, &err)) fprintf(stderr, "%s: %s\n", name, err.message);
+    free(pos); free(fs); free(fv);
+    return mesh;
+}
+
 /* Torus with n x m quads (radii R, r); vertices jittered by up to jitter*r when jitter > 0;
  * uneven spacing in the long direction when uneven != 0. */
 static inline q2n_mesh *mg_torus(int n, int m, double R, double r, double jitter, int uneven, unsigned seed)
@@ -43,12 +53,7 @@ static inline q2n_mesh *mg_torus(int n, int m, double R, double r, double jitter
             fv[4 * f + 3] = i * m + j1;
         }
     fs[nv] = 4 * nv;
-    q2n_mesh *mesh = NULL;
-    q2n_error err;
-    if (q2n_mesh_from_arrays(nv, pos, nv, fs, fv, "torus", &mesh, &err))
-        fprintf(stderr, "mg_torus: %s\n", err.message);
-    free(pos); free(fs); free(fv);
-    return mesh;
+    return mg_finish(nv, pos, nv, fs, fv, "torus");
 }
 
 /* Open n x m grid of quads over z = f(x,y), with uneven x spacing. */
@@ -78,12 +83,7 @@ static inline q2n_mesh *mg_grid(int n, int m, unsigned seed)
             fv[4 * f + 3] = i * (m + 1) + j + 1;
         }
     fs[nf] = 4 * nf;
-    q2n_mesh *mesh = NULL;
-    q2n_error err;
-    if (q2n_mesh_from_arrays(nv, pos, nf, fs, fv, "grid", &mesh, &err))
-        fprintf(stderr, "mg_grid: %s\n", err.message);
-    free(pos); free(fs); free(fv);
-    return mesh;
+    return mg_finish(nv, pos, nf, fs, fv, "grid");
 }
 
 #endif

@@ -276,11 +276,7 @@ static q2n_mesh *mg_star(int n, double lift, unsigned seed)
         fv[4 * s + 3] = 1 + (2 * s + 2) % (2 * n);
     }
     fs[nf] = 4 * nf;
-    q2n_mesh *mesh = NULL;
-    q2n_error err;
-    if (q2n_mesh_from_arrays(nv, pos, nf, fs, fv, "star", &mesh, &err)) fprintf(stderr, "mg_star: %s\n", err.message);
-    free(pos); free(fs); free(fv);
-    return mesh;
+    return mg_finish(nv, pos, nf, fs, fv, "star");
 }
 
 /* One-ring of valence 8 around vertex 0, plus one quad closing the fan of spoke end s_0 so
@@ -313,11 +309,7 @@ static q2n_mesh *mg_star_3_8(unsigned seed)
     fs[n] = 4 * n;
     fv[4 * n + 0] = 2; fv[4 * n + 1] = 1; fv[4 * n + 2] = 2 * n; fv[4 * n + 3] = nv - 1;
     fs[nf] = 4 * nf;
-    q2n_mesh *mesh = NULL;
-    q2n_error err;
-    if (q2n_mesh_from_arrays(nv, pos, nf, fs, fv, "star_3_8", &mesh, &err)) fprintf(stderr, "mg_star_3_8: %s\n", err.message);
-    free(pos); free(fs); free(fv);
-    return mesh;
+    return mg_finish(nv, pos, nf, fs, fv, "star_3_8");
 }
 
 /* A boundary vertex (vertex 0) with k quads fanned over a half turn, two rings deep: its
@@ -351,11 +343,7 @@ static q2n_mesh *mg_halfstar(int k, unsigned seed)
         f++;
     }
     fs[f] = 4 * f;
-    q2n_mesh *mesh = NULL;
-    q2n_error err;
-    if (q2n_mesh_from_arrays(nv, pos, f, fs, fv, "halfstar", &mesh, &err)) fprintf(stderr, "mg_halfstar: %s\n", err.message);
-    free(pos); free(fs); free(fv);
-    return mesh;
+    return mg_finish(nv, pos, f, fs, fv, "halfstar");
 }
 
 /* Closed cube (eight valence-3 vertices next to each other), jittered. */
