@@ -326,14 +326,15 @@ static q2n_status eval_cb(const void *data, double u, double v, int nder, double
  * column) and the u-direction ones on v only (one set per row), so per point only contractions
  * remain:  with T_rj = Σ_i C_ri p_ij per row (and T'_rj from the v-derivatives of C),
  *   S = Σ_j φ_j Σ_r B_r(u) T_rj,   φ_j = Σ_s B_s(v) C'_sj(u).
- * Points are processed in batches of QB columns with the batch index innermost, so the compiler
- * vectorizes the arithmetic across points (plain C, no intrinsics). */
+ * Points are processed in batches of QB columns held in one vector register (GCC/Clang vector
+ * extension, no intrinsics), so the arithmetic runs on QB points at once and the accumulators
+ * stay in registers. */
 #define QB 2
 /* QB doubles processed together (GCC/Clang vector extension: one SSE2 register) */
-typedef double v4d __attribute__((vector_size(16)));
+typedef double vqb __attribute__((vector_size(16)));
 typedef struct grid_cols {   /* per batch of QB columns */
-    v4d B0[Q2N_SPLINE_MAXB], B1[Q2N_SPLINE_MAXB];            /* B_r(u), B_r'(u) */
-    v4d C0[Q2N_SPLINE_MAXB][MAXW], C1[Q2N_SPLINE_MAXB][MAXW]; /* C'_sj(u) and d/du */
+    vqb B0[Q2N_SPLINE_MAXB], B1[Q2N_SPLINE_MAXB];            /* B_r(u), B_r'(u) */
+    vqb C0[Q2N_SPLINE_MAXB][MAXW], C1[Q2N_SPLINE_MAXB][MAXW]; /* C'_sj(u) and d/du */
 } grid_cols;
 
 static inline __attribute__((always_inline)) void grid_batch_k(int w, int nb, const grid_cols *gc,
@@ -341,16 +342,16 @@ static inline __attribute__((always_inline)) void grid_batch_k(int w, int nb, co
                                                                double T0[][MAXW][3], double T1[][MAXW][3],
                                                                int np, double *out)
 {
-    v4d S[9] = {{0}};
+    vqb S[9] = {{0}};
     for (int j = 0; j < w; j++) {
-        v4d p0 = {0}, pu = {0}, pv = {0};
+        vqb p0 = {0}, pu = {0}, pv = {0};
         for (int s = 0; s < nb; s++) {
             p0 += bv0[s] * gc->C0[s][j];
             pu += bv0[s] * gc->C1[s][j];
             pv += bv1[s] * gc->C0[s][j];
         }
         for (int c = 0; c < 3; c++) {
-            v4d r0 = {0}, r1 = {0}, r2 = {0};
+            vqb r0 = {0}, r1 = {0}, r2 = {0};
             for (int r = 0; r < nb; r++) {
                 r0 += gc->B0[r] * T0[r][j][c];
                 r1 += gc->B1[r] * T0[r][j][c];
