@@ -5,16 +5,21 @@
 // gluing functions taken from the construction), so a single Gauss-Newton step from any start is
 // the exact least-squares solution.  Levenberg-Marquardt with an initial trust-region radius of
 // 1e16 makes its damping (diag/radius) negligible, so one iteration (max_num_iterations = 1) is
-// that step.  A stage holds many independent blocks (one per mesh edge or per patch), so the
-// default linear solver is SPARSE_NORMAL_CHOLESKY (SuiteSparse CHOLMOD): its normal matrix is
-// block diagonal and one sparse factorisation solves all blocks at once; DENSE_QR (Eigen) is
-// offered for single-block problems.  num_threads parallelises Jacobian evaluation; logging
-// is silent, since library code never prints.
+// that step.  A stage holds many independent blocks (one per mesh edge or per patch).  Dense
+// path (the default): each block is its own DENSE_QR (Eigen) problem, blocks spread over worker
+// threads.  Ceres' cost there is mostly per Solve and per residual/parameter block, so a block
+// is ONE residual block (BlockCost: its rows as a dense matrix, which is also the Jacobian)
+// over ONE parameter block (its unknowns); small blocks solve x, y, z together, larger ones one
+// coordinate at a time, reusing the Problem for the three Solves.  Sparse path: one
+// SPARSE_NORMAL_CHOLESKY (SuiteSparse CHOLMOD) solve of everything, one residual block per row
+// and one parameter block per unknown (RowCost); num_threads parallelises its Jacobian
+// evaluation.  Logging is silent, since library code never prints.
 #include "fit/ceres_shim.h"
 
 #include <ceres/ceres.h>
 
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <thread>
 #include <vector>
@@ -51,12 +56,151 @@ private:
     int dim_;
 };
 
+// One whole block as a single residual block over a single parameter block: the block's rows as
+// a dense row-major m x n matrix A (unknowns numbered from the block's first one).  dim 1:
+// one coordinate, p = that coordinate of the n unknowns, r = A p - b.  dim 3: p = the n
+// unknowns as 3-vectors (x, y, z interleaved, as in the caller's x), r = (A (x) I_3) p - b with
+// b the rows' 3-vector right-hand sides (same interleaving).  The object is reused from block
+// to block (the Problem does not own it): set() resizes it before each new Problem.
+class BlockCost : public ceres::CostFunction {
+public:
+    void set(int m, int n, int dim, const double *A, const double *b)
+    {
+        m_ = m;
+        n_ = n;
+        dim_ = dim;
+        A_ = A;
+        b_ = b;
+        set_num_residuals(m * dim);
+        mutable_parameter_block_sizes()->assign(1, n * dim);
+    }
+    bool Evaluate(double const *const *p, double *r, double **J) const override
+    {
+        const double *q = p[0];
+        if (dim_ == 1) {
+            for (int i = 0; i < m_; i++) {
+                const double *a = A_ + (size_t)i * n_;
+                double t = -b_[i];
+                for (int j = 0; j < n_; j++) t += a[j] * q[j];
+                r[i] = t;
+            }
+            if (J && J[0]) std::memcpy(J[0], A_, (size_t)m_ * n_ * sizeof(double));
+            return true;
+        }
+        for (int i = 0; i < m_; i++) {
+            const double *a = A_ + (size_t)i * n_;
+            double t0 = -b_[3 * i], t1 = -b_[3 * i + 1], t2 = -b_[3 * i + 2];
+            for (int j = 0; j < n_; j++) {
+                t0 += a[j] * q[3 * j];
+                t1 += a[j] * q[3 * j + 1];
+                t2 += a[j] * q[3 * j + 2];
+            }
+            r[3 * i] = t0;
+            r[3 * i + 1] = t1;
+            r[3 * i + 2] = t2;
+        }
+        if (J && J[0]) {
+            // row 3i+d, column 3j+e of a (3m) x (3n) row-major matrix: A[i][j] if d == e
+            double *Jm = J[0];
+            const size_t w = (size_t)3 * n_;
+            std::memset(Jm, 0, (size_t)3 * m_ * w * sizeof(double));
+            for (int i = 0; i < m_; i++)
+                for (int j = 0; j < n_; j++) {
+                    double a = A_[(size_t)i * n_ + j];
+                    for (int d = 0; d < 3; d++) Jm[(3 * (size_t)i + d) * w + 3 * (size_t)j + d] = a;
+                }
+        }
+        return true;
+    }
+
+private:
+    const double *A_ = nullptr, *b_ = nullptr;
+    int m_ = 0, n_ = 0, dim_ = 1;
+};
+
+/* Blocks with at most this many unknowns are solved as 3-vectors in one Ceres problem (3m x 3n
+ * Jacobian, 27x the QR flops of one coordinate); larger ones per coordinate (three Solves over
+ * the same m x n Jacobian).  Measured per Solve here (Ceres 2.1, Eigen DENSE_QR): a fixed ~4.3 us
+ * plus the QR; 3-vectors win up to n = 5 (m = 26: 19 us vs 3 x 6.8 us), tie at n = 6 (m = 30:
+ * 23 us vs 3 x 7.4 us) and lose beyond (n = 8, m = 30: 32 us vs 3 x 7.9 us). */
+enum { SMALL_BLOCK = 5 };
+
+/* One worker's reusable state for the dense per-block path. */
+struct BlockWorker {
+    ceres::Context *ctx = nullptr;
+    ceres::Solver::Options opt;
+    ceres::Problem::Options popt;
+    BlockCost cost;
+    std::vector<double> A, b, bd, p;
+    std::vector<int> used;
+    BlockWorker()
+    {
+        ctx = ceres::Context::Create();
+        popt.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+        popt.context = ctx;
+    }
+    ~BlockWorker() { delete ctx; }
+    BlockWorker(const BlockWorker &) = delete;
+    BlockWorker &operator=(const BlockWorker &) = delete;
+};
+
 }  // namespace
 
-/* One Ceres solve of rows [r0, r1) (variables anywhere in x): coordinate d alone (dim 1) or
- * all three coordinates as 3-vectors (dim 3, d = 0). */
+/* Gather the block's rows into w.A (dense, row-major m x n; repeated entries add up) and its
+ * right-hand sides into w.b (row r's 3-vector at 3r).  Returns 0 if some entry lies outside the
+ * block's unknowns or some unknown appears in no row (then the caller uses solve_rows, which
+ * leaves such an unknown alone). */
+static int gather_block(BlockWorker &w, int r0, int r1, int v0, int v1, const int *row_start, const int *col,
+                        const double *val, const double *rhs)
+{
+    const int m = r1 - r0, n = v1 - v0;
+    w.A.assign((size_t)m * n, 0.0);
+    w.used.assign((size_t)n, 0);
+    for (int i = 0; i < m; i++) {
+        double *a = w.A.data() + (size_t)i * n;
+        for (int e = row_start[r0 + i]; e < row_start[r0 + i + 1]; e++) {
+            int j = col[e] - v0;
+            if (j < 0 || j >= n) return 0;
+            a[j] += val[e];
+            w.used[(size_t)j] = 1;
+        }
+    }
+    for (int j = 0; j < n; j++)
+        if (!w.used[(size_t)j]) return 0;
+    w.b.assign(rhs + 3 * (size_t)r0, rhs + 3 * (size_t)r1);
+    return 1;
+}
+
+static void set_solver_options(ceres::Solver::Options &o, int threads, int dense)
+{
+    o.minimizer_type = ceres::TRUST_REGION;
+    o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    o.initial_trust_region_radius = 1e16;
+    o.max_trust_region_radius = 1e16;
+    o.max_num_iterations = 1;
+    o.linear_solver_type = dense ? ceres::DENSE_QR : ceres::SPARSE_NORMAL_CHOLESKY;
+    o.num_threads = threads > 0 ? threads : 1;
+    o.logging_type = ceres::SILENT;
+    o.minimizer_progress_to_stdout = false;
+}
+
+/* One Solve; 0 on success, else 1 with Ceres' message. */
+static int run_solve(const ceres::Solver::Options &o, ceres::Problem &problem, char *msg, int msglen)
+{
+    ceres::Solver::Summary s;
+    ceres::Solve(o, &problem, &s);
+    if (!s.IsSolutionUsable() || s.num_successful_steps < 1) {
+        std::snprintf(msg, (size_t)msglen, "ceres: %s", s.message.c_str());
+        return 1;
+    }
+    return 0;
+}
+
+/* One Ceres solve of rows [r0, r1) (variables anywhere in x), one residual block per row and
+ * one parameter block per unknown: coordinate d alone (dim 1) or all three coordinates as
+ * 3-vectors (dim 3, d = 0). */
 static int solve_rows(int r0, int r1, int d, int dim, const int *row_start, const int *col, const double *val,
-                      const double *rhs, double *x, int threads, int dense, char *msg, int msglen)
+                      const double *rhs, double *x, const ceres::Solver::Options &o, char *msg, int msglen)
 {
     ceres::Problem problem;
     std::vector<double *> blocks;
@@ -70,26 +214,42 @@ static int solve_rows(int r0, int r1, int d, int dim, const int *row_start, cons
         used++;
     }
     if (!used) return 0;
-    ceres::Solver::Options o;
-    o.minimizer_type = ceres::TRUST_REGION;
-    o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-    o.initial_trust_region_radius = 1e16;
-    o.max_trust_region_radius = 1e16;
-    o.max_num_iterations = 1;
-    o.linear_solver_type = dense ? ceres::DENSE_QR : ceres::SPARSE_NORMAL_CHOLESKY;
-    o.num_threads = threads > 0 ? threads : 1;
-    o.logging_type = ceres::SILENT;
-    o.minimizer_progress_to_stdout = false;
-    std::string why;
-    if (!o.IsValid(&why)) {
-        std::snprintf(msg, (size_t)msglen, "ceres options: %s", why.c_str());
-        return 1;
+    return run_solve(o, problem, msg, msglen);
+}
+
+/* Block [r0, r1) x [v0, v1) as dense Ceres problems (see BlockCost); falls back to solve_rows
+ * (one residual block per row, one parameter block per unknown) when the block's entries do
+ * not fit gather_block's layout. */
+static int solve_block(BlockWorker &w, int r0, int r1, int v0, int v1, const int *row_start, const int *col,
+                       const double *val, const double *rhs, double *x, char *msg, int msglen)
+{
+    const int m = r1 - r0, n = v1 - v0;
+    if (n == 0 || m == 0) return 0;
+    if (!gather_block(w, r0, r1, v0, v1, row_start, col, val, rhs)) {
+        int small = n <= SMALL_BLOCK;
+        for (int d = 0; d < (small ? 1 : 3); d++)
+            if (solve_rows(r0, r1, d, small ? 3 : 1, row_start, col, val, rhs, x, w.opt, msg, msglen)) return 1;
+        return 0;
     }
-    ceres::Solver::Summary s;
-    ceres::Solve(o, &problem, &s);
-    if (!s.IsSolutionUsable() || s.num_successful_steps < 1) {
-        std::snprintf(msg, (size_t)msglen, "ceres: %s", s.message.c_str());
-        return 1;
+    ceres::Problem problem(w.popt);
+    if (n <= SMALL_BLOCK) {
+        /* the unknowns' 3-vectors are contiguous in x: that is the parameter block */
+        w.cost.set(m, n, 3, w.A.data(), w.b.data());
+        problem.AddResidualBlock(&w.cost, nullptr, x + 3 * (size_t)v0);
+        return run_solve(w.opt, problem, msg, msglen);
+    }
+    /* per coordinate: b and p hold coordinate d contiguously; one Problem, three Solves */
+    std::vector<double> &p = w.p;
+    p.resize((size_t)n);
+    std::vector<double> &bd = w.bd;
+    bd.resize((size_t)m);
+    w.cost.set(m, n, 1, w.A.data(), bd.data());
+    problem.AddResidualBlock(&w.cost, nullptr, p.data());
+    for (int d = 0; d < 3; d++) {
+        for (int i = 0; i < m; i++) bd[(size_t)i] = w.b[3 * (size_t)i + d];
+        for (int j = 0; j < n; j++) p[(size_t)j] = x[3 * (size_t)(v0 + j) + d];
+        if (run_solve(w.opt, problem, msg, msglen)) return 1;
+        for (int j = 0; j < n; j++) x[3 * (size_t)(v0 + j) + d] = p[(size_t)j];
     }
     return 0;
 }
@@ -101,29 +261,34 @@ extern "C" int q2n_ceres_linear_ls(int nvar, int nrow, const int *row_start, con
 {
     if (nvar == 0) return 0;
     if (threads < 1) threads = 1;
+    ceres::Solver::Options o;
+    set_solver_options(o, dense ? 1 : threads, dense);
+    std::string bad;
+    if (!o.IsValid(&bad)) {
+        std::snprintf(msg, (size_t)msglen, "ceres options: %s", bad.c_str());
+        return 1;
+    }
     if (!dense) {
         for (int d = 0; d < 3; d++)
-            if (solve_rows(0, nrow, d, 1, row_start, col, val, rhs, x, threads, 0, msg, msglen)) return 1;
+            if (solve_rows(0, nrow, d, 1, row_start, col, val, rhs, x, o, msg, msglen)) return 1;
         return 0;
     }
-    /* Independent blocks, one small DENSE_QR problem each, spread over `threads` workers
-     * (block i goes to worker i mod threads: the result does not depend on the thread count). */
+    /* Independent blocks, small DENSE_QR problems each (solve_block), spread over `threads`
+     * workers (block i goes to worker i mod threads: the result does not depend on the thread
+     * count). */
     std::vector<int> fail((size_t)threads, 0);
     std::vector<std::string> why((size_t)threads);
-    auto work = [&](int w) {
+    auto work = [&](int wi) {
         char m[256] = "";
-        for (int it = w; it < nitem; it += threads) {
-            /* small blocks: one problem over 3-vectors (Ceres' per-problem overhead dominates);
-             * larger ones: x, y, z separately (the dense QR dominates, 27x cheaper per coordinate) */
-            int small = item_var[it + 1] - item_var[it] <= 8;
-            for (int d = 0; d < (small ? 1 : 3); d++)
-                if (solve_rows(item_row[it], item_row[it + 1], d, small ? 3 : 1, row_start, col, val, rhs, x, 1, 1, m,
-                               (int)sizeof m)) {
-                    fail[(size_t)w] = 1;
-                    why[(size_t)w] = m;
-                    return;
-                }
-        }
+        BlockWorker w;
+        w.opt = o;
+        for (int it = wi; it < nitem; it += threads)
+            if (solve_block(w, item_row[it], item_row[it + 1], item_var[it], item_var[it + 1], row_start, col, val,
+                            rhs, x, m, (int)sizeof m)) {
+                fail[(size_t)wi] = 1;
+                why[(size_t)wi] = m;
+                return;
+            }
     };
     std::vector<std::thread> pool;
     for (int w = 1; w < threads; w++) pool.emplace_back(work, w);
