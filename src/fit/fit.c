@@ -402,10 +402,24 @@ static const double FD[3][6] = {{6, -15, 20, -15, 6, -1},
  * the nd-th s-derivative of one at (0, s) (nd = 0: extrapolated value).  Patch k, corner i. */
 static q2n_status corner_mixed(const q2n_surface *surf, int k, int i, int a, int b, double J[3], double *spread)
 {
+    /* exact values where the construction provides them (Coons–Gregory patches) */
+    double X[2][2][2][3];
+    const int *c0 = corner_uv[i], *c1 = corner_uv[(i + 1) & 3], *c3 = corner_uv[(i + 3) & 3];
+    if (q2n_surface_corner_mixed(surf, k, c0[0], c0[1], X) == Q2N_OK) {
+        /* d_t, d_s are ±d_u, ±d_v (or swapped): the edge from corner i to i+1 is t */
+        int tu = c1[0] != c0[0];
+        double st = tu ? c1[0] - c0[0] : c1[1] - c0[1], ss = tu ? c3[1] - c0[1] : c3[0] - c0[0];
+        int au = tu ? a : b, bv = tu ? b : a; /* orders in u and v */
+        double sg = (a & 1 ? st : 1) * (b & 1 ? ss : 1);
+        const double *E0 = X[0][au - 1][bv - 1], *E1 = X[1][au - 1][bv - 1];
+        for (int r = 0; r < 3; r++) J[r] = sg * 0.5 * (E0[r] + E1[r]);
+        *spread = q2n_v3_dist(E0, E1);
+        return Q2N_OK;
+    }
     /* [a-1][b-1][edge] = {slot of frame_eval's D (3 d_tt, 4 d_ts, 5 d_ss), nd} */
     static const int tab[2][2][2][2] = {{{{4, 0}, {4, 0}}, {{5, 1}, {4, 1}}},
                                         {{{4, 1}, {3, 1}}, {{5, 2}, {3, 2}}}};
-    const double h = 0.01;
+    const double h = 0.002;
     double E[2][3] = {{0, 0, 0}, {0, 0, 0}};
     for (int dir = 0; dir < 2; dir++) {
         int slot = tab[a - 1][b - 1][dir][0], nd = tab[a - 1][b - 1][dir][1];
@@ -495,7 +509,9 @@ static q2n_status stage_corners(ctx *c)
                  * span (Bézier factors d^a B_a(0) = 5, 20 for a = 1, 2), so that the verdict does
                  * not change as refinement shrinks the corner's influence */
                 double dq = spread / ((a == 1 ? 5.0 : 20.0) * (b == 1 ? 5.0 : 20.0));
-                if (dq > FIT_JET_SPREAD * c->o.tol * c->diag) p->gregory |= 1 << i;
+                /* a disagreement in the fourth-order term (2,2) alone leaves the patch C3 at the
+                 * corner: its curvature is followed, only Q22 is not pinned (unsafe22) */
+                if (dq > FIT_JET_SPREAD * c->o.tol * c->diag && o < 3) p->gregory |= 1 << i;
                 if (o > 0 && (unsafe || dq > FIT_JET_SPREAD * c->o.tol * c->diag)) {
                     unsafe = 1;
                     if (o == 3) p->unsafe22 |= 1 << i;

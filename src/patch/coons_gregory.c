@@ -189,6 +189,20 @@ static q2n_status patch_grid(const void *data, int nu, const double *us, int nv,
 
 static void patch_free(void *d) { free(d); }
 
+/* Exact mixed corner partials (q2n_surface_corner_mixed): the corner data A (v-side) and B
+ * (u-side).  Biquintic patches only: the bicubic blend (K = 1) has no second-order side terms. */
+static q2n_status patch_corner(const void *data, int i, int j, double out[2][2][2][3])
+{
+    const ev_patch *P = data;
+    if (P->K != 2) return Q2N_ERR_UNSUPPORTED;
+    for (int a = 1; a <= 2; a++)
+        for (int b = 1; b <= 2; b++) {
+            memcpy(out[0][a - 1][b - 1], P->A[i][j][a][b], 3 * sizeof(double));
+            memcpy(out[1][a - 1][b - 1], P->B[i][j][a][b], 3 * sizeof(double));
+        }
+    return Q2N_OK;
+}
+
 /* Corner data: A^{ab} = ∂u^a [∂v^b S(u,j)](i) from the v = j side, B^{ab} = ∂v^b [∂u^a S(i,v)](j)
  * from the u = i side; the constant terms use the side that makes the patch interpolate both
  * (formulas.md §4.1: a = 0 from the v-side, b = 0 from the u-side). */
@@ -228,6 +242,379 @@ int q2n_ev_patch_order(const q2n_extraordinary_options *opt)
     if (opt && opt->ev_patch == Q2N_EV_PATCH_G1) return 1;
     if (opt && opt->ev_patch == Q2N_EV_PATCH_G2) return 2;
     return opt_class(opt)->k >= 2 ? 2 : 1;
+}
+
+/* Fill the patch of uncovered face f from the curve network and its regular neighbours. */
+static q2n_status patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surface *s, const double *iv,
+                              const char *unc, ev_edge *const *edges, int K, int kb, int f, q2n_error *err)
+{
+    memset(P, 0, sizeof *P);
+    P->K = K;
+    P->r = K;
+    P->kb = kb;
+    P->d0 = iv[m->he_edge[q2n_face_he(m, f, 0)]];
+    P->e1 = iv[m->he_edge[q2n_face_he(m, f, 1)]];
+    P->d1 = iv[m->he_edge[q2n_face_he(m, f, 2)]];
+    P->e0 = iv[m->he_edge[q2n_face_he(m, f, 3)]];
+    for (int sd = 0; sd < 4; sd++) {
+        int h = q2n_face_he(m, f, sd), t = m->he_twin[h], e = m->he_edge[h];
+        ev_side *S = &P->side[sd];
+        /* the side parameter runs along h on sides 0, 1 and against it on sides 2, 3 */
+        int along_h = sd < 2;
+        if (t >= 0 && !unc[m->he_face[t]]) {
+            int g = m->he_face[t], sR = t - m->face_start[g];
+            const q2n_augmented_patch *R = q2n_surface_patch_data(s, g);
+            if (!R) return q2n_error_set(err, Q2N_ERR_ARG, "%s: face %d: no regular patch data", m->name, g);
+            S->kind = 1;
+            S->R = *R;
+            S->sR = sR;
+            /* R's coordinate runs along t on its sides 0, 1 and against t on 2, 3; t is
+             * opposite to h */
+            int R_along_t = sR < 2;
+            int R_along_h = !R_along_t;
+            S->rev = R_along_h != along_h;
+        } else {
+            const ev_edge *E = edges[e];
+            S->kind = 0;
+            S->E = *E;
+            S->derived = (m->edge_he[e] != h) != E->base_twin;
+            int edge_along_h = m->edge_he[e] == h;
+            S->rev = edge_along_h != along_h;
+        }
+    }
+    patch_corners(P);
+    return Q2N_OK;
+}
+
+/* ---- corner compatibility (G2 mode) ----
+ * A Coons–Gregory corner blends two values of each mixed derivative ∂u^a ∂v^b S, a, b >= 1:
+ * A from the v-side, B from the u-side.  Where they differ the patch is rational there (C2 but not
+ * C3 at the corner), and no polynomial spline with uniform knots follows its curvature: the fit's
+ * G2 failed next to such corners (jumps of 0.1-2 x the curvature; docs/fit.md).  (1,1) agrees by
+ * construction (both twists come from the vertex jet).  The third- and fourth-order terms (2,1),
+ * (1,2), (2,2) are made to agree here, vertex by vertex, with the end data that the 2-jets leave
+ * free: the second t-derivatives of the normal field n (its D-part) and of the ribbon
+ * coefficients a, b of both sides, the third and fourth of the curve γ (normal part), the first
+ * and second of the base side's ξ and of the derived side's tangential part τ (ev_edge's bump
+ * terms).  None of them touches a value, a slope or a second derivative of γ at an end, so the
+ * vertex jets, the twists and the G1/G2 relations along every edge (which hold for any such
+ * data: the derived side is still built from the base side) are unchanged.  The curve's normal
+ * third derivatives are needed: the normal parts of the mismatches form, per vertex, a linear
+ * system in which each edge contributes its cubic-form value C(u,u,u) through its curve, and
+ * for valence >= 5 these over-determine the four coefficients of a cubic form.
+ *
+ * The corner values depend affinely on the unknowns; the map is probed (one evaluation per
+ * unknown, exact for an affine map) and the correction that zeroes the mismatches while changing
+ * the second derivatives along the edges least is applied (hz_edge_sample; see the solver in
+ * harmonize_vertex).  Bumps vanish with three derivatives at the other end of their edge, so
+ * vertices are independent.  A correction that folds, flips or spikes a patch around the vertex
+ * (hz_shape) is not applied: those corners stay Gregory corners, and the fit treats them as such. */
+#define HZ_MAXU (17 * EV_MAXVAL)
+#define HZ_NG (2 + 3 * 81) /* shape guard record: max |dS|, min sine, 81 normals */
+
+typedef struct hz_corner { int f, i, j; } hz_corner;
+
+static const int hz_ab[3][2] = {{2, 1}, {1, 2}, {2, 2}};
+
+/* Mismatches B - A of the corners cs (9 per corner); only_e >= 0: only the corners of faces
+ * with edge only_e as a side are evaluated (the others are copied from r0). */
+static q2n_status hz_residuals(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
+                               ev_edge *const *edges, int K, int kb, const hz_corner *cs, int nc, int only_e,
+                               const double *r0, double *r, ev_patch *P, q2n_error *err)
+{
+    for (int q = 0; q < nc; q++) {
+        int touch = only_e < 0;
+        for (int sd = 0; sd < 4 && !touch; sd++) touch = m->he_edge[q2n_face_he(m, cs[q].f, sd)] == only_e;
+        if (!touch) {
+            memcpy(r + 9 * q, r0 + 9 * q, 9 * sizeof(double));
+            continue;
+        }
+        q2n_status st = patch_setup(P, m, s, iv, unc, edges, K, kb, cs[q].f, err);
+        if (st) return st;
+        for (int o = 0; o < 3; o++)
+            for (int c = 0; c < 3; c++) {
+                int a = hz_ab[o][0], b = hz_ab[o][1];
+                r[9 * q + 3 * o + c] = P->B[cs[q].i][cs[q].j][a][b][c] - P->A[cs[q].i][cs[q].j][a][b][c];
+            }
+    }
+    return Q2N_OK;
+}
+
+/* Cholesky factorisation G = L L^T in place (lower triangle); 0 if not positive definite. */
+static int chol_factor(double *G, int n)
+{
+    for (int j = 0; j < n; j++) {
+        double d = G[j * n + j];
+        for (int k = 0; k < j; k++) d -= G[j * n + k] * G[j * n + k];
+        if (!(d > 0)) return 0;
+        d = sqrt(d);
+        G[j * n + j] = d;
+        for (int i = j + 1; i < n; i++) {
+            double x = G[i * n + j];
+            for (int k = 0; k < j; k++) x -= G[i * n + k] * G[j * n + k];
+            G[i * n + j] = x / d;
+        }
+    }
+    return 1;
+}
+
+static void chol_solve(const double *G, double *y, int n)
+{
+    for (int i = 0; i < n; i++) {
+        for (int k = 0; k < i; k++) y[i] -= G[i * n + k] * y[k];
+        y[i] /= G[i * n + i];
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        for (int k = i + 1; k < n; k++) y[i] -= G[k * n + i] * y[k];
+        y[i] /= G[i * n + i];
+    }
+}
+
+/* Cost samples of a constructed edge for the corner correction: the second derivatives of the
+ * surface along the edge, γ_tt, χ_t (the twist) and ξ, on both sides at t = 0.1, .., 0.9. */
+#define HZ_NH (2 * 9 * 9)
+static int hz_edge_sample(const ev_edge *E, double *out)
+{
+    int n = 0;
+    for (int sd = 0; sd < (E->face[1] >= 0 ? 2 : 1); sd++) {
+        ev_side S;
+        memset(&S, 0, sizeof S);
+        S.kind = 0;
+        S.E = *E;
+        S.derived = sd;
+        for (int q = 1; q <= 9; q++) {
+            double F[3][3][3];
+            ev_side_eval(&S, q / 10.0, F);
+            for (int c = 0; c < 3; c++) {
+                out[n++] = F[0][2][c];
+                out[n++] = F[1][1][c];
+                out[n++] = F[2][0][c];
+            }
+        }
+    }
+    return n;
+}
+
+/* Shape guard of the corner correction: on a 9 x 9 grid of face f, out[0] = max(|S_u|, |S_v|),
+ * out[1] = min |S_u x S_v| / (|S_u| |S_v|), out[2..] the unit normals.  With ref == NULL they are
+ * measured into out; else *ok = 0 when the corrected patch's derivatives grew past 1.5 x ref, its
+ * sine of the angle between S_u and S_v fell below half of ref's, or a normal turned by more than
+ * 60 degrees (a fold, a flip or a spike). */
+static q2n_status hz_shape(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
+                           ev_edge *const *edges, int K, int kb, int f, ev_patch *P, const double *ref, int *ok,
+                           double *out, q2n_error *err)
+{
+    q2n_status st = patch_setup(P, m, s, iv, unc, edges, K, kb, f, err);
+    if (st) return st;
+    double big = 0, sn = 1, *nr = out ? out + 2 : NULL;
+    for (int a = 0; a <= 8; a++)
+        for (int b = 0; b <= 8; b++) {
+            double D[9], c[3];
+            patch_eval(P, a / 8.0, b / 8.0, 1, D);
+            double nu = q2n_v3_norm(D + 3), nv = q2n_v3_norm(D + 6);
+            q2n_v3_cross(c, D + 3, D + 6);
+            big = fmax(big, fmax(nu, nv));
+            double cn = q2n_v3_norm(c), q = nu > 0 && nv > 0 ? cn / (nu * nv) : 0;
+            sn = fmin(sn, isfinite(q) ? q : 0);
+            if (!isfinite(nu) || !isfinite(nv)) big = INFINITY;
+            int g = 3 * (9 * a + b);
+            if (!ref) {
+                for (int x = 0; x < 3; x++) nr[g + x] = cn > 0 ? c[x] / (nu * nv) : 0; /* length: the sine */
+            } else {
+                const double *rn = ref + 2 + g;
+                double rs = q2n_v3_norm(rn);
+                /* where the patch was well shaped (sine > 0.2), the normal may not turn by 90
+                 * degrees or more (near-degenerate points have no meaningful normal) */
+                if (rs > 0.2 && !(q2n_v3_dot(c, rn) > 0)) *ok = 0;
+            }
+        }
+    if (!ref) {
+        out[0] = big;
+        out[1] = sn;
+    } else if (!(big <= 1.5 * ref[0]) || !(sn >= 0.5 * ref[1])) {
+        *ok = 0;
+    }
+    return Q2N_OK;
+}
+
+static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
+                                   ev_edge **edges, int K, int kb, const int *vc_start, const int *vc_list, int v,
+                                   q2n_error *err)
+{
+    /* unknowns: the bump coefficients of the constructed edges at v */
+    double *u[HZ_MAXU];
+    int ue[HZ_MAXU];
+    double zc[HZ_MAXU];
+    int nu = 0;
+    hz_corner cs[2 * EV_MAXVAL];
+    int nc = 0;
+    for (int ci = vc_start[v]; ci < vc_start[v + 1]; ci++) {
+        int f = vc_list[ci] >> 2, k = vc_list[ci] & 3;
+        {
+            int h = q2n_face_he(m, f, k);
+            /* sides at this corner: the face's edges k (leaving v) and k-1 (arriving at v) */
+            int e1 = m->he_edge[h], e0 = m->he_edge[q2n_face_he(m, f, (k + 3) % 4)];
+            int any = 0;
+            for (int x = 0; x < 2; x++) {
+                int e = x ? e1 : e0;
+                if (!edges[e]) continue;
+                any = 1;
+                int end = q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1;
+                ev_edge *E = edges[e];
+                int dup = 0;
+                for (int q = 0; q < nu; q++) dup |= u[q] == &E->nb[end];
+                if (dup) continue;
+                if (nu + 17 > HZ_MAXU) return Q2N_OK; /* valence beyond the table: left as is */
+                int two = E->face[1] >= 0, nu0 = nu;
+                u[nu++] = &E->nb[end];
+                u[nu++] = &E->g3[end];
+                u[nu++] = &E->g4[end];
+                for (int sd = 0; sd < (two ? 2 : 1); sd++) {
+                    u[nu++] = &E->a2[sd][end];
+                    u[nu++] = &E->b2[sd][end];
+                }
+                for (int c = 0; c < 3; c++) {
+                    u[nu++] = &E->x1[end][c];
+                    u[nu++] = &E->x2[end][c];
+                }
+                if (two)
+                    for (int c = 0; c < 2; c++) {
+                        u[nu++] = &E->t1[end][c];
+                        u[nu++] = &E->t2[end][c];
+                    }
+                for (int q = nu0; q < nu; q++) ue[q] = e;
+            }
+            if (!any) continue;
+            if (nc == 2 * EV_MAXVAL) return Q2N_OK;
+            static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            cs[nc].f = f;
+            cs[nc].i = cuv[k][0];
+            cs[nc].j = cuv[k][1];
+            nc++;
+        }
+    }
+    if (!nc || !nu) return Q2N_OK;
+    int nr = 9 * nc;
+    q2n_status st = Q2N_OK;
+    ev_patch *P = malloc(sizeof *P);
+    double *M = malloc(sizeof(double) * (size_t)nr * (size_t)(nu + 1));
+    double *G = malloc(sizeof(double) * (size_t)nr * (size_t)nr);
+    double *y = malloc(sizeof(double) * (size_t)nr);
+    double *r0 = M + (size_t)nr * (size_t)nu;
+    double *Y = malloc(sizeof(double) * (size_t)nr * (size_t)nu), *H = malloc(sizeof(double) * HZ_NH * (size_t)nu);
+    if (!P || !M || !G || !y || !Y || !H) {
+        free(Y);
+        free(H);
+        st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (vertex %d)", v);
+        goto out;
+    }
+    if ((st = hz_residuals(m, s, iv, unc, edges, K, kb, cs, nc, -1, NULL, r0, P, err))) goto out2;
+    double rmax = 0;
+    for (int i = 0; i < nr; i++) rmax = fmax(rmax, fabs(r0[i]));
+    if (!(rmax > 0)) goto out2;
+    for (int k = 0; k < nu; k++) {
+        double keep = *u[k];
+        *u[k] = keep + 1;
+        st = hz_residuals(m, s, iv, unc, edges, K, kb, cs, nc, ue[k], r0, M + (size_t)nr * k, P, err);
+        *u[k] = keep;
+        if (st) goto out2;
+        for (int i = 0; i < nr; i++) M[(size_t)nr * k + i] -= r0[i];
+    }
+    /* Cost: the change of the second derivatives along the edges (hz_edge_sample), Q = H^T H
+     * block-diagonal by edge end, the first-order data (n, γ: unknowns 0..2 of a group) weighted
+     * by F.  min z^T Q z subject to M z = -r0: z = Q^-1 M^T l with (M Q^-1 M^T + mu) l = -r0,
+     * refined three times against the exact affine residual (the Tikhonov term mu only damps
+     * nearly singular vertex systems).  F = 1000 first: changing the normal field or the curve
+     * costs most and makes the patches hardest to fit; where that correction folds or spikes
+     * a patch (hz_shape), F = 100, 10, 1 are tried, and if none passes the corners at v stay
+     * Gregory corners. */
+    for (int g0 = 0; g0 < nu;) {
+        int g1 = g0;
+        while (g1 < nu && ue[g1] == ue[g0]) g1++;
+        ev_edge *E = edges[ue[g0]];
+        double base[HZ_NH];
+        int nh = hz_edge_sample(E, base);
+        for (int k = g0; k < g1; k++) {
+            double keep = *u[k];
+            *u[k] = keep + 1;
+            hz_edge_sample(E, H + (size_t)HZ_NH * k);
+            *u[k] = keep;
+            for (int i = 0; i < HZ_NH; i++) H[(size_t)HZ_NH * k + i] = i < nh ? H[(size_t)HZ_NH * k + i] - base[i] : 0;
+        }
+        g0 = g1;
+    }
+    double (*gb)[HZ_NG] = malloc(sizeof *gb * (size_t)nc);
+    if (!gb) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (vertex %d)", v); goto out2; }
+    for (int q = 0; q < nc; q++)
+        if ((st = hz_shape(m, s, iv, unc, edges, K, kb, cs[q].f, P, NULL, NULL, gb[q], err))) { free(gb); goto out2; }
+    static const double Fs[4] = {1000, 100, 10, 1};
+    for (int fi = 0; fi < 4; fi++) {
+        int solved = 1;
+        for (int g0 = 0; g0 < nu && solved;) {
+            int g1 = g0;
+            while (g1 < nu && ue[g1] == ue[g0]) g1++;
+            int ne = g1 - g0;
+            double Q[17 * 17], qmax = 0;
+            for (int a = 0; a < ne; a++)
+                for (int b = 0; b < ne; b++) {
+                    double q = 0, wa = a < 3 ? Fs[fi] : 1, wb = b < 3 ? Fs[fi] : 1;
+                    const double *ha = H + (size_t)HZ_NH * (g0 + a), *hb = H + (size_t)HZ_NH * (g0 + b);
+                    for (int i = 0; i < HZ_NH; i++) q += ha[i] * hb[i];
+                    Q[a * ne + b] = wa * wb * q;
+                    if (a == b) qmax = fmax(qmax, Q[a * ne + b]);
+                }
+            for (int a = 0; a < ne; a++) Q[a * ne + a] += 1e-9 * qmax + 1e-300;
+            if (!chol_factor(Q, ne)) { solved = 0; break; }
+            for (int i = 0; i < nr; i++) {
+                double col[17];
+                for (int k = 0; k < ne; k++) col[k] = M[(size_t)nr * (g0 + k) + i];
+                chol_solve(Q, col, ne);
+                for (int k = 0; k < ne; k++) Y[(size_t)nr * (g0 + k) + i] = col[k];
+            }
+            g0 = g1;
+        }
+        if (!solved) continue;
+        double tr = 0;
+        for (int i = 0; i < nr; i++)
+            for (int j = 0; j <= i; j++) {
+                double g = 0;
+                for (int k = 0; k < nu; k++) g += M[(size_t)nr * k + i] * Y[(size_t)nr * k + j];
+                G[i * nr + j] = G[j * nr + i] = g;
+            }
+        for (int i = 0; i < nr; i++) tr = fmax(tr, G[i * nr + i]);
+        for (int i = 0; i < nr; i++) G[i * nr + i] += 1e-10 * tr + 1e-300;
+        if (!chol_factor(G, nr)) continue;
+        for (int k = 0; k < nu; k++) zc[k] = 0;
+        for (int pass = 0; pass < 4; pass++) {
+            for (int i = 0; i < nr; i++) {
+                double ri = r0[i];
+                for (int k = 0; k < nu; k++) ri += M[(size_t)nr * k + i] * zc[k];
+                y[i] = -ri;
+            }
+            chol_solve(G, y, nr);
+            for (int k = 0; k < nu; k++) {
+                double z = 0;
+                for (int i = 0; i < nr; i++) z += Y[(size_t)nr * k + i] * y[i];
+                zc[k] += z;
+            }
+        }
+        for (int k = 0; k < nu; k++) *u[k] += zc[k];
+        int ok = 1;
+        for (int q = 0; q < nc && ok; q++)
+            if ((st = hz_shape(m, s, iv, unc, edges, K, kb, cs[q].f, P, gb[q], &ok, NULL, err))) { free(gb); goto out2; }
+        if (ok) break;
+        for (int k = 0; k < nu; k++) *u[k] -= zc[k];
+    }
+    free(gb);
+out2:
+    free(Y);
+    free(H);
+out:
+    free(P);
+    free(M);
+    free(G);
+    free(y);
+    return st;
 }
 
 q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_options *opt,
@@ -286,45 +673,34 @@ q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_op
     }
     if (st) goto done;
 
+    if (K == 2) { /* corners of uncovered faces, bucketed by vertex: (face << 2) | corner */
+        int *vc_start = calloc((size_t)m->nv + 1, sizeof *vc_start), *vc_list = malloc(4 * (size_t)m->nf * sizeof *vc_list);
+        if (!vc_start || !vc_list) st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (corner lists)");
+        for (int f = 0; f < m->nf && !st; f++)
+            if (unc[f])
+                for (int k = 0; k < 4; k++) vc_start[q2n_he_origin(m, q2n_face_he(m, f, k)) + 1]++;
+        for (int v = 0; v < m->nv && !st; v++) vc_start[v + 1] += vc_start[v];
+        for (int f = 0; f < m->nf && !st; f++)
+            if (unc[f])
+                for (int k = 0; k < 4; k++) {
+                    int v = q2n_he_origin(m, q2n_face_he(m, f, k));
+                    vc_list[vc_start[v]++] = f << 2 | k;
+                }
+        for (int v = m->nv; v > 0 && !st; v--) vc_start[v] = vc_start[v - 1];
+        if (!st) vc_start[0] = 0;
+        for (int v = 0; v < m->nv && !st; v++)
+            st = harmonize_vertex(m, s, iv, unc, edges, K, cls->k, vc_start, vc_list, v, err);
+        free(vc_start);
+        free(vc_list);
+    }
+    if (st) goto done;
+
     for (int f = 0; f < m->nf; f++) {
         if (!unc[f]) continue;
         ev_patch *P = calloc(1, sizeof *P);
         if (!P) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (patch %d)", f); goto done; }
         patches[f] = P;
-        P->K = K;
-        P->r = K;
-        P->kb = cls->k;
-        P->d0 = iv[m->he_edge[q2n_face_he(m, f, 0)]];
-        P->e1 = iv[m->he_edge[q2n_face_he(m, f, 1)]];
-        P->d1 = iv[m->he_edge[q2n_face_he(m, f, 2)]];
-        P->e0 = iv[m->he_edge[q2n_face_he(m, f, 3)]];
-        for (int sd = 0; sd < 4; sd++) {
-            int h = q2n_face_he(m, f, sd), t = m->he_twin[h], e = m->he_edge[h];
-            ev_side *S = &P->side[sd];
-            /* the side parameter runs along h on sides 0, 1 and against it on sides 2, 3 */
-            int along_h = sd < 2;
-            if (t >= 0 && !unc[m->he_face[t]]) {
-                int g = m->he_face[t], sR = t - m->face_start[g];
-                const q2n_augmented_patch *R = q2n_surface_patch_data(s, g);
-                if (!R) { st = q2n_error_set(err, Q2N_ERR_ARG, "%s: face %d: no regular patch data", m->name, g); goto done; }
-                S->kind = 1;
-                S->R = *R;
-                S->sR = sR;
-                /* R's coordinate runs along t on its sides 0, 1 and against t on 2, 3; t is
-                 * opposite to h */
-                int R_along_t = sR < 2;
-                int R_along_h = !R_along_t;
-                S->rev = R_along_h != along_h;
-            } else {
-                const ev_edge *E = edges[e];
-                S->kind = 0;
-                S->E = *E;
-                S->derived = m->edge_he[e] != h;
-                int edge_along_h = m->edge_he[e] == h;
-                S->rev = edge_along_h != along_h;
-            }
-        }
-        patch_corners(P);
+        if ((st = patch_setup(P, m, s, iv, unc, edges, K, cls->k, f, err))) goto done;
     }
     for (int f = 0; f < m->nf; f++) {
         if (!patches[f]) continue;
@@ -333,6 +709,7 @@ q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_op
             goto done;
         }
         q2n_surface_set_patch_grid(s, f, patch_grid);
+        q2n_surface_set_patch_corner(s, f, patch_corner);
         patches[f] = NULL;
     }
 done:

@@ -14,13 +14,18 @@
  *         the "perpendicular ribbon" of Salvi–Várady), and for each face χ = a(t) D + b(t) T with
  *         a, b linear between the values that give χ = J1·w at the two ends (w: the face's other
  *         edge there).  Hence χ_R = α χ_L + β γ_x with scalar α = a_R/a_L, β: the G1 condition;
- *   base side (face of edge_he): ξ_L linear between J2[w,w] at the ends;
+ *   base side (of the two faces, the one whose cross direction is the more transversal to the
+ *         edge, ev_edge.base_twin): ξ_L linear between J2[w,w] at the ends;
  *   derived side (face of the twin): ξ_R = τ1 D + τ2 T + c N, N = D × T, c making its normal part
  *         equal that of α² ξ_L + 2αβ ∂xχ_L + β² γ_xx (the G2 condition of formulas.md §4.2; its
  *         γ, δ terms are absorbed by τ1, τ2, linear between the tangential parts of the corner
  *         values J2[w',w']).  Since n' is the Weingarten derivative, n·∂xχ_L equals the jet's
  *         II(u,w) at the ends, so the derived side meets its corner values exactly (corner
  *         compatibility, needed by the Coons patch), and both patches join G1/G2 exactly.
+ * Corner compatibility (G2 mode): polynomial bumps local to one end (ev_edge: nb, g3, g4, a2,
+ * b2, x1, x2, t1, t2) set the higher end derivatives that the 2-jets leave free, so that the two
+ * sides of every patch corner agree on the mixed derivatives up to ∂u²∂v² (coons_gregory.c,
+ * harmonize_vertex); they are zero as built here.
  * The derived quantities are rational in t; they are evaluated with derivative arrays up to order
  * 3 (Leibniz, Faà di Bruno), since the patch needs ξ_R and its two t-derivatives.
  * Sides shared with a regular patch are not built here: ev_side_eval samples that patch's
@@ -158,6 +163,38 @@ static void herm(const double v[2], const double s[2], double t, double *r)
     for (int k = 0; k < JO; k++) r[k] = h[0][k] * v[0] + h[1][k] * v[1] + h[2][k] * s[0] + h[3][k] * s[1];
 }
 
+/* Corner-compatibility bumps (ev_edge): E_p = t^p (1-t)⁴ / p! at end 0 (p = 1: C, 2: B, 3, 4
+ * for γ), mirrored at end 1 with the sign that makes its p-th t-derivative there 1; derivatives
+ * 0..nder (<= 5) at t. */
+static void bump_n(int end, int p, double t, int nder, double *r)
+{
+    static const double b4[5] = {1, -4, 6, -4, 1}, fact[5] = {1, 1, 2, 6, 24};
+    double c[9] = {0};
+    for (int i = 0; i < 5; i++) c[p + i] = b4[i] / fact[p];
+    double x = end ? 1 - t : t, sg = end && (p & 1) ? -1 : 1;
+    for (int k = 0; k <= nder; k++) {
+        double v = 0;
+        for (int i = 8; i >= k; i--) {
+            double f = 1;
+            for (int j = 0; j < k; j++) f *= (double)(i - j);
+            v = v * x + f * c[i];
+        }
+        r[k] = sg * (end && (k & 1) ? -v : v); /* d/dt = -d/dx at end 1 */
+    }
+}
+
+static void bump(int end, int kind, double t, double *r) { bump_n(end, kind, t, JO - 1, r); }
+
+/* s + Σ_end (w2[end] B_end + w1[end] C_end) as derivative arrays (w1 may be NULL) */
+static void add_bumps(double *s, const double w1[2], const double w2[2], double t)
+{
+    double r[JO];
+    for (int end = 0; end < 2; end++) {
+        if (w2[end] != 0) { bump(end, 2, t, r); for (int k = 0; k < JO; k++) s[k] += w2[end] * r[k]; }
+        if (w1 && w1[end] != 0) { bump(end, 1, t, r); for (int k = 0; k < JO; k++) s[k] += w1[end] * r[k]; }
+    }
+}
+
 /* The ribbon frame along a constructed edge as derivative arrays: γ's t-derivatives g[0..5],
  * γ_x and γ_xx, T = γ_x/|γ_x| (with rs = 1/|γ_x|) and D = n × T/|n × T|. */
 typedef struct ribbon {
@@ -169,7 +206,20 @@ static void ribbon_at(const ev_edge *E, double t, ribbon *R)
     double n[JO][3] = {{0}}, sq[JO], rd[JO], d = E->d;
     memset(R, 0, sizeof *R);
     ev_poly_eval(&E->gamma, t, E->gamma.deg < 5 ? E->gamma.deg : 5, R->g);
+    for (int end = 0; end < 2; end++)
+        for (int p = 3; p <= 4; p++) {
+            double w = p == 3 ? E->g3[end] : E->g4[end], r[6];
+            if (w == 0) continue;
+            bump_n(end, p, t, 5, r);
+            for (int k = 0; k < 6; k++) q2n_v3_axpy(R->g[k], w * r[k], E->nN[end]);
+        }
     ev_poly_eval(&E->nrm, t, 3, n);
+    for (int end = 0; end < 2; end++)
+        if (E->nb[end] != 0) {
+            double r[JO];
+            bump(end, 2, t, r);
+            for (int k = 0; k < JO; k++) q2n_v3_axpy(n[k], E->nb[end] * r[k], E->nD[end]);
+        }
     for (int k = 0; k < JO; k++)
         for (int c = 0; c < 3; c++) {
             R->Gx[k][c] = R->g[k + 1][c] / d;
@@ -265,9 +315,36 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
     ribbon_at(out, 0, &R0);
     ribbon_at(out, 1, &R1);
     const double *D0 = R0.D[0], *G0 = R0.T[0], *D1 = R1.D[0], *G1 = R1.T[0];
+    /* Base side: the face whose cross-boundary direction is the more transversal to the edge
+     * (larger min over the ends of |a| / |χ|, the sine of the angle to the edge).  The derived
+     * side divides by the base side's a (α = a_R / a_L): with the other choice, a face meeting
+     * the edge at a small angle made α and its derivatives large, and the derived data wild
+     * near the vertex (crane_spot --subdivide 1, valence-6 vertices: mixed corner derivatives
+     * 20-40 x those of the base side). */
+    int hs[2] = {h, tw};
+    if (tw >= 0) {
+        double sn[2];
+        for (int x = 0; x < 2; x++) {
+            int ep, eq;
+            other_edges(m, hs[x], p, &ep, &eq);
+            double c0[3], c1[3], a0 = 0, b0 = 0, a1 = 0, b1 = 0;
+            ev_jet_d1(Jp, edge_dir(m, dir, ep, p), c0);
+            ev_jet_d1(Jq, edge_dir(m, dir, eq, q), c1);
+            decompose(D0, G0, c0, &a0, &b0);
+            decompose(D1, G1, c1, &a1, &b1);
+            sn[x] = fmin(fabs(a0) / (q2n_v3_norm(c0) + 1e-300), fabs(a1) / (q2n_v3_norm(c1) + 1e-300));
+        }
+        if (sn[1] > sn[0]) { hs[0] = tw; hs[1] = h; out->base_twin = 1; }
+    }
+    out->face[0] = m->he_face[hs[0]];
+    out->face[1] = tw >= 0 ? m->he_face[hs[1]] : -1;
+    memcpy(out->nD[0], D0, sizeof out->nD[0]);
+    memcpy(out->nD[1], D1, sizeof out->nD[1]);
+    q2n_v3_cross(out->nN[0], D0, G0);
+    q2n_v3_cross(out->nN[1], D1, G1);
     for (int side = 0; side < (tw >= 0 ? 2 : 1); side++) {
         int ep, eq;
-        other_edges(m, side ? tw : h, p, &ep, &eq);
+        other_edges(m, hs[side], p, &ep, &eq);
         const double *wb = edge_dir(m, dir, ep, p), *wc = edge_dir(m, dir, eq, q);
         double c0[3], c1[3], x0[3], x1[3], t0[3], t1[3];
         ev_jet_d1(Jp, wb, c0);
@@ -332,11 +409,20 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double aL[JO], bL[JO], CL[JO][3], tmp[JO][3];
     herm(E->a[0], E->as[0], t, aL);
     herm(E->b[0], E->bs[0], t, bL);
+    add_bumps(aL, NULL, E->a2[0], t);
+    add_bumps(bL, NULL, E->b2[0], t);
     vj_scale(aL, D, CL);
     vj_scale(bL, Tu, tmp);
     vj_add(CL, tmp, CL);
-    double xl[3][3];
+    double xl[JO][3] = {{0}};
     ev_poly_eval(&E->xi, t, 2, xl);
+    for (int end = 0; end < 2; end++) {
+        double r1[JO], r2[JO];
+        bump(end, 1, t, r1);
+        bump(end, 2, t, r2);
+        for (int k = 0; k < JO; k++)
+            for (int c = 0; c < 3; c++) xl[k][c] += E->x1[end][c] * r1[k] + E->x2[end][c] * r2[k];
+    }
     for (int k = 0; k < 3; k++) memcpy(out[0][k], g[k], sizeof g[k]);
     if (!derived) {
         for (int k = 0; k < 3; k++) { memcpy(out[1][k], CL[k], sizeof CL[k]); memcpy(out[2][k], xl[k], sizeof xl[k]); }
@@ -347,6 +433,8 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double aR[JO], bR[JO], CR[JO][3], al[JO], be[JO], inv[JO];
     herm(E->a[1], E->as[1], t, aR);
     herm(E->b[1], E->bs[1], t, bR);
+    add_bumps(aR, NULL, E->a2[1], t);
+    add_bumps(bR, NULL, E->b2[1], t);
     vj_scale(aR, D, CR);
     vj_scale(bR, Tu, tmp);
     vj_add(CR, tmp, CR);
@@ -358,7 +446,7 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double CLx[JO][3] = {{0}}, XL[JO][3] = {{0}}, Y[JO][3], al2[JO], ab2[JO], be2[JO], N[JO][3];
     for (int k = 0; k + 1 < JO; k++)
         for (int c = 0; c < 3; c++) CLx[k][c] = CL[k + 1][c] / d;
-    for (int k = 0; k < 3; k++) memcpy(XL[k], xl[k], sizeof xl[k]);
+    for (int k = 0; k < JO; k++) memcpy(XL[k], xl[k], sizeof xl[k]);
     sj_mul(al, al, al2);
     sj_mul(al, be, ab2);
     for (int k = 0; k < JO; k++) ab2[k] *= 2;
@@ -377,6 +465,12 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     vj_scale(c, N, XR);
     lin(E->tau[0][0], E->tau[1][0], t, t1);
     lin(E->tau[0][1], E->tau[1][1], t, t2);
+    {
+        double w1[2][2] = {{E->t1[0][0], E->t1[1][0]}, {E->t1[0][1], E->t1[1][1]}};
+        double w2[2][2] = {{E->t2[0][0], E->t2[1][0]}, {E->t2[0][1], E->t2[1][1]}};
+        add_bumps(t1, w1[0], w2[0], t);
+        add_bumps(t2, w1[1], w2[1], t);
+    }
     vj_scale(t1, D, tmp);
     vj_add(XR, tmp, XR);
     vj_scale(t2, Tu, tmp);

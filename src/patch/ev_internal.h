@@ -36,12 +36,26 @@ typedef struct ev_edge {
     double d;            /* the edge's interval */
     ev_poly gamma;       /* boundary curve */
     ev_poly nrm;         /* normal field n(t) (cubic, not unit) spanning the ribbon with γ_x */
-    int face[2];         /* face of edge_he (base side) and of its twin (derived side), -1 none */
+    int face[2];         /* face of the base side and of the derived side (-1 none) */
+    int base_twin;       /* the base side is the face of edge_he's twin (else of edge_he) */
     double a[2][2], b[2][2]; /* [side][end]: χ_side = a D + b T (unit ribbon frame T = γ_x/|γ_x|,
                                 D = n × T/|n × T|), a, b cubic Hermite in t with ... */
     double as[2][2], bs[2][2]; /* ... the t-slopes as, bs at the ends */
     ev_poly xi;          /* base side ξ (linear) */
     double tau[2][2];    /* derived side: tangential part of ξ = τ1 D + τ2 γ_x at each end [end][1|2] */
+    /* Corner-compatibility terms (coons_gregory.c, harmonize_vertex), all zero when built.
+     * Each is a polynomial bump local to one end: B_end (t²(1-t)⁴/2 at end 0, its mirror at
+     * end 1: second derivative 1 there) or C_end (t(1-t)⁴, mirror: first derivative 1), both
+     * vanishing with three derivatives at the other end.  They change the second t-derivatives
+     * of n, a, b, the first two of ξ and τ and the third and fourth of γ at that end only, never
+     * a value, a slope, or (for γ) a second derivative: */
+    double nD[2][3], nN[2][3]; /* D and N = D x T at the ends (set by ev_build_edge) */
+    double g3[2], g4[2]; /* γ += (g3[end] E3_end + g4[end] E4_end) N_end, E_p = t^p (1-t)^4 / p!
+                            (mirrored at end 1): the normal third and fourth derivatives */
+    double nb[2];        /* n += nb[end] D_end B_end */
+    double a2[2][2], b2[2][2]; /* [side][end]: a += a2 B_end, b += b2 B_end */
+    double x1[2][3], x2[2][3]; /* base side: ξ += x1[end] C_end + x2[end] B_end */
+    double t1[2][2], t2[2][2]; /* derived side: τ_k += t1[end][k] C_end + t2[end][k] B_end */
 } ev_edge;
 
 /* ---- ev_derivatives.c ---- */

@@ -11,6 +11,7 @@ typedef struct patch {
     q2n_patch_eval_fn eval;
     void (*free_data)(void *);
     q2n_patch_grid_fn grid; /* optional fast grid evaluator */
+    q2n_patch_corner_fn corner; /* optional exact mixed corner partials */
     int du, dv;  /* Bézier degrees */
     double *cp;  /* Bézier control points */
 } patch;
@@ -186,4 +187,19 @@ q2n_status q2n_surface_set_patch_grid(q2n_surface *s, int k, q2n_patch_grid_fn g
         return Q2N_ERR_ARG;
     s->p[k].grid = grid;
     return Q2N_OK;
+}
+
+q2n_status q2n_surface_set_patch_corner(q2n_surface *s, int k, q2n_patch_corner_fn fn)
+{
+    if (k < 0 || k >= s->n || s->p[k].kind == Q2N_PATCH_UNCOVERED || s->p[k].kind == Q2N_PATCH_BEZIER)
+        return Q2N_ERR_ARG;
+    s->p[k].corner = fn;
+    return Q2N_OK;
+}
+
+q2n_status q2n_surface_corner_mixed(const q2n_surface *s, int k, int i, int j, double out[2][2][2][3])
+{
+    if (!s || k < 0 || k >= s->n || (i & ~1) || (j & ~1)) return Q2N_ERR_ARG;
+    if (!s->p[k].corner) return Q2N_ERR_UNSUPPORTED;
+    return s->p[k].corner(s->p[k].data, i, j, out);
 }

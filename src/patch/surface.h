@@ -56,4 +56,13 @@ typedef q2n_status (*q2n_patch_grid_fn)(const void *data, int nu, const double *
                                         const double *vs, double *out);
 q2n_status q2n_surface_set_patch_grid(q2n_surface *s, int k, q2n_patch_grid_fn grid);
 
+/* Mixed corner partials ∂u^a ∂v^b S (a, b = 1, 2) of patch k at its corner (i, j) in {0,1}^2, as
+ * the two sides through the corner give them: out[0][a-1][b-1] from the side v = j, out[1][..]
+ * from the side u = i.  They agree where the patch is smooth at the corner; they differ at
+ * Gregory-type corners (rational blends).  Exact values, from an optional producer hook;
+ * Q2N_ERR_UNSUPPORTED when the patch has none (evaluate and difference instead). */
+typedef q2n_status (*q2n_patch_corner_fn)(const void *data, int i, int j, double out[2][2][2][3]);
+q2n_status q2n_surface_set_patch_corner(q2n_surface *s, int k, q2n_patch_corner_fn fn);
+q2n_status q2n_surface_corner_mixed(const q2n_surface *s, int k, int i, int j, double out[2][2][2][3]);
+
 #endif
