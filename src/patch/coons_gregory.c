@@ -310,6 +310,7 @@ static q2n_status patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surface 
  * vertices are independent.  A correction that folds, flips or spikes a patch around the vertex
  * (hz_shape) is not applied: those corners stay Gregory corners, and the fit treats them as such. */
 #define HZ_MAXU (17 * EV_MAXVAL)
+#define HZ_MAXR (9 * 2 * EV_MAXVAL)
 #define HZ_NG (2 + 3 * 81) /* shape guard record: max |dS|, min sine, 81 normals */
 
 typedef struct hz_corner { int f, i, j; } hz_corner;
@@ -581,17 +582,24 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
                 for (int k = 0; k < nu; k++) g += M[(size_t)nr * k + i] * Y[(size_t)nr * k + j];
                 G[i * nr + j] = G[j * nr + i] = g;
             }
-        for (int i = 0; i < nr; i++) tr = fmax(tr, G[i * nr + i]);
-        for (int i = 0; i < nr; i++) G[i * nr + i] += 1e-10 * tr + 1e-300;
+        /* rows equilibrated (the orders (2,1), (1,2), (2,2) differ in scale), so that the
+         * Tikhonov term is relative to every row alike */
+        double dr[HZ_MAXR];
+        for (int i = 0; i < nr; i++) dr[i] = G[i * nr + i] > 0 ? 1 / sqrt(G[i * nr + i]) : 0;
+        for (int i = 0; i < nr; i++)
+            for (int j = 0; j < nr; j++) G[i * nr + j] *= dr[i] * dr[j];
+        (void)tr;
+        for (int i = 0; i < nr; i++) G[i * nr + i] += 1e-10 + (dr[i] == 0);
         if (!chol_factor(G, nr)) continue;
         for (int k = 0; k < nu; k++) zc[k] = 0;
         for (int pass = 0; pass < 4; pass++) {
             for (int i = 0; i < nr; i++) {
                 double ri = r0[i];
                 for (int k = 0; k < nu; k++) ri += M[(size_t)nr * k + i] * zc[k];
-                y[i] = -ri;
+                y[i] = -ri * dr[i];
             }
             chol_solve(G, y, nr);
+            for (int i = 0; i < nr; i++) y[i] *= dr[i];
             for (int k = 0; k < nu; k++) {
                 double z = 0;
                 for (int i = 0; i < nr; i++) z += Y[(size_t)nr * k + i] * y[i];

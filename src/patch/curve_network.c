@@ -163,18 +163,21 @@ static void herm(const double v[2], const double s[2], double t, double *r)
     for (int k = 0; k < JO; k++) r[k] = h[0][k] * v[0] + h[1][k] * v[1] + h[2][k] * s[0] + h[3][k] * s[1];
 }
 
-/* Corner-compatibility bumps (ev_edge): E_p = t^p (1-t)⁴ / p! at end 0 (p = 1: C, 2: B, 3, 4
+/* Corner-compatibility bumps (ev_edge): E_p = t^p (1-t)^q / p! at end 0 (p = 1: C, 2: B, 3, 4
  * for γ), mirrored at end 1 with the sign that makes its p-th t-derivative there 1; derivatives
- * 0..nder (<= 5) at t. */
+ * 0..nder (<= 5) at t.  q = 4 for the ribbon data and 5 for γ: the other end's corner values use
+ * up to third t-derivatives of n, a, b and up to fourth of γ (the derived side's ξ'' through
+ * γ_xx''), which must not change there. */
 static void bump_n(int end, int p, double t, int nder, double *r)
 {
-    static const double b4[5] = {1, -4, 6, -4, 1}, fact[5] = {1, 1, 2, 6, 24};
-    double c[9] = {0};
-    for (int i = 0; i < 5; i++) c[p + i] = b4[i] / fact[p];
+    static const double bq[2][6] = {{1, -4, 6, -4, 1, 0}, {1, -5, 10, -10, 5, -1}}, fact[5] = {1, 1, 2, 6, 24};
+    int q = p >= 3 ? 5 : 4;
+    double c[10] = {0};
+    for (int i = 0; i <= q; i++) c[p + i] = bq[q - 4][i] / fact[p];
     double x = end ? 1 - t : t, sg = end && (p & 1) ? -1 : 1;
     for (int k = 0; k <= nder; k++) {
         double v = 0;
-        for (int i = 8; i >= k; i--) {
+        for (int i = 9; i >= k; i--) {
             double f = 1;
             for (int j = 0; j < k; j++) f *= (double)(i - j);
             v = v * x + f * c[i];

@@ -46,11 +46,11 @@ typedef struct ev_edge {
     /* Corner-compatibility terms (coons_gregory.c, harmonize_vertex), all zero when built.
      * Each is a polynomial bump local to one end: B_end (t²(1-t)⁴/2 at end 0, its mirror at
      * end 1: second derivative 1 there) or C_end (t(1-t)⁴, mirror: first derivative 1), both
-     * vanishing with three derivatives at the other end.  They change the second t-derivatives
+     * vanishing with three derivatives at the other end (γ's: four).  They change the second t-derivatives
      * of n, a, b, the first two of ξ and τ and the third and fourth of γ at that end only, never
      * a value, a slope, or (for γ) a second derivative: */
     double nD[2][3], nN[2][3]; /* D and N = D x T at the ends (set by ev_build_edge) */
-    double g3[2], g4[2]; /* γ += (g3[end] E3_end + g4[end] E4_end) N_end, E_p = t^p (1-t)^4 / p!
+    double g3[2], g4[2]; /* γ += (g3[end] E3_end + g4[end] E4_end) N_end, E_p = t^p (1-t)^5 / p!
                             (mirrored at end 1): the normal third and fourth derivatives */
     double nb[2];        /* n += nb[end] D_end B_end */
     double a2[2][2], b2[2][2]; /* [side][end]: a += a2 B_end, b += b2 B_end */
