@@ -474,7 +474,7 @@ static q2n_status compute_jets(ctx *c)
     c->jet = malloc(sizeof *c->jet * (size_t)nf);
     q2n_status *st = calloc((size_t)nf, sizeof *st);
     if (!c->jet || !st) { free(st); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (jets)"); }
-    jet_arg arg = {c->s, c->jet, c->o.continuity == 2 ? 4 : 1, st};
+    jet_arg arg = {c->s, c->jet, 4, st};
     double t0 = fit_now();
     fit_par_for(nf, c->o.threads, jet_one, &arg);
     c->rep->t_sample += fit_now() - t0;
@@ -489,7 +489,7 @@ static q2n_status compute_jets(ctx *c)
 #define FIT_JET_SPREAD 0.1   /* fraction of the tolerance two corner estimates may disagree by */
 static q2n_status stage_corners(ctx *c)
 {
-    int npin = c->o.continuity == 2 ? 4 : 1;
+    int npin = 4; /* G1 mode too: a consistent corner jet makes the G1 relation hold there to that order */
     q2n_status st0 = c->jet ? Q2N_OK : compute_jets(c);
     if (st0) return st0;
     for (int k = 0; k < c->m->nf; k++) {
