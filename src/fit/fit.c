@@ -489,7 +489,10 @@ static q2n_status compute_jets(ctx *c)
 #define FIT_JET_SPREAD 0.1   /* fraction of the tolerance two corner estimates may disagree by */
 static q2n_status stage_corners(ctx *c)
 {
-    int npin = 4; /* G1 mode too: a consistent corner jet makes the G1 relation hold there to that order */
+    /* G1 mode too pins Q21, Q12 (first rows; a consistent corner jet makes the G1 relation hold
+     * there to that order), but not Q22: inside the interior block it would break its tensor
+     * structure (stage_interior) */
+    int npin = c->o.continuity == 2 ? 4 : 3;
     q2n_status st0 = c->jet ? Q2N_OK : compute_jets(c);
     if (st0) return st0;
     for (int k = 0; k < c->m->nf; k++) {
