@@ -1053,7 +1053,7 @@ static q2n_status make_model(ctx *c, q2n_nurbs_model **out)
 /* Continuity-driven refinement stops at this many spans per ribbon (the deviation may go on to
  * max_spans): beyond it the normal / curvature jumps that remain sit next to Gregory-type
  * corners, where more uniform spans buy little (docs/fit.md, Limits). */
-#define FIT_CONT_SPANS 16
+#define FIT_CONT_SPANS 24
 /* fit_scan_construction ratio above which a failed fit is blamed on the construction: smooth
  * patches of the shared meshes stay below 3.3 (pawn 1.5, helmet 3.3, spot 2.1); the spikes of
  * gregory_test1 reach 15-31, those of righthanded 1e6-1e7. */
