@@ -309,15 +309,17 @@ static q2n_status patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surface 
  * harmonize_vertex).  Bumps vanish with three derivatives at the other end of their edge, so
  * vertices are independent.  A correction that folds, flips or spikes a patch around the vertex
  * (hz_shape) is not applied: those corners stay Gregory corners, and the fit treats them as such. */
-#define HZ_MAXU (17 * EV_MAXVAL)
-#define HZ_MAXR (9 * 2 * EV_MAXVAL)
+#define HZ_GU 21 /* unknowns per edge end */
+#define HZ_MAXU (HZ_GU * EV_MAXVAL)
+#define HZ_MAXR (HZ_RC * 2 * EV_MAXVAL)
 #define HZ_NG (2 + 3 * 81) /* shape guard record: max |dS|, min sine, 81 normals */
 
 typedef struct hz_corner { int f, i, j; } hz_corner;
 
-static const int hz_ab[3][2] = {{2, 1}, {1, 2}, {2, 2}};
+static const int hz_ab[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
+#define HZ_RC 12 /* residuals per corner: 4 orders x 3 */
 
-/* Mismatches B - A of the corners cs (9 per corner); only_e >= 0: only the corners of faces
+/* Mismatches B - A of the corners cs (HZ_RC per corner); only_e >= 0: only the corners of faces
  * with edge only_e as a side are evaluated (the others are copied from r0). */
 static q2n_status hz_residuals(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
                                ev_edge *const *edges, int K, int kb, const hz_corner *cs, int nc, int only_e,
@@ -327,15 +329,15 @@ static q2n_status hz_residuals(const q2n_mesh *m, const q2n_surface *s, const do
         int touch = only_e < 0;
         for (int sd = 0; sd < 4 && !touch; sd++) touch = m->he_edge[q2n_face_he(m, cs[q].f, sd)] == only_e;
         if (!touch) {
-            memcpy(r + 9 * q, r0 + 9 * q, 9 * sizeof(double));
+            memcpy(r + HZ_RC * q, r0 + HZ_RC * q, HZ_RC * sizeof(double));
             continue;
         }
         q2n_status st = patch_setup(P, m, s, iv, unc, edges, K, kb, cs[q].f, err);
         if (st) return st;
-        for (int o = 0; o < 3; o++)
+        for (int o = 0; o < 4; o++)
             for (int c = 0; c < 3; c++) {
                 int a = hz_ab[o][0], b = hz_ab[o][1];
-                r[9 * q + 3 * o + c] = P->B[cs[q].i][cs[q].j][a][b][c] - P->A[cs[q].i][cs[q].j][a][b][c];
+                r[HZ_RC * q + 3 * o + c] = P->B[cs[q].i][cs[q].j][a][b][c] - P->A[cs[q].i][cs[q].j][a][b][c];
             }
     }
     return Q2N_OK;
@@ -446,6 +448,7 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
     double *u[HZ_MAXU];
     int ue[HZ_MAXU];
     double zc[HZ_MAXU];
+    char first[HZ_MAXU] = {0}; /* first-order data: n, γ, the slopes of a, b */
     int nu = 0;
     hz_corner cs[2 * EV_MAXVAL];
     int nc = 0;
@@ -465,14 +468,16 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
                 int dup = 0;
                 for (int q = 0; q < nu; q++) dup |= u[q] == &E->nb[end];
                 if (dup) continue;
-                if (nu + 17 > HZ_MAXU) return Q2N_OK; /* valence beyond the table: left as is */
+                if (nu + HZ_GU > HZ_MAXU) return Q2N_OK; /* valence beyond the table: left as is */
                 int two = E->face[1] >= 0, nu0 = nu;
-                u[nu++] = &E->nb[end];
-                u[nu++] = &E->g3[end];
-                u[nu++] = &E->g4[end];
+                first[nu] = 1, u[nu++] = &E->nb[end];
+                first[nu] = 1, u[nu++] = &E->g3[end];
+                first[nu] = 1, u[nu++] = &E->g4[end];
                 for (int sd = 0; sd < (two ? 2 : 1); sd++) {
                     u[nu++] = &E->a2[sd][end];
                     u[nu++] = &E->b2[sd][end];
+                    first[nu] = 2, u[nu++] = &E->a1[sd][end];
+                    first[nu] = 2, u[nu++] = &E->b1[sd][end];
                 }
                 for (int c = 0; c < 3; c++) {
                     u[nu++] = &E->x1[end][c];
@@ -495,7 +500,7 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
         }
     }
     if (!nc || !nu) return Q2N_OK;
-    int nr = 9 * nc;
+    int nr = HZ_RC * nc;
     q2n_status st = Q2N_OK;
     ev_patch *P = malloc(sizeof *P);
     double *M = malloc(sizeof(double) * (size_t)nr * (size_t)(nu + 1));
@@ -510,9 +515,20 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
         goto out;
     }
     if ((st = hz_residuals(m, s, iv, unc, edges, K, kb, cs, nc, -1, NULL, r0, P, err))) goto out2;
-    double rmax = 0;
-    for (int i = 0; i < nr; i++) rmax = fmax(rmax, fabs(r0[i]));
+    double rmax = 0, r11 = 0;
+    for (int i = 0; i < nr; i++) {
+        rmax = fmax(rmax, fabs(r0[i]));
+        if (i % HZ_RC < 3) r11 = fmax(r11, fabs(r0[i]));
+    }
     if (!(rmax > 0)) goto out2;
+    /* the slopes of a, b (first[] == 2) are unknowns only where a twist disagrees (where the
+     * sign guard of ev_build_edge changed a slope); elsewhere the twists stay as they are */
+    if (!(r11 > 1e-9 * rmax)) {
+        int w = 0;
+        for (int k = 0; k < nu; k++)
+            if (first[k] != 2) { u[w] = u[k]; ue[w] = ue[k]; first[w] = first[k]; w++; }
+        nu = w;
+    }
     for (int k = 0; k < nu; k++) {
         double keep = *u[k];
         *u[k] = keep + 1;
@@ -522,8 +538,7 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
         for (int i = 0; i < nr; i++) M[(size_t)nr * k + i] -= r0[i];
     }
     /* Cost: the change of the second derivatives along the edges (hz_edge_sample), Q = H^T H
-     * block-diagonal by edge end, the first-order data (n, γ: unknowns 0..2 of a group) weighted
-     * by F.  min z^T Q z subject to M z = -r0: z = Q^-1 M^T l with (M Q^-1 M^T + mu) l = -r0,
+     * block-diagonal by edge end, the first-order data (n, γ, the slopes of a, b) weighted by F.  min z^T Q z subject to M z = -r0: z = Q^-1 M^T l with (M Q^-1 M^T + mu) l = -r0,
      * refined three times against the exact affine residual (the Tikhonov term mu only damps
      * nearly singular vertex systems).  F = 1000 first: changing the normal field or the curve
      * costs most and makes the patches hardest to fit; where that correction folds or spikes
@@ -555,10 +570,10 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
             int g1 = g0;
             while (g1 < nu && ue[g1] == ue[g0]) g1++;
             int ne = g1 - g0;
-            double Q[17 * 17], qmax = 0;
+            double Q[HZ_GU * HZ_GU], qmax = 0;
             for (int a = 0; a < ne; a++)
                 for (int b = 0; b < ne; b++) {
-                    double q = 0, wa = a < 3 ? Fs[fi] : 1, wb = b < 3 ? Fs[fi] : 1;
+                    double q = 0, wa = first[g0 + a] ? Fs[fi] : 1, wb = first[g0 + b] ? Fs[fi] : 1;
                     const double *ha = H + (size_t)HZ_NH * (g0 + a), *hb = H + (size_t)HZ_NH * (g0 + b);
                     for (int i = 0; i < HZ_NH; i++) q += ha[i] * hb[i];
                     Q[a * ne + b] = wa * wb * q;
@@ -567,7 +582,7 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
             for (int a = 0; a < ne; a++) Q[a * ne + a] += 1e-9 * qmax + 1e-300;
             if (!chol_factor(Q, ne)) { solved = 0; break; }
             for (int i = 0; i < nr; i++) {
-                double col[17];
+                double col[HZ_GU];
                 for (int k = 0; k < ne; k++) col[k] = M[(size_t)nr * (g0 + k) + i];
                 chol_solve(Q, col, ne);
                 for (int k = 0; k < ne; k++) Y[(size_t)nr * (g0 + k) + i] = col[k];

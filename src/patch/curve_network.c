@@ -412,8 +412,8 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double aL[JO], bL[JO], CL[JO][3], tmp[JO][3];
     herm(E->a[0], E->as[0], t, aL);
     herm(E->b[0], E->bs[0], t, bL);
-    add_bumps(aL, NULL, E->a2[0], t);
-    add_bumps(bL, NULL, E->b2[0], t);
+    add_bumps(aL, E->a1[0], E->a2[0], t);
+    add_bumps(bL, E->b1[0], E->b2[0], t);
     vj_scale(aL, D, CL);
     vj_scale(bL, Tu, tmp);
     vj_add(CL, tmp, CL);
@@ -436,8 +436,8 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double aR[JO], bR[JO], CR[JO][3], al[JO], be[JO], inv[JO];
     herm(E->a[1], E->as[1], t, aR);
     herm(E->b[1], E->bs[1], t, bR);
-    add_bumps(aR, NULL, E->a2[1], t);
-    add_bumps(bR, NULL, E->b2[1], t);
+    add_bumps(aR, E->a1[1], E->a2[1], t);
+    add_bumps(bR, E->b1[1], E->b2[1], t);
     vj_scale(aR, D, CR);
     vj_scale(bR, Tu, tmp);
     vj_add(CR, tmp, CR);

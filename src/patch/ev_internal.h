@@ -53,7 +53,8 @@ typedef struct ev_edge {
     double g3[2], g4[2]; /* γ += (g3[end] E3_end + g4[end] E4_end) N_end, E_p = t^p (1-t)^5 / p!
                             (mirrored at end 1): the normal third and fourth derivatives */
     double nb[2];        /* n += nb[end] D_end B_end */
-    double a2[2][2], b2[2][2]; /* [side][end]: a += a2 B_end, b += b2 B_end */
+    double a2[2][2], b2[2][2]; /* [side][end]: a += a1 C_end + a2 B_end, b += b1 C_end + b2 B_end */
+    double a1[2][2], b1[2][2]; /* (slopes: only where the sign guard below changed a twist) */
     double x1[2][3], x2[2][3]; /* base side: ξ += x1[end] C_end + x2[end] B_end */
     double t1[2][2], t2[2][2]; /* derived side: τ_k += t1[end][k] C_end + t2[end][k] B_end */
 } ev_edge;
