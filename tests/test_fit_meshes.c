@@ -111,10 +111,9 @@ static q2n_mesh *shared(const char *file)
     return m;
 }
 
-/* Extraordinary vertices: augmented surface completed by Coons–Gregory patches (seed 003 §4).
- * Their rational corner blends are only C1 at the patch corner, so the fit needs more spans
- * there, and in G2 mode the curvature jump next to those corners stays above target (reported,
- * not failed); deviation, watertightness and G1 must still hold. */
+/* Extraordinary vertices: augmented surface completed by Coons–Gregory patches (seed 003 §4),
+ * whose corners are made polynomial-compatible in G2 mode (the rational Gregory blend is then
+ * inactive): every target holds, G2 included. */
 static void ev_cases(void)
 {
     const char *files[] = {"gismo_ev_valence3_carpet.obj", "gismo_ev_valence5_carpet.obj"};
@@ -142,10 +141,7 @@ static void ev_cases(void)
             snprintf(nm, sizeof nm, "%s EV G%d 1e-5", files[i], cont);
             fit_and_check(nm, m, s, 1e-5, cont, 1, 0, &r);
             CHECK(r.g1_max_deg <= 0.01, "%s: g1 %g", nm, r.g1_max_deg);
-            if (!r.g2_met) {
-                CHECK(r.note[0] != 0, "%s: G2 missed without a note", nm);
-                printf("  note: %s\n", r.note);
-            }
+            if (cont == 2) CHECK(r.g2_met && r.g2_max_rel <= 0.01, "%s: g2 %g (%s)", nm, r.g2_max_rel, r.note);
         }
         q2n_surface_free(s);
         q2n_mesh_free(m);

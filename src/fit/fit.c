@@ -1197,6 +1197,17 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             memcpy(c->rspan, next, sizeof(int) * (size_t)c->nrib);
             continue;
         }
+        /* acceptance: twice the refinement targets (0.01 deg, 1 % by default), on every edge
+         * where the construction itself meets the refinement target */
+        worst_e1 = worst_e2 = -1;
+        for (int e = 0; e < m->ne; e++) {
+            if (eg[0][e] > 2 * c->o.g1_target_deg && eg[2][e] < 0.5 * c->o.g1_target_deg &&
+                (worst_e1 < 0 || eg[0][e] > eg[0][worst_e1]))
+                worst_e1 = e;
+            if (c->o.continuity == 2 && eg[1][e] > 2 * c->o.g2_target_rel && eg[3][e] < 0.5 * c->o.g2_target_rel &&
+                (worst_e2 < 0 || eg[1][e] > eg[1][worst_e2]))
+                worst_e2 = e;
+        }
         rep->dev_met = worst_f < 0;
         rep->g1_met = worst_e1 < 0;
         rep->g2_met = c->o.continuity == 1 || worst_e2 < 0;
@@ -1209,7 +1220,7 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             int e = worst_e1 >= 0 ? worst_e1 : worst_e2;
             snprintf(rep->note, sizeof rep->note,
                      "edge %d: normal jump %.3g deg, curvature jump %.3g (targets %.3g deg, %.3g) not reached",
-                     e, eg[0][e], eg[1][e], c->o.g1_target_deg, c->o.g2_target_rel);
+                     e, eg[0][e], eg[1][e], 2 * c->o.g1_target_deg, 2 * c->o.g2_target_rel);
         }
         *out = md;
         if (worst_f >= 0) {
