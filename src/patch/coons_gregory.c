@@ -529,105 +529,116 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
             if (first[k] != 2) { u[w] = u[k]; ue[w] = ue[k]; first[w] = first[k]; w++; }
         nu = w;
     }
-    for (int k = 0; k < nu; k++) {
-        double keep = *u[k];
-        *u[k] = keep + 1;
-        st = hz_residuals(m, s, iv, unc, edges, K, kb, cs, nc, ue[k], r0, M + (size_t)nr * k, P, err);
-        *u[k] = keep;
-        if (st) goto out2;
-        for (int i = 0; i < nr; i++) M[(size_t)nr * k + i] -= r0[i];
-    }
-    /* Cost: the change of the second derivatives along the edges (hz_edge_sample), Q = H^T H
-     * block-diagonal by edge end, the first-order data (n, γ, the slopes of a, b) weighted by F.  min z^T Q z subject to M z = -r0: z = Q^-1 M^T l with (M Q^-1 M^T + mu) l = -r0,
-     * refined three times against the exact affine residual (the Tikhonov term mu only damps
-     * nearly singular vertex systems).  F = 1000 first: changing the normal field or the curve
-     * costs most and makes the patches hardest to fit; where that correction folds or spikes
-     * a patch (hz_shape), F = 100, 10, 1 are tried, and if none passes the corners at v stay
-     * Gregory corners. */
-    for (int g0 = 0; g0 < nu;) {
-        int g1 = g0;
-        while (g1 < nu && ue[g1] == ue[g0]) g1++;
-        ev_edge *E = edges[ue[g0]];
-        double base[HZ_NH];
-        int nh = hz_edge_sample(E, base);
-        for (int k = g0; k < g1; k++) {
-            double keep = *u[k];
-            *u[k] = keep + 1;
-            hz_edge_sample(E, H + (size_t)HZ_NH * k);
-            *u[k] = keep;
-            for (int i = 0; i < HZ_NH; i++) H[(size_t)HZ_NH * k + i] = i < nh ? H[(size_t)HZ_NH * k + i] - base[i] : 0;
-        }
-        g0 = g1;
-    }
     double (*gb)[HZ_NG] = malloc(sizeof *gb * (size_t)nc);
     if (!gb) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (vertex %d)", v); goto out2; }
     for (int q = 0; q < nc; q++)
         if ((st = hz_shape(m, s, iv, unc, edges, K, kb, cs[q].f, P, NULL, NULL, gb[q], err))) { free(gb); goto out2; }
-    static const double Fs[4] = {1000, 100, 10, 1};
-    for (int fi = 0; fi < 4; fi++) {
-        int solved = 1;
-        for (int g0 = 0; g0 < nu && solved;) {
+    /* bumps over the whole edge first; where every weighting folds a patch, bumps concentrated
+     * nearer to the vertex ((1-t)^6, then (1-t)^8 instead of (1-t)^4; γ: ^7, ^9) */
+    int done = 0;
+    for (int li = 0; li < 3 && !done; li++) {
+        for (int k = 0; k < nu; k++) {
+            ev_edge *E = edges[ue[k]];
+            E->loc[q2n_he_origin(m, m->edge_he[ue[k]]) == v ? 0 : 1] = 2 * li;
+        }
+        for (int k = 0; k < nu; k++) {
+            double keep = *u[k];
+            *u[k] = keep + 1;
+            st = hz_residuals(m, s, iv, unc, edges, K, kb, cs, nc, ue[k], r0, M + (size_t)nr * k, P, err);
+            *u[k] = keep;
+            if (st) goto out2;
+            for (int i = 0; i < nr; i++) M[(size_t)nr * k + i] -= r0[i];
+        }
+        /* Cost: the change of the second derivatives along the edges (hz_edge_sample), Q = H^T H
+         * block-diagonal by edge end, the first-order data (n, γ, the slopes of a, b) weighted by F.  min z^T Q z subject to M z = -r0: z = Q^-1 M^T l with (M Q^-1 M^T + mu) l = -r0,
+         * refined three times against the exact affine residual (the Tikhonov term mu only damps
+         * nearly singular vertex systems).  F = 1000 first: changing the normal field or the curve
+         * costs most and makes the patches hardest to fit; where that correction folds or spikes
+         * a patch (hz_shape), F = 100, 10, 1 are tried, and if none passes the corners at v stay
+         * Gregory corners. */
+        for (int g0 = 0; g0 < nu;) {
             int g1 = g0;
             while (g1 < nu && ue[g1] == ue[g0]) g1++;
-            int ne = g1 - g0;
-            double Q[HZ_GU * HZ_GU], qmax = 0;
-            for (int a = 0; a < ne; a++)
-                for (int b = 0; b < ne; b++) {
-                    double q = 0, wa = first[g0 + a] ? Fs[fi] : 1, wb = first[g0 + b] ? Fs[fi] : 1;
-                    const double *ha = H + (size_t)HZ_NH * (g0 + a), *hb = H + (size_t)HZ_NH * (g0 + b);
-                    for (int i = 0; i < HZ_NH; i++) q += ha[i] * hb[i];
-                    Q[a * ne + b] = wa * wb * q;
-                    if (a == b) qmax = fmax(qmax, Q[a * ne + b]);
-                }
-            for (int a = 0; a < ne; a++) Q[a * ne + a] += 1e-9 * qmax + 1e-300;
-            if (!chol_factor(Q, ne)) { solved = 0; break; }
-            for (int i = 0; i < nr; i++) {
-                double col[HZ_GU];
-                for (int k = 0; k < ne; k++) col[k] = M[(size_t)nr * (g0 + k) + i];
-                chol_solve(Q, col, ne);
-                for (int k = 0; k < ne; k++) Y[(size_t)nr * (g0 + k) + i] = col[k];
+            ev_edge *E = edges[ue[g0]];
+            double base[HZ_NH];
+            int nh = hz_edge_sample(E, base);
+            for (int k = g0; k < g1; k++) {
+                double keep = *u[k];
+                *u[k] = keep + 1;
+                hz_edge_sample(E, H + (size_t)HZ_NH * k);
+                *u[k] = keep;
+                for (int i = 0; i < HZ_NH; i++) H[(size_t)HZ_NH * k + i] = i < nh ? H[(size_t)HZ_NH * k + i] - base[i] : 0;
             }
             g0 = g1;
         }
-        if (!solved) continue;
-        double tr = 0;
-        for (int i = 0; i < nr; i++)
-            for (int j = 0; j <= i; j++) {
-                double g = 0;
-                for (int k = 0; k < nu; k++) g += M[(size_t)nr * k + i] * Y[(size_t)nr * k + j];
-                G[i * nr + j] = G[j * nr + i] = g;
+        static const double Fs[4] = {1000, 100, 10, 1};
+        for (int fi = 0; fi < 4; fi++) {
+            int solved = 1;
+            for (int g0 = 0; g0 < nu && solved;) {
+                int g1 = g0;
+                while (g1 < nu && ue[g1] == ue[g0]) g1++;
+                int ne = g1 - g0;
+                double Q[HZ_GU * HZ_GU], qmax = 0;
+                for (int a = 0; a < ne; a++)
+                    for (int b = 0; b < ne; b++) {
+                        double q = 0, wa = first[g0 + a] ? Fs[fi] : 1, wb = first[g0 + b] ? Fs[fi] : 1;
+                        const double *ha = H + (size_t)HZ_NH * (g0 + a), *hb = H + (size_t)HZ_NH * (g0 + b);
+                        for (int i = 0; i < HZ_NH; i++) q += ha[i] * hb[i];
+                        Q[a * ne + b] = wa * wb * q;
+                        if (a == b) qmax = fmax(qmax, Q[a * ne + b]);
+                    }
+                for (int a = 0; a < ne; a++) Q[a * ne + a] += 1e-9 * qmax + 1e-300;
+                if (!chol_factor(Q, ne)) { solved = 0; break; }
+                for (int i = 0; i < nr; i++) {
+                    double col[HZ_GU];
+                    for (int k = 0; k < ne; k++) col[k] = M[(size_t)nr * (g0 + k) + i];
+                    chol_solve(Q, col, ne);
+                    for (int k = 0; k < ne; k++) Y[(size_t)nr * (g0 + k) + i] = col[k];
+                }
+                g0 = g1;
             }
-        /* rows equilibrated (the orders (2,1), (1,2), (2,2) differ in scale), so that the
-         * Tikhonov term is relative to every row alike */
-        double dr[HZ_MAXR];
-        for (int i = 0; i < nr; i++) dr[i] = G[i * nr + i] > 0 ? 1 / sqrt(G[i * nr + i]) : 0;
-        for (int i = 0; i < nr; i++)
-            for (int j = 0; j < nr; j++) G[i * nr + j] *= dr[i] * dr[j];
-        (void)tr;
-        for (int i = 0; i < nr; i++) G[i * nr + i] += 1e-10 + (dr[i] == 0);
-        if (!chol_factor(G, nr)) continue;
-        for (int k = 0; k < nu; k++) zc[k] = 0;
-        for (int pass = 0; pass < 4; pass++) {
-            for (int i = 0; i < nr; i++) {
-                double ri = r0[i];
-                for (int k = 0; k < nu; k++) ri += M[(size_t)nr * k + i] * zc[k];
-                y[i] = -ri * dr[i];
+            if (!solved) continue;
+            double tr = 0;
+            for (int i = 0; i < nr; i++)
+                for (int j = 0; j <= i; j++) {
+                    double g = 0;
+                    for (int k = 0; k < nu; k++) g += M[(size_t)nr * k + i] * Y[(size_t)nr * k + j];
+                    G[i * nr + j] = G[j * nr + i] = g;
+                }
+            /* rows equilibrated (the orders (2,1), (1,2), (2,2) differ in scale), so that the
+             * Tikhonov term is relative to every row alike */
+            double dr[HZ_MAXR];
+            for (int i = 0; i < nr; i++) dr[i] = G[i * nr + i] > 0 ? 1 / sqrt(G[i * nr + i]) : 0;
+            for (int i = 0; i < nr; i++)
+                for (int j = 0; j < nr; j++) G[i * nr + j] *= dr[i] * dr[j];
+            (void)tr;
+            for (int i = 0; i < nr; i++) G[i * nr + i] += 1e-10 + (dr[i] == 0);
+            if (!chol_factor(G, nr)) continue;
+            for (int k = 0; k < nu; k++) zc[k] = 0;
+            for (int pass = 0; pass < 4; pass++) {
+                for (int i = 0; i < nr; i++) {
+                    double ri = r0[i];
+                    for (int k = 0; k < nu; k++) ri += M[(size_t)nr * k + i] * zc[k];
+                    y[i] = -ri * dr[i];
+                }
+                chol_solve(G, y, nr);
+                for (int i = 0; i < nr; i++) y[i] *= dr[i];
+                for (int k = 0; k < nu; k++) {
+                    double z = 0;
+                    for (int i = 0; i < nr; i++) z += Y[(size_t)nr * k + i] * y[i];
+                    zc[k] += z;
+                }
             }
-            chol_solve(G, y, nr);
-            for (int i = 0; i < nr; i++) y[i] *= dr[i];
-            for (int k = 0; k < nu; k++) {
-                double z = 0;
-                for (int i = 0; i < nr; i++) z += Y[(size_t)nr * k + i] * y[i];
-                zc[k] += z;
-            }
+            for (int k = 0; k < nu; k++) *u[k] += zc[k];
+            int ok = 1;
+            for (int q = 0; q < nc && ok; q++)
+                if ((st = hz_shape(m, s, iv, unc, edges, K, kb, cs[q].f, P, gb[q], &ok, NULL, err))) { free(gb); goto out2; }
+            if (ok) { done = 1; break; }
+            for (int k = 0; k < nu; k++) *u[k] -= zc[k];
         }
-        for (int k = 0; k < nu; k++) *u[k] += zc[k];
-        int ok = 1;
-        for (int q = 0; q < nc && ok; q++)
-            if ((st = hz_shape(m, s, iv, unc, edges, K, kb, cs[q].f, P, gb[q], &ok, NULL, err))) { free(gb); goto out2; }
-        if (ok) break;
-        for (int k = 0; k < nu; k++) *u[k] -= zc[k];
     }
+    if (!done)
+        for (int k = 0; k < nu; k++) edges[ue[k]]->loc[q2n_he_origin(m, m->edge_he[ue[k]]) == v ? 0 : 1] = 0;
     free(gb);
 out2:
     free(Y);

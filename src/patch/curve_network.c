@@ -168,16 +168,19 @@ static void herm(const double v[2], const double s[2], double t, double *r)
  * 0..nder (<= 5) at t.  q = 4 for the ribbon data and 5 for γ: the other end's corner values use
  * up to third t-derivatives of n, a, b and up to fourth of γ (the derived side's ξ'' through
  * γ_xx''), which must not change there. */
-static void bump_n(int end, int p, double t, int nder, double *r)
+static void bump_n(int end, int p, int loc, double t, int nder, double *r)
 {
-    static const double bq[2][6] = {{1, -4, 6, -4, 1, 0}, {1, -5, 10, -10, 5, -1}}, fact[5] = {1, 1, 2, 6, 24};
-    int q = p >= 3 ? 5 : 4;
-    double c[10] = {0};
-    for (int i = 0; i <= q; i++) c[p + i] = bq[q - 4][i] / fact[p];
+    static const double fact[5] = {1, 1, 2, 6, 24};
+    int q = (p >= 3 ? 5 : 4) + loc;
+    double c[20] = {0}, bin = 1;
+    for (int i = 0; i <= q; i++) {
+        c[p + i] = (i & 1 ? -bin : bin) / fact[p];
+        bin = bin * (q - i) / (i + 1);
+    }
     double x = end ? 1 - t : t, sg = end && (p & 1) ? -1 : 1;
     for (int k = 0; k <= nder; k++) {
         double v = 0;
-        for (int i = 9; i >= k; i--) {
+        for (int i = 19; i >= k; i--) {
             double f = 1;
             for (int j = 0; j < k; j++) f *= (double)(i - j);
             v = v * x + f * c[i];
@@ -186,15 +189,15 @@ static void bump_n(int end, int p, double t, int nder, double *r)
     }
 }
 
-static void bump(int end, int kind, double t, double *r) { bump_n(end, kind, t, JO - 1, r); }
+static void bump(const ev_edge *E, int end, int kind, double t, double *r) { bump_n(end, kind, E->loc[end], t, JO - 1, r); }
 
 /* s + Σ_end (w2[end] B_end + w1[end] C_end) as derivative arrays (w1 may be NULL) */
-static void add_bumps(double *s, const double w1[2], const double w2[2], double t)
+static void add_bumps(const ev_edge *E, double *s, const double w1[2], const double w2[2], double t)
 {
     double r[JO];
     for (int end = 0; end < 2; end++) {
-        if (w2[end] != 0) { bump(end, 2, t, r); for (int k = 0; k < JO; k++) s[k] += w2[end] * r[k]; }
-        if (w1 && w1[end] != 0) { bump(end, 1, t, r); for (int k = 0; k < JO; k++) s[k] += w1[end] * r[k]; }
+        if (w2[end] != 0) { bump(E, end, 2, t, r); for (int k = 0; k < JO; k++) s[k] += w2[end] * r[k]; }
+        if (w1 && w1[end] != 0) { bump(E, end, 1, t, r); for (int k = 0; k < JO; k++) s[k] += w1[end] * r[k]; }
     }
 }
 
@@ -213,14 +216,14 @@ static void ribbon_at(const ev_edge *E, double t, ribbon *R)
         for (int p = 3; p <= 4; p++) {
             double w = p == 3 ? E->g3[end] : E->g4[end], r[6];
             if (w == 0) continue;
-            bump_n(end, p, t, 5, r);
+            bump_n(end, p, E->loc[end], t, 5, r);
             for (int k = 0; k < 6; k++) q2n_v3_axpy(R->g[k], w * r[k], E->nN[end]);
         }
     ev_poly_eval(&E->nrm, t, 3, n);
     for (int end = 0; end < 2; end++)
         if (E->nb[end] != 0) {
             double r[JO];
-            bump(end, 2, t, r);
+            bump(E, end, 2, t, r);
             for (int k = 0; k < JO; k++) q2n_v3_axpy(n[k], E->nb[end] * r[k], E->nD[end]);
         }
     for (int k = 0; k < JO; k++)
@@ -412,8 +415,8 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double aL[JO], bL[JO], CL[JO][3], tmp[JO][3];
     herm(E->a[0], E->as[0], t, aL);
     herm(E->b[0], E->bs[0], t, bL);
-    add_bumps(aL, E->a1[0], E->a2[0], t);
-    add_bumps(bL, E->b1[0], E->b2[0], t);
+    add_bumps(E, aL, E->a1[0], E->a2[0], t);
+    add_bumps(E, bL, E->b1[0], E->b2[0], t);
     vj_scale(aL, D, CL);
     vj_scale(bL, Tu, tmp);
     vj_add(CL, tmp, CL);
@@ -421,8 +424,8 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     ev_poly_eval(&E->xi, t, 2, xl);
     for (int end = 0; end < 2; end++) {
         double r1[JO], r2[JO];
-        bump(end, 1, t, r1);
-        bump(end, 2, t, r2);
+        bump(E, end, 1, t, r1);
+        bump(E, end, 2, t, r2);
         for (int k = 0; k < JO; k++)
             for (int c = 0; c < 3; c++) xl[k][c] += E->x1[end][c] * r1[k] + E->x2[end][c] * r2[k];
     }
@@ -436,8 +439,8 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double aR[JO], bR[JO], CR[JO][3], al[JO], be[JO], inv[JO];
     herm(E->a[1], E->as[1], t, aR);
     herm(E->b[1], E->bs[1], t, bR);
-    add_bumps(aR, E->a1[1], E->a2[1], t);
-    add_bumps(bR, E->b1[1], E->b2[1], t);
+    add_bumps(E, aR, E->a1[1], E->a2[1], t);
+    add_bumps(E, bR, E->b1[1], E->b2[1], t);
     vj_scale(aR, D, CR);
     vj_scale(bR, Tu, tmp);
     vj_add(CR, tmp, CR);
@@ -471,8 +474,8 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     {
         double w1[2][2] = {{E->t1[0][0], E->t1[1][0]}, {E->t1[0][1], E->t1[1][1]}};
         double w2[2][2] = {{E->t2[0][0], E->t2[1][0]}, {E->t2[0][1], E->t2[1][1]}};
-        add_bumps(t1, w1[0], w2[0], t);
-        add_bumps(t2, w1[1], w2[1], t);
+        add_bumps(E, t1, w1[0], w2[0], t);
+        add_bumps(E, t2, w1[1], w2[1], t);
     }
     vj_scale(t1, D, tmp);
     vj_add(XR, tmp, XR);

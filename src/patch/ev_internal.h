@@ -50,6 +50,7 @@ typedef struct ev_edge {
      * of n, a, b, the first two of ξ and τ and the third and fourth of γ at that end only, never
      * a value, a slope, or (for γ) a second derivative: */
     double nD[2][3], nN[2][3]; /* D and N = D x T at the ends (set by ev_build_edge) */
+    int loc[2];          /* locality of the bumps at each end: (1-t)^(4+loc) (γ: 5+loc), 0 as built */
     double g3[2], g4[2]; /* γ += (g3[end] E3_end + g4[end] E4_end) N_end, E_p = t^p (1-t)^5 / p!
                             (mirrored at end 1): the normal third and fourth derivatives */
     double nb[2];        /* n += nb[end] D_end B_end */
