@@ -395,7 +395,8 @@ static const double FD[3][6] = {{6, -15, 20, -15, 6, -1},
                                 {-87.0 / 10, 117.0 / 4, -127.0 / 3, 33, -27.0 / 2, 137.0 / 60},
                                 {29.0 / 3, -461.0 / 12, 62, -307.0 / 6, 65.0 / 3, -15.0 / 4}};
 
-/* Mixed corner derivative J = d_t^a d_s^b S(0,0) (a, b in 1..2) of side sd, read along both
+/* Mixed corner derivative J = d_t^a d_s^b S(0,0) (a, b in 1..2) of side sd: exact from the
+ * construction where it reports the two sides' values (q2n_surface_corner_mixed), else read along both
  * edges through the corner and averaged (they agree for a smooth patch; Gregory-type corners
  * have direction-dependent mixed derivatives, and the average is the compromise).  Along s = 0
  * it is the nd-th t-derivative of an evaluated second-derivative field at (t, 0), along t = 0
@@ -1174,8 +1175,6 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             double r1 = eg[0][e] / c->o.g1_target_deg, r2 = eg[1][e] / c->o.g2_target_rel;
             int bad1 = r1 > 1.0 && eg[2][e] < 0.5 * c->o.g1_target_deg;
             int bad2 = c->o.continuity == 2 && r2 > 1.0 && eg[3][e] < 0.5 * c->o.g2_target_rel;
-            if (bad1 && (worst_e1 < 0 || eg[0][e] > eg[0][worst_e1])) worst_e1 = e;
-            if (bad2 && (worst_e2 < 0 || eg[1][e] > eg[1][worst_e2])) worst_e2 = e;
             int me = c->rspan[c->rib[e]];
             if (stalled(&rf[e], eg[0][e], bad1, me, 2.0)) bad1 = 0;
             if (stalled(&rf[m->ne + e], eg[1][e], bad2, me, 2.0)) bad2 = 0;
@@ -1199,7 +1198,6 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
         }
         /* acceptance: twice the refinement targets (0.01 deg, 1 % by default), on every edge
          * where the construction itself meets the refinement target */
-        worst_e1 = worst_e2 = -1;
         for (int e = 0; e < m->ne; e++) {
             if (eg[0][e] > 2 * c->o.g1_target_deg && eg[2][e] < 0.5 * c->o.g1_target_deg &&
                 (worst_e1 < 0 || eg[0][e] > eg[0][worst_e1]))

@@ -550,7 +550,8 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
             for (int i = 0; i < nr; i++) M[(size_t)nr * k + i] -= r0[i];
         }
         /* Cost: the change of the second derivatives along the edges (hz_edge_sample), Q = H^T H
-         * block-diagonal by edge end, the first-order data (n, γ, the slopes of a, b) weighted by F.  min z^T Q z subject to M z = -r0: z = Q^-1 M^T l with (M Q^-1 M^T + mu) l = -r0,
+         * block-diagonal by edge end, the first-order data (n, γ, the slopes of a, b) weighted by
+         * F.  min z^T Q z subject to M z = -r0: z = Q^-1 M^T l with (M Q^-1 M^T + mu) l = -r0,
          * refined three times against the exact affine residual (the Tikhonov term mu only damps
          * nearly singular vertex systems).  F = 1000 first: changing the normal field or the curve
          * costs most and makes the patches hardest to fit; where that correction folds or spikes
@@ -598,7 +599,6 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
                 g0 = g1;
             }
             if (!solved) continue;
-            double tr = 0;
             for (int i = 0; i < nr; i++)
                 for (int j = 0; j <= i; j++) {
                     double g = 0;
@@ -611,7 +611,6 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
             for (int i = 0; i < nr; i++) dr[i] = G[i * nr + i] > 0 ? 1 / sqrt(G[i * nr + i]) : 0;
             for (int i = 0; i < nr; i++)
                 for (int j = 0; j < nr; j++) G[i * nr + j] *= dr[i] * dr[j];
-            (void)tr;
             for (int i = 0; i < nr; i++) G[i * nr + i] += 1e-10 + (dr[i] == 0);
             if (!chol_factor(G, nr)) continue;
             for (int k = 0; k < nu; k++) zc[k] = 0;
