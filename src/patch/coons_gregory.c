@@ -546,7 +546,7 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
             *u[k] = keep + 1;
             st = hz_residuals(m, s, iv, unc, edges, K, kb, cs, nc, ue[k], r0, M + (size_t)nr * k, P, err);
             *u[k] = keep;
-            if (st) goto out2;
+            if (st) { free(gb); goto out2; }
             for (int i = 0; i < nr; i++) M[(size_t)nr * k + i] -= r0[i];
         }
         /* Cost: the change of the second derivatives along the edges (hz_edge_sample), Q = H^T H
