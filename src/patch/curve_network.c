@@ -405,6 +405,21 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
     return Q2N_OK;
 }
 
+/* Cross field of one side (0 base, 1 derived): χ = a D + b T with its ribbon coefficients a, b
+ * (cubic Hermite plus the corner-compatibility bumps), as derivative arrays. */
+static void side_chi(const ev_edge *E, int side, double t, double D[JO][3], double T[JO][3], double *a, double *b,
+                     double C[JO][3])
+{
+    double tmp[JO][3];
+    herm(E->a[side], E->as[side], t, a);
+    herm(E->b[side], E->bs[side], t, b);
+    add_bumps(E, a, E->a1[side], E->a2[side], t);
+    add_bumps(E, b, E->b1[side], E->b2[side], t);
+    vj_scale(a, D, C);
+    vj_scale(b, T, tmp);
+    vj_add(C, tmp, C);
+}
+
 /* Constructed edge: fields of one side at t, t-derivatives 0..2. */
 static void constructed_eval(const ev_edge *E, int derived, double t, double out[3][3][3])
 {
@@ -413,13 +428,7 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double (*D)[3] = R.D, (*Tu)[3] = R.T, (*Gx)[3] = R.Gx, (*Gxx)[3] = R.Gxx, (*g)[3] = R.g, *rs = R.rs, d = E->d;
     (void)Gx;
     double aL[JO], bL[JO], CL[JO][3], tmp[JO][3];
-    herm(E->a[0], E->as[0], t, aL);
-    herm(E->b[0], E->bs[0], t, bL);
-    add_bumps(E, aL, E->a1[0], E->a2[0], t);
-    add_bumps(E, bL, E->b1[0], E->b2[0], t);
-    vj_scale(aL, D, CL);
-    vj_scale(bL, Tu, tmp);
-    vj_add(CL, tmp, CL);
+    side_chi(E, 0, t, D, Tu, aL, bL, CL);
     double xl[JO][3] = {{0}};
     ev_poly_eval(&E->xi, t, 2, xl);
     for (int end = 0; end < 2; end++) {
@@ -437,13 +446,7 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     /* derived side: χ_R = a_R D + b_R γ_x; G2 condition (formulas.md §4.2) with α = a_R / a_L,
      * β = b_R - b_L α: the normal part of ξ_R is that of α² ξ_L + 2αβ ∂xχ_L + β² γ_xx */
     double aR[JO], bR[JO], CR[JO][3], al[JO], be[JO], inv[JO];
-    herm(E->a[1], E->as[1], t, aR);
-    herm(E->b[1], E->bs[1], t, bR);
-    add_bumps(E, aR, E->a1[1], E->a2[1], t);
-    add_bumps(E, bR, E->b1[1], E->b2[1], t);
-    vj_scale(aR, D, CR);
-    vj_scale(bR, Tu, tmp);
-    vj_add(CR, tmp, CR);
+    side_chi(E, 1, t, D, Tu, aR, bR, CR);
     sj_inv(aL, inv);
     sj_mul(aR, inv, al);
     sj_mul(bL, al, be);
