@@ -16,7 +16,7 @@
 #include <math.h>
 #include <string.h>
 
-static q2n_model *build(const char *file)
+static q2n_model *build(const char *file, int subdivide)
 {
     const char *path = chk_shared_mesh(file);
     if (!path) {
@@ -27,6 +27,7 @@ static q2n_model *build(const char *file)
     memset(&mo, 0, sizeof mo);
     mo.param.method = Q2N_PARAM_CENTRIPETAL;   /* the CLI's defaults */
     mo.param.alpha = NAN;
+    mo.subdivide = subdivide;
     q2n_model *m = NULL;
     q2n_error err;
     q2n_status st = q2n_model_build(path, &mo, &m, &err);
@@ -82,28 +83,28 @@ static void fit_opts(q2n_fit_options *o, const q2n_model *m)
     o->threads = 2;
 }
 
+/* Fit the model with fit_opts; a failure's message is printed. */
+static q2n_status fit(const q2n_model *m, q2n_fit_options *o, q2n_nurbs_model **md, q2n_fit_report *rep)
+{
+    q2n_error err;
+    fit_opts(o, m);
+    q2n_status st = q2n_fit_surface(m->surface, m->mesh, o, md, rep, &err);
+    if (st) printf("  %s\n", err.message);
+    return st;
+}
+
 /* The fit issue's targets on the shared meshes with extraordinary vertices whose Coons–Gregory
  * corners are all polynomial-compatible (test_extraordinary, corner_compat): deviation <= tol,
  * G1 <= 0.01 deg, G2 <= 1 % of the local curvature, in G2 mode (the CLI's default). */
 static void g2_targets(const char *file, int subdivide)
 {
-    const char *path = chk_shared_mesh(file);
-    if (!path) { SKIP("%s not found under ../shared/meshes", file); return; }
-    q2n_model_options mo;
-    memset(&mo, 0, sizeof mo);
-    mo.param.method = Q2N_PARAM_CENTRIPETAL;
-    mo.param.alpha = NAN;
-    mo.subdivide = subdivide;
-    q2n_model *m = NULL;
-    q2n_error err;
-    if (q2n_model_build(path, &mo, &m, &err)) { CHECK(0, "%s: %s", file, err.message); return; }
+    q2n_model *m = build(file, subdivide);
+    if (!m) return;
     q2n_fit_options o;
-    fit_opts(&o, m);
-    CHECK(o.continuity == 2, "%s: G2 mode", file);
     q2n_nurbs_model *md = NULL;
     q2n_fit_report rep;
-    q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &md, &rep, &err);
-    if (st) printf("  %s\n", err.message);
+    q2n_status st = fit(m, &o, &md, &rep);
+    CHECK(o.continuity == 2, "%s: G2 mode", file);
     printf("  %s%s G2: max_dev %.3g, g0 %.2g, G1 %.3g deg, G2 %.3g, spans %d/%d/%d, %.2f s (direct, 2 threads)\n", file,
            subdivide ? " --subdivide 1" : "", rep.max_dev_rel, rep.g0_max_rel, rep.g1_max_deg, rep.g2_max_rel,
            rep.spans_min, rep.spans_median, rep.spans_max, rep.t_total);
@@ -122,15 +123,12 @@ int main(void)
     g2_targets("osd_catmark_gregory_test1.obj", 0);
     g2_targets("crane_spot_control_mesh.obj", 1);
 
-    q2n_model *m = build("osd_catmark_helmet.obj");
+    q2n_model *m = build("osd_catmark_helmet.obj", 0);
     if (m) {
         q2n_fit_options o;
-        fit_opts(&o, m);
         q2n_nurbs_model *md = NULL;
         q2n_fit_report rep;
-        q2n_error err;
-        q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &md, &rep, &err);
-        if (st) printf("  %s\n", err.message);
+        q2n_status st = fit(m, &o, &md, &rep);
         CHECK(st == Q2N_OK, "st == Q2N_OK");
         CHECK(rep.max_dev_rel <= o.tol, "rep.max_dev_rel <= o.tol");
         CHECK(rep.g1_max_deg < 0.01, "rep.g1_max_deg < 0.01");
@@ -147,15 +145,12 @@ int main(void)
         q2n_model_free(m);
     }
 
-    m = build("osd_catmark_gregory_test1.obj");
+    m = build("osd_catmark_gregory_test1.obj", 0);
     if (m) {
         q2n_fit_options o;
-        fit_opts(&o, m);
         q2n_nurbs_model *md = NULL;
         q2n_fit_report rep;
-        q2n_error err;
-        q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &md, &rep, &err);
-        if (st) printf("  %s\n", err.message);
+        q2n_status st = fit(m, &o, &md, &rep);
         CHECK(st == Q2N_OK, "gregory_test1: st == Q2N_OK");
         CHECK(rep.max_dev_rel <= o.tol, "gregory_test1: rep.max_dev_rel <= o.tol");
         double rd = md ? random_dev(md, m->surface, 40) : 1e300;
@@ -168,7 +163,7 @@ int main(void)
         q2n_model_free(m);
     }
 
-    m = build("osd_catmark_righthanded.obj");
+    m = build("osd_catmark_righthanded.obj", 0);
     if (m) {   /* no fit here (11 s); the former near-pole on face 117 */
         check_spike(m->surface, 117, 0.0, 10.0, "righthanded (was 3.6e4 x median)");
         q2n_model_free(m);
