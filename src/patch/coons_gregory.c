@@ -311,33 +311,59 @@ static q2n_status patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surface 
  * (hz_shape) is not applied: those corners stay Gregory corners, and the fit treats them as such. */
 #define HZ_GU 21 /* unknowns per edge end */
 #define HZ_MAXU (HZ_GU * EV_MAXVAL)
-#define HZ_MAXR (HZ_RC * 2 * EV_MAXVAL)
+#define HZ_MAXC (2 * EV_MAXVAL)
+#define HZ_RC 12 /* residuals per corner: 4 orders x 3 */
+#define HZ_MAXR (HZ_RC * HZ_MAXC)
 #define HZ_NG (2 + 3 * 81) /* shape guard record: max |dS|, min sine, 81 normals */
+#define HZ_NS (6 * 81)     /* surface cost samples per corner face: S_u, S_v on a 9 x 9 grid */
+#define HZ_NH (2 * 9 * 9)  /* edge cost samples per edge */
+#define HZ_GN 8            /* Gauss-Newton steps at most (only where slopes of a, b are unknowns) */
 
 typedef struct hz_corner { int f, i, j; } hz_corner;
 
 static const int hz_ab[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
-#define HZ_RC 12 /* residuals per corner: 4 orders x 3 */
 
-/* Mismatches B - A of the corners cs (HZ_RC per corner); only_e >= 0: only the corners of faces
+/* One vertex's corner-compatibility problem: the corners of uncovered faces at the vertex, the
+ * unknowns (pointers into the edges' bump coefficients, grouped by edge end), and scratch. */
+typedef struct hz_vertex {
+    const q2n_mesh *m;
+    const q2n_surface *s;
+    const double *iv;
+    const char *unc;
+    ev_edge **edges;
+    int K, kb, v;
+    hz_corner cs[HZ_MAXC];
+    int nc, nr;
+    double *u[HZ_MAXU];
+    int ue[HZ_MAXU];     /* edge of each unknown */
+    char first[HZ_MAXU]; /* 1: first-order data (n, γ); 2: slopes of a, b; 0: the rest */
+    int nu;
+    ev_patch *P;
+    double (*gb)[HZ_NG]; /* shape of every corner face before the correction */
+    double rmax, r11;
+    double *M, *r0, *Mw, *rc, *rt, *Y, *G, *y, *Q, *H;
+    q2n_error *err;
+} hz_vertex;
+
+/* Mismatches B - A of the corners (HZ_RC per corner); only_e >= 0: only the corners of faces
  * with edge only_e as a side are evaluated (the others are copied from r0). */
-static q2n_status hz_residuals(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
-                               ev_edge *const *edges, int K, int kb, const hz_corner *cs, int nc, int only_e,
-                               const double *r0, double *r, ev_patch *P, q2n_error *err)
+static q2n_status hz_residuals(hz_vertex *V, int only_e, const double *r0, double *r)
 {
-    for (int q = 0; q < nc; q++) {
+    const q2n_mesh *m = V->m;
+    for (int q = 0; q < V->nc; q++) {
+        const hz_corner *c = &V->cs[q];
         int touch = only_e < 0;
-        for (int sd = 0; sd < 4 && !touch; sd++) touch = m->he_edge[q2n_face_he(m, cs[q].f, sd)] == only_e;
+        for (int sd = 0; sd < 4 && !touch; sd++) touch = m->he_edge[q2n_face_he(m, c->f, sd)] == only_e;
         if (!touch) {
             memcpy(r + HZ_RC * q, r0 + HZ_RC * q, HZ_RC * sizeof(double));
             continue;
         }
-        q2n_status st = patch_setup(P, m, s, iv, unc, edges, K, kb, cs[q].f, err);
+        q2n_status st = patch_setup(V->P, m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, c->f, V->err);
         if (st) return st;
         for (int o = 0; o < 4; o++)
-            for (int c = 0; c < 3; c++) {
+            for (int x = 0; x < 3; x++) {
                 int a = hz_ab[o][0], b = hz_ab[o][1];
-                r[HZ_RC * q + 3 * o + c] = P->B[cs[q].i][cs[q].j][a][b][c] - P->A[cs[q].i][cs[q].j][a][b][c];
+                r[HZ_RC * q + 3 * o + x] = V->P->B[c->i][c->j][a][b][x] - V->P->A[c->i][c->j][a][b][x];
             }
     }
     return Q2N_OK;
@@ -373,9 +399,31 @@ static void chol_solve(const double *G, double *y, int n)
     }
 }
 
+/* Probe step of unknown k: a unit step where the mismatches are affine in it (exact), a small
+ * forward step for the slopes of a, b (first == 2), which enter the derived side through
+ * products. */
+static double hz_step(const hz_vertex *V, int k) { return V->first[k] == 2 ? 1e-6 * fmax(1.0, fabs(*V->u[k])) : 1.0; }
+
+/* Mismatches rc at the unknowns' values + z and the Jacobian J there (column k = dr/du_k). */
+static q2n_status hz_jacobian(hz_vertex *V, const double *z, double *rc, double *J)
+{
+    int nr = V->nr;
+    q2n_status st;
+    for (int k = 0; k < V->nu; k++) *V->u[k] += z[k];
+    if (!(st = hz_residuals(V, -1, NULL, rc)))
+        for (int k = 0; k < V->nu && !st; k++) {
+            double keep = *V->u[k], h = hz_step(V, k);
+            *V->u[k] = keep + h;
+            st = hz_residuals(V, V->ue[k], rc, J + (size_t)nr * k);
+            *V->u[k] = keep;
+            for (int i = 0; i < nr; i++) J[(size_t)nr * k + i] = (J[(size_t)nr * k + i] - rc[i]) / h;
+        }
+    for (int k = 0; k < V->nu; k++) *V->u[k] -= z[k];
+    return st;
+}
+
 /* Cost samples of a constructed edge for the corner correction: the second derivatives of the
  * surface along the edge, γ_tt, χ_t (the twist) and ξ, on both sides at t = 0.1, .., 0.9. */
-#define HZ_NH (2 * 9 * 9)
 static int hz_edge_sample(const ev_edge *E, double *out)
 {
     int n = 0;
@@ -398,22 +446,164 @@ static int hz_edge_sample(const ev_edge *E, double *out)
     return n;
 }
 
+/* Edge cost: H (HZ_NH rows per unknown) = the change of the edge samples of the unknown's edge
+ * per unit of the unknown. */
+static void hz_edge_cost(hz_vertex *V)
+{
+    for (int g0 = 0; g0 < V->nu;) {
+        int g1 = g0;
+        while (g1 < V->nu && V->ue[g1] == V->ue[g0]) g1++;
+        ev_edge *E = V->edges[V->ue[g0]];
+        double base[HZ_NH];
+        int nh = hz_edge_sample(E, base);
+        for (int k = g0; k < g1; k++) {
+            double keep = *V->u[k], h = hz_step(V, k), *col = V->H + (size_t)HZ_NH * k;
+            *V->u[k] = keep + h;
+            hz_edge_sample(E, col);
+            *V->u[k] = keep;
+            for (int i = 0; i < HZ_NH; i++) col[i] = i < nh ? (col[i] - base[i]) / h : 0;
+        }
+        g0 = g1;
+    }
+}
+
+/* Surface samples of the corner faces: S_u, S_v on a 9 x 9 grid, each face in units of its
+ * largest first derivative before the correction. */
+static q2n_status hz_surface_sample(hz_vertex *V, double *out)
+{
+    for (int q = 0; q < V->nc; q++) {
+        q2n_status st = patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, V->cs[q].f, V->err);
+        if (st) return st;
+        double sc = 1.0 / V->gb[q][0];
+        for (int a = 0; a <= 8; a++)
+            for (int b = 0; b <= 8; b++) {
+                double D[9];
+                patch_eval(V->P, a / 8.0, b / 8.0, 1, D);
+                for (int x = 0; x < 6; x++) out[(size_t)HZ_NS * q + 6 * (9 * a + b) + x] = sc * D[3 + x];
+            }
+    }
+    return Q2N_OK;
+}
+
+/* Q = the cost's Gram matrix, one block per edge end (block of the group starting at g0 at
+ * Q + HZ_GU * g0, the first-order data weighted by F), or with full != NULL one nu x nu block
+ * full^T full + 1e-3 of the edge cost (its trace relative), then Cholesky-factored in place.
+ * grp[] receives the grouping the factors follow.  0 where a block is not positive definite. */
+static int hz_cost_factor(hz_vertex *V, double F, const double *full, int nfull, int *grp)
+{
+    int nu = V->nu;
+    if (full) {
+        double tf = 0, te = 0;
+        for (int k = 0; k < nu; k++) {
+            grp[k] = 0;
+            for (int i = 0; i < nfull; i++) tf += full[(size_t)nfull * k + i] * full[(size_t)nfull * k + i];
+            for (int i = 0; i < HZ_NH; i++) te += V->H[(size_t)HZ_NH * k + i] * V->H[(size_t)HZ_NH * k + i];
+        }
+        double lam = te > 0 ? 1e-3 * tf / te : 0, qmax = 0;
+        for (int a = 0; a < nu; a++)
+            for (int b = 0; b <= a; b++) {
+                double q = 0;
+                const double *fa = full + (size_t)nfull * a, *fb = full + (size_t)nfull * b;
+                for (int i = 0; i < nfull; i++) q += fa[i] * fb[i];
+                if (V->ue[a] == V->ue[b]) {
+                    const double *ha = V->H + (size_t)HZ_NH * a, *hb = V->H + (size_t)HZ_NH * b;
+                    double e = 0;
+                    for (int i = 0; i < HZ_NH; i++) e += ha[i] * hb[i];
+                    q += lam * e;
+                }
+                V->Q[a * nu + b] = V->Q[b * nu + a] = q;
+                if (a == b) qmax = fmax(qmax, q);
+            }
+        for (int a = 0; a < nu; a++) V->Q[a * nu + a] += 1e-9 * qmax + 1e-300;
+        return chol_factor(V->Q, nu);
+    }
+    for (int g0 = 0; g0 < nu;) {
+        int g1 = g0;
+        while (g1 < nu && V->ue[g1] == V->ue[g0]) g1++;
+        int ne = g1 - g0;
+        double *Q = V->Q + (size_t)HZ_GU * g0, qmax = 0;
+        for (int a = 0; a < ne; a++)
+            for (int b = 0; b < ne; b++) {
+                double q = 0, wa = V->first[g0 + a] ? F : 1, wb = V->first[g0 + b] ? F : 1;
+                const double *ha = V->H + (size_t)HZ_NH * (g0 + a), *hb = V->H + (size_t)HZ_NH * (g0 + b);
+                for (int i = 0; i < HZ_NH; i++) q += ha[i] * hb[i];
+                Q[a * ne + b] = wa * wb * q;
+                if (a == b) qmax = fmax(qmax, Q[a * ne + b]);
+            }
+        for (int a = 0; a < ne; a++) Q[a * ne + a] += 1e-9 * qmax + 1e-300;
+        if (!chol_factor(Q, ne)) return 0;
+        for (int k = g0; k < g1; k++) grp[k] = g0;
+        g0 = g1;
+    }
+    return 1;
+}
+
+/* Least change z (z^T Q z, Q's block Cholesky factors: the block of unknowns g0.. with grp[k] ==
+ * g0 at Q + HZ_GU * g0, or one block at Q when every grp[k] is 0) with rc + J (z - zl) = 0:
+ * z = Q^-1 J^T l, (J Q^-1 J^T + mu) l = J zl - rc with rows equilibrated (the orders (2,1),
+ * (1,2), (2,2) differ in scale, so that the Tikhonov term mu is relative to every row alike),
+ * three passes of refinement against the linear model.  0 where it cannot be factored. */
+static int hz_min_change(hz_vertex *V, const double *J, const double *rc, const double *zl, const int *grp, double *z)
+{
+    int nu = V->nu, nr = V->nr;
+    double *Y = V->Y, *G = V->G, *y = V->y;
+    for (int g0 = 0; g0 < nu;) {
+        int g1 = g0;
+        while (g1 < nu && grp[g1] == grp[g0]) g1++;
+        int ne = g1 - g0;
+        const double *Q = V->Q + (size_t)HZ_GU * g0;
+        for (int i = 0; i < nr; i++) {
+            double col[HZ_MAXU];
+            for (int k = 0; k < ne; k++) col[k] = J[(size_t)nr * (g0 + k) + i];
+            chol_solve(Q, col, ne);
+            for (int k = 0; k < ne; k++) Y[(size_t)nr * (g0 + k) + i] = col[k];
+        }
+        g0 = g1;
+    }
+    for (int i = 0; i < nr; i++)
+        for (int j = 0; j <= i; j++) {
+            double g = 0;
+            for (int k = 0; k < nu; k++) g += J[(size_t)nr * k + i] * Y[(size_t)nr * k + j];
+            G[i * nr + j] = G[j * nr + i] = g;
+        }
+    double dr[HZ_MAXR];
+    for (int i = 0; i < nr; i++) dr[i] = G[i * nr + i] > 0 ? 1 / sqrt(G[i * nr + i]) : 0;
+    for (int i = 0; i < nr; i++)
+        for (int j = 0; j < nr; j++) G[i * nr + j] *= dr[i] * dr[j];
+    for (int i = 0; i < nr; i++) G[i * nr + i] += 1e-10 + (dr[i] == 0);
+    if (!chol_factor(G, nr)) return 0;
+    for (int k = 0; k < nu; k++) z[k] = 0;
+    for (int pass = 0; pass < 4; pass++) {
+        for (int i = 0; i < nr; i++) {
+            double ri = rc[i];
+            for (int k = 0; k < nu; k++) ri += J[(size_t)nr * k + i] * (z[k] - zl[k]);
+            y[i] = -ri * dr[i];
+        }
+        chol_solve(G, y, nr);
+        for (int i = 0; i < nr; i++) y[i] *= dr[i];
+        for (int k = 0; k < nu; k++) {
+            double dz = 0;
+            for (int i = 0; i < nr; i++) dz += Y[(size_t)nr * k + i] * y[i];
+            z[k] += dz;
+        }
+    }
+    return 1;
+}
+
 /* Shape guard of the corner correction: on a 9 x 9 grid of face f, out[0] = max(|S_u|, |S_v|),
  * out[1] = min |S_u x S_v| / (|S_u| |S_v|), out[2..] the unit normals.  With ref == NULL they are
  * measured into out; else *ok = 0 when the corrected patch's derivatives grew past 1.5 x ref, its
- * sine of the angle between S_u and S_v fell below half of ref's, or a normal turned by more than
- * 60 degrees (a fold, a flip or a spike). */
-static q2n_status hz_shape(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
-                           ev_edge *const *edges, int K, int kb, int f, ev_patch *P, const double *ref, int *ok,
-                           double *out, q2n_error *err)
+ * sine of the angle between S_u and S_v fell below half of ref's, or a normal turned by 90
+ * degrees or more (a fold, a flip or a spike). */
+static q2n_status hz_shape(hz_vertex *V, int f, const double *ref, int *ok, double *out)
 {
-    q2n_status st = patch_setup(P, m, s, iv, unc, edges, K, kb, f, err);
+    q2n_status st = patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, f, V->err);
     if (st) return st;
     double big = 0, sn = 1, *nr = out ? out + 2 : NULL;
     for (int a = 0; a <= 8; a++)
         for (int b = 0; b <= 8; b++) {
             double D[9], c[3];
-            patch_eval(P, a / 8.0, b / 8.0, 1, D);
+            patch_eval(V->P, a / 8.0, b / 8.0, 1, D);
             double nu = q2n_v3_norm(D + 3), nv = q2n_v3_norm(D + 6);
             q2n_v3_cross(c, D + 3, D + 6);
             big = fmax(big, fmax(nu, nv));
@@ -440,213 +630,202 @@ static q2n_status hz_shape(const q2n_mesh *m, const q2n_surface *s, const double
     return Q2N_OK;
 }
 
+/* One correction with the factored cost: Gauss-Newton from z = 0 (the Jacobian there in M, r0),
+ * applied when it passes the shape guard (*ok = 1), else undone. */
+static q2n_status hz_attempt(hz_vertex *V, const int *grp, int *ok)
+{
+    int nu = V->nu, nr = V->nr, nstep = 0;
+    double zl[HZ_MAXU], z[HZ_MAXU];
+    for (int k = 0; k < nu; k++) z[k] = zl[k] = 0;
+    memcpy(V->Mw, V->M, sizeof(double) * (size_t)nr * (size_t)nu);
+    memcpy(V->rc, V->r0, sizeof(double) * (size_t)nr);
+    q2n_status st;
+    *ok = 0;
+    for (int gn = 0; gn < HZ_GN; gn++) {
+        if (gn > 0) {
+            memcpy(zl, z, sizeof(double) * (size_t)nu);
+            if ((st = hz_jacobian(V, zl, V->rc, V->Mw))) return st;
+        }
+        if (!hz_min_change(V, V->Mw, V->rc, zl, grp, z)) break;
+        nstep++;
+        if (V->r11 <= 1e-9 * V->rmax) break; /* affine: one step is exact */
+        for (int k = 0; k < nu; k++) *V->u[k] += z[k];
+        st = hz_residuals(V, -1, NULL, V->rt);
+        for (int k = 0; k < nu; k++) *V->u[k] -= z[k];
+        if (st) return st;
+        double rn = 0;
+        for (int i = 0; i < nr; i++) rn = fmax(rn, fabs(V->rt[i]));
+        if (rn <= 1e-10 * V->rmax) break;
+    }
+    if (!nstep) return Q2N_OK;
+    for (int k = 0; k < nu; k++) *V->u[k] += z[k];
+    *ok = 1;
+    for (int q = 0; q < V->nc && *ok; q++)
+        if ((st = hz_shape(V, V->cs[q].f, V->gb[q], ok, NULL))) return st;
+    if (!*ok)
+        for (int k = 0; k < nu; k++) *V->u[k] -= z[k];
+    return Q2N_OK;
+}
+
+/* The corner correction at vertex v (see above): unknowns and corners collected, then tried with
+ * bumps over the whole edge first and, where every weighting folds a patch, bumps concentrated
+ * nearer to the vertex ((1-t)^6, then (1-t)^8 instead of (1-t)^4; γ: ^7, ^9).
+ *
+ * Cost: the change of the second derivatives along the edges (hz_edge_sample), Q block-diagonal
+ * by edge end, the first-order data (n, γ, the slopes of a, b) weighted by F.  F = 1000 first:
+ * changing the normal field or the curve costs most and makes the patches hardest to fit; where
+ * that correction folds or spikes a patch (hz_shape), F = 100, 10, 1 are tried.  Where all of
+ * these fail, the cost becomes the change of the patches themselves (their first derivatives on
+ * a grid, hz_surface_sample): the edge-wise cost does not see that a mixed-derivative change at
+ * the corner bends the whole patch through its Hermite corner blend, and at vertices with wild
+ * corner data (mismatches tens of times the patch's first derivatives, righthanded, rook) only
+ * the surface-aware correction keeps the patches unfolded.  If that fails too, the corners at v
+ * stay Gregory corners.
+ *
+ * The mismatches are affine in every unknown but the slopes of a, b (unknowns only where a twist
+ * disagrees); there Gauss-Newton steps follow (hz_attempt), each the same least-change problem
+ * for the linear model at the current point. */
 static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
                                    ev_edge **edges, int K, int kb, const int *vc_start, const int *vc_list, int v,
                                    q2n_error *err)
 {
+    hz_vertex *V = calloc(1, sizeof *V);
+    if (!V) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (vertex %d)", v);
+    *V = (hz_vertex){.m = m, .s = s, .iv = iv, .unc = unc, .edges = edges, .K = K, .kb = kb, .v = v, .err = err};
     /* unknowns: the bump coefficients of the constructed edges at v */
-    double *u[HZ_MAXU];
-    int ue[HZ_MAXU];
-    double zc[HZ_MAXU];
-    char first[HZ_MAXU] = {0}; /* first-order data: n, γ, the slopes of a, b */
-    int nu = 0;
-    hz_corner cs[2 * EV_MAXVAL];
-    int nc = 0;
+    int nu = 0, nc = 0;
     for (int ci = vc_start[v]; ci < vc_start[v + 1]; ci++) {
         int f = vc_list[ci] >> 2, k = vc_list[ci] & 3;
-        {
-            int h = q2n_face_he(m, f, k);
-            /* sides at this corner: the face's edges k (leaving v) and k-1 (arriving at v) */
-            int e1 = m->he_edge[h], e0 = m->he_edge[q2n_face_he(m, f, (k + 3) % 4)];
-            int any = 0;
-            for (int x = 0; x < 2; x++) {
-                int e = x ? e1 : e0;
-                if (!edges[e]) continue;
-                any = 1;
-                int end = q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1;
-                ev_edge *E = edges[e];
-                int dup = 0;
-                for (int q = 0; q < nu; q++) dup |= u[q] == &E->nb[end];
-                if (dup) continue;
-                if (nu + HZ_GU > HZ_MAXU) return Q2N_OK; /* valence beyond the table: left as is */
-                int two = E->face[1] >= 0, nu0 = nu;
-                first[nu] = 1, u[nu++] = &E->nb[end];
-                first[nu] = 1, u[nu++] = &E->g3[end];
-                first[nu] = 1, u[nu++] = &E->g4[end];
-                for (int sd = 0; sd < (two ? 2 : 1); sd++) {
-                    u[nu++] = &E->a2[sd][end];
-                    u[nu++] = &E->b2[sd][end];
-                    first[nu] = 2, u[nu++] = &E->a1[sd][end];
-                    first[nu] = 2, u[nu++] = &E->b1[sd][end];
-                }
-                for (int c = 0; c < 3; c++) {
-                    u[nu++] = &E->x1[end][c];
-                    u[nu++] = &E->x2[end][c];
-                }
-                if (two)
-                    for (int c = 0; c < 2; c++) {
-                        u[nu++] = &E->t1[end][c];
-                        u[nu++] = &E->t2[end][c];
-                    }
-                for (int q = nu0; q < nu; q++) ue[q] = e;
+        int h = q2n_face_he(m, f, k);
+        /* sides at this corner: the face's edges k (leaving v) and k-1 (arriving at v) */
+        int e1 = m->he_edge[h], e0 = m->he_edge[q2n_face_he(m, f, (k + 3) % 4)];
+        int any = 0;
+        for (int x = 0; x < 2; x++) {
+            int e = x ? e1 : e0;
+            if (!edges[e]) continue;
+            any = 1;
+            int end = q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1;
+            ev_edge *E = edges[e];
+            int dup = 0;
+            for (int q = 0; q < nu; q++) dup |= V->u[q] == &E->nb[end];
+            if (dup) continue;
+            if (nu + HZ_GU > HZ_MAXU) { free(V); return Q2N_OK; } /* valence beyond the table: left as is */
+            int two = E->face[1] >= 0, nu0 = nu;
+            V->first[nu] = 1, V->u[nu++] = &E->nb[end];
+            V->first[nu] = 1, V->u[nu++] = &E->g3[end];
+            V->first[nu] = 1, V->u[nu++] = &E->g4[end];
+            for (int sd = 0; sd < (two ? 2 : 1); sd++) {
+                V->u[nu++] = &E->a2[sd][end];
+                V->u[nu++] = &E->b2[sd][end];
+                V->first[nu] = 2, V->u[nu++] = &E->a1[sd][end];
+                V->first[nu] = 2, V->u[nu++] = &E->b1[sd][end];
             }
-            if (!any) continue;
-            if (nc == 2 * EV_MAXVAL) return Q2N_OK;
-            static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-            cs[nc].f = f;
-            cs[nc].i = cuv[k][0];
-            cs[nc].j = cuv[k][1];
-            nc++;
+            for (int c = 0; c < 3; c++) {
+                V->u[nu++] = &E->x1[end][c];
+                V->u[nu++] = &E->x2[end][c];
+            }
+            if (two)
+                for (int c = 0; c < 2; c++) {
+                    V->u[nu++] = &E->t1[end][c];
+                    V->u[nu++] = &E->t2[end][c];
+                }
+            for (int q = nu0; q < nu; q++) V->ue[q] = e;
         }
+        if (!any) continue;
+        if (nc == HZ_MAXC) { free(V); return Q2N_OK; }
+        static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        V->cs[nc] = (hz_corner){f, cuv[k][0], cuv[k][1]};
+        nc++;
     }
-    if (!nc || !nu) return Q2N_OK;
+    if (!nc || !nu) { free(V); return Q2N_OK; }
     int nr = HZ_RC * nc;
+    V->nc = nc;
+    V->nr = nr;
+    V->nu = nu;
     q2n_status st = Q2N_OK;
-    ev_patch *P = malloc(sizeof *P);
-    double *M = malloc(sizeof(double) * (size_t)nr * (size_t)(nu + 1));
-    double *G = malloc(sizeof(double) * (size_t)nr * (size_t)nr);
-    double *y = malloc(sizeof(double) * (size_t)nr);
-    double *r0 = M + (size_t)nr * (size_t)nu;
-    double *Y = malloc(sizeof(double) * (size_t)nr * (size_t)nu), *H = malloc(sizeof(double) * HZ_NH * (size_t)nu);
-    if (!P || !M || !G || !y || !Y || !H) {
-        free(Y);
-        free(H);
+    size_t nrs = (size_t)nr, nus = (size_t)nu;
+    V->P = malloc(sizeof *V->P);
+    V->M = malloc(sizeof(double) * nrs * (2 * nus + 3)); /* M, r0, Mw, rc, rt */
+    V->G = malloc(sizeof(double) * nrs * nrs);
+    V->y = malloc(sizeof(double) * nrs);
+    V->Y = malloc(sizeof(double) * nrs * nus);
+    V->H = malloc(sizeof(double) * HZ_NH * nus);
+    V->Q = malloc(sizeof(double) * (nus * nus + HZ_GU * nus));
+    V->gb = malloc(sizeof *V->gb * (size_t)nc);
+    double *Hs = NULL;
+    int grp[HZ_MAXU];
+    if (!V->P || !V->M || !V->G || !V->y || !V->Y || !V->H || !V->Q || !V->gb) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (vertex %d)", v);
         goto out;
     }
-    if ((st = hz_residuals(m, s, iv, unc, edges, K, kb, cs, nc, -1, NULL, r0, P, err))) goto out2;
-    double rmax = 0, r11 = 0;
+    V->r0 = V->M + nrs * nus;
+    V->Mw = V->r0 + nrs;
+    V->rc = V->Mw + nrs * nus;
+    V->rt = V->rc + nrs;
+    if ((st = hz_residuals(V, -1, NULL, V->r0))) goto out;
     for (int i = 0; i < nr; i++) {
-        rmax = fmax(rmax, fabs(r0[i]));
-        if (i % HZ_RC < 3) r11 = fmax(r11, fabs(r0[i]));
+        V->rmax = fmax(V->rmax, fabs(V->r0[i]));
+        if (i % HZ_RC < 3) V->r11 = fmax(V->r11, fabs(V->r0[i]));
     }
-    if (!(rmax > 0)) goto out2;
+    if (!(V->rmax > 0)) goto out;
     /* the slopes of a, b (first[] == 2) are unknowns only where a twist disagrees (where the
      * sign guard of ev_build_edge changed a slope); elsewhere the twists stay as they are */
-    if (!(r11 > 1e-9 * rmax)) {
+    if (!(V->r11 > 1e-9 * V->rmax)) {
         int w = 0;
         for (int k = 0; k < nu; k++)
-            if (first[k] != 2) { u[w] = u[k]; ue[w] = ue[k]; first[w] = first[k]; w++; }
-        nu = w;
+            if (V->first[k] != 2) { V->u[w] = V->u[k]; V->ue[w] = V->ue[k]; V->first[w] = V->first[k]; w++; }
+        V->nu = nu = w;
     }
-    double (*gb)[HZ_NG] = malloc(sizeof *gb * (size_t)nc);
-    if (!gb) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (vertex %d)", v); goto out2; }
     for (int q = 0; q < nc; q++)
-        if ((st = hz_shape(m, s, iv, unc, edges, K, kb, cs[q].f, P, NULL, NULL, gb[q], err))) { free(gb); goto out2; }
-    /* bumps over the whole edge first; where every weighting folds a patch, bumps concentrated
-     * nearer to the vertex ((1-t)^6, then (1-t)^8 instead of (1-t)^4; γ: ^7, ^9) */
+        if ((st = hz_shape(V, V->cs[q].f, NULL, NULL, V->gb[q]))) goto out;
     int done = 0;
-    for (int li = 0; li < 3 && !done; li++) {
-        for (int k = 0; k < nu; k++) {
-            ev_edge *E = edges[ue[k]];
-            E->loc[q2n_he_origin(m, m->edge_he[ue[k]]) == v ? 0 : 1] = 2 * li;
+    static const double Fs[4] = {1000, 100, 10, 1};
+    for (int pass = 0; pass < 2 && !done; pass++) {
+        /* pass 0: the edge cost with four weightings F, pass 1: the surface cost */
+        if (pass == 1 && !(Hs = malloc(sizeof(double) * HZ_NS * (size_t)nc * (nus + 1)))) {
+            st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (vertex %d)", v);
+            goto out;
         }
-        for (int k = 0; k < nu; k++) {
-            double keep = *u[k];
-            *u[k] = keep + 1;
-            st = hz_residuals(m, s, iv, unc, edges, K, kb, cs, nc, ue[k], r0, M + (size_t)nr * k, P, err);
-            *u[k] = keep;
-            if (st) { free(gb); goto out2; }
-            for (int i = 0; i < nr; i++) M[(size_t)nr * k + i] -= r0[i];
-        }
-        /* Cost: the change of the second derivatives along the edges (hz_edge_sample), Q = H^T H
-         * block-diagonal by edge end, the first-order data (n, γ, the slopes of a, b) weighted by
-         * F.  min z^T Q z subject to M z = -r0: z = Q^-1 M^T l with (M Q^-1 M^T + mu) l = -r0,
-         * refined three times against the exact affine residual (the Tikhonov term mu only damps
-         * nearly singular vertex systems).  F = 1000 first: changing the normal field or the curve
-         * costs most and makes the patches hardest to fit; where that correction folds or spikes
-         * a patch (hz_shape), F = 100, 10, 1 are tried, and if none passes the corners at v stay
-         * Gregory corners. */
-        for (int g0 = 0; g0 < nu;) {
-            int g1 = g0;
-            while (g1 < nu && ue[g1] == ue[g0]) g1++;
-            ev_edge *E = edges[ue[g0]];
-            double base[HZ_NH];
-            int nh = hz_edge_sample(E, base);
-            for (int k = g0; k < g1; k++) {
-                double keep = *u[k];
-                *u[k] = keep + 1;
-                hz_edge_sample(E, H + (size_t)HZ_NH * k);
-                *u[k] = keep;
-                for (int i = 0; i < HZ_NH; i++) H[(size_t)HZ_NH * k + i] = i < nh ? H[(size_t)HZ_NH * k + i] - base[i] : 0;
+        for (int li = 0; li < 3 && !done; li++) {
+            for (int k = 0; k < nu; k++) edges[V->ue[k]]->loc[q2n_he_origin(m, m->edge_he[V->ue[k]]) == v ? 0 : 1] = 2 * li;
+            double z0[HZ_MAXU] = {0};
+            if ((st = hz_jacobian(V, z0, V->r0, V->M))) goto out;
+            hz_edge_cost(V);
+            if (pass == 1) {
+                int ns = HZ_NS * nc;
+                double *base = Hs + (size_t)ns * nus;
+                if ((st = hz_surface_sample(V, base))) goto out;
+                for (int k = 0; k < nu && !st; k++) {
+                    double keep = *V->u[k], h = hz_step(V, k), *col = Hs + (size_t)ns * k;
+                    *V->u[k] = keep + h;
+                    st = hz_surface_sample(V, col);
+                    *V->u[k] = keep;
+                    for (int i = 0; i < ns; i++) col[i] = (col[i] - base[i]) / h;
+                }
+                if (st) goto out;
+                if (!hz_cost_factor(V, 1.0, Hs, ns, grp)) continue;
+                if ((st = hz_attempt(V, grp, &done))) goto out;
+                continue;
             }
-            g0 = g1;
-        }
-        static const double Fs[4] = {1000, 100, 10, 1};
-        for (int fi = 0; fi < 4; fi++) {
-            int solved = 1;
-            for (int g0 = 0; g0 < nu && solved;) {
-                int g1 = g0;
-                while (g1 < nu && ue[g1] == ue[g0]) g1++;
-                int ne = g1 - g0;
-                double Q[HZ_GU * HZ_GU], qmax = 0;
-                for (int a = 0; a < ne; a++)
-                    for (int b = 0; b < ne; b++) {
-                        double q = 0, wa = first[g0 + a] ? Fs[fi] : 1, wb = first[g0 + b] ? Fs[fi] : 1;
-                        const double *ha = H + (size_t)HZ_NH * (g0 + a), *hb = H + (size_t)HZ_NH * (g0 + b);
-                        for (int i = 0; i < HZ_NH; i++) q += ha[i] * hb[i];
-                        Q[a * ne + b] = wa * wb * q;
-                        if (a == b) qmax = fmax(qmax, Q[a * ne + b]);
-                    }
-                for (int a = 0; a < ne; a++) Q[a * ne + a] += 1e-9 * qmax + 1e-300;
-                if (!chol_factor(Q, ne)) { solved = 0; break; }
-                for (int i = 0; i < nr; i++) {
-                    double col[HZ_GU];
-                    for (int k = 0; k < ne; k++) col[k] = M[(size_t)nr * (g0 + k) + i];
-                    chol_solve(Q, col, ne);
-                    for (int k = 0; k < ne; k++) Y[(size_t)nr * (g0 + k) + i] = col[k];
-                }
-                g0 = g1;
+            for (int fi = 0; fi < 4 && !done; fi++) {
+                if (!hz_cost_factor(V, Fs[fi], NULL, 0, grp)) continue;
+                if ((st = hz_attempt(V, grp, &done))) goto out;
             }
-            if (!solved) continue;
-            for (int i = 0; i < nr; i++)
-                for (int j = 0; j <= i; j++) {
-                    double g = 0;
-                    for (int k = 0; k < nu; k++) g += M[(size_t)nr * k + i] * Y[(size_t)nr * k + j];
-                    G[i * nr + j] = G[j * nr + i] = g;
-                }
-            /* rows equilibrated (the orders (2,1), (1,2), (2,2) differ in scale), so that the
-             * Tikhonov term is relative to every row alike */
-            double dr[HZ_MAXR];
-            for (int i = 0; i < nr; i++) dr[i] = G[i * nr + i] > 0 ? 1 / sqrt(G[i * nr + i]) : 0;
-            for (int i = 0; i < nr; i++)
-                for (int j = 0; j < nr; j++) G[i * nr + j] *= dr[i] * dr[j];
-            for (int i = 0; i < nr; i++) G[i * nr + i] += 1e-10 + (dr[i] == 0);
-            if (!chol_factor(G, nr)) continue;
-            for (int k = 0; k < nu; k++) zc[k] = 0;
-            for (int pass = 0; pass < 4; pass++) {
-                for (int i = 0; i < nr; i++) {
-                    double ri = r0[i];
-                    for (int k = 0; k < nu; k++) ri += M[(size_t)nr * k + i] * zc[k];
-                    y[i] = -ri * dr[i];
-                }
-                chol_solve(G, y, nr);
-                for (int i = 0; i < nr; i++) y[i] *= dr[i];
-                for (int k = 0; k < nu; k++) {
-                    double z = 0;
-                    for (int i = 0; i < nr; i++) z += Y[(size_t)nr * k + i] * y[i];
-                    zc[k] += z;
-                }
-            }
-            for (int k = 0; k < nu; k++) *u[k] += zc[k];
-            int ok = 1;
-            for (int q = 0; q < nc && ok; q++)
-                if ((st = hz_shape(m, s, iv, unc, edges, K, kb, cs[q].f, P, gb[q], &ok, NULL, err))) { free(gb); goto out2; }
-            if (ok) { done = 1; break; }
-            for (int k = 0; k < nu; k++) *u[k] -= zc[k];
         }
     }
     if (!done)
-        for (int k = 0; k < nu; k++) edges[ue[k]]->loc[q2n_he_origin(m, m->edge_he[ue[k]]) == v ? 0 : 1] = 0;
-    free(gb);
-out2:
-    free(Y);
-    free(H);
+        for (int k = 0; k < nu; k++) edges[V->ue[k]]->loc[q2n_he_origin(m, m->edge_he[V->ue[k]]) == v ? 0 : 1] = 0;
 out:
-    free(P);
-    free(M);
-    free(G);
-    free(y);
+    free(Hs);
+    free(V->P);
+    free(V->M);
+    free(V->G);
+    free(V->y);
+    free(V->Y);
+    free(V->H);
+    free(V->Q);
+    free(V->gb);
+    free(V);
     return st;
 }
 
