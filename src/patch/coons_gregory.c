@@ -404,20 +404,36 @@ static void chol_solve(const double *G, double *y, int n)
  * products. */
 static double hz_step(const hz_vertex *V, int k) { return V->first[k] == 2 ? 1e-6 * fmax(1.0, fabs(*V->u[k])) : 1.0; }
 
+/* A sampled quantity of the vertex's patches (n values, base: at the current unknowns) as
+ * evaluated after a step of unknown k. */
+typedef q2n_status (*hz_sample_fn)(hz_vertex *V, int k, const double *base, double *out);
+
+/* Sensitivities of a sampled quantity: column k (n values) = d sample / d unknown k. */
+static q2n_status hz_columns(hz_vertex *V, hz_sample_fn fn, int n, const double *base, double *cols)
+{
+    for (int k = 0; k < V->nu; k++) {
+        double keep = *V->u[k], h = hz_step(V, k), *col = cols + (size_t)n * k;
+        *V->u[k] = keep + h;
+        q2n_status st = fn(V, k, base, col);
+        *V->u[k] = keep;
+        if (st) return st;
+        for (int i = 0; i < n; i++) col[i] = (col[i] - base[i]) / h;
+    }
+    return Q2N_OK;
+}
+
+/* the mismatches after a step of unknown k: only the corners beside its edge change */
+static q2n_status hz_residuals_k(hz_vertex *V, int k, const double *base, double *out)
+{
+    return hz_residuals(V, V->ue[k], base, out);
+}
+
 /* Mismatches rc at the unknowns' values + z and the Jacobian J there (column k = dr/du_k). */
 static q2n_status hz_jacobian(hz_vertex *V, const double *z, double *rc, double *J)
 {
-    int nr = V->nr;
     q2n_status st;
     for (int k = 0; k < V->nu; k++) *V->u[k] += z[k];
-    if (!(st = hz_residuals(V, -1, NULL, rc)))
-        for (int k = 0; k < V->nu && !st; k++) {
-            double keep = *V->u[k], h = hz_step(V, k);
-            *V->u[k] = keep + h;
-            st = hz_residuals(V, V->ue[k], rc, J + (size_t)nr * k);
-            *V->u[k] = keep;
-            for (int i = 0; i < nr; i++) J[(size_t)nr * k + i] = (J[(size_t)nr * k + i] - rc[i]) / h;
-        }
+    if (!(st = hz_residuals(V, -1, NULL, rc))) st = hz_columns(V, hz_residuals_k, V->nr, rc, J);
     for (int k = 0; k < V->nu; k++) *V->u[k] -= z[k];
     return st;
 }
@@ -468,9 +484,10 @@ static void hz_edge_cost(hz_vertex *V)
 }
 
 /* Surface samples of the corner faces: S_u, S_v on a 9 x 9 grid, each face in units of its
- * largest first derivative before the correction. */
-static q2n_status hz_surface_sample(hz_vertex *V, double *out)
+ * largest first derivative before the correction (hz_sample_fn; k and base unused). */
+static q2n_status hz_surface_sample(hz_vertex *V, int k, const double *base, double *out)
 {
+    (void)k, (void)base;
     for (int q = 0; q < V->nc; q++) {
         q2n_status st = patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, V->cs[q].f, V->err);
         if (st) return st;
@@ -794,15 +811,8 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
             if (pass == 1) {
                 int ns = HZ_NS * nc;
                 double *base = Hs + (size_t)ns * nus;
-                if ((st = hz_surface_sample(V, base))) goto out;
-                for (int k = 0; k < nu && !st; k++) {
-                    double keep = *V->u[k], h = hz_step(V, k), *col = Hs + (size_t)ns * k;
-                    *V->u[k] = keep + h;
-                    st = hz_surface_sample(V, col);
-                    *V->u[k] = keep;
-                    for (int i = 0; i < ns; i++) col[i] = (col[i] - base[i]) / h;
-                }
-                if (st) goto out;
+                if ((st = hz_surface_sample(V, -1, NULL, base)) || (st = hz_columns(V, hz_surface_sample, ns, base, Hs)))
+                    goto out;
                 if (!hz_cost_factor(V, 1.0, Hs, ns, grp)) continue;
                 if ((st = hz_attempt(V, grp, &done))) goto out;
                 continue;
