@@ -1052,15 +1052,15 @@ static q2n_status make_model(ctx *c, q2n_nurbs_model **out)
 }
 
 /* Continuity-driven refinement towards the refinement targets stops at this many spans per
- * ribbon (and at half of max_spans); an edge that would still fail acceptance (twice the
- * targets) goes on to FIT_CONT_SPANS_FAIL (at most max_spans).  The deviation alone may go on
- * to max_spans.  Beyond FIT_CONT_SPANS spans every ribbon is expensive (knots are shared along
- * the whole chain of patches), so it is spent only where the acceptance needs it: rook
- * --subdivide 1 has an edge next to a vertex with wild corner data that needs 36 (curvature
- * jump 0.04 at 28 spans, 0.009 at 36); refining every edge to the tighter target there instead
- * cost spot 25 % more time for nothing the acceptance sees. */
+ * ribbon (and at half of max_spans); a ribbon already there whose edge would still fail
+ * acceptance (twice the targets) goes on to max_spans, like the deviation.  Beyond FIT_CONT_SPANS
+ * spans every ribbon is expensive (knots are shared along the whole chain of patches), so it is
+ * spent only where the acceptance needs it: rook --subdivide 1 has an edge (6127) next to a
+ * vertex with wild corner data whose curvature jump is 0.149 at 24 spans, 0.04 at 28, 0.006-0.013
+ * at 36 (depending on the neighbouring ribbons; 0.0129 at --tol 1e-6) and 5e-4 at 48; refining
+ * every edge to the tighter target beyond 24 instead cost spot 25 % more time for nothing the
+ * acceptance sees. */
 #define FIT_CONT_SPANS 24
-#define FIT_CONT_SPANS_FAIL 36
 /* fit_scan_construction ratio above which a failed fit is blamed on the construction: smooth
  * patches of the shared meshes stay below 3.3 (pawn 1.5, helmet 3.3, spot 2.1); the spikes of
  * gregory_test1 reach 15-31, those of righthanded 1e6-1e7. */
@@ -1189,12 +1189,11 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             if (bad2 && edge_gregory(c, e)) bad2 = 0;
             if (!bad1 && !bad2) continue;
             /* continuity alone refines a ribbon up to half the span cap, at most FIT_CONT_SPANS;
-             * a ribbon already there goes on to FIT_CONT_SPANS_FAIL (at most max_spans) where
-             * the edge would fail acceptance */
+             * a ribbon already there goes on to the span cap where the edge would fail
+             * acceptance */
             int cap = c->o.max_spans / 2 > 1 ? c->o.max_spans / 2 : 1, me0 = c->rspan[c->rib[e]];
             if (cap > FIT_CONT_SPANS) cap = FIT_CONT_SPANS;
-            int capf = c->o.max_spans < FIT_CONT_SPANS_FAIL ? c->o.max_spans : FIT_CONT_SPANS_FAIL;
-            if (capf < cap) capf = cap;
+            int capf = c->o.max_spans;
             int cap1 = me0 >= cap && r1 > 2.0 ? capf : cap, cap2 = me0 >= cap && r2 > 2.0 ? capf : cap;
             int n1 = bad1 && me0 < cap1 ? bump(me0, r1, 5.0, cap1) : 0;
             int n2 = bad2 && me0 < cap2 ? bump(me0, r2, 4.0, cap2) : 0;
