@@ -124,7 +124,8 @@ int main(void)
     g2_targets("crane_spot_control_mesh.obj", 1);
     /* the meshes whose last Gregory corners needed Gauss-Newton steps (helmet, rook: twists
      * changed by the slope guard) or the surface-aware correction (righthanded, rook; see
-     * docs/extraordinary.md), and rook's edge next to wild corner data that needs 36 spans */
+     * docs/extraordinary.md), and rook's edge next to wild corner data that needs more than 24
+     * spans */
     g2_targets("osd_catmark_righthanded.obj", 0);
     g2_targets("osd_catmark_rook.obj", 1);
 
