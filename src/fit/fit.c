@@ -1193,8 +1193,8 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
              * acceptance */
             int cap = c->o.max_spans / 2 > 1 ? c->o.max_spans / 2 : 1, me0 = c->rspan[c->rib[e]];
             if (cap > FIT_CONT_SPANS) cap = FIT_CONT_SPANS;
-            int capf = c->o.max_spans;
-            int cap1 = me0 >= cap && r1 > 2.0 ? capf : cap, cap2 = me0 >= cap && r2 > 2.0 ? capf : cap;
+            int full = c->o.max_spans, cap1 = me0 >= cap && r1 > 2.0 ? full : cap;
+            int cap2 = me0 >= cap && r2 > 2.0 ? full : cap;
             int n1 = bad1 && me0 < cap1 ? bump(me0, r1, 5.0, cap1) : 0;
             int n2 = bad2 && me0 < cap2 ? bump(me0, r2, 4.0, cap2) : 0;
             int n = n1 > n2 ? n1 : n2;

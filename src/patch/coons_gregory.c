@@ -647,6 +647,15 @@ static q2n_status hz_shape(hz_vertex *V, int f, const double *ref, int *ok, doub
     return Q2N_OK;
 }
 
+/* Bump localisation l (0, 2, 4: (1-t)^(4+l)) of every unknown's edge at the vertex's end. */
+static void hz_set_loc(hz_vertex *V, int l)
+{
+    for (int k = 0; k < V->nu; k++) {
+        int e = V->ue[k];
+        V->edges[e]->loc[q2n_he_origin(V->m, V->m->edge_he[e]) == V->v ? 0 : 1] = l;
+    }
+}
+
 /* One correction with the factored cost: Gauss-Newton from z = 0 (the Jacobian there in M, r0),
  * applied when it passes the shape guard (*ok = 1), else undone. */
 static q2n_status hz_attempt(hz_vertex *V, const int *grp, int *ok)
@@ -799,18 +808,18 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
     static const double Fs[4] = {1000, 100, 10, 1};
     for (int pass = 0; pass < 2 && !done; pass++) {
         /* pass 0: the edge cost with four weightings F, pass 1: the surface cost */
-        if (pass == 1 && !(Hs = malloc(sizeof(double) * HZ_NS * (size_t)nc * (nus + 1)))) {
+        if (pass == 1 && !(Hs = malloc(sizeof(double) * HZ_NS * (size_t)nc * ((size_t)nu + 1)))) {
             st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (vertex %d)", v);
             goto out;
         }
         for (int li = 0; li < 3 && !done; li++) {
-            for (int k = 0; k < nu; k++) edges[V->ue[k]]->loc[q2n_he_origin(m, m->edge_he[V->ue[k]]) == v ? 0 : 1] = 2 * li;
+            hz_set_loc(V, 2 * li);
             double z0[HZ_MAXU] = {0};
             if ((st = hz_jacobian(V, z0, V->r0, V->M))) goto out;
             hz_edge_cost(V);
             if (pass == 1) {
                 int ns = HZ_NS * nc;
-                double *base = Hs + (size_t)ns * nus;
+                double *base = Hs + (size_t)ns * (size_t)nu;
                 if ((st = hz_surface_sample(V, -1, NULL, base)) || (st = hz_columns(V, hz_surface_sample, ns, base, Hs)))
                     goto out;
                 if (!hz_cost_factor(V, 1.0, Hs, ns, grp)) continue;
@@ -823,8 +832,7 @@ static q2n_status harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
             }
         }
     }
-    if (!done)
-        for (int k = 0; k < nu; k++) edges[V->ue[k]]->loc[q2n_he_origin(m, m->edge_he[V->ue[k]]) == v ? 0 : 1] = 0;
+    if (!done) hz_set_loc(V, 0);
 out:
     free(Hs);
     free(V->P);
