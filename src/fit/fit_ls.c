@@ -200,7 +200,7 @@ q2n_status fit_ls_solve_direct(fit_ls *ls, q2n_error *err)
     return Q2N_OK;
 }
 
-#include "fit/ceres_shim.h"
+#include "core/ceres_shim.h"
 
 q2n_status fit_ls_solve_ceres(fit_ls *ls, int threads, int dense, q2n_error *err)
 {

@@ -1,7 +1,7 @@
 /* ceres_shim.h — the C interface of ceres_shim.cpp, the thin C++ layer over Ceres' Solver API
  * (the Ceres C API hard-codes solver options and prints reports; toolchain.md). */
-#ifndef Q2N_FIT_CERES_SHIM_H
-#define Q2N_FIT_CERES_SHIM_H
+#ifndef Q2N_CORE_CERES_SHIM_H
+#define Q2N_CORE_CERES_SHIM_H
 
 #ifdef __cplusplus
 extern "C" {

@@ -1,4 +1,4 @@
-// ceres_shim.cpp — thin extern "C" layer over Ceres' C++ Solver API for the fit's linear
+// ceres_shim.cpp — thin extern "C" layer over Ceres' C++ Solver API for sparse linear
 // least-squares stages (toolchain.md: the C API exposes no solver options and prints reports).
 //
 // Solver choice, deliberately: the problem is LINEAR (fixed knots, fixed sample parameters,
@@ -14,7 +14,7 @@
 // SPARSE_NORMAL_CHOLESKY (SuiteSparse CHOLMOD) solve of everything, one residual block per row
 // and one parameter block per unknown (RowCost); num_threads parallelises its Jacobian
 // evaluation.  Logging is silent, since library code never prints.
-#include "fit/ceres_shim.h"
+#include "core/ceres_shim.h"
 
 #include <ceres/ceres.h>
 
