@@ -27,7 +27,7 @@ typedef struct q2n_model q2n_model;
 /* Zeroed fields mean defaults (in brackets). */
 typedef struct q2n_options {
     const char *surface;      /* "augmented" | "acc3" | "acc-g1"  ["augmented"] */
-    const char *spline_class; /* augmented: "D5C2P2S4", "D3C1P2S4", ...  ["D5C2P2S4"] */
+    const char *spline_class; /* augmented: "D5C2P4S6", "D5C2P2S4", "D3C1P2S4", ...  ["D5C2P4S6"] */
     const char *param;        /* "centripetal" | "chordal" | "uniform" | "mean"  ["centripetal"] */
     double alpha;             /* exponent for centripetal/mean; <= 0 means 0.5 */
     int subdivide;            /* Catmull–Clark steps before building [0] */

@@ -23,6 +23,9 @@ typedef struct fair_figures {
     int ev_lines, reg_lines, ev_faces;
     double jac_min; /* over all faces */
     int jac_face;
+    double jac_rel;  /* min over faces of jac / min(0.1, 0.75 x the bilinear quad's jac): >= 1 when no
+                        face is more degenerate than both 0.1 and (within 25 %) its own mesh quad */
+    int jac_rel_face;
     int failed;     /* evaluation errors */
 } fair_figures;
 
@@ -55,6 +58,31 @@ static inline int fair_cmp(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* The same min/median Jacobian ratio for the bilinear quad through the face's four vertices: how
+ * degenerate the mesh face itself is (a near-triangle quad has a small one whatever the surface). */
+static const double fair_gx[12] = {0.009219682876640378, 0.04794137181476255, 0.11504866290284765, 0.20634102285669127,
+                                   0.31608425050090994, 0.43738329574426554, 0.5626167042557344, 0.6839157494990901,
+                                   0.7936589771433087, 0.8849513370971523, 0.9520586281852375, 0.9907803171233596};
+
+static inline double fair_bilinear_jac(const q2n_mesh *m, int f)
+{
+    const double *P[4];
+    for (int i = 0; i < 4; i++) P[i] = q2n_mesh_vpos(m, m->face_vert[m->face_start[f] + i]);
+    double J[144];
+    for (int a = 0; a < 12; a++)
+        for (int b = 0; b < 12; b++) {
+            double u = fair_gx[a], v = fair_gx[b], Pu[3], Pv[3];
+            for (int c = 0; c < 3; c++) {
+                Pu[c] = (1 - v) * (P[1][c] - P[0][c]) + v * (P[2][c] - P[3][c]);
+                Pv[c] = (1 - u) * (P[3][c] - P[0][c]) + u * (P[2][c] - P[1][c]);
+            }
+            double N[3] = {Pu[1] * Pv[2] - Pu[2] * Pv[1], Pu[2] * Pv[0] - Pu[0] * Pv[2], Pu[0] * Pv[1] - Pu[1] * Pv[0]};
+            J[a * 12 + b] = sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]);
+        }
+    qsort(J, 144, sizeof *J, fair_cmp);
+    return J[0] / fmax(0.5 * (J[71] + J[72]), 1e-300);
+}
+
 static inline void fair_measure(const q2n_mesh *m, const q2n_surface *s, fair_figures *out)
 {
     static const double gx[12] = {0.009219682876640378, 0.04794137181476255, 0.11504866290284765, 0.20634102285669127,
@@ -64,8 +92,8 @@ static inline void fair_measure(const q2n_mesh *m, const q2n_surface *s, fair_fi
                                   0.11674626826917739, 0.12457352290670139, 0.12457352290670139, 0.11674626826917739,
                                   0.10158371336153296, 0.08003916427167311, 0.053469662997659216, 0.02358766819325591};
     memset(out, 0, sizeof *out);
-    out->jac_min = INFINITY;
-    out->jac_face = -1;
+    out->jac_min = out->jac_rel = INFINITY;
+    out->jac_face = out->jac_rel_face = -1;
     for (int f = 0; f < m->nf; f++) {
         int ev = 0;
         for (int i = 0; i < 4; i++) ev |= fair_is_ev(m, m->face_vert[m->face_start[f] + i]);
@@ -86,13 +114,14 @@ static inline void fair_measure(const q2n_mesh *m, const q2n_surface *s, fair_fi
         qsort(med, 144, sizeof *med, fair_cmp);
         double mn = med[0], jr = mn / fmax(0.5 * (med[71] + med[72]), 1e-300);
         if (jr < out->jac_min) { out->jac_min = jr; out->jac_face = f; }
+        double rel = jr / fmin(0.1, 0.75 * fair_bilinear_jac(m, f));
+        if (rel < out->jac_rel) { out->jac_rel = rel; out->jac_rel_face = f; }
         for (int d = 0; d < 2; d++) { /* (0,0)->(1,1) and (0,1)->(1,0) */
-            double tv = 0, Hp = 0, H0 = 0, L = 0, Xp[3] = {0, 0, 0}, nprev[3] = {0, 0, 0};
+            double tv = 0, Hp = 0, H0 = 0, L = 0, Xp[3] = {0, 0, 0};
             for (int k = 0; k <= 128; k++) {
                 double t = k / 128.0, o[18], H, K, W;
                 if (q2n_surface_eval(s, f, t, d ? 1 - t : t, 2, o)) { out->failed++; break; }
                 fair_curv(o, &H, &K, &W);
-                (void)nprev;
                 if (k == 0) H0 = H;
                 else {
                     tv += fabs(H - Hp);

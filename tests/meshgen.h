@@ -86,4 +86,132 @@ static inline q2n_mesh *mg_grid(int n, int m, unsigned seed)
     return mg_finish(nv, pos, nf, fs, fv, "grid");
 }
 
+/* Hard meshes for the extraordinary-vertex constructions (issue 11): every triangle of a
+ * triangle mesh split into three quads at its centroid and edge midpoints, so that the old
+ * vertices become extraordinary vertices of twice their valence and the centroids valence-3 ones,
+ * on opposite corners of every quad (extraordinary vertices sharing faces everywhere).  sphere:
+ * new points pushed onto the unit sphere; scale: per-axis stretch applied last (anisotropic,
+ * near-degenerate quads); noise: random displacement of every vertex. */
+static inline q2n_mesh *mg_tri_to_quad(int nv0, const double *v0, int nt, const int *tri, int sphere, const double scale[3],
+                                       double noise, unsigned seed, const char *name)
+{
+    int cap = nv0 + nt + 3 * nt;
+    double *pos = (double *)malloc(3 * (size_t)cap * sizeof *pos);
+    int *fs = (int *)malloc((3 * (size_t)nt + 1) * sizeof *fs), *fv = (int *)malloc(12 * (size_t)nt * sizeof *fv);
+    int *ekey = (int *)malloc(2 * 3 * (size_t)nt * sizeof *ekey), *eidx = (int *)malloc(3 * (size_t)nt * sizeof *eidx), ne = 0;
+    int nv = nv0;
+    for (int i = 0; i < 3 * nv0; i++) pos[i] = v0[i];
+#define MG_PUSH(P)                                                                                  \
+    do {                                                                                            \
+        double *q_ = pos + 3 * nv;                                                                  \
+        for (int c_ = 0; c_ < 3; c_++) q_[c_] = (P)[c_];                                            \
+        if (sphere) {                                                                               \
+            double l_ = sqrt(q_[0] * q_[0] + q_[1] * q_[1] + q_[2] * q_[2]);                        \
+            for (int c_ = 0; c_ < 3; c_++) q_[c_] /= l_;                                            \
+        }                                                                                           \
+        nv++;                                                                                       \
+    } while (0)
+    for (int t = 0; t < nt; t++) {
+        const int *T = tri + 3 * t;
+        double c[3];
+        for (int k = 0; k < 3; k++) c[k] = (v0[3 * T[0] + k] + v0[3 * T[1] + k] + v0[3 * T[2] + k]) / 3;
+        int ci = nv;
+        MG_PUSH(c);
+        int mid[3];
+        for (int e = 0; e < 3; e++) {
+            int a = T[e], b = T[(e + 1) % 3], lo = a < b ? a : b, hi = a < b ? b : a, found = -1;
+            for (int k = 0; k < ne; k++)
+                if (ekey[2 * k] == lo && ekey[2 * k + 1] == hi) found = eidx[k];
+            if (found < 0) {
+                double m[3];
+                for (int k = 0; k < 3; k++) m[k] = 0.5 * (v0[3 * a + k] + v0[3 * b + k]);
+                found = nv;
+                MG_PUSH(m);
+                ekey[2 * ne] = lo;
+                ekey[2 * ne + 1] = hi;
+                eidx[ne++] = found;
+            }
+            mid[e] = found;
+        }
+        for (int k = 0; k < 3; k++) { /* quad at corner T[k]: T[k], mid(k), centre, mid(k-1) */
+            int f = 3 * t + k;
+            fs[f] = 4 * f;
+            fv[4 * f + 0] = T[k];
+            fv[4 * f + 1] = mid[k];
+            fv[4 * f + 2] = ci;
+            fv[4 * f + 3] = mid[(k + 2) % 3];
+        }
+    }
+#undef MG_PUSH
+    fs[3 * nt] = 12 * nt;
+    for (int i = 0; i < nv; i++)
+        for (int k = 0; k < 3; k++) pos[3 * i + k] = pos[3 * i + k] * scale[k] + noise * (2 * mg_rnd(&seed) - 1);
+    free(ekey);
+    free(eidx);
+    return mg_finish(nv, pos, 3 * nt, fs, fv, name);
+}
+
+/* Icosahedron (12 valence-10 and 20 valence-3 extraordinary vertices after the split, 60 quads). */
+static inline q2n_mesh *mg_icosa_quad(double noise, unsigned seed)
+{
+    const double t = (1 + sqrt(5.0)) / 2;
+    double v[36] = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
+    for (int i = 0; i < 12; i++) {
+        double l = sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+        for (int k = 0; k < 3; k++) v[3 * i + k] /= l;
+    }
+    static const int tri[60] = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
+                                3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+    static const double one[3] = {1, 1, 1};
+    return mg_tri_to_quad(12, v, 20, tri, 1, one, noise, seed, "icosahedron split into quads");
+}
+
+/* Octahedron (6 valence-8 and 8 valence-3 extraordinary vertices, 24 quads) on an ellipsoid with
+ * the given axes (3 : 1 : 0.5 gives quads of aspect up to ~6). */
+static inline q2n_mesh *mg_octa_quad(double ax, double ay, double az)
+{
+    static const double v[18] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+    static const int tri[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+    double sc[3] = {ax, ay, az};
+    return mg_tri_to_quad(6, v, 8, tri, 1, sc, 0, 1, "octahedron split into quads");
+}
+
+/* Open polar grid around one extraordinary vertex of valence n: `rings` rings of 2n vertices,
+ * a Gaussian bump with a 3-fold ripple, x stretched by aniso (thin sectors for aniso >> 1). */
+static inline q2n_mesh *mg_polar_star(int n, int rings, double aniso)
+{
+    int nv = 1 + 2 * n * rings, nf = n + 2 * n * (rings - 1);
+    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = (int *)malloc(((size_t)nf + 1) * sizeof *fs), *fv = (int *)malloc(4 * (size_t)nf * sizeof *fv);
+    pos[0] = pos[1] = 0;
+    pos[2] = 0.3;
+    for (int k = 1; k <= rings; k++)
+        for (int s = 0; s < 2 * n; s++) {
+            double a = M_PI * s / n, x = aniso * k * cos(a), y = k * sin(a), *p = pos + 3 * (1 + (k - 1) * 2 * n + s);
+            p[0] = x;
+            p[1] = y;
+            p[2] = 0.3 * exp(-(x * x + y * y) / 2) + 0.05 * sin(3 * a) * k;
+        }
+#define MG_RV(k, s) (1 + ((k) - 1) * 2 * n + ((s) % (2 * n)))
+    int f = 0;
+    for (int i = 0; i < n; i++, f++) {
+        fs[f] = 4 * f;
+        fv[4 * f] = 0;
+        fv[4 * f + 1] = MG_RV(1, 2 * i);
+        fv[4 * f + 2] = MG_RV(1, 2 * i + 1);
+        fv[4 * f + 3] = MG_RV(1, 2 * i + 2);
+    }
+    for (int k = 1; k < rings; k++)
+        for (int s = 0; s < 2 * n; s++, f++) {
+            fs[f] = 4 * f;
+            fv[4 * f] = MG_RV(k, s);
+            fv[4 * f + 1] = MG_RV(k + 1, s);
+            fv[4 * f + 2] = MG_RV(k + 1, s + 1);
+            fv[4 * f + 3] = MG_RV(k, s + 1);
+        }
+#undef MG_RV
+    fs[nf] = 4 * nf;
+    return mg_finish(nv, pos, nf, fs, fv, "polar star");
+}
+
 #endif

@@ -32,7 +32,7 @@ static q2n_status build_augmented(q2n_model *m, q2n_error *err)
 {
     q2n_augmented_options ao = {m->opt.cls, m->opt.param};
     q2n_extraordinary_options eo = {m->opt.cls, m->opt.param, (q2n_ev_patch_kind)m->opt.ev_patch,
-                                    (q2n_ev_method)m->opt.ev_method};
+                                    (q2n_ev_method)m->opt.ev_method, m->opt.threads};
     q2n_status st = q2n_param_edge_intervals(m->mesh, &m->opt.param, &m->edge_iv, err);
     if (!st) st = q2n_augmented_build(m->mesh, &ao, m->edge_iv, &m->surface, err);
     /* faces at extraordinary vertices: augmented Coons–Gregory patches (§4) */
@@ -68,7 +68,7 @@ q2n_status q2n_model_build(const char *obj_path, const q2n_model_options *opt, q
     q2n_model *m = calloc(1, sizeof *m);
     if (!m) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory");
     if (opt) m->opt = *opt;
-    if (!m->opt.cls) m->opt.cls = q2n_spline_class_find("D5C2P2S4");
+    if (!m->opt.cls) m->opt.cls = q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT);
     double t0 = q2n_now();
     q2n_status st = q2n_mesh_read_obj(obj_path, &m->mesh, err);
     if (!st && m->opt.subdivide > 0) {

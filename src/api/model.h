@@ -21,13 +21,14 @@ typedef enum q2n_surface_method {
     Q2N_SURFACE_ACC_G1         /* seed 001: bicubic + biquintic, G1 everywhere */
 } q2n_surface_method;
 
-/* Zeroed = defaults (augmented, D5C2P2S4, centripetal α = 1/2, no subdivision). */
+/* Zeroed = defaults (augmented, Q2N_SPLINE_CLASS_DEFAULT, centripetal α = 1/2, no subdivision). */
 typedef struct q2n_model_options {
     q2n_surface_method method;
-    const q2n_spline_class *cls;  /* augmented: NULL = D5C2P2S4 */
+    const q2n_spline_class *cls;  /* augmented: NULL = Q2N_SPLINE_CLASS_DEFAULT */
     q2n_param_options param;      /* augmented: zeroed = centripetal */
     int ev_patch;                 /* augmented: a q2n_ev_patch_kind (0 default: G2 for C2 classes) */
     int ev_method;                /* augmented: a q2n_ev_method (0 default: the fair construction) */
+    int threads;                  /* worker threads of the construction (0: 1; results do not depend on it) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */
 } q2n_model_options;

@@ -39,8 +39,9 @@ static void usage(FILE *f)
           "      --surface M       augmented (default: interpolates every vertex), acc3 or acc-g1\n"
           "                        (Catmull-Clark approximations, exact polynomial patches)\n"
           "      --acc-strategy S  acc-g1 masks: cs-s (default), ncs-s, cs-as, ncs-as\n"
-          "      --class C         spline class of the augmented surface: D5C2P2S4 (default, C2),\n"
-          "                        D3C1P2S4 (Catmull-Rom, C1), D2C1P2S4, D3C2P2S4, D5C2P4S6\n"
+          "      --class C         spline class of the augmented surface: D5C2P4S6 (default: C2,\n"
+          "                        reproduces quartics), D5C2P2S4 (C2, support 4), D3C1P2S4\n"
+          "                        (Catmull-Rom, C1), D2C1P2S4, D3C2P2S4\n"
           "      --ev-patch G      patches at extraordinary vertices: g2 (default for C2 classes,\n"
           "                        biquintic Coons-Gregory) or g1 (bicubic; default for C1 classes)\n"
           "      --ev-construction M  extraordinary regions: fair (default: one jet per vertex,\n"
@@ -51,7 +52,8 @@ static void usage(FILE *f)
           "      --subdivide N     apply N Catmull-Clark steps first (needed for non-quad faces)\n"
           "      --tess N          tessellation points per patch side (default 9)\n"
           "      --tol T           fit tolerance relative to the bounding-box diagonal (default 1e-5)\n"
-          "      --threads N       fit threads (default 1; results do not depend on it)\n"
+          "      --threads N       threads of the construction and the fit (default 1; results do not\n"
+          "                        depend on it)\n"
           "      --solver S        fit solver: ceres (default) or direct (own QR, same result, faster)\n"
           "      --continuity C    continuity the fit imposes: g1 or g2 (default: the construction's)\n"
           "      --units U         CAD file units: mm (default) or in\n"
@@ -117,7 +119,10 @@ static int parse_args(int argc, char **argv, cli_options *o)
         case OPT_TESS: if (parse_int(optarg, "--tess", 2, 10000, &o->tess)) return 2; break;
         case OPT_GRID: if (parse_int(optarg, "--grid", 1, 10000, &o->grid)) return 2; break;
         case OPT_SUBDIV: if (parse_int(optarg, "--subdivide", 0, 6, &o->model.subdivide)) return 2; break;
-        case OPT_THREADS: if (parse_int(optarg, "--threads", 1, 256, &o->fit.threads)) return 2; break;
+        case OPT_THREADS:
+            if (parse_int(optarg, "--threads", 1, 256, &o->fit.threads)) return 2;
+            o->model.threads = o->fit.threads;
+            break;
         case OPT_CLASS:
             if (!(o->model.cls = q2n_spline_class_find(optarg))) {
                 fprintf(stderr, "quad2nurbs: --class: unknown class '%s' (known:", optarg);

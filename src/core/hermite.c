@@ -1,6 +1,8 @@
 /* hermite.c — Hermite basis tables and evaluation (hermite.h). */
 #include "core/hermite.h"
 
+#include <pthread.h>
+
 const double q2n_hermite_coef[Q2N_HERMITE_MAXK][Q2N_HERMITE_MAXK + 1][2][10] = {
     { /* K = 1 */
         {{1, 0, -3, 2, 0, 0, 0, 0, 0, 0}, {0, 0, 3, -2, 0, 0, 0, 0, 0, 0}},
@@ -35,8 +37,38 @@ void q2n_poly_derivs(const double *c, int deg, double t, int nder, double *out)
     }
 }
 
+/* Derivative tables: D[K-1][a][e][q][i] = coefficient of t^i in the q-th derivative of H_{a,e}
+ * (order K), filled once. */
+static double D[Q2N_HERMITE_MAXK][Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1][10];
+static pthread_once_t D_once = PTHREAD_ONCE_INIT;
+
+static void fill_tables(void)
+{
+    for (int K = 1; K <= Q2N_HERMITE_MAXK; K++)
+        for (int a = 0; a <= K; a++)
+            for (int e = 0; e < 2; e++)
+                for (int q = 0; q <= Q2N_HERMITE_MAXD; q++)
+                    for (int i = 0; i < 10; i++) {
+                        int p = i + q; /* t^i comes from t^p */
+                        double f = p < 10 ? q2n_hermite_coef[K - 1][a][e][p] : 0;
+                        for (int j = 0; j < q && f != 0; j++) f *= (double)(p - j);
+                        D[K - 1][a][e][q][i] = f;
+                    }
+}
+
 void q2n_hermite_eval(int K, double t, int nder, double H[][2][Q2N_HERMITE_MAXD + 1])
 {
+    pthread_once(&D_once, fill_tables);
+    int deg = 2 * K + 1;
+    double pw[10];
+    pw[0] = 1;
+    for (int i = 1; i <= deg; i++) pw[i] = pw[i - 1] * t;
     for (int a = 0; a <= K; a++)
-        for (int e = 0; e < 2; e++) q2n_poly_derivs(q2n_hermite_coef[K - 1][a][e], 2 * K + 1, t, nder, H[a][e]);
+        for (int e = 0; e < 2; e++)
+            for (int q = 0; q <= nder; q++) {
+                const double *c = D[K - 1][a][e][q];
+                double r = 0;
+                for (int i = 0; i + q <= deg; i++) r += c[i] * pw[i];
+                H[a][e][q] = r;
+            }
 }

@@ -441,7 +441,7 @@ static void free_patch(void *d) { free(d); }
 q2n_status q2n_augmented_build(const q2n_mesh *m, const q2n_augmented_options *opt,
                                const double *edge_iv, q2n_surface **out, q2n_error *err)
 {
-    const q2n_spline_class *cls = opt->cls ? opt->cls : q2n_spline_class_find("D5C2P2S4");
+    const q2n_spline_class *cls = opt->cls ? opt->cls : q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT);
     double *own = NULL;
     q2n_status st;
     if (!edge_iv) {

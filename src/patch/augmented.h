@@ -15,7 +15,7 @@
 #include "spline/spline.h"
 
 typedef struct q2n_augmented_options {
-    const q2n_spline_class *cls; /* NULL: D5C2P2S4 */
+    const q2n_spline_class *cls; /* NULL: Q2N_SPLINE_CLASS_DEFAULT (D5C2P4S6) */
     q2n_param_options param;
 } q2n_augmented_options;
 

@@ -183,6 +183,51 @@ void cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, dou
     }
 }
 
+void cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, int nu, const double *us,
+             const cp_line *Lu, int nv, const double *vs, const cp_line *Lv, int omin, int omax, double *out)
+{
+    static const int ord[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    int K = P->K, no = omax - omin + 1;
+    double Dv[2][3][CP_NA][CP_MAXW]; /* per v-line: u-side data minus the corner tensor contracted in v */
+    for (int b = 0; b < nv; b++) {
+        const cp_line *L = &Lv[b];
+        for (int i = 0; i < 2; i++)
+            for (int k = 0; k <= K; k++)
+                for (int q = 0; q < CP_NA; q++) {
+                    double *r = Dv[i][k][q];
+                    memcpy(r, L->side[i][k][q], sizeof(double) * W);
+                    for (int j = 0; j < 2; j++)
+                        for (int l = 0; l <= K; l++) {
+                            double h = L->H[l][j][q];
+                            if (h == 0) continue;
+                            const double *M = CP_CT(C, 0, i, j, k, l);
+                            for (int x = 0; x < W; x++) r[x] -= h * M[x];
+                        }
+                }
+        for (int a = 0; a < nu; a++) {
+            const cp_line *U = &Lu[a];
+            double ph[CP_NBUB][10];
+            if (bub) cp_bubbles(K, us[a], vs[b], ph);
+            for (int o = omin; o <= omax; o++) {
+                int p = ord[o][0], q = ord[o][1];
+                double *r = out + ((size_t)(b * nu + a) * no + (o - omin)) * W;
+                memset(r, 0, sizeof(double) * W);
+                for (int i = 0; i < 2; i++)
+                    for (int k = 0; k <= K; k++) {
+                        double hu = U->H[k][i][p], hv = L->H[k][i][q];
+                        const double *d = Dv[i][k][q], *f = U->side[i][k][p];
+                        for (int x = 0; x < W; x++) r[x] += hu * d[x] + hv * f[x];
+                    }
+                for (int bb = 0; bub && bb < CP_NBUB; bb++) {
+                    double f = ph[bb][o];
+                    const double *c = bub + (size_t)bb * W;
+                    for (int x = 0; x < W; x++) r[x] += f * c[x];
+                }
+            }
+        }
+    }
+}
+
 /* ------------------------------------------------------------ production evaluators (W = 3) */
 
 void cp_eval_init(cp_eval *E)

@@ -58,6 +58,13 @@ void cp_line_v(const cp_patch *P, const void *lanes, int W, double v, int na, cp
 void cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, double u, double v, int nder,
             const cp_line *Lu, const cp_line *Lv, double *out);
 
+/* The same partials on the tensor grid us[a] x vs[b] (lines Lu[a], Lv[b], na > 3 for third
+ * orders), orders omin..omax of cp_sum's list, out[((b * nu + a) * (omax - omin + 1) + o - omin) * W
+ * + l].  Corner terms are the constant M (Gregory blends are ignored: the energy assembly is the
+ * user; they differ from M by rounding-level mismatches). */
+void cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, int nu, const double *us,
+             const cp_line *Lu, int nv, const double *vs, const cp_line *Lv, int omin, int omax, double *out);
+
 /* The bubbles φ_b and their partials up to order 3 at (u, v), in cp_sum's order. */
 void cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10]);
 

@@ -36,6 +36,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cblas.h>
+#include <pthread.h>
+
 #include "core/sparse.h"
 #include "core/vec3.h"
 #include "patch/coons_patch.h"
@@ -268,6 +271,7 @@ typedef struct fe_build {
     int *var;                   /* per vertex and slot: unknown index or -1 (fixed) */
     int *bvar;                  /* per face of the list: first of its CP_NBUB bubble unknowns */
     double (*bub)[CP_NBUB][3];  /* per face of the list: bubble values */
+    char *ridge_low;            /* per unknown: a first- or second-order jet term (firmer ridge) */
     int nvar;
 } fe_build;
 
@@ -428,119 +432,142 @@ static int trip_add(fe_trip *T, int i, int j, double v)
     return 1;
 }
 
-/* Energy of face fi on the Gauss grid: with W > 3 lanes its normal-equation block is added to
- * (T, rhs, diag); with the current values (W = 3, no unknowns) its bending and variation values
- * are returned in e[0], e[1].  w3: weight of the variation term. */
-static q2n_status face_energy(fe_build *B, int fi, int f, const cp_patch *P, const double *gx, const double *gw, int ng,
-                              double w3, int assemble, fe_trip *T, double *rhs, double *diag, double e[2])
+/* Per-face quadratic forms of the two energy terms in the face's unknowns (local numbering loc):
+ * E_t(x) = Σ_xyz (xᵀ K_t x - 2 x·r_t + c_t), t = 0 bending, 1 curvature variation (unit weight;
+ * K_t shared by x, y and z, upper triangle, row-major nl x nl). */
+typedef struct fe_form {
+    int nl;
+    int loc[4 * EV_JS + CP_NBUB];
+    double *K[2], *r[2];
+    double c[2];
+} fe_form;
+
+static void form_free(fe_form *F)
 {
-    static const int n2 = 4 * EV_JS + CP_NBUB;
-    double *Jl = malloc(sizeof(double) * 4 * EV_JS * CP_MAXW), bl[CP_NBUB * CP_MAXW];
-    cp_line *Lu = malloc((size_t)ng * sizeof *Lu);
-    cp_corner C = {0, malloc(sizeof(double) * 3 * 36 * CP_MAXW)};
-    double *K = calloc((size_t)n2 * n2, sizeof *K), (*R)[3] = calloc((size_t)n2, sizeof *R);
-    if (!Jl || !Lu || !C.v || !K || !R) {
-        free(Jl); free(Lu); free(C.v); free(K); free(R);
-        return Q2N_ERR_NOMEM;
+    for (int t = 0; t < 2; t++) {
+        free(F->K[t]);
+        free(F->r[t]);
     }
+}
+
+/* Assemble the forms of face fi (faces[fi] = f) on the Gauss grid. */
+static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P, const double *gx, const double *gw, int ng,
+                            fe_form *F)
+{
     const q2n_mesh *m = B->m;
-    int loc[4 * EV_JS + CP_NBUB], W, nl;
-    if (assemble) {
-        W = assembly_lanes(B, fi, f, Jl, bl, loc);
-    } else {
-        W = 3;
-        for (int c = 0; c < 4; c++) memcpy(Jl + (size_t)c * EV_JS * 3, B->jet[m->face_vert[m->face_start[f] + c]], sizeof(double) * EV_JS * 3);
-        memcpy(bl, B->bub[fi], sizeof(double) * CP_NBUB * 3);
-    }
-    nl = W - 3;
+    double *Jl = malloc(sizeof(double) * 4 * EV_JS * CP_MAXW), bl[CP_NBUB * CP_MAXW];
+    cp_line *Lu = malloc(2 * (size_t)ng * sizeof *Lu), *Lv = Lu ? Lu + ng : NULL;
+    cp_corner C = {0, malloc(sizeof(double) * 3 * 36 * CP_MAXW)};
+    size_t np = (size_t)ng * ng;
+    double *G = malloc(sizeof(double) * np * 7 * CP_MAXW);
+    double *A = malloc(sizeof(double) * np * 4 * (4 * EV_JS + CP_NBUB)), *A0 = malloc(sizeof(double) * np * 4 * 3);
+    q2n_status st = Q2N_OK;
+    memset(F, 0, sizeof *F);
+    if (!Jl || !Lu || !C.v || !G || !A || !A0) { st = Q2N_ERR_NOMEM; goto done; }
+    int W = assembly_lanes(B, fi, f, Jl, bl, F->loc), nl = W - 3;
+    F->nl = nl;
     const double *J[4];
     for (int c = 0; c < 4; c++) J[c] = Jl + (size_t)c * EV_JS * W;
     double Lsu, Lsv;
     face_scale(m, f, &Lsu, &Lsv);
-    double Lc2 = Lsu * Lsv, s3 = sqrt(w3 * Lc2);
-    /* row scales: x = u Lsu, y = v Lsv */
-    double sc[7] = {1 / (Lsu * Lsu), 1.4142135623730951 / (Lsu * Lsv), 1 / (Lsv * Lsv), s3 / (Lsu * Lsu * Lsu),
-                    s3 * sqrt(3.0) / (Lsu * Lsu * Lsv), s3 * sqrt(3.0) / (Lsu * Lsv * Lsv), s3 / (Lsv * Lsv * Lsv)};
-    int nr = w3 > 0 || !assemble ? 7 : 3, na = nr > 3 ? 4 : 3;
-    if (!assemble) { sc[3] = 1 / (Lsu * Lsu * Lsu); sc[4] = sqrt(3.0) / (Lsu * Lsu * Lsv); sc[5] = sqrt(3.0) / (Lsu * Lsv * Lsv); sc[6] = 1 / (Lsv * Lsv * Lsv); }
+    double Lc2 = Lsu * Lsv, Lc = sqrt(Lc2);
+    /* x = u Lsu, y = v Lsv: bending |S_xx|² + 2|S_xy|² + |S_yy|², variation L² (|S_xxx|² + 3|S_xxy|²
+     * + 3|S_xyy|² + |S_yyy|²) */
+    const double sc[7] = {1 / (Lsu * Lsu), 1.4142135623730951 / (Lsu * Lsv), 1 / (Lsv * Lsv),
+                          Lc / (Lsu * Lsu * Lsu), Lc * 1.7320508075688772 / (Lsu * Lsu * Lsv),
+                          Lc * 1.7320508075688772 / (Lsu * Lsv * Lsv), Lc / (Lsv * Lsv * Lsv)};
     cp_corner_terms(P, J, W, &C);
-    for (int a = 0; a < ng; a++) cp_line_u(P, J, W, gx[a], na, &Lu[a]);
-    e[0] = e[1] = 0;
-    for (int b = 0; b < ng; b++) {
-        cp_line Lv;
-        cp_line_v(P, J, W, gx[b], na, &Lv);
-        for (int a = 0; a < ng; a++) {
-            double o[10 * CP_MAXW];
-            cp_sum(P, &C, bl, W, gx[a], gx[b], nr > 3 ? 3 : 2, &Lu[a], &Lv, o);
+    for (int a = 0; a < ng; a++) cp_line_u(P, J, W, gx[a], 4, &Lu[a]);
+    for (int b = 0; b < ng; b++) cp_line_v(P, J, W, gx[b], 4, &Lv[b]);
+    cp_grid(P, &C, bl, W, ng, gx, Lu, ng, gx, Lv, 3, 9, G);
+    for (int t = 0; t < 2 && !st; t++) {
+        int r0 = t ? 3 : 0, nr = t ? 4 : 3, nrow = 0;
+        F->K[t] = calloc((size_t)(nl ? nl : 1) * (nl ? nl : 1), sizeof(double));
+        F->r[t] = calloc((size_t)(nl ? nl : 1) * 3, sizeof(double));
+        if (!F->K[t] || !F->r[t]) { st = Q2N_ERR_NOMEM; break; }
+        F->c[t] = 0;
+        for (size_t p = 0; p < np; p++) {
+            int a = (int)(p % ng), b = (int)(p / ng);
             double wq = gw[a] * gw[b] * Lc2;
-            for (int r = 0; r < nr; r++) {
-                const double *row = o + (size_t)(3 + r) * W;
-                double s2 = wq * sc[r] * sc[r];
-                if (!assemble) {
-                    e[r < 3 ? 0 : 1] += s2 * q2n_v3_dot(row, row);
-                    continue;
-                }
-                for (int i = 0; i < nl; i++) {
-                    double ci = row[3 + i] * s2;
-                    if (ci == 0) continue;
-                    double *Ki = K + (size_t)i * n2;
-                    for (int k = i; k < nl; k++) Ki[k] += ci * row[3 + k];
-                    for (int c = 0; c < 3; c++) R[i][c] -= ci * row[c];
-                }
+            for (int r = r0; r < r0 + nr; r++) {
+                const double *row = G + (p * 7 + r) * W, sq = sqrt(wq) * sc[r];
+                for (int i = 0; i < nl; i++) A[(size_t)nrow * nl + i] = sq * row[3 + i];
+                for (int c = 0; c < 3; c++) A0[(size_t)nrow * 3 + c] = sq * row[c];
+                F->c[t] += sq * sq * q2n_v3_dot(row, row);
+                nrow++;
             }
         }
-    }
-    int ok = 1;
-    for (int i = 0; assemble && i < nl && ok; i++) {
-        for (int c = 0; c < 3; c++) rhs[3 * loc[i] + c] += R[i][c];
-        diag[loc[i]] += K[(size_t)i * n2 + i];
-        for (int k = i; k < nl && ok; k++) {
-            double v = K[(size_t)i * n2 + k];
-            if (v == 0) continue;
-            int gi = loc[i], gk = loc[k];
-            ok = trip_add(T, gi < gk ? gi : gk, gi < gk ? gk : gi, gi == gk && i != k ? 2 * v : v);
+        if (nl > 0) {
+            cblas_dsyrk(CblasRowMajor, CblasUpper, CblasTrans, nl, nrow, 1.0, A, nl, 0.0, F->K[t], nl);
+            cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, nl, 3, nrow, -1.0, A, nl, A0, 3, 0.0, F->r[t], 3);
         }
     }
+done:
     free(Jl);
     free(Lu);
     free(C.v);
-    free(K);
-    free(R);
-    return ok ? Q2N_OK : Q2N_ERR_NOMEM;
+    free(G);
+    free(A);
+    free(A0);
+    if (st) form_free(F);
+    return st;
 }
 
-/* One pass: assemble bending + w3·ω_F·variation over all faces, add the ridge, solve, update the
- * jets and bubbles. */
-static q2n_status fair_pass(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const double *omega,
-                            double w3, const double (*jet0)[EV_JS][3], q2n_error *err)
+/* Faces' forms on worker threads (face fi on thread fi mod nt: the result does not depend on nt). */
+typedef struct fe_job {
+    const fe_build *B;
+    const int *faces;
+    int nfaces, t, nt;
+    const cp_patch *P;
+    fe_form *F;
+    q2n_status st;
+} fe_job;
+
+static void *form_worker(void *arg)
 {
-    const q2n_mesh *m = B->m;
-    int n = B->nvar, ng = EV_FAIR_GAUSS;
-    double gx[EV_FAIR_GAUSS], gw[EV_FAIR_GAUSS], e[2];
-    gauss01(ng, gx, gw);
+    fe_job *J = arg;
+    double gx[EV_FAIR_GAUSS], gw[EV_FAIR_GAUSS];
+    gauss01(EV_FAIR_GAUSS, gx, gw);
+    for (int fi = J->t; fi < J->nfaces && !J->st; fi += J->nt)
+        J->st = face_form(J->B, fi, J->faces[fi], &J->P[fi], gx, gw, EV_FAIR_GAUSS, &J->F[fi]);
+    return NULL;
+}
+
+/* Sum the forms with weights w_t (per face for the variation term), add the ridge, solve; X holds
+ * the solution per unknown (3 per unknown). */
+static q2n_status fair_pass(const fe_build *B, int nfaces, const fe_form *F, const double *omega, double w3,
+                            const double *x0, double *X, q2n_error *err)
+{
+    int n = B->nvar;
     fe_trip T = {0};
     double *rhs = calloc(3 * (size_t)n, sizeof *rhs), *diag = calloc((size_t)n, sizeof *diag), *Bm = NULL, *dg = NULL;
     q2n_status st = Q2N_OK;
     if (!rhs || !diag) { st = Q2N_ERR_NOMEM; goto done; }
-    for (int fi = 0; fi < nfaces && !st; fi++)
-        st = face_energy(B, fi, faces[fi], &P[fi], gx, gw, ng, w3 * (omega ? omega[fi] : 1), 1, &T, rhs, diag, e);
-    if (st) goto done;
-    /* ridge: jets towards the local estimates (first/second order firmer), bubbles towards 0 */
-    for (int v = 0; v < m->nv; v++)
-        for (int k = 1; k < EV_JS; k++) {
-            int x = B->var[v * EV_JS + k];
-            if (x < 0) continue;
-            double lam = (k < 6 ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
-            if (!(lam > 0)) lam = 1;
-            if (!trip_add(&T, x, x, lam)) { st = Q2N_ERR_NOMEM; goto done; }
-            for (int c = 0; c < 3; c++) rhs[3 * x + c] += lam * jet0[v][k][c];
+    for (int fi = 0; fi < nfaces; fi++) {
+        const fe_form *f = &F[fi];
+        double w[2] = {1, w3 * (omega ? omega[fi] : 1)};
+        for (int i = 0; i < f->nl; i++) {
+            int gi = f->loc[i];
+            for (int t = 0; t < 2; t++) {
+                if (w[t] == 0) continue;
+                for (int c = 0; c < 3; c++) rhs[3 * gi + c] += w[t] * f->r[t][3 * i + c];
+            }
+            for (int k = i; k < f->nl; k++) {
+                double v = f->K[0][i * f->nl + k] + (w[1] != 0 ? w[1] * f->K[1][i * f->nl + k] : 0);
+                if (v == 0) continue;
+                int gk = f->loc[k];
+                if (gi == gk) diag[gi] += v;
+                if (!trip_add(&T, gi < gk ? gi : gk, gi < gk ? gk : gi, v)) { st = Q2N_ERR_NOMEM; goto done; }
+            }
         }
-    for (int fi = 0; fi < nfaces; fi++)
-        for (int b = 0; b < CP_NBUB; b++) {
-            int x = B->bvar[fi] + b;
-            double lam = EV_FAIR_RIDGE_HIGH * diag[x];
-            if (!trip_add(&T, x, x, lam > 0 ? lam : 1)) { st = Q2N_ERR_NOMEM; goto done; }
-        }
+    }
+    /* ridge towards x0: jets' first and second orders firmer than the rest */
+    for (int x = 0; x < n; x++) {
+        double lam = (B->ridge_low[x] ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
+        if (!(lam > 0)) lam = 1;
+        if (!trip_add(&T, x, x, lam)) { st = Q2N_ERR_NOMEM; goto done; }
+        for (int c = 0; c < 3; c++) rhs[3 * x + c] += lam * x0[3 * x + c];
+    }
     /* symmetric diagonal scaling (the unknowns' scales differ by orders of magnitude), solve */
     Bm = malloc(3 * (size_t)n * sizeof *Bm);
     dg = calloc((size_t)n, sizeof *dg);
@@ -552,15 +579,8 @@ static q2n_status fair_pass(fe_build *B, const int *faces, int nfaces, const cp_
     for (int k = 0; k < n; k++)
         for (int c = 0; c < 3; c++) Bm[(size_t)c * n + k] = rhs[3 * k + c] * dg[k];
     if ((st = q2n_sparse_spd_solve(n, (long)T.n, T.i, T.j, T.v, 3, Bm, Bm, err))) goto done;
-    for (int v = 0; v < m->nv; v++)
-        for (int k = 0; k < EV_JS; k++) {
-            int x = B->var[v * EV_JS + k];
-            if (x >= 0)
-                for (int c = 0; c < 3; c++) B->jet[v][k][c] = Bm[(size_t)c * n + x] * dg[x];
-        }
-    for (int fi = 0; fi < nfaces; fi++)
-        for (int b = 0; b < CP_NBUB; b++)
-            for (int c = 0; c < 3; c++) B->bub[fi][b][c] = Bm[(size_t)c * n + B->bvar[fi] + b] * dg[B->bvar[fi] + b];
+    for (int k = 0; k < n; k++)
+        for (int c = 0; c < 3; c++) X[3 * k + c] = Bm[(size_t)c * n + k] * dg[k];
 done:
     if (st == Q2N_ERR_NOMEM) q2n_error_set(err, st, "out of memory (fair solve, %d unknowns)", n);
     free(T.i);
@@ -579,33 +599,77 @@ static int cmp_dbl(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* The energy solve: a bending-only pass, then the variation weights ω_F from its result, then
- * the full pass. */
-static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp_patch *P,
-                             const double (*jet0)[EV_JS][3], q2n_error *err)
+/* The energy solve: the faces' forms (once, on worker threads), a bending-only pass, the
+ * variation weights ω_F from its result, then the full pass; the jets and bubbles get the
+ * solution. */
+static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp_patch *P, int threads, q2n_error *err)
 {
-    q2n_status st = fair_pass(B, faces, nfaces, P, NULL, 0, jet0, err);
-    if (st || !(EV_FAIR_W3 > 0)) return st;
-    double gx[EV_FAIR_GAUSS], gw[EV_FAIR_GAUSS], e[2];
-    gauss01(EV_FAIR_GAUSS, gx, gw);
+    const q2n_mesh *m = B->m;
+    int n = B->nvar, nt = threads < 1 ? 1 : threads > nfaces ? (nfaces > 0 ? nfaces : 1) : threads;
+    q2n_status st = Q2N_OK;
+    if (nfaces <= 0 || n <= 0) return Q2N_OK;
+    fe_form *F = calloc((size_t)nfaces, sizeof *F);
+    fe_job *jobs = calloc((size_t)nt, sizeof *jobs);
+    pthread_t *tid = calloc((size_t)nt, sizeof *tid);
+    double *x0 = calloc(3 * (size_t)n, sizeof *x0), *X = calloc(3 * (size_t)n, sizeof *X);
     double *v3 = malloc((size_t)nfaces * sizeof *v3), *srt = malloc((size_t)nfaces * sizeof *srt);
-    if (!v3 || !srt) { free(v3); free(srt); return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)"); }
-    for (int fi = 0; fi < nfaces && !st; fi++) {
-        st = face_energy(B, fi, faces[fi], &P[fi], gx, gw, EV_FAIR_GAUSS, 0, 0, NULL, NULL, NULL, e);
-        v3[fi] = srt[fi] = e[1];
+    if (!F || !jobs || !tid || !x0 || !X || !v3 || !srt) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)"); goto done; }
+    for (int t = 0; t < nt; t++) {
+        jobs[t] = (fe_job){B, faces, nfaces, t, nt, P, F, Q2N_OK};
+        if (t > 0 && pthread_create(&tid[t], NULL, form_worker, &jobs[t])) jobs[t].st = Q2N_ERR_NOMEM, tid[t] = 0;
     }
-    if (st) { free(v3); free(srt); return q2n_error_set(err, st, "out of memory (fair solve)"); }
-    qsort(srt, (size_t)nfaces, sizeof *srt, cmp_dbl);
-    double med = srt[nfaces / 2], cap = EV_FAIR_VAR_OUTLIER * med;
-    for (int fi = 0; fi < nfaces; fi++) v3[fi] = v3[fi] > cap && cap > 0 ? cap / v3[fi] : 1;
-    st = fair_pass(B, faces, nfaces, P, v3, EV_FAIR_W3, jet0, err);
+    form_worker(&jobs[0]);
+    for (int t = 1; t < nt; t++)
+        if (tid[t]) pthread_join(tid[t], NULL);
+    for (int t = 0; t < nt && !st; t++)
+        if (jobs[t].st) st = q2n_error_set(err, jobs[t].st, "out of memory (fair energy forms)");
+    if (st) goto done;
+    /* x0: the current values (local estimates for the jets, zero bubbles) */
+    for (int v = 0; v < m->nv; v++)
+        for (int k = 0; k < EV_JS; k++) {
+            int x = B->var[v * EV_JS + k];
+            if (x >= 0) memcpy(x0 + 3 * x, B->jet[v][k], 3 * sizeof(double));
+        }
+    if ((st = fair_pass(B, nfaces, F, NULL, 0, x0, X, err))) goto done;
+    if (EV_FAIR_W3 > 0) {
+        for (int fi = 0; fi < nfaces; fi++) { /* variation left by the bending-only pass */
+            const fe_form *f = &F[fi];
+            double e = f->c[1];
+            for (int i = 0; i < f->nl; i++) {
+                const double *xi = X + 3 * f->loc[i];
+                e -= 2 * q2n_v3_dot(xi, f->r[1] + 3 * i);
+                for (int k = i; k < f->nl; k++)
+                    e += (k == i ? 1 : 2) * f->K[1][i * f->nl + k] * q2n_v3_dot(xi, X + 3 * f->loc[k]);
+            }
+            v3[fi] = srt[fi] = e;
+        }
+        qsort(srt, (size_t)nfaces, sizeof *srt, cmp_dbl);
+        double cap = EV_FAIR_VAR_OUTLIER * srt[nfaces / 2];
+        for (int fi = 0; fi < nfaces; fi++) v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
+        if ((st = fair_pass(B, nfaces, F, v3, EV_FAIR_W3, x0, X, err))) goto done;
+    }
+    for (int v = 0; v < m->nv; v++)
+        for (int k = 0; k < EV_JS; k++) {
+            int x = B->var[v * EV_JS + k];
+            if (x >= 0) memcpy(B->jet[v][k], X + 3 * x, 3 * sizeof(double));
+        }
+    for (int fi = 0; fi < nfaces; fi++)
+        for (int b = 0; b < CP_NBUB; b++) memcpy(B->bub[fi][b], X + 3 * (B->bvar[fi] + b), 3 * sizeof(double));
+done:
+    if (F)
+        for (int fi = 0; fi < nfaces; fi++) form_free(&F[fi]);
+    free(F);
+    free(jobs);
+    free(tid);
+    free(x0);
+    free(X);
     free(v3);
     free(srt);
     return st;
 }
 
 q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
-                         ev_fair_stats *stats, q2n_error *err)
+                         int threads, ev_fair_stats *stats, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
     fe_build B = {0};
@@ -709,7 +773,10 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
             }
     }
 
-    if ((st = fair_solve(&B, faces, nf, CP, (const double (*)[EV_JS][3])jet0, err))) goto done;
+    if (!(B.ridge_low = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+    for (int i = 0; i < m->nv * EV_JS; i++)
+        if (B.var[i] >= 0) B.ridge_low[B.var[i]] = i % EV_JS < 6;
+    if ((st = fair_solve(&B, faces, nf, CP, threads, err))) goto done;
     if (stats) stats->unknowns = B.nvar;
 
     for (int i = 0; i < nf; i++) {
@@ -747,5 +814,6 @@ done:
     free(B.base);
     free(B.bvar);
     free(B.bub);
+    free(B.ridge_low);
     return st;
 }

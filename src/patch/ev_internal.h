@@ -12,6 +12,7 @@
 #define Q2N_PATCH_EV_INTERNAL_H
 
 #include "patch/augmented.h"
+#include "patch/coons_patch.h"
 #include "patch/extraordinary.h"
 
 #define EV_MAXDEG 10   /* polynomial degree bound of the constructed edge data */
@@ -90,5 +91,29 @@ typedef struct ev_side {
     int sR;              /* kind 1: its side index (0..3, the face half-edge) */
 } ev_side;
 void ev_side_eval(const ev_side *sd, double s, double out[3][3][3]);
+
+/* ---- ev_paper.c: the paper's Coons–Gregory patch of one face ---- */
+typedef struct pp_ctx {
+    int kb;
+    double d0, d1, e0, e1; /* intervals of sides 0, 2 (u) and 3, 1 (v) */
+    ev_side side[4];
+} pp_ctx;
+
+typedef struct ev_patch {
+    cp_eval E; /* first: the surface's data pointer is this struct (cp_eval_point) */
+    pp_ctx X;
+} ev_patch;
+
+/* Fill the patch of uncovered face f from the curve network and its regular neighbours. */
+q2n_status ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surface *s, const double *iv,
+                                const char *unc, ev_edge *const *edges, int K, int kb, int f, q2n_error *err);
+/* The paper's construction for every uncovered face of s. */
+q2n_status ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+                          q2n_error *err);
+
+/* ---- ev_harmonize.c: corner compatibility of vertex v (G2 mode; vc_*: corners by vertex) ---- */
+q2n_status ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
+                               ev_edge **edges, int K, int kb, const int *vc_start, const int *vc_list, int v,
+                               q2n_error *err);
 
 #endif

@@ -12,7 +12,9 @@
 /* Weight of the curvature-variation term against bending (both dimensionless per face): it is
  * what removes the ripples (bending alone ranks a wavy and a smooth cap alike); larger values
  * trade bending for monotone curvature. */
+#ifndef EV_FAIR_W3
 #define EV_FAIR_W3 0.1
+#endif
 
 /* A face whose variation after the bending-only pass exceeds this many times the median face's
  * gets its variation weight scaled down to that level: thin features (a rim of a few percent of

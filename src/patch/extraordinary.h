@@ -36,10 +36,11 @@ typedef enum q2n_ev_method {
 } q2n_ev_method;
 
 typedef struct q2n_extraordinary_options {
-    const q2n_spline_class *cls; /* the class of the regular patches; NULL: D5C2P2S4 */
+    const q2n_spline_class *cls; /* the class of the regular patches; NULL: Q2N_SPLINE_CLASS_DEFAULT */
     q2n_param_options param;     /* used when edge_iv is NULL (must match the regular build) */
     q2n_ev_patch_kind ev_patch;
     q2n_ev_method method;
+    int threads;                 /* worker threads for the construction's solves (0: 1) */
 } q2n_extraordinary_options;
 
 /* Parse "fair" / "paper"; returns 0 on success. */

@@ -30,6 +30,10 @@ typedef struct q2n_spline_class {
 } q2n_spline_class;
 
 /* Registry: the classes this build provides, NULL-terminated; lookup by name (case-insensitive). */
+/* The product's default class: D5C2P4S6 (C2, reproduces quartics, support 6) is the fairest class
+ * that keeps G2 on the shared meshes (docs/extraordinary.md, "Default class"). */
+#define Q2N_SPLINE_CLASS_DEFAULT "D5C2P4S6"
+
 const q2n_spline_class *const *q2n_spline_classes(void);
 const q2n_spline_class *q2n_spline_class_find(const char *name);
 

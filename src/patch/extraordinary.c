@@ -1,0 +1,75 @@
+/* extraordinary.c — the driver: gives every face that the regular augmented construction left
+ * uncovered a patch of the chosen extraordinary-vertex construction (seed 003 §4):
+ *   fair  (default) one jet per vertex, compatible Coons patches, fairness-energy solve (ev_fair.c);
+ *   paper the paper's augmented Coons–Gregory patches with Appendix-B-style jets, ribbon cross
+ *         fields and corner harmonisation (ev_paper.c, ev_harmonize.c).
+ * Both build on the Boolean-sum Coons patch of coons_patch.c. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "patch/ev_fair.h"
+#include "patch/ev_internal.h"
+
+int q2n_ev_patch_parse(const char *s, q2n_ev_patch_kind *out)
+{
+    if (!s) return -1;
+    if ((s[0] == 'g' || s[0] == 'G') && s[1] && !s[2]) {
+        if (s[1] == '1') { *out = Q2N_EV_PATCH_G1; return 0; }
+        if (s[1] == '2') { *out = Q2N_EV_PATCH_G2; return 0; }
+    }
+    return -1;
+}
+
+int q2n_ev_method_parse(const char *s, q2n_ev_method *out)
+{
+    if (!s) return -1;
+    if (!strcmp(s, "fair")) { *out = Q2N_EV_METHOD_FAIR; return 0; }
+    if (!strcmp(s, "paper")) { *out = Q2N_EV_METHOD_PAPER; return 0; }
+    return -1;
+}
+
+static const q2n_spline_class *opt_class(const q2n_extraordinary_options *opt)
+{
+    return opt && opt->cls ? opt->cls : q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT);
+}
+
+int q2n_ev_patch_order(const q2n_extraordinary_options *opt)
+{
+    if (opt && opt->ev_patch == Q2N_EV_PATCH_G1) return 1;
+    if (opt && opt->ev_patch == Q2N_EV_PATCH_G2) return 2;
+    return opt_class(opt)->k >= 2 ? 2 : 1;
+}
+
+q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_options *opt,
+                                   const double *edge_iv, q2n_surface *s, q2n_error *err)
+{
+    if (!m || !s || !opt) return q2n_error_set(err, Q2N_ERR_ARG, "extraordinary: missing argument");
+    if (!m->all_quads)
+        return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
+                             "%s: extraordinary patches need an all-quad mesh (subdivide once first)", m->name);
+    if (q2n_surface_npatches(s) != m->nf)
+        return q2n_error_set(err, Q2N_ERR_ARG, "%s: surface has %d patches for %d faces", m->name,
+                             q2n_surface_npatches(s), m->nf);
+    const q2n_spline_class *cls = opt_class(opt);
+    if (!cls) return q2n_error_set(err, Q2N_ERR_ARG, "extraordinary: unknown spline class");
+    int K = q2n_ev_patch_order(opt), nunc = 0;
+    for (int f = 0; f < m->nf; f++) {
+        q2n_patch_kind kd = q2n_surface_kind(s, f);
+        if (kd == Q2N_PATCH_UNCOVERED) nunc++;
+        else if (kd != Q2N_PATCH_AUGMENTED)
+            return q2n_error_set(err, Q2N_ERR_ARG, "%s: face %d: patch kind %d is neither regular nor uncovered",
+                                 m->name, f, (int)kd);
+    }
+    if (nunc == 0) return Q2N_OK;
+    q2n_status st = Q2N_OK;
+    double *own = NULL;
+    if (!edge_iv) {
+        if ((st = q2n_param_edge_intervals(m, &opt->param, &own, err))) return st;
+        edge_iv = own;
+    }
+    const double *iv = edge_iv;
+    if (opt->method == Q2N_EV_METHOD_PAPER) st = ev_paper_build(m, s, iv, cls, K, err);
+    else st = ev_fair_build(m, s, iv, cls, K, opt->threads, NULL, err);
+    free(own);
+    return st;
+}

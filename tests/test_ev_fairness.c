@@ -1,0 +1,133 @@
+/* test_ev_fairness.c — the default extraordinary-vertex construction judged as a CAD user judges
+ * a surface (issue 11): no folds, little curvature oscillation, moderate bending energy, on every
+ * shared mesh with extraordinary vertices and on the repository's own hard meshes, in G2 (the
+ * default) and G1 mode.  The figures are those of ../shared/tools/fairness.py (which reads fitted
+ * STEP files) computed on the construction itself (fairness.h; the fit follows it to 1e-5, and on
+ * osd_catmark_pawn the two agree to 1e-3: 0.028 / 2.16 here, 0.027 / 2.16 from the fitted file).
+ *
+ * Bounds.  Folds: every face's Jacobian ratio (min / median |Xu x Xv|) at least 0.1, or at least
+ * 3/4 of that of the bilinear quad through its vertices where the mesh face itself is more
+ * degenerate (osd_catmark_righthanded's face 59 is a near-triangle quad, edges 0.0027 and
+ * 0.044–0.068: bilinear 0.074, construction 0.065).  Ripple and energy: the issue's targets — oscillation per EV-face
+ * diagonal <= max(0.3, 1.5 x acc-g1's), bending energy on EV faces <= 3 x acc-g1's (acc-g1 figures
+ * measured with fairness.py on the acc-g1 STEP files, docs/extraordinary.md) — where the
+ * construction meets them; where it does not (docs/extraordinary.md explains each), the measured
+ * value plus 30 % keeps it from getting worse, and the paper's construction's figure shows the gain. */
+#include <stdio.h>
+#include <string.h>
+
+#include "api/model.h"
+#include "check.h"
+#include "fairness.h"
+#include "meshgen.h"
+#include "param/param.h"
+#include "patch/augmented.h"
+#include "patch/extraordinary.h"
+
+typedef struct fcase {
+    const char *file; /* shared mesh, or NULL with gen */
+    int sub;          /* one Catmull–Clark step first (quad-dominant meshes) */
+    double osc[2];    /* bounds on the mean EV-face oscillation: G2, G1 */
+    double energy;    /* bound on the bending energy of the EV faces (G2) */
+    int met;          /* the issue's targets are met (else the bounds are regression guards) */
+} fcase;
+
+/* acc-g1 (fairness.py) osc / E_ev: cube 1.248 / 25.5, gregory_test0 0.044 / 0.997, gregory_test1
+ * 0.541 / 20.8, gregory_test6 0.149 / 8.01, fvar_bound3 0.043 / 14.7, xord_boundary 0.202 / 12.6,
+ * helmet 0.712 / 17.5, pawn 0.090 / 1.73, carpets (3, 5..8) 0.136, 0.139, 0.244, 0.259, 0.319,
+ * cube_with_boundary 0.457 / 18.4, octtorus_hole 0.916 / 79.8, polycube 0.052 / 51.8,
+ * righthanded 0.460 / 314. */
+static const fcase shared_cases[] = {
+    {"osd_catmark_cube.obj", 0, {1.87, 1.87}, 76.5, 1},
+    {"osd_catmark_gregory_test0.obj", 0, {0.3, 0.3}, 4.0, 1},
+    {"osd_catmark_gregory_test1.obj", 0, {2.7, 2.9}, 62.4, 0},
+    {"osd_catmark_gregory_test6.obj", 0, {1.7, 1.8}, 47, 0},
+    {"osd_catmark_fvar_bound3.obj", 0, {1.75, 2.7}, 44.1, 0},
+    {"osd_catmark_xord_boundary.obj", 0, {0.7, 0.7}, 37.8, 0},
+    {"osd_catmark_helmet.obj", 0, {5.4, 3.8}, 96, 0},
+    {"osd_catmark_pawn.obj", 0, {0.3, 0.3}, 5.19, 1},
+    {"gismo_ev_valence3.obj", 0, {0.3, 0.3}, 1e-6, 1},
+    {"gismo_ev_valence3_carpet.obj", 0, {0.8, 0.85}, 6.3, 0},
+    {"gismo_ev_valence5_carpet.obj", 0, {2.0, 1.95}, 26.2, 0},
+    {"gismo_ev_valence6_carpet.obj", 0, {2.15, 2.0}, 40.5, 0},
+    {"gismo_ev_valence7_carpet.obj", 0, {1.7, 1.65}, 43.9, 0},
+    {"gismo_ev_valence8_carpet.obj", 0, {1.25, 1.3}, 52.2, 0},
+    {"gismo_cube_with_boundary.obj", 0, {0.69, 1.0}, 55.2, 1},
+    {"gismo_octtorus_hole.obj", 0, {1.37, 1.37}, 239, 1},
+    {"gismo_polycube.obj", 0, {0.5, 0.51}, 155, 0},
+    {"osd_catmark_righthanded.obj", 0, {1.25, 1.35}, 942, 0},
+};
+
+static void measure(const char *label, const q2n_mesh *m, const q2n_surface *s, double osc_bound, double e_bound,
+                    int g2, fair_figures *F)
+{
+    fair_measure(m, s, F);
+    printf("| %-34s | %s | %6.3f (<= %.3g) | %8.3g (<= %.3g) | %6.3f (face %d) | %6.2f |\n", label, g2 ? "G2" : "G1",
+           F->osc_ev_mean, osc_bound, F->E_ev, e_bound, F->jac_min, F->jac_face, F->jac_rel);
+    CHECK(F->failed == 0, "%s: %d evaluations failed", label, F->failed);
+    CHECK(F->jac_rel >= 1, "%s: face %d folds or degenerates: Jacobian ratio %.3g (bound min(0.1, 3/4 of its bilinear quad's))",
+          label, F->jac_rel_face, F->jac_min);
+    CHECK(F->osc_ev_mean <= osc_bound, "%s (%s): curvature oscillation %.4g per EV-face diagonal > %.3g", label,
+          g2 ? "G2" : "G1", F->osc_ev_mean, osc_bound);
+    if (g2) CHECK(F->E_ev <= e_bound, "%s: bending energy of the EV faces %.4g > %.3g", label, F->E_ev, e_bound);
+}
+
+static void shared_mesh(const fcase *c)
+{
+    const char *path = chk_shared_mesh(c->file);
+    if (!path) { SKIP("%s not found (../shared/meshes)", c->file); return; }
+    for (int g = 0; g < 2; g++) {
+        q2n_model_options o;
+        memset(&o, 0, sizeof o);
+        o.subdivide = c->sub;
+        o.ev_patch = g ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2;
+        q2n_model *mo = NULL;
+        q2n_error err;
+        if (q2n_model_build(path, &o, &mo, &err)) { CHECK(0, "%s: %s", c->file, err.message); continue; }
+        fair_figures F;
+        char lab[96];
+        snprintf(lab, sizeof lab, "%s%s", c->file, c->met ? "" : " *");
+        measure(lab, mo->mesh, mo->surface, c->osc[g], c->energy, !g, &F);
+        q2n_model_free(mo);
+    }
+}
+
+/* Generated meshes go through the library's stages directly (no file). */
+static void generated(const char *label, q2n_mesh *m, double osc_g2, double osc_g1, double e_bound)
+{
+    CHECK(m != NULL, "%s: generator", label);
+    if (!m) return;
+    for (int g = 0; g < 2; g++) {
+        q2n_param_options po = {0};
+        q2n_augmented_options ao = {NULL, po};
+        q2n_extraordinary_options xo = {NULL, po, g ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2};
+        double *iv = NULL;
+        q2n_surface *s = NULL;
+        q2n_error err = {0, ""};
+        int ok = q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK && q2n_augmented_build(m, &ao, iv, &s, &err) == Q2N_OK &&
+                 q2n_extraordinary_build(m, &xo, iv, s, &err) == Q2N_OK;
+        CHECK(ok, "%s: build: %s", label, err.message);
+        if (ok) {
+            fair_figures F;
+            measure(label, m, s, g ? osc_g1 : osc_g2, e_bound, !g, &F);
+        }
+        q2n_surface_free(s);
+        free(iv);
+    }
+    q2n_mesh_free(m);
+}
+
+int main(void)
+{
+    printf("| mesh (* targets not met: regression bound) | mode | osc per EV diagonal | E_ev | min jac | jac / bound |\n");
+    for (size_t i = 0; i < sizeof shared_cases / sizeof shared_cases[0]; i++) shared_mesh(&shared_cases[i]);
+    /* the repository's hard meshes: extraordinary vertices on opposite corners of every face
+     * (valence 10 and 3; 8 and 3 on an ellipsoid with quads of aspect up to ~6), valence 12, thin
+     * sectors (x stretched 4:1); acc-g1 figures (fairness.py): 0.043 / 26.3, 0.181 / 110, -, 0.068 / 0.87 */
+    generated("icosahedron split into quads", mg_icosa_quad(0, 1), 0.3, 0.3, 79);
+    generated("the same, noisy", mg_icosa_quad(0.05, 3), 0.3, 0.3, 100);
+    generated("octahedron on a 3:1:0.5 ellipsoid", mg_octa_quad(3, 1, 0.5), 0.42, 0.45, 330);
+    generated("valence 12, two rings", mg_polar_star(12, 3, 1), 0.3, 0.3, 5);
+    generated("valence 7, sectors stretched 4:1", mg_polar_star(7, 3, 4), 0.5, 0.65, 6.5);
+    CHECK_DONE("test_ev_fairness");
+}
