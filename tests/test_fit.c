@@ -358,15 +358,15 @@ static void internals(void)
     q2n_bspline_surface b;
     double ku[14], kv[12], cp[3 * 8 * 6];
     b.deg_u = b.deg_v = 5; b.ncp_u = 8; b.ncp_v = 6; b.knots_u = ku; b.knots_v = kv; b.cp = cp; b.weights = NULL;
-    fit_knots_uniform(3, ku);
-    fit_knots_uniform(1, kv);
+    q2n_fit_knots_uniform(3, ku);
+    q2n_fit_knots_uniform(1, kv);
     unsigned seed = 3;
     for (int i = 0; i < 3 * 48; i++) cp[i] = frand(&seed);
     double emax = 0, dmax = 0, h = 1e-5;
     for (int q = 0; q < 50; q++) {
         double u = frand(&seed), v = frand(&seed), o[18], p[3], du[3], dv[3], pu[3], pv[3], mu[3], mv[3];
         u = 0.02 + 0.96 * u; v = 0.02 + 0.96 * v;
-        fit_surface_eval(&b, u, v, 2, o);
+        q2n_fit_surface_eval(&b, u, v, 2, o);
         q2n_bspline_eval(&b, u, v, p, du, dv);
         for (int c = 0; c < 3; c++)
             emax = fmax(emax, fmax(fabs(o[c] - p[c]), fmax(fabs(o[3 + c] - du[c]), fabs(o[6 + c] - dv[c]))));
@@ -383,31 +383,31 @@ static void internals(void)
     CHECK(emax <= 1e-13, "fit_surface_eval vs q2n_bspline_eval: %g", emax);
     CHECK(dmax <= 1e-6, "second derivatives vs central differences: %g", dmax);
 
-    fit_ls ls;
-    fit_ls_init(&ls);
-    fit_ls_item_begin(&ls);
+    q2n_fit_ls ls;
+    q2n_fit_ls_init(&ls);
+    q2n_fit_ls_item_begin(&ls);
     int v0, v1;
-    fit_ls_new_var(&ls, &v0);
-    fit_ls_new_var(&ls, &v1);
+    q2n_fit_ls_new_var(&ls, &v0);
+    q2n_fit_ls_new_var(&ls, &v1);
     const double X0[3] = {1, -2, 0.5}, X1[3] = {3, 0.25, -1};
     for (int r = 0; r < 5; r++) {          /* rows (1, r) . (X0, X1) = rhs, consistent */
         double rhs[3];
         for (int c = 0; c < 3; c++) rhs[c] = X0[c] + r * X1[c];
-        fit_ls_row(&ls, rhs);
-        fit_ls_entry(&ls, v0, 1.0);
-        fit_ls_entry(&ls, v1, (double)r);
+        q2n_fit_ls_row(&ls, rhs);
+        q2n_fit_ls_entry(&ls, v0, 1.0);
+        q2n_fit_ls_entry(&ls, v1, (double)r);
     }
-    fit_ls_item_end(&ls);
+    q2n_fit_ls_item_end(&ls);
     q2n_error err;
-    CHECK(fit_ls_solve_direct(&ls, &err) == Q2N_OK, "direct solve");
+    CHECK(q2n_fit_ls_solve_direct(&ls, &err) == Q2N_OK, "direct solve");
     double e = 0;
     for (int c = 0; c < 3; c++) e = fmax(e, fmax(fabs(ls.x[c] - X0[c]), fabs(ls.x[3 + c] - X1[c])));
     CHECK(e <= 1e-14, "direct QR solution error %g", e);
-    CHECK(fit_ls_solve_ceres(&ls, 1, 1, &err) == Q2N_OK, "ceres solve");
+    CHECK(q2n_fit_ls_solve_ceres(&ls, 1, 1, &err) == Q2N_OK, "ceres solve");
     e = 0;
     for (int c = 0; c < 3; c++) e = fmax(e, fmax(fabs(ls.x[c] - X0[c]), fabs(ls.x[3 + c] - X1[c])));
     CHECK(e <= 1e-12, "Ceres solution error %g", e);
-    fit_ls_free(&ls);
+    q2n_fit_ls_free(&ls);
 }
 
 /* Errors: uncovered patches, wrong sizes, targets out of reach (model still returned). */

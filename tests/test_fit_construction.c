@@ -12,6 +12,7 @@
 #include "core/vec3.h"
 #include "fit/fit.h"
 #include "fit/fit_internal.h"
+#include "fit/fit_policy.h"
 
 #include <math.h>
 #include <string.h>
@@ -60,7 +61,7 @@ static double random_dev(const q2n_nurbs_model *md, const q2n_surface *s, int n)
 static void check_spike(const q2n_surface *s, int k, double min_ratio, double max_ratio, const char *name)
 {
     double ratio, u, v, dmax;
-    CHECK(fit_scan_construction(s, k, FIT_SCAN_N, &ratio, &u, &v, &dmax) == Q2N_OK, "fit_scan_construction(s, k, FIT_SCAN_N, &ratio, &u, &v, &dmax) == Q2N_OK");
+    CHECK(q2n_fit_scan_construction(s, k, Q2N_FIT_SCAN_N, &ratio, &u, &v, &dmax) == Q2N_OK, "q2n_fit_scan_construction(s, k, Q2N_FIT_SCAN_N, &ratio, &u, &v, &dmax) == Q2N_OK");
     printf("  %s face %d: max |dS| %.3g at (%.4f, %.4f), %.3g x median\n", name, k, dmax, u, v, ratio);
     CHECK(ratio > min_ratio && ratio < max_ratio, "min_ratio < ratio < max_ratio");
     const double h = 1e-7;
@@ -141,12 +142,12 @@ int main(void)
         CHECK(o.continuity == 2 && rep.tol_met && rep.g2_max_rel <= 0.01, "helmet: G2 %g (%s)", rep.g2_max_rel, rep.note);
         double rd = md ? random_dev(md, m->surface, 40) : 1e300;
         CHECK(rd <= 2 * o.tol, "rd <= 2 * o.tol");
-        printf("  helmet G%d: max_dev %.3g (random points %.3g), G1 %.3g deg, G2 %.3g, spans %d/%d/%d, ribbon max %d, %.2f s\n",
+        printf("  helmet G%d: max_dev %.3g (random points %.3g), G1 %.3g deg, G2 %.3g, spans %d/%d/%d, edge max %d, %.2f s\n",
                o.continuity, rep.max_dev_rel, rd, rep.g1_max_deg, rep.g2_max_rel, rep.spans_min, rep.spans_median,
-               rep.spans_max, rep.ribbon_spans_max, rep.t_total);
+               rep.spans_max, rep.edge_spans_max, rep.t_total);
         check_spike(m->surface, 42, 0.0, 1e300, "helmet (smooth)");
         double r, u, v, d;
-        fit_scan_construction(m->surface, 42, FIT_SCAN_N, &r, &u, &v, &d);
+        q2n_fit_scan_construction(m->surface, 42, Q2N_FIT_SCAN_N, &r, &u, &v, &d);
         CHECK(r < 10.0, "r < 10.0");   /* the corner layer next to an extraordinary vertex is no spike */
         q2n_nurbs_model_free(md);
         q2n_model_free(m);

@@ -11,13 +11,6 @@
 #include "patch/augmented.h"
 #include "patch/extraordinary.h"
 
-double q2n_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 void q2n_model_free(q2n_model *m)
 {
     if (!m) return;
