@@ -75,8 +75,8 @@ static void direction_shares(fit_ctx *c, int k, double u, double v, double share
         if (x0 + 6 * h[d] > 1) x0 = 1 - 6 * h[d];
         double acc[3] = {0, 0, 0};
         for (int q = 0; q < 7; q++) {
-            double S[Q2N_EVAL_MAX], x = x0 + q * h[d];
-            if (q2n_surface_eval(c->s, k, d ? u : x, d ? x : v, 0, S)) { share[0] = share[1] = 0.5; return; }
+            double S[3], x = x0 + q * h[d];
+            if (fit_target_point(c, k, d ? u : x, d ? x : v, S)) { share[0] = share[1] = 0.5; return; }
             q2n_v3_axpy(acc, bin[q], S);
         }
         e6[d] = q2n_v3_norm(acc);
@@ -348,7 +348,9 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
         c->e[e].fitted = -1;
         if (getenv("Q2N_FIT_INIT")) fit_breaks_add(&c->e[e].K, 0.5);   /* DEBUG */
     }
-    q2n_status st = fit_prepare(c);
+    q2n_status st = fit_glue_measure(c);
+    if (!st) st = fit_target_setup(c);
+    if (!st) st = fit_prepare(c);
     if (!st) st = fit_glue_classify(c);
     for (int round = 0; !st; round++) {
         c->round = round;

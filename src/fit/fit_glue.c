@@ -66,34 +66,61 @@ typedef struct classify_arg {
     q2n_status *st;
 } classify_arg;
 
-static void classify_one(void *arg, int e)
+enum { NG = Q2N_FIT_GLUE_SAMPLES };
+
+/* The gluing functions of edge e at t_j = j / (NG - 1) from both sides' frame derivatives, either of
+ * the construction itself (direct evaluation) or of the fit target (through the side caches). */
+static q2n_status edge_samples(fit_ctx *c, int e, int target, double DL[NG][6][3], double DR[NG][6][3], double g[NG][4])
+{
+    fit_side L, R;
+    fit_edge_sides(c, e, &L, &R);
+    double tl[NG], trs[NG], DRs[NG][6][3];
+    for (int j = 0; j < NG; j++) {
+        tl[j] = (double)j / (NG - 1);
+        trs[j] = tl[j];
+    }
+    q2n_status st = Q2N_OK;
+    if (target) {
+        if ((st = fit_side_values(c, L.k, L.i, NG, tl, &DL[0][0][0])) || (st = fit_side_values(c, R.k, R.i, NG, trs, &DRs[0][0][0])))
+            return st;
+    } else
+        for (int j = 0; j < NG && !st; j++) {
+            st = fit_frame_eval(c->s, L.k, L.i, tl[j], 0.0, 2, DL[j]);
+            if (!st) st = fit_frame_eval(c->s, R.k, R.i, trs[j], 0.0, 2, DRs[j]);
+        }
+    if (st) return st;
+    for (int j = 0; j < NG; j++) memcpy(DR[j], DRs[NG - 1 - j], sizeof DR[j]);
+    for (int j = 0; j < NG; j++) glue_at(DL[j], DR[j], g[j]);
+    return Q2N_OK;
+}
+
+/* beta = 0 (and gamma = delta = 0 when g2) at every sample, relative to the terms they multiply. */
+static int scale_only(double DL[NG][6][3], double DR[NG][6][3], double g[NG][4], int g2)
+{
+    for (int j = 0; j < NG; j++) {
+        double ds = q2n_v3_norm(DR[j][2]), dt = q2n_v3_norm(DL[j][1]), dsl = q2n_v3_norm(DL[j][2]);
+        if (!(fabs(g[j][1]) * dt <= Q2N_FIT_GLUE_EXACT * ds)) return 0;
+        double dss = q2n_v3_norm(DR[j][5]) + ds;
+        if (g2 && (!(fabs(g[j][2]) * dsl <= Q2N_FIT_GLUE_EXACT * dss) || !(fabs(g[j][3]) * dt <= Q2N_FIT_GLUE_EXACT * dss)))
+            return 0;
+    }
+    return 1;
+}
+
+static void measure_one(void *arg, int e)
 {
     classify_arg *a = arg;
     fit_ctx *c = a->c;
     fit_edge *E = &c->e[e];
     fit_side L, R;
     E->g1c = E->g2c = 0.0;
+    E->rep = E->alpha_varies = 0;
     if (!fit_edge_sides(c, e, &L, &R)) { E->glue = E->glue2 = FIT_GLUE_BOUNDARY; return; }
-    enum { N = Q2N_FIT_GLUE_SAMPLES };
-    double tl[N], tr[N], DL[N][6][3], DR[N][6][3], g[N][4];
-    for (int j = 0; j < N; j++) {
-        tl[j] = (double)j / (N - 1);
-        tr[j] = (double)(N - 1 - j) / (N - 1);
-    }
-    double trs[N];
-    for (int j = 0; j < N; j++) trs[j] = tr[N - 1 - j];   /* ascending for the cache */
-    double DRs[N][6][3];
-    if ((a->st[e] = fit_side_values(c, L.k, L.i, N, tl, &DL[0][0][0])) ||
-        (a->st[e] = fit_side_values(c, R.k, R.i, N, trs, &DRs[0][0][0])))
-        return;
-    for (int j = 0; j < N; j++) memcpy(DR[j], DRs[N - 1 - j], sizeof DR[j]);
-    double amean = 0.0;
-    for (int j = 0; j < N; j++) {
-        glue_at(DL[j], DR[j], g[j]);
-        amean += g[j][0] / N;
-    }
-    /* the construction's own continuity at the interior points */
-    for (int j = 1; j + 1 < N; j++) {
+    E->glue = E->glue2 = FIT_GLUE_LS;
+    double DL[NG][6][3], DR[NG][6][3], g[NG][4];
+    if ((a->st[e] = edge_samples(c, e, 0, DL, DR, g))) return;
+    /* the construction's own continuity at the interior samples */
+    for (int j = 1; j + 1 < NG; j++) {
         double dl[18], dr[18], g1, g2;
         frame_as_uv(DL[j], dl);
         frame_as_uv(DR[j], dr);
@@ -101,21 +128,58 @@ static void classify_one(void *arg, int e)
         if (!(g1 <= E->g1c)) E->g1c = g1;
         if (!(g2 <= E->g2c)) E->g2c = g2;
     }
-    /* exact: alpha constant, beta = 0 (and gamma = delta = 0 for the G2 relation), relative to the
-     * sizes of the terms they multiply */
-    int exact = !c->o.no_exact, exact2 = exact;
-    for (int j = 0; j < N && exact; j++) {
-        double ds = q2n_v3_norm(DR[j][2]), dt = q2n_v3_norm(DL[j][1]), dsl = q2n_v3_norm(DL[j][2]);
-        if (!(fabs(g[j][0] - amean) <= Q2N_FIT_GLUE_EXACT * fabs(amean)) ||
-            !(fabs(g[j][1]) * dt <= Q2N_FIT_GLUE_EXACT * ds))
-            exact = 0;
-        double dss = q2n_v3_norm(DR[j][5]) + ds;
-        if (!(fabs(g[j][2]) * dsl <= Q2N_FIT_GLUE_EXACT * dss) || !(fabs(g[j][3]) * dt <= Q2N_FIT_GLUE_EXACT * dss))
-            exact2 = 0;
+    E->alpha0 = g[0][0];
+    E->alpha1 = g[NG - 1][0];
+    for (int j = 0; j < NG; j++)
+        if (!(fabs(g[j][0] - g[0][0]) <= Q2N_FIT_GLUE_EXACT * fabs(g[0][0]))) E->alpha_varies = 1;
+    /* a scale alpha(t) with alpha' = 0 at both ends (the reparametrization's corners need it):
+     * alpha' from -d_ts S_R = alpha' d_s S_L + alpha d_ts S_L (beta = 0) */
+    double flat = 1;
+    for (int end = 0; end < 2; end++) {
+        int j = end ? NG - 1 : 0;
+        double w[3], nn = q2n_v3_dot(DL[j][2], DL[j][2]);
+        for (int q = 0; q < 3; q++) w[q] = -DR[j][4][q] - g[j][0] * DL[j][4][q];
+        double dal = q2n_v3_dot(w, DL[j][2]) / nn;
+        /* relative to alpha times the derivative scale |d_ts S| / |d_s S| */
+        double scale = fabs(g[j][0]) * (q2n_v3_norm(DL[j][4]) / sqrt(nn) + 1.0);
+        if (!(fabs(dal) <= Q2N_FIT_GLUE_FLAT * scale)) flat = 0;
     }
+    E->rep = !c->o.no_exact && flat && g[0][0] * g[NG - 1][0] > 0 && scale_only(DL, DR, g, c->o.continuity == 2);
+}
+
+q2n_status fit_glue_measure(fit_ctx *c)
+{
+    int ne = c->m->ne;
+    q2n_status *st = calloc((size_t)ne + 1, sizeof *st);
+    if (!st) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+    double t0 = q2n_now();
+    classify_arg arg = {c, st};
+    q2n_fit_par_for(ne, c->o.threads, measure_one, &arg);
+    c->rep->t_sample += q2n_now() - t0;
+    q2n_status r = Q2N_OK;
+    for (int e = 0; e < ne && !r; e++)
+        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d: construction evaluation %s", e,
+                                     st[e] == Q2N_ERR_GEOMETRY ? "not finite" : "failed");
+    free(st);
+    return r;
+}
+
+static void classify_one(void *arg, int e)
+{
+    classify_arg *a = arg;
+    fit_ctx *c = a->c;
+    fit_edge *E = &c->e[e];
+    if (E->glue == FIT_GLUE_BOUNDARY) return;
+    double DL[NG][6][3], DR[NG][6][3], g[NG][4];
+    if ((a->st[e] = edge_samples(c, e, 1, DL, DR, g))) return;
+    /* exact: alpha constant, beta = 0 (and gamma = delta = 0 for the G2 relation) */
+    int exact = !c->o.no_exact;
+    for (int j = 0; j < NG && exact; j++)
+        if (!(fabs(g[j][0] - g[0][0]) <= Q2N_FIT_GLUE_EXACT * fabs(g[0][0]))) exact = 0;
+    exact = exact && scale_only(DL, DR, g, 0);
     E->glue = exact ? FIT_GLUE_EXACT : FIT_GLUE_LS;
-    E->glue2 = exact && exact2 ? FIT_GLUE_EXACT : FIT_GLUE_LS;
-    E->alpha = amean;
+    E->glue2 = exact && scale_only(DL, DR, g, 1) ? FIT_GLUE_EXACT : FIT_GLUE_LS;
+    E->alpha = g[0][0];
 }
 
 q2n_status fit_glue_classify(fit_ctx *c)

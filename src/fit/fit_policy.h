@@ -10,7 +10,7 @@
 #define Q2N_FIT_MAX_ROUNDS_DEFAULT 12   /* bisection halves a span per round: 2^11 spans of refinement is far beyond the span cap */
 #define Q2N_FIT_G1_TARGET_DEFAULT 0.01  /* degrees of normal jump a CAD kernel still calls tangent-continuous (OCCT's angular tolerance is 0.01 rad; we stay far below) */
 #define Q2N_FIT_G2_TARGET_DEFAULT 0.01  /* relative curvature jump: 1 % is invisible in zebra stripes and curvature combs */
-#define Q2N_FIT_G1_WEIGHT_DEFAULT 100.0 /* least-squares gluing rows against fidelity rows: 100 makes the relation dominate without squaring the condition beyond 1e4 */
+#define Q2N_FIT_G1_WEIGHT_DEFAULT 10.0  /* least-squares gluing rows against fidelity rows: a row with one free point cannot satisfy both, and 100 cost deviation where refinement was about to make both hold */
 
 /* ---- refinement ---- */
 #define Q2N_FIT_SAMPLES_PER_SPAN 4      /* fit samples per knot span and direction: 4 per new unknown keeps every block well overdetermined */
@@ -25,6 +25,8 @@
 #define Q2N_FIT_GLUE_SAMPLES 9          /* construction samples per edge that decide the gluing polynomial: 9 dyadic points, reused by the row fits */
 #define Q2N_FIT_GLUE_EXACT 1e-11        /* relative residual below which the construction's gluing is a polynomial of the tested degree (rounding of the 2x2 solve is ~1e-14) */
 #define Q2N_FIT_GLUE_MAX_DEG 2          /* highest gluing degree imposed exactly: degree d needs the rows to drop to degree 5 - d (docs/fit.md) */
+#define Q2N_FIT_GLUE_FLAT 1e-9         /* alpha' at an edge end below this (relative) is zero: second derivatives carry ~1e-13 rounding */
+#define Q2N_FIT_SPEED_RESID 1e-12       /* an edge whose speed equation (fit_target.c) is missed by more keeps least-squares gluing */
 #define Q2N_FIT_CONSTRAINT_RCOND 1e-11  /* singular values of a constraint block below this (relative) are dependent rows, not conditions */
 #define Q2N_FIT_CONSTRAINT_RESID 1e-9   /* a constraint block whose best solution misses by more (relative) is inconsistent: fall back to least squares */
 

@@ -144,7 +144,7 @@ q2n_status fit_side_values(fit_ctx *c, int k, int i, int n, const double *t, dou
         int pos, at = sc_find(sc, t[q], &pos);
         if (at < 0) {
             double V[6][3];
-            q2n_status st = fit_frame_eval(c->s, k, i, t[q], 0.0, 2, V);
+            q2n_status st = fit_target_frame(c, k, i, t[q], V);
             if (st) return st;
             if (sc->n == sc->cap) {
                 int nc = sc->cap ? 2 * sc->cap : 32;
@@ -225,7 +225,7 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
         for (int i = 0; i < nu; i++) missing += !g->have[(size_t)iv[j] * g->nu + iu[i]];
     q2n_status st = Q2N_OK;
     if (missing == nu * nv) {   /* nothing cached: one grid */
-        st = q2n_surface_eval_grid(c->s, k, nu, us, nv, vs, buf);
+        st = fit_target_grid(c, k, nu, us, nv, vs, buf, 9);
         for (int j = 0; !st && j < nv; j++)
             for (int i = 0; i < nu; i++) {
                 size_t at = (size_t)iv[j] * g->nu + iu[i];
@@ -239,7 +239,7 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
             for (int i = 0; i < nu; i++)
                 if (!g->have[(size_t)iv[j] * g->nu + iu[i]]) ru[n++] = us[i];
             if (!n) continue;
-            st = q2n_surface_eval_grid(c->s, k, n, ru, 1, &vs[j], buf);
+            st = fit_target_grid(c, k, n, ru, 1, &vs[j], buf, 9);
             for (int i = 0, q = 0; !st && i < nu; i++) {
                 size_t at = (size_t)iv[j] * g->nu + iu[i];
                 if (g->have[at]) continue;
@@ -327,6 +327,8 @@ static void jet_one(void *arg, int k)
         for (int o = 0; o < 4 && !a->st[k]; o++) {
             double *J = a->c->jet[k][i][o];
             a->st[k] = corner_mixed(a->c->s, k, i, jet_order[o][0], jet_order[o][1], J, &J[3]);
+            double f = fit_target_jet_scale(a->c, k, i, jet_order[o][0], jet_order[o][1]);
+            for (int q = 0; q < 4; q++) J[q] *= f;
         }
 }
 
@@ -336,7 +338,7 @@ static void ends_one(void *arg, int e)
     fit_ctx *c = a->c;
     int h = c->m->edge_he[e], f = c->m->he_face[h];
     for (int end = 0; end < 2 && !a->st[e]; end++)
-        a->st[e] = fit_frame_eval(c->s, f, h - c->m->face_start[f], (double)end, 0.0, 2, c->e[e].end[end]);
+        a->st[e] = fit_target_frame(c, f, h - c->m->face_start[f], (double)end, c->e[e].end[end]);
 }
 
 q2n_status fit_prepare(fit_ctx *c)

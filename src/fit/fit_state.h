@@ -43,6 +43,11 @@ typedef struct fit_edge {
     double *cp;              /* 3 * n, owner orientation */
     double end[2][6][3];     /* owner-frame derivatives of the construction at t = 0 and t = 1 */
     int glue, glue2;         /* fit_glue_kind of the G1 and the G2 relation */
+    double alpha0, alpha1;   /* the construction's alpha at t = 0 and t = 1 (fit_target.c) */
+    int rep;                 /* the construction's gluing is a scale alpha(t): reparametrized to constant */
+    int alpha_varies;        /* alpha(t) is not constant on the construction */
+    double x;                /* log of the end speed of the edge's reparametrization (fit_target.c) */
+    double A;                /* rep: the constant gluing scale after reparametrization */
     double alpha;            /* FIT_GLUE_EXACT: d_s S_R(1-t) = alpha d_s S_L(t), d_ss S_R = alpha^2 d_ss S_L
                                 (formulas.md §4.2 with beta = gamma = delta = 0) */
     double g1c, g2c;         /* the construction's own normal / curvature jumps on this edge */
@@ -73,6 +78,7 @@ typedef struct fit_patch {
     int ncu, ncv;
     double share[2];         /* share of the u and v directions in the error estimate */
     int spiky;               /* 0 not scanned, 1 scanned smooth, 2 spiky construction (no longer refined) */
+    int phi;                 /* the fit target is the construction reparametrized (fit_target.c) */
     int dirty;               /* refit this round */
     int knots_changed;       /* knot vectors changed this round */
 } fit_patch;
@@ -127,8 +133,19 @@ q2n_status fit_round(fit_ctx *c);          /* knots, curves, corners, rows, inte
 q2n_status fit_patch_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
                           long *evals);
 
+/* ---- the fit target T_k = S_k o phi_k (fit_target.c) ---- */
+q2n_status fit_target_setup(fit_ctx *c);   /* edge speeds and which patches are reparametrized */
+/* Side-frame derivatives of T (nder 2) at (t, 0) of side i of patch k. */
+q2n_status fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][3]);
+/* Positions of T on the grid us x vs into out (stride doubles per point, u fastest). */
+q2n_status fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride);
+q2n_status fit_target_point(fit_ctx *c, int k, double u, double v, double out[3]);
+/* Factor turning the construction's mixed derivative d_t^a d_s^b at corner i of patch k into T's. */
+double fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b);
+
 /* ---- gluing (fit_glue.c) ---- */
-q2n_status fit_glue_classify(fit_ctx *c);  /* once per fit: gluing kind of every edge, construction jumps */
+q2n_status fit_glue_measure(fit_ctx *c);   /* once per fit, on the construction: which edges are scaled (rep) */
+q2n_status fit_glue_classify(fit_ctx *c);  /* once per fit, on the target: gluing kind of every edge */
 /* The order-th cross rows of interior edge e with its gluing relation (order 1: exact or least
  * squares; order 2: least squares), solved and stored into both patches. */
 q2n_status fit_rows_stage(fit_ctx *c, const int *edges, int n, int order);
