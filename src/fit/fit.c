@@ -139,17 +139,22 @@ static void measure_edge(void *arg, int e)
     fit_side sd[2];
     int two = fit_edge_sides(c, e, &sd[0], &sd[1]);
     if (!c->p[sd[0].k].dirty && !(two && c->p[sd[1].k].dirty)) return;
-    int n = sd[0].mt * Q2N_FIT_SAMPLES_PER_SPAN;
+    /* the check points of the edge's own knots: the edge curve written to STEP/IGES has exactly
+     * these knots, so an importer can sample the same points (tools/q2n_audit.py) */
+    int n = (E->K.n + 1) * Q2N_FIT_SAMPLES_PER_SPAN;
     double *t = malloc(sizeof(double) * (size_t)n), *tr = malloc(sizeof(double) * (size_t)n);
+    double *kv = malloc(sizeof(double) * (size_t)(E->K.n + 12));
     double *DL = malloc(18 * sizeof(double) * (size_t)n), *DR = malloc(18 * sizeof(double) * (size_t)n);
     free(E->chk);
     E->chk = malloc(5 * sizeof(double) * (size_t)n);
-    if (!t || !tr || !DL || !DR || !E->chk) {
-        free(t); free(tr); free(DL); free(DR);
+    if (!t || !tr || !DL || !DR || !E->chk || !kv) {
+        free(t); free(tr); free(DL); free(DR); free(kv);
         a->st[e] = Q2N_ERR_NOMEM;
         return;
     }
-    n = q2n_fit_check_params(sd[0].nt, sd[0].kt, Q2N_FIT_SAMPLES_PER_SPAN, t);
+    q2n_fit_knots_from_breaks(E->K.n, E->K.t, kv);
+    n = q2n_fit_check_params(E->K.n + 6, kv, Q2N_FIT_SAMPLES_PER_SPAN, t);
+    free(kv);
     for (int q = 0; q < n; q++) tr[q] = 1.0 - t[n - 1 - q];
     q2n_status st = fit_side_values(c, sd[0].k, sd[0].i, n, t, DL);
     if (!st && two) st = fit_side_values(c, sd[1].k, sd[1].i, n, tr, DR);
@@ -348,13 +353,23 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
         c->e[e].fitted = -1;
         if (getenv("Q2N_FIT_INIT")) fit_breaks_add(&c->e[e].K, 0.5);   /* DEBUG */
     }
+    int dbg = getenv("Q2N_FIT_DEBUG") != NULL;
+    double tt = q2n_now();
     q2n_status st = fit_glue_measure(c);
+    if (dbg) { fprintf(stderr, "glue_measure %.3f s\n", q2n_now() - tt); tt = q2n_now(); }
     if (!st) st = fit_target_setup(c);
+    if (dbg) { int np = 0; for (int k = 0; k < m->nf; k++) np += c->p[k].phi; fprintf(stderr, "target_setup %.3f s (%d patches reparametrized)\n", q2n_now() - tt, np); tt = q2n_now(); }
     if (!st) st = fit_prepare(c);
+    if (dbg) { fprintf(stderr, "prepare %.3f s\n", q2n_now() - tt); tt = q2n_now(); }
     if (!st) st = fit_glue_classify(c);
+    if (dbg) { fprintf(stderr, "classify %.3f s\n", q2n_now() - tt); tt = q2n_now(); }
     for (int round = 0; !st; round++) {
         c->round = round;
-        if ((st = fit_round(c)) || (st = measure_round(c))) break;
+        st = fit_round(c);
+        if (dbg) { fprintf(stderr, "round %d fit %.3f s\n", round, q2n_now() - tt); tt = q2n_now(); }
+        if (!st) st = measure_round(c);
+        if (dbg) { fprintf(stderr, "round %d measure %.3f s\n", round, q2n_now() - tt); tt = q2n_now(); }
+        if (st) break;
         rep->rounds = round + 1;
         if (round + 1 >= c->o.max_rounds) break;
         double t0 = q2n_now();

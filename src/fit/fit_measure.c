@@ -92,9 +92,17 @@ static q2n_status edge_measure(const q2n_nurbs_model *model, const q2n_surface *
     int iL = h - m->face_start[fL], iR = ht - m->face_start[fR];
     const q2n_bspline_surface *pL = &model->patches[fL];
     int nmax = (pL->ncp_u > pL->ncp_v ? pL->ncp_u : pL->ncp_v) + Q2N_FIT_DEG + 1;
+    if (model->edges && model->edges[e].ncp + Q2N_FIT_DEG + 1 > nmax) nmax = model->edges[e].ncp + Q2N_FIT_DEG + 1;
     double *kv = malloc(sizeof(double) * (size_t)nmax), *ts = malloc(sizeof(double) * (size_t)nmax * Q2N_FIT_SAMPLES_PER_SPAN);
     if (!kv || !ts) { free(kv); free(ts); return Q2N_ERR_NOMEM; }
-    int n = side_knots(pL, iL, kv), N = q2n_fit_check_params(n, kv, Q2N_FIT_SAMPLES_PER_SPAN, ts);
+    /* the check points of the edge curve's knots (the owner side's when the model has no edge curves) */
+    int n;
+    if (model->edges) {
+        n = model->edges[e].ncp;
+        memcpy(kv, model->edges[e].knots, sizeof(double) * (size_t)(n + Q2N_FIT_DEG + 1));
+    } else
+        n = side_knots(pL, iL, kv);
+    int N = q2n_fit_check_params(n, kv, Q2N_FIT_SAMPLES_PER_SPAN, ts);
     q2n_status st = Q2N_OK;
     for (int k = 0; k < N && !st; k++) {
         double t = ts[k], uL, vL, uR, vR, dL[Q2N_EVAL_MAX], dR[Q2N_EVAL_MAX];
@@ -136,7 +144,33 @@ typedef struct measure_job {
     q2n_status *pst, *est;     /* per patch / edge status */
 } measure_job;
 
-/* Deviation of patch k at the cell centres of its check grid. */
+/* Distance from P to the construction's patch k, by Gauss–Newton on |S(u, v) - P|^2 from (u, v)
+ * with the parameters kept in [0,1]^2 (the fit's patches may be reparametrizations of the
+ * construction's, fit_target.c: the parametric distance d0 is only an upper bound). */
+static double foot_distance(const q2n_surface *s, int k, double u, double v, const double P[3], double d0)
+{
+    double best = d0;
+    for (int it = 0; it < 8; it++) {
+        double e[Q2N_EVAL_MAX], r[3];
+        if (q2n_surface_eval(s, k, u, v, 1, e)) break;
+        q2n_v3_sub(r, e, P);
+        double d = q2n_v3_norm(r);
+        if (d < best) best = d;
+        const double *Su = e + Q2N_EV_U, *Sv = e + Q2N_EV_V;
+        double a = q2n_v3_dot(Su, Su), b = q2n_v3_dot(Su, Sv), cc = q2n_v3_dot(Sv, Sv);
+        double gu = -q2n_v3_dot(Su, r), gv = -q2n_v3_dot(Sv, r), det = a * cc - b * b;
+        if (!(det > 0)) break;
+        double du = (cc * gu - b * gv) / det, dv = (a * gv - b * gu) / det;
+        u = fmin(1.0, fmax(0.0, u + du));
+        v = fmin(1.0, fmax(0.0, v + dv));
+        if (fabs(du) + fabs(dv) < 1e-15) break;
+    }
+    return best;
+}
+
+/* Deviation of patch k at the cell centres of its check grid: the distance of each fitted point to
+ * the construction's patch (its foot point; the parametric distance when that is already at
+ * rounding level). */
 static void measure_patch(void *arg, int k)
 {
     measure_job *j = arg;
@@ -154,7 +188,9 @@ static void measure_patch(void *arg, int k)
         for (int a = 0; a < nu; a++) {
             double f[3];
             q2n_fit_surface_eval(p, us[a], vs[b], 0, f);
-            double d = q2n_v3_dist(f, buf + 9 * ((size_t)b * nu + a)) / j->diag;
+            double d = q2n_v3_dist(f, buf + 9 * ((size_t)b * nu + a));
+            if (d > 1e-14 * j->diag) d = foot_distance(j->s, k, us[a], vs[b], f, d);
+            d /= j->diag;
             s2 += d * d;
             if (!(d <= pd)) pd = d;
         }

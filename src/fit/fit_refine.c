@@ -24,8 +24,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Spans of patch k in direction d. */
-static int patch_spans(const fit_ctx *c, int k, int d) { return d ? c->p[k].mv : c->p[k].mu; }
+/* Spans of patch k in direction d, counting the knots added to it in this round. */
+static int patch_spans(const fit_ctx *c, int k, int d) { return (d ? c->p[k].mv : c->p[k].mu) + c->p[k].pending[d]; }
 
 /* Would breakpoint t (in side orientation of side i of patch k) be new in that patch? */
 static int new_in_patch(const fit_ctx *c, int k, int i, double t)
@@ -54,8 +54,14 @@ static int bisect_edge(fit_ctx *c, int e, double mid)
         if (new_in_patch(c, k, i, ts) && patch_spans(c, k, i & 1) >= c->o.max_spans) return 0;
     }
     int r = fit_breaks_add(&E->K, mid);
-    if (r > 0) E->ver++;
-    return r > 0;
+    if (r <= 0) return 0;
+    E->ver++;
+    for (int x = 0; x < 2; x++)
+        if (h[x] >= 0) {
+            int k = m->he_face[h[x]], i = h[x] - m->face_start[k];
+            if (new_in_patch(c, k, i, x ? 1.0 - mid : mid)) c->p[k].pending[i & 1]++;
+        }
+    return 1;
 }
 
 /* Bisect patch k's span in direction d containing x; returns 1 when a knot was added. */
@@ -68,7 +74,9 @@ static int bisect_patch(fit_ctx *c, int k, int d, double x)
     int s = q2n_fit_span(n, kv, x);
     double mid = 0.5 * (kv[s] + kv[s + 1]);
     if (!(mid > kv[s] && mid < kv[s + 1])) return 0;
-    return fit_breaks_add(&p->I[d], mid) > 0;
+    if (fit_breaks_add(&p->I[d], mid) <= 0) return 0;
+    p->pending[d]++;
+    return 1;
 }
 
 /* Stalled: refined twice in a row (its knots grew) while failing, without improving by
@@ -86,6 +94,7 @@ int fit_refine(fit_ctx *c)
     const q2n_mesh *m = c->m;
     double tol = c->o.tol;
     int added = 0, why[6] = {0};
+    for (int k = 0; k < m->nf; k++) c->p[k].pending[0] = c->p[k].pending[1] = 0;
     /* edges: curve, rows, continuity */
     for (int e = 0; e < m->ne; e++) {
         fit_edge *E = &c->e[e];

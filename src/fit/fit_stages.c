@@ -274,42 +274,48 @@ static const double FD[3][6] = {{6, -15, 20, -15, 6, -1},
                                 {-87.0 / 10, 117.0 / 4, -127.0 / 3, 33, -27.0 / 2, 137.0 / 60},
                                 {29.0 / 3, -461.0 / 12, 62, -307.0 / 6, 65.0 / 3, -15.0 / 4}};
 
-/* Mixed corner derivative J = d_t^a d_s^b S(0,0) (a, b in 1..2) of patch k at its corner i (side i's
- * frame): exact from the construction where it reports the two sides' values
- * (q2n_surface_corner_mixed), else read along both edges through the corner by one-sided
- * differences of the evaluated second derivatives, and averaged; *spread = the two values' gap. */
-static q2n_status corner_mixed(const q2n_surface *surf, int k, int i, int a, int b, double J[3], double *spread)
+/* The mixed corner derivatives J[o] = d_t^a d_s^b S(0,0) for the four orders (a, b) of jet_order
+ * at corner i of patch k (side i's frame), and spread[o], the gap between the two edge-wise values:
+ * exact from the construction where it reports them (q2n_surface_corner_mixed), else read along both
+ * edges through the corner by one-sided 6-point differences of the evaluated second derivatives
+ * (the corner itself is avoided: Gregory-type corners have direction-dependent mixed derivatives
+ * there), averaged.  Every order uses the same 12 evaluations. */
+static q2n_status corner_mixed(const q2n_surface *surf, int k, int i, double J[4][3], double spread[4])
 {
+    static const int ord[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
     double X[2][2][2][3];
     const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3], *c3 = q2n_fit_corner_uv[(i + 3) & 3];
     if (q2n_surface_corner_mixed(surf, k, c0[0], c0[1], X) == Q2N_OK) {
         int tu = c1[0] != c0[0];
         double st = tu ? c1[0] - c0[0] : c1[1] - c0[1], ss = tu ? c3[1] - c0[1] : c3[0] - c0[0];
-        int au = tu ? a : b, bv = tu ? b : a;
-        double sg = (a & 1 ? st : 1) * (b & 1 ? ss : 1);
-        const double *E0 = X[0][au - 1][bv - 1], *E1 = X[1][au - 1][bv - 1];
-        for (int r = 0; r < 3; r++) J[r] = sg * 0.5 * (E0[r] + E1[r]);
-        *spread = q2n_v3_dist(E0, E1);
+        for (int o = 0; o < 4; o++) {
+            int a = ord[o][0], b = ord[o][1], au = tu ? a : b, bv = tu ? b : a;
+            double sg = (a & 1 ? st : 1) * (b & 1 ? ss : 1);
+            const double *E0 = X[0][au - 1][bv - 1], *E1 = X[1][au - 1][bv - 1];
+            for (int r = 0; r < 3; r++) J[o][r] = sg * 0.5 * (E0[r] + E1[r]);
+            spread[o] = q2n_v3_dist(E0, E1);
+        }
         return Q2N_OK;
     }
-    /* [a-1][b-1][edge] = {slot of the frame derivatives (3 d_tt, 4 d_ts, 5 d_ss), order of the difference} */
-    static const int tab[2][2][2][2] = {{{{4, 0}, {4, 0}}, {{5, 1}, {4, 1}}},
-                                        {{{4, 1}, {3, 1}}, {{5, 2}, {3, 2}}}};
+    /* [o][edge] = {slot of the frame derivatives (3 d_tt, 4 d_ts, 5 d_ss), order of the difference} */
+    static const int tab[4][2][2] = {{{4, 0}, {4, 0}}, {{4, 1}, {3, 1}}, {{5, 1}, {4, 1}}, {{5, 2}, {3, 2}}};
     const double h = Q2N_FIT_JET_H;
-    double E[2][3] = {{0, 0, 0}, {0, 0, 0}};
-    for (int dir = 0; dir < 2; dir++) {
-        int slot = tab[a - 1][b - 1][dir][0], nd = tab[a - 1][b - 1][dir][1];
-        const double *w = FD[nd];
-        double scale = nd == 0 ? 1.0 : nd == 1 ? 1.0 / h : 1.0 / (h * h);
+    double D[2][6][6][3];
+    for (int dir = 0; dir < 2; dir++)
         for (int q = 1; q <= 6; q++) {
-            double D[6][3];
-            q2n_status st = fit_frame_eval(surf, k, i, dir ? 0.0 : q * h, dir ? q * h : 0.0, 2, D);
+            q2n_status st = fit_frame_eval(surf, k, i, dir ? 0.0 : q * h, dir ? q * h : 0.0, 2, D[dir][q - 1]);
             if (st) return st;
-            q2n_v3_axpy(E[dir], w[q - 1] * scale, D[slot]);
         }
+    for (int o = 0; o < 4; o++) {
+        double E[2][3] = {{0, 0, 0}, {0, 0, 0}};
+        for (int dir = 0; dir < 2; dir++) {
+            int slot = tab[o][dir][0], nd = tab[o][dir][1];
+            double scale = nd == 0 ? 1.0 : nd == 1 ? 1.0 / h : 1.0 / (h * h);
+            for (int q = 0; q < 6; q++) q2n_v3_axpy(E[dir], FD[nd][q] * scale, D[dir][q][slot]);
+        }
+        for (int r = 0; r < 3; r++) J[o][r] = 0.5 * (E[0][r] + E[1][r]);
+        spread[o] = q2n_v3_dist(E[0], E[1]);
     }
-    for (int r = 0; r < 3; r++) J[r] = 0.5 * (E[0][r] + E[1][r]);
-    *spread = q2n_v3_dist(E[0], E[1]);
     return Q2N_OK;
 }
 
@@ -323,13 +329,15 @@ typedef struct prep_arg {
 static void jet_one(void *arg, int k)
 {
     prep_arg *a = arg;
-    for (int i = 0; i < 4 && !a->st[k]; i++)
-        for (int o = 0; o < 4 && !a->st[k]; o++) {
-            double *J = a->c->jet[k][i][o];
-            a->st[k] = corner_mixed(a->c->s, k, i, jet_order[o][0], jet_order[o][1], J, &J[3]);
+    for (int i = 0; i < 4 && !a->st[k]; i++) {
+        double J[4][3], sp[4];
+        a->st[k] = corner_mixed(a->c->s, k, i, J, sp);
+        for (int o = 0; o < 4; o++) {
             double f = fit_target_jet_scale(a->c, k, i, jet_order[o][0], jet_order[o][1]);
-            for (int q = 0; q < 4; q++) J[q] *= f;
+            for (int q = 0; q < 3; q++) a->c->jet[k][i][o][q] = f * J[o][q];
+            a->c->jet[k][i][o][3] = f * sp[o];
         }
+    }
 }
 
 static void ends_one(void *arg, int e)

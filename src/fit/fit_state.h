@@ -46,6 +46,7 @@ typedef struct fit_edge {
     double alpha0, alpha1;   /* the construction's alpha at t = 0 and t = 1 (fit_target.c) */
     int rep;                 /* the construction's gluing is a scale alpha(t): reparametrized to constant */
     int alpha_varies;        /* alpha(t) is not constant on the construction */
+    int absorb;              /* rep: which side's cross speed absorbs alpha's variation (0 R, 1 L) */
     double x;                /* log of the end speed of the edge's reparametrization (fit_target.c) */
     double A;                /* rep: the constant gluing scale after reparametrization */
     double alpha;            /* FIT_GLUE_EXACT: d_s S_R(1-t) = alpha d_s S_L(t), d_ss S_R = alpha^2 d_ss S_L
@@ -81,6 +82,7 @@ typedef struct fit_patch {
     int phi;                 /* the fit target is the construction reparametrized (fit_target.c) */
     int dirty;               /* refit this round */
     int knots_changed;       /* knot vectors changed this round */
+    int pending[2];          /* knots added to its u / v vectors by the current refinement */
 } fit_patch;
 
 /* Frame of side i of a patch: t along the side (corner i -> i+1), s into the patch. */

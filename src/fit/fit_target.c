@@ -20,7 +20,10 @@
  * Problems §7.4); edges whose equation is not met stay least squares.  (2) Along such an edge the
  * cross speed of side L is lambda_L(t) = smoothstep between its end speeds and that of side R is
  * lambda_R = A lambda_L / alpha(tau(t)), A = alpha(0) s_fR0 / s_fL0, so that the new gluing
- * lambda_R alpha / lambda_L is the constant A; every other side's cross speed is the smoothstep.
+ * lambda_R alpha / lambda_L is the constant A (or side L absorbs alpha's variation instead, when R
+ * must keep phi = id); every other side's cross speed is the smoothstep.  Patches with a side whose
+ * gluing is not a scale (extraordinary regions) keep phi = id and their edges speed 1: those
+ * regions are least squares anyway, and they keep the construction's grid evaluation.
  * (3) φ_k is the Boolean-sum Coons map (formulas.md §4.1, quintic Hermite blending) with boundary
  * values tau on the sides, normal derivatives lambda and zero tangential and second derivatives;
  * the corner data are compatible because alpha' = 0 at the ends of such an edge (checked) and the
@@ -121,17 +124,23 @@ static q2n_status side_lambda(const fit_ctx *c, int k, int i, double t, double *
 {
     int own, e = side_edge(c, k, i, &own);
     const fit_edge *E = &c->e[e];
-    if (!E->rep || own) { side_lin(c, k, i, t, l, dl); return Q2N_OK; }
-    /* side R of a reparametrized edge: lambda_R(t) = A lambda_L(x) / alpha(tau(x)), x = 1 - t */
+    /* the side that absorbs alpha's variation: R (absorb 0) or L (absorb 1) */
+    if (!E->rep || own != E->absorb) { side_lin(c, k, i, t, l, dl); return Q2N_OK; }
     const q2n_mesh *m = c->m;
-    int h = m->edge_he[e], fL = m->he_face[h], iL = h - m->face_start[fL];
-    double x = 1.0 - t, lL, dlL, tau[3], al, dal;
-    side_lin(c, fL, iL, x, &lL, &dlL);
-    tau_eval(speed(c, e), speed(c, e), x, tau);
+    int h = own ? m->he_twin[m->edge_he[e]] : m->edge_he[e], fo = m->he_face[h], io = h - m->face_start[fo];
+    double x = 1.0 - t, lo, dlo, tau[3], al, dal;   /* x: the other side's parameter, x = 1 - t */
+    side_lin(c, fo, io, x, &lo, &dlo);
+    double xe = own ? t : x;                         /* owner parameter of this point */
+    tau_eval(speed(c, e), speed(c, e), xe, tau);
     q2n_status st = edge_alpha(c, e, tau[0], &al, &dal);
     if (st) return st;
-    *l = E->A * lL / al;
-    *dl = -E->A * (dlL / al - lL * dal * tau[1] / (al * al));   /* d/dt = -d/dx */
+    if (!own) {   /* R: lambda_R(t) = A lambda_L(x) / alpha(tau(x)); d/dt = -d/dx */
+        *l = E->A * lo / al;
+        *dl = -E->A * (dlo / al - lo * dal * tau[1] / (al * al));
+    } else {      /* L: lambda_L(t) = lambda_R(x) alpha(tau(t)) / A; d lambda_R(x)/dt = -lambda_R'(x) */
+        *l = lo * al / E->A;
+        *dl = (-dlo * al + lo * dal * tau[1]) / E->A;
+    }
     return Q2N_OK;
 }
 
@@ -296,16 +305,35 @@ done:
 q2n_status fit_target_setup(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
-    int ne = m->ne, nrow = 0;
+    int ne = m->ne, nf = m->nf, nrow = 0;
     int (*col)[4] = malloc(sizeof *col * (size_t)(ne + 1));
     double (*val)[4] = malloc(sizeof *val * (size_t)(ne + 1)), *r = malloc(sizeof(double) * (size_t)(ne + 1));
     int *row_e = malloc(sizeof(int) * (size_t)(ne + 1));
     double *x = calloc((size_t)ne + 1, sizeof(double));
-    if (!col || !val || !r || !row_e || !x) {
-        free(col); free(val); free(r); free(row_e); free(x);
+    unsigned char *fixed = calloc((size_t)nf + 1, 1), *efix = calloc((size_t)ne + 1, 1);
+    if (!col || !val || !r || !row_e || !x || !fixed || !efix) {
+        free(col); free(val); free(r); free(row_e); free(x); free(fixed); free(efix);
         return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     }
-    for (int e = 0; e < ne; e++) c->e[e].x = 0.0;
+    /* patches with a side whose gluing is not a scale (extraordinary regions) keep phi = id: their
+     * least-squares sides gain nothing, and they keep the construction's grid fast path */
+    for (int e = 0; e < ne; e++) {
+        const fit_edge *E = &c->e[e];
+        if (E->glue == FIT_GLUE_BOUNDARY || E->rep) continue;
+        int h = m->edge_he[e];
+        fixed[m->he_face[h]] = fixed[m->he_face[m->he_twin[h]]] = 1;
+    }
+    for (int k = 0; k < nf; k++)
+        if (fixed[k])
+            for (int i = 0; i < 4; i++) efix[m->he_edge[4 * k + i]] = 1;
+    for (int e = 0; e < ne; e++) {
+        fit_edge *E = &c->e[e];
+        E->x = 0.0;
+        if (!E->rep) continue;
+        int h = m->edge_he[e], fL = fixed[m->he_face[h]], fR = fixed[m->he_face[m->he_twin[h]]];
+        E->absorb = fR;                       /* the free side absorbs alpha's variation */
+        if (fL && fR && E->alpha_varies) E->rep = 0;
+    }
     for (int pass = 0; pass < 4; pass++) {
         nrow = 0;
         for (int e = 0; e < ne; e++) {
@@ -314,15 +342,17 @@ q2n_status fit_target_setup(fit_ctx *c)
             int h = m->edge_he[e], ht = m->he_twin[h];
             int fL0 = m->he_edge[q2n_he_prev(m, h)], fL1 = m->he_edge[q2n_he_next(m, h)];
             int fR0 = m->he_edge[q2n_he_next(m, ht)], fR1 = m->he_edge[q2n_he_prev(m, ht)];
-            col[nrow][0] = fR0; val[nrow][0] = 1.0;
-            col[nrow][1] = fL0; val[nrow][1] = -1.0;
-            col[nrow][2] = fR1; val[nrow][2] = -1.0;
-            col[nrow][3] = fL1; val[nrow][3] = 1.0;
+            int cc[4] = {fR0, fL0, fR1, fL1};
+            double vv[4] = {1.0, -1.0, -1.0, 1.0};
+            for (int j = 0; j < 4; j++) {   /* edges of fixed patches keep speed 1 (x = 0) */
+                col[nrow][j] = cc[j];
+                val[nrow][j] = efix[cc[j]] ? 0.0 : vv[j];
+            }
             r[nrow] = log(E->alpha1 / E->alpha0);
             row_e[nrow++] = e;
         }
         if (!nrow) break;
-        cgls(ne, nrow, (const int (*)[4])col, (const double (*)[4])val, r, x, 20 * ne + 100);
+        cgls(ne, nrow, (const int (*)[4])col, (const double (*)[4])val, r, x, Q2N_FIT_SPEED_ITER);
         int dropped = 0;
         for (int i = 0; i < nrow; i++) {
             double w = -r[i];
@@ -332,24 +362,23 @@ q2n_status fit_target_setup(fit_ctx *c)
         if (!dropped) break;
         if (pass == 3) for (int i = 0; i < nrow; i++) c->e[row_e[i]].rep = 0;   /* no consistent set found */
     }
-    for (int e = 0; e < ne; e++) c->e[e].x = x[e];
+    for (int e = 0; e < ne; e++) c->e[e].x = efix[e] ? 0.0 : x[e];
     for (int e = 0; e < ne; e++) {
         fit_edge *E = &c->e[e];
         if (!E->rep) continue;
         int h = m->edge_he[e], ht = m->he_twin[h];
         int fL0 = m->he_edge[q2n_he_prev(m, h)], fR0 = m->he_edge[q2n_he_next(m, ht)];
-        E->A = E->alpha0 * exp(x[fR0] - x[fL0]);
+        E->A = E->alpha0 * exp(c->e[fR0].x - c->e[fL0].x);
     }
-    /* patches: phi = id when every side has speed 1 and no side is the R side of a reparametrized
-     * edge with varying alpha */
-    for (int k = 0; k < m->nf; k++) {
+    /* phi = id when every side has speed 1 and none absorbs a varying alpha */
+    for (int k = 0; k < nf; k++) {
         fit_patch *p = &c->p[k];
         p->phi = 0;
         for (int i = 0; i < 4; i++) {
             int own, e = side_edge(c, k, i, &own);
-            if (c->e[e].x != 0.0 || (c->e[e].rep && !own && c->e[e].alpha_varies)) p->phi = 1;
+            if (c->e[e].x != 0.0 || (c->e[e].rep && own == c->e[e].absorb && c->e[e].alpha_varies)) p->phi = 1;
         }
     }
-    free(col); free(val); free(r); free(row_e); free(x);
+    free(col); free(val); free(r); free(row_e); free(x); free(fixed); free(efix);
     return Q2N_OK;
 }
