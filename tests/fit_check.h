@@ -4,6 +4,7 @@
 #define Q2N_TEST_FIT_CHECK_H
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "fit/bspline.h"
@@ -53,10 +54,28 @@ static inline double fit_boundary_gap(const q2n_nurbs_model *md, int *nsame, int
             int f = m->he_face[h[x]], i = h[x] - m->face_start[f];
             const q2n_bspline_surface *P = &md->patches[f];
             int along_u = !(i & 1), n = along_u ? P->ncp_u : P->ncp_v;
-            if (!md->edges) continue;
-            const double *ref = md->edges[e].cp;
-            int rn = md->edges[e].ncp, rev = x;
-            if (rn != n) continue;   /* different knots: compared through the points above */
+            /* reference: the edge curve, or (models without edge curves) the owner side's row */
+            const double *ref;
+            int rn, rev = x;
+            double *own = NULL;
+            if (md->edges) {
+                ref = md->edges[e].cp;
+                rn = md->edges[e].ncp;
+            } else {
+                if (x == 0 || h[1] < 0) continue;
+                int f0 = m->he_face[h[0]], i0 = h[0] - m->face_start[f0];
+                const q2n_bspline_surface *P0 = &md->patches[f0];
+                rn = (i0 & 1) ? P0->ncp_v : P0->ncp_u;
+                own = (double *)malloc(3 * sizeof(double) * (size_t)rn);
+                if (!own) continue;
+                for (int it = 0; it < rn; it++) {
+                    const int *c0 = fck_cuv[i0], *c1 = fck_cuv[(i0 + 1) & 3];
+                    int a = c0[0] * (P0->ncp_u - 1) + it * (c1[0] - c0[0]), b = c0[1] * (P0->ncp_v - 1) + it * (c1[1] - c0[1]);
+                    memcpy(own + 3 * it, P0->cp + 3 * (b * P0->ncp_u + a), 3 * sizeof(double));
+                }
+                ref = own;
+            }
+            if (rn != n) { free(own); continue; }   /* different knots: compared through the points above */
             (*nsides)++;
             int same = 1;
             for (int it = 0; it < n && same; it++) {
@@ -66,6 +85,7 @@ static inline double fit_boundary_gap(const q2n_nurbs_model *md, int *nsame, int
                 same = !memcmp(pc, rc, 3 * sizeof(double));
             }
             *nsame += same;
+            free(own);
         }
     }
     return gap;
