@@ -28,6 +28,7 @@ typedef struct q2n_model_options {
     const q2n_spline_class *cls;  /* augmented: NULL = D5C2P2S4 */
     q2n_param_options param;      /* augmented: zeroed = centripetal */
     int ev_patch;                 /* augmented: a q2n_ev_patch_kind (0 default: G2 for C2 classes) */
+    int ev_method;                /* augmented: a q2n_ev_method (0 default: the fair construction) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */
 } q2n_model_options;

@@ -43,6 +43,8 @@ static void usage(FILE *f)
           "                        D3C1P2S4 (Catmull-Rom, C1), D2C1P2S4, D3C2P2S4, D5C2P4S6\n"
           "      --ev-patch G      patches at extraordinary vertices: g2 (default for C2 classes,\n"
           "                        biquintic Coons-Gregory) or g1 (bicubic; default for C1 classes)\n"
+          "      --ev-construction M  extraordinary regions: fair (default: one jet per vertex,\n"
+          "                        bending-energy solve) or paper (Coons-Gregory of the paper)\n"
           "      --param P         edge parameter intervals: centripetal (default), chordal,\n"
           "                        uniform, mean (ribbon-averaged baseline of the paper)\n"
           "      --alpha A         exponent of |edge|^A for centripetal/mean (default 0.5)\n"
@@ -84,7 +86,7 @@ static const char *extension(const char *path)
 static int parse_args(int argc, char **argv, cli_options *o)
 {
     enum { OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT,
-           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT };
+           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_EVMETHOD };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},   {"tess", required_argument, 0, OPT_TESS},
         {"grid", required_argument, 0, OPT_GRID}, {"class", required_argument, 0, OPT_CLASS},
@@ -93,6 +95,7 @@ static int parse_args(int argc, char **argv, cli_options *o)
         {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
         {"tol", required_argument, 0, OPT_TOL},  {"threads", required_argument, 0, OPT_THREADS},
         {"units", required_argument, 0, OPT_UNITS}, {"ev-patch", required_argument, 0, OPT_EVPATCH},
+        {"ev-construction", required_argument, 0, OPT_EVMETHOD},
         {"solver", required_argument, 0, OPT_SOLVER}, {"continuity", required_argument, 0, OPT_CONT},
         {"help", no_argument, 0, 'h'},           {"version", no_argument, 0, 'V'},
         {0, 0, 0, 0}};
@@ -159,6 +162,15 @@ static int parse_args(int argc, char **argv, cli_options *o)
                 return 2;
             }
             o->model.ev_patch = (int)k;
+            break;
+        }
+        case OPT_EVMETHOD: {
+            q2n_ev_method k;
+            if (q2n_ev_method_parse(optarg, &k)) {
+                fprintf(stderr, "quad2nurbs: --ev-construction: expected fair or paper, got '%s'\n", optarg);
+                return 2;
+            }
+            o->model.ev_method = (int)k;
             break;
         }
         case OPT_SOLVER:

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "core/vec3.h"
+#include "patch/ev_fair.h"
 #include "patch/ev_internal.h"
 
 typedef struct ev_patch {
@@ -229,6 +230,14 @@ int q2n_ev_patch_parse(const char *s, q2n_ev_patch_kind *out)
         if (s[1] == '1') { *out = Q2N_EV_PATCH_G1; return 0; }
         if (s[1] == '2') { *out = Q2N_EV_PATCH_G2; return 0; }
     }
+    return -1;
+}
+
+int q2n_ev_method_parse(const char *s, q2n_ev_method *out)
+{
+    if (!s) return -1;
+    if (!strcmp(s, "fair")) { *out = Q2N_EV_METHOD_FAIR; return 0; }
+    if (!strcmp(s, "paper")) { *out = Q2N_EV_METHOD_PAPER; return 0; }
     return -1;
 }
 
@@ -875,6 +884,11 @@ q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_op
         edge_iv = own;
     }
     const double *iv = edge_iv;
+    if (opt->method != Q2N_EV_METHOD_PAPER) {
+        st = ev_fair_build(m, s, iv, cls, K, NULL, err);
+        free(own);
+        return st;
+    }
     ev_vjet *jets = calloc((size_t)m->nv, sizeof *jets);
     double (*dir)[2] = calloc(2 * (size_t)m->ne, sizeof *dir);
     ev_edge **edges = calloc((size_t)m->ne, sizeof *edges);

@@ -210,6 +210,11 @@ static int jet_from_regular(const q2n_mesh *m, const q2n_surface *s, const doubl
         J->J2[k][0] = D[3 * daa + k] / (Ia * Ia);
         J->J2[k][1] = sA[c] * sB[c] * D[3 * 4 + k] / (Ia * Ib);
         J->J2[k][2] = D[3 * dbb + k] / (Ib * Ib);
+        /* ∂A^p ∂B^q R at D index (p*3+q) when A is u, (q*3+p) when A is v */
+        int i21 = axA[c] == 0 ? 7 : 5, i12 = axA[c] == 0 ? 5 : 7;
+        J->Jm[k][0] = sB[c] * D[3 * i21 + k] / (Ia * Ia * Ib);
+        J->Jm[k][1] = sA[c] * D[3 * i12 + k] / (Ia * Ib * Ib);
+        J->Jm[k][2] = D[3 * 8 + k] / (Ia * Ia * Ib * Ib);
     }
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
     int n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, edges, other, faces), ka = -1;

@@ -27,6 +27,8 @@ typedef struct ev_vjet {
     int source;        /* 0 none, 1 corner of a regular patch, 2 fit (Appendix B), 3 section curves */
     double J1[3][2];   /* [xyz][x|y] */
     double J2[3][3];   /* [xyz][xx|xy|yy] */
+    double Jm[3][3];   /* source 1 only: [xyz][xxy|xyy|xxyy], the mixed third and fourth
+                          derivatives of the regular patch (the fair construction fixes them) */
 } ev_vjet;
 
 /* Data of one mesh edge of the curve network (constructed edges only), all in the edge

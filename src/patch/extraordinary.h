@@ -26,11 +26,24 @@ typedef enum q2n_ev_patch_kind {
     Q2N_EV_PATCH_G2           /* biquintically blended, Gregory r = 2 */
 } q2n_ev_patch_kind;
 
+/* How the extraordinary regions are built. */
+typedef enum q2n_ev_method {
+    Q2N_EV_METHOD_DEFAULT = 0, /* the fair construction */
+    Q2N_EV_METHOD_FAIR,        /* one jet per vertex, compatible Coons patches, bending-energy
+                                  solve (ev_fair.c; docs/extraordinary.md) */
+    Q2N_EV_METHOD_PAPER        /* the paper's Coons–Gregory patches with Appendix-B-style 2-jets,
+                                  ribbon cross fields and corner harmonisation (coons_gregory.c) */
+} q2n_ev_method;
+
 typedef struct q2n_extraordinary_options {
     const q2n_spline_class *cls; /* the class of the regular patches; NULL: D5C2P2S4 */
     q2n_param_options param;     /* used when edge_iv is NULL (must match the regular build) */
     q2n_ev_patch_kind ev_patch;
+    q2n_ev_method method;
 } q2n_extraordinary_options;
+
+/* Parse "fair" / "paper"; returns 0 on success. */
+int q2n_ev_method_parse(const char *s, q2n_ev_method *out);
 
 /* Fill every uncovered face of s (built on m by q2n_augmented_build with the same class and
  * intervals) with a Coons–Gregory patch.  edge_iv: per-edge intervals or NULL to compute them

@@ -1,0 +1,17 @@
+/* sparse.h — sparse symmetric positive definite solves (CHOLMOD, Debian libsuitesparse-dev).
+ *
+ * The matrix is given as triplets of its upper or lower triangle (or both: duplicates add up,
+ * so callers may scatter per-element contributions without merging them first). */
+#ifndef Q2N_CORE_SPARSE_H
+#define Q2N_CORE_SPARSE_H
+
+#include "core/error.h"
+
+/* Solve A X = B for nrhs right-hand sides: A is n x n symmetric positive definite, given by nnz
+ * triplets (ti[k], tj[k], tv[k]) with ti[k] <= tj[k] (upper triangle; entries with the same
+ * (i, j) are summed); B and X are column-major n x nrhs (X may alias B).  Q2N_ERR_GEOMETRY when A
+ * is not positive definite (the message names the column where the factorisation stopped). */
+q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, const double *tv, int nrhs,
+                                const double *B, double *X, q2n_error *err);
+
+#endif

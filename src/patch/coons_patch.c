@@ -1,0 +1,231 @@
+/* coons_patch.c — Boolean-sum Coons patch with Hermite blending, Gregory corners and interior
+ * bubbles (coons_patch.h).
+ *
+ * S = P_u + P_v - P_uv (formulas.md §4.1):
+ *   P_u(u,v)  = Σ_{i,a} H_{a,i}(u) ∂u^a S(i, v)      (the u-sides 3 (i = 0) and 1 (i = 1))
+ *   P_v(u,v)  = Σ_{j,b} H_{b,j}(v) ∂v^b S(u, j)      (the v-sides 0 (j = 0) and 2 (j = 1))
+ *   P_uv(u,v) = Σ_{i,j,a,b} H_{a,i}(u) H_{b,j}(v) M^{ab}_{ij},
+ * H of degree 2K+1 (core/hermite.h).  M^{ab} with a = 0 comes from the v-side, otherwise from the
+ * u-side, so that S interpolates both sides' data when they agree at the corners; at a Gregory
+ * corner the mixed terms (a, b >= 1) are the rational pairs of formulas.md §4.2 with r = K, whose
+ * partials up to order two are differentiated analytically (seed 003 §4.1 eq. 23, §4.2). */
+#include "patch/coons_patch.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/vec3.h"
+
+static const int corner_of[2][2] = {{0, 3}, {1, 2}};
+
+void cp_line_u(const cp_patch *P, const void *lanes, int W, double u, int na, cp_line *L)
+{
+    P->side(P->ctx, lanes, W, 0, u, na, L->side[0]);
+    P->side(P->ctx, lanes, W, 2, u, na, L->side[1]);
+    q2n_hermite_eval(P->K, u, na - 1, L->H);
+}
+
+void cp_line_v(const cp_patch *P, const void *lanes, int W, double v, int na, cp_line *L)
+{
+    P->side(P->ctx, lanes, W, 3, v, na, L->side[0]);
+    P->side(P->ctx, lanes, W, 1, v, na, L->side[1]);
+    q2n_hermite_eval(P->K, v, na - 1, L->H);
+}
+
+void cp_corner_terms(const cp_patch *P, const void *lanes, int W, cp_corner *C)
+{
+    double lfv[3][CP_NA][CP_MAXW], lgu[3][CP_NA][CP_MAXW];
+    C->W = W;
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++) {
+            P->side(P->ctx, lanes, W, j ? 2 : 0, i, 3, lfv);
+            P->side(P->ctx, lanes, W, i ? 1 : 3, j, 3, lgu);
+            for (int a = 0; a < 3; a++)
+                for (int b = 0; b < 3; b++) {
+                    int okA = b <= P->K, okB = a <= P->K;
+                    double *A = CP_CT(C, 1, i, j, a, b), *B = CP_CT(C, 2, i, j, a, b), *M = CP_CT(C, 0, i, j, a, b);
+                    if (okA) memcpy(A, lfv[b][a], sizeof(double) * W);
+                    else memset(A, 0, sizeof(double) * W);
+                    if (okB) memcpy(B, lgu[a][b], sizeof(double) * W);
+                    else memset(B, 0, sizeof(double) * W);
+                    memcpy(M, a == 0 ? A : B, sizeof(double) * W);
+                }
+        }
+}
+
+double cp_corner_mismatch(const cp_patch *P, const cp_corner *C, int i, int j)
+{
+    double dev = 0, sc = 0;
+    for (int a = 1; a <= P->K; a++)
+        for (int b = 1; b <= P->K; b++) {
+            const double *A = CP_CT(C, 1, i, j, a, b), *B = CP_CT(C, 2, i, j, a, b);
+            dev = fmax(dev, q2n_v3_dist(A, B));
+            sc = fmax(sc, fmax(q2n_v3_norm(A), q2n_v3_norm(B)));
+        }
+    sc = fmax(sc, q2n_v3_norm(CP_CT(C, 1, i, j, 1, 0)));
+    sc = fmax(sc, q2n_v3_norm(CP_CT(C, 2, i, j, 0, 1)));
+    return sc > 0 ? dev / sc : 0;
+}
+
+/* Gregory weight ω = ũ^r / (ũ^r + ṽ^r) of corner (i,j) and its partials W[p][q], p+q <= 2. */
+static void gregory_weight(int r, int i, int j, double u, double v, double W[3][3])
+{
+    double ut = i ? 1 - u : u, vt = j ? 1 - v : v, su = i ? -1 : 1, sv = j ? -1 : 1;
+    memset(W, 0, 9 * sizeof(double));
+    double U = r == 1 ? ut : ut * ut, V = r == 1 ? vt : vt * vt, g = U + V;
+    if (!(g > 0)) { W[0][0] = 0.5; return; }
+    double Uu = r == 1 ? su : 2 * ut * su, Uuu = r == 1 ? 0 : 2, Vv = r == 1 ? sv : 2 * vt * sv, Vvv = r == 1 ? 0 : 2;
+    double g2 = g * g, g3 = g2 * g;
+    W[0][0] = U / g;
+    W[1][0] = Uu * V / g2;
+    W[0][1] = -U * Vv / g2;
+    W[2][0] = Uuu * V / g2 - 2 * Uu * Uu * V / g3;
+    W[0][2] = -U * Vvv / g2 + 2 * U * Vv * Vv / g3;
+    W[1][1] = Uu * Vv / g2 - 2 * Uu * V * Vv / g3;
+}
+
+/* Bubbles φ_b = 4^(2K+2) B(u) B(v) m_b, B(t) = t^(K+1) (1-t)^(K+1), m_b = 1, 2u-1, 2v-1,
+ * (2u-1)(2v-1): they vanish with K derivatives on all four sides, so adding them changes no side
+ * datum (continuity and interpolation are untouched). */
+void cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
+{
+    double bu[4], bv[4];
+    for (int k = 0; k < 2; k++) {
+        double t = k ? v : u, *r = k ? bv : bu, sc = pow(4, K + 1);
+        double pa[4], pb[4]; /* t^p, (1-t)^p and derivatives */
+        int p = K + 1;
+        for (int d = 0; d < 4; d++) {
+            double f = 1;
+            for (int j = 0; j < d; j++) f *= (double)(p - j);
+            pa[d] = d > p ? 0 : f * pow(t, p - d);
+            pb[d] = d > p ? 0 : f * pow(1 - t, p - d) * (d & 1 ? -1 : 1);
+        }
+        static const double bn[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+        for (int d = 0; d < 4; d++) {
+            r[d] = 0;
+            for (int i = 0; i <= d; i++) r[d] += bn[d][i] * pa[i] * pb[d - i];
+            r[d] *= sc;
+        }
+    }
+    static const int ord[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    for (int b = 0; b < CP_NBUB; b++) {
+        double U[4], V[4];
+        for (int d = 0; d < 4; d++) { /* times the monomial 2t-1 (value, slope 2) where selected */
+            U[d] = (b & 1) ? (2 * u - 1) * bu[d] + (d ? 2 * d * bu[d - 1] : 0) : bu[d];
+            V[d] = (b & 2) ? (2 * v - 1) * bv[d] + (d ? 2 * d * bv[d - 1] : 0) : bv[d];
+        }
+        for (int o = 0; o < 10; o++) ph[b][o] = U[ord[o][0]] * V[ord[o][1]];
+    }
+}
+
+void cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, double u, double v, int nder,
+            const cp_line *Lu, const cp_line *Lv, double *out)
+{
+    int K = P->K;
+    static const int ord[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    static const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    double Wg[2][2][3][3];
+    int anyg = 0;
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++)
+            if (P->greg[corner_of[i][j]]) {
+                gregory_weight(K, i, j, u, v, Wg[i][j]);
+                anyg = 1;
+            }
+    int nout = nder <= 0 ? 1 : nder == 1 ? 3 : nder == 2 ? 6 : 10;
+    for (int o = 0; o < nout; o++) {
+        int al = ord[o][0], be = ord[o][1];
+        double *r = out + (size_t)o * W;
+        memset(r, 0, sizeof(double) * W);
+        for (int i = 0; i < 2; i++)
+            for (int a = 0; a <= K; a++) {
+                double hu = Lu->H[a][i][al], hv = Lv->H[a][i][be];
+                const double *gv = Lv->side[i][a][be], *fu = Lu->side[i][a][al];
+                for (int l = 0; l < W; l++) r[l] += hu * gv[l] + hv * fu[l];
+            }
+        for (int i = 0; i < 2; i++)
+            for (int j = 0; j < 2; j++) {
+                int greg = anyg && P->greg[corner_of[i][j]] && al + be <= 2;
+                for (int a = 0; a <= K; a++)
+                    for (int b = 0; b <= K; b++) {
+                        if (!(greg && a >= 1 && b >= 1)) {
+                            double h = Lu->H[a][i][al] * Lv->H[b][j][be];
+                            if (h == 0) continue;
+                            const double *M = CP_CT(C, 0, i, j, a, b);
+                            for (int l = 0; l < W; l++) r[l] -= h * M[l];
+                            continue;
+                        }
+                        const double *A = CP_CT(C, 1, i, j, a, b), *B = CP_CT(C, 2, i, j, a, b);
+                        for (int a1 = 0; a1 <= al; a1++)
+                            for (int b1 = 0; b1 <= be; b1++) {
+                                int p = al - a1, q = be - b1;
+                                double h = binom[al][a1] * binom[be][b1] * Lu->H[a][i][a1] * Lv->H[b][j][b1];
+                                if (h == 0) continue;
+                                double w = Wg[i][j][p][q];
+                                if (p == 0 && q == 0)
+                                    for (int l = 0; l < W; l++) r[l] -= h * (A[l] + w * (B[l] - A[l]));
+                                else
+                                    for (int l = 0; l < W; l++) r[l] -= h * w * (B[l] - A[l]);
+                            }
+                    }
+            }
+    }
+    if (bub) {
+        double ph[CP_NBUB][10];
+        cp_bubbles(K, u, v, ph);
+        for (int o = 0; o < nout; o++)
+            for (int b = 0; b < CP_NBUB; b++) {
+                double f = ph[b][o];
+                const double *c = bub + (size_t)b * W;
+                for (int l = 0; l < W; l++) out[(size_t)o * W + l] += f * c[l];
+            }
+    }
+}
+
+/* ------------------------------------------------------------ production evaluators (W = 3) */
+
+void cp_eval_init(cp_eval *E)
+{
+    E->C.W = 3;
+    E->C.v = E->ct;
+    cp_corner_terms(&E->P, E->lanes, 3, &E->C);
+}
+
+q2n_status cp_eval_point(const void *data, double u, double v, int nder, double *out)
+{
+    const cp_eval *E = data;
+    cp_line Lu, Lv;
+    int na = nder < 2 ? 2 : 3;
+    cp_line_u(&E->P, E->lanes, 3, u, na, &Lu);
+    cp_line_v(&E->P, E->lanes, 3, v, na, &Lv);
+    cp_sum(&E->P, &E->C, &E->bub[0][0], 3, u, v, nder, &Lu, &Lv, out);
+    return Q2N_OK;
+}
+
+q2n_status cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out)
+{
+    const cp_eval *E = data;
+    cp_line *Lu = malloc((size_t)nu * sizeof *Lu);
+    if (!Lu) return Q2N_ERR_NOMEM;
+    for (int a = 0; a < nu; a++) cp_line_u(&E->P, E->lanes, 3, us[a], 2, &Lu[a]);
+    for (int b = 0; b < nv; b++) {
+        cp_line Lv;
+        cp_line_v(&E->P, E->lanes, 3, vs[b], 2, &Lv);
+        for (int a = 0; a < nu; a++) cp_sum(&E->P, &E->C, &E->bub[0][0], 3, us[a], vs[b], 1, &Lu[a], &Lv, out + 9 * ((size_t)b * nu + a));
+    }
+    free(Lu);
+    return Q2N_OK;
+}
+
+q2n_status cp_eval_corner(const void *data, int i, int j, double out[2][2][2][3])
+{
+    const cp_eval *E = data;
+    if (E->P.K != 2) return Q2N_ERR_UNSUPPORTED;
+    for (int a = 1; a <= 2; a++)
+        for (int b = 1; b <= 2; b++) {
+            memcpy(out[0][a - 1][b - 1], CP_CT(&E->C, 1, i, j, a, b), 3 * sizeof(double));
+            memcpy(out[1][a - 1][b - 1], CP_CT(&E->C, 2, i, j, a, b), 3 * sizeof(double));
+        }
+    return Q2N_OK;
+}

@@ -1,0 +1,751 @@
+/* ev_fair.c — the fair extraordinary construction: one jet per vertex, compatible Coons patches,
+ * jets and interior bubbles chosen by a fairness-energy solve (issue 11; docs/extraordinary.md).
+ *
+ * Every vertex that is a corner of an extraordinary face gets ONE jet P_v of order 2K (4 in G2
+ * mode, 2 in G1 mode) in its chart (ev_jet4.h; the charts are the edge directions of
+ * ev_vertex_jets).  Every datum of the curve network is a contraction of the jets at the two ends
+ * of its edge, parametric in the edge's t in [0,1] (d: the edge's interval, u: its direction in
+ * an end's chart, w: the face's other edge there, e_w that edge's interval):
+ *   γ(t)    boundary curve: Hermite interpolant of order 2K (degree 4K+1) of d^j T_j[u^j];
+ *   χ_F(t)  inward cross derivative of the base face F: order 2K-1 Hermite interpolant of
+ *           d^j e_w T_(j+1)[u^j, w];
+ *   ξ_F(t)  (G2) second cross derivative: order 2K-2 interpolant of d^j e_w² T_(j+2)[u^j, w, w];
+ *   derived face G: χ_G = α χ_F + β γ_t, ξ_G = α² ξ_F + 2αβ ∂t χ_F + β² γ_tt (formulas.md §4.2
+ *           with its γ, δ terms zero), α, β smoothsteps of order K between their end values, which
+ *           solve e_w' w' = α e_w w + β d u in each end's chart.
+ * So G1 (G2) holds exactly along every constructed edge for ANY jets, and every mixed corner
+ * derivative a side delivers is the jet's (α, β are flat at the ends, the corner maps linear):
+ * the two sides of every corner agree and the patch (coons_patch.c) is the plain Boolean-sum Coons
+ * patch with polynomial corner terms — no rational Gregory blend, no corrective bumps.  Sides
+ * shared with a regular augmented patch take that patch's data (ev_side_eval, §4.1); at their
+ * vertices the jet's terms with both exponents <= 2 are the regular patch's (Lemma 1), so those
+ * corners agree too (checked; a corner where they do not keeps a Gregory blend, counted).
+ *
+ * The patches are linear in the jets' free coefficients (all but the position and, at vertices
+ * of regular patches, the terms with both exponents <= 2) and in CP_NBUB interior bubbles per
+ * face.  They minimise a fairness energy over the extraordinary faces, in each face's
+ * arc-length-scaled parameters x = u L_u, y = v L_v:
+ *     E = Σ_F ∫ |S_xx|² + 2|S_xy|² + |S_yy|² dA  +  w3 Σ_F ω_F L_F² ∫ |S_xxx|² + 3|S_xxy|² + 3|S_xyy|² + |S_yyy|² dA,
+ * bending (thin plate) plus curvature variation (Moreton–Séquin's minimal-variation term), both
+ * dimensionless; ω_F lowers the variation term on faces where a first, bending-only solve leaves
+ * far more variation than on the typical face (thin features whose curvature must change fast:
+ * they would otherwise dictate the shape everywhere).  A small ridge towards the local estimates
+ * of ev_vertex_jets keeps the problem definite.  One sparse SPD solve (CHOLMOD) per pass, shared
+ * by x, y and z. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sparse.h"
+#include "core/vec3.h"
+#include "patch/coons_patch.h"
+#include "patch/ev_fair.h"
+#include "patch/ev_jet4.h"
+#include "patch/ev_policy.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+typedef struct fe_side {
+    int kind;            /* 0 constructed from the jets, 1 sampled from a regular neighbour */
+    ev_side reg;         /* kind 1 */
+    int c0, c1;          /* kind 0: patch corners at s = 0 and s = 1 */
+    double d;            /* the edge's interval */
+    double u0[2], u1[2]; /* the edge's direction in the charts of its two end vertices */
+    double w0[2], w1[2]; /* the base face's inward cross direction at the two ends */
+    double ew[2];        /* the base face's cross-edge intervals at the two ends */
+    int derived;         /* this face is the derived side */
+    double al[2], be[2]; /* α, β at the two ends */
+} fe_side;
+
+/* Side context of one patch (the Coons patch's ctx); lanes: const double *J[4], the W-wide jets
+ * of the four corners (slot-major). */
+typedef struct fe_ctx {
+    int K, kb;
+    double d0, d1, e0, e1; /* intervals of sides 0, 2 (u) and 3, 1 (v) */
+    fe_side side[4];
+} fe_ctx;
+
+static const int side_iota[4] = {1, -1, -1, 1};
+static const int corner_of[2][2] = {{0, 3}, {1, 2}};
+static const double bn4[6][6] = {{1, 0, 0, 0, 0, 0}, {1, 1, 0, 0, 0, 0}, {1, 2, 1, 0, 0, 0},
+                                 {1, 3, 3, 1, 0, 0}, {1, 4, 6, 4, 1, 0}, {1, 5, 10, 10, 5, 1}};
+
+/* ------------------------------------------------------------ side data (W lanes) */
+
+/* Hermite interpolant of order K of jet contractions, t-derivatives 0..nq at s:
+ * out[q] = Σ_j H_{j,0}^(q) d^j s0 T0_(j+p)[u0^j, w0^p] + H_{j,1}^(q) (-d)^j s1 T1_(j+p)[u1^j, w1^p]. */
+static void jet_hermite(int K, int p, const double *T0, const double *T1, int W, const fe_side *S, double s0,
+                        double s1, double s, int nq, double out[][CP_MAXW])
+{
+    double H[Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1], e0[CP_MAXW], e1[CP_MAXW];
+    q2n_hermite_eval(K, s, nq, H);
+    for (int q = 0; q <= nq; q++) memset(out[q], 0, sizeof(double) * W);
+    for (int j = 0; j <= K; j++) {
+        memset(e0, 0, sizeof(double) * W);
+        memset(e1, 0, sizeof(double) * W);
+        ev_jet_contract(T0, W, j, S->u0, p, S->w0, pow(S->d, j) * s0, e0);
+        ev_jet_contract(T1, W, j, S->u1, p, S->w1, pow(-S->d, j) * s1, e1);
+        for (int q = 0; q <= nq; q++) {
+            double h0 = H[j][0][q], h1 = H[j][1][q];
+            for (int l = 0; l < W; l++) out[q][l] += h0 * e0[l] + h1 * e1[l];
+        }
+    }
+}
+
+/* Parametric data of a constructed side at s: out[b][a] = ∂n^b ∂s^a with n the inward cross
+ * parameter, b <= K, a < na (<= 4). */
+static void constructed(const fe_ctx *X, const fe_side *S, const double *J0, const double *J1, int W, double s,
+                        int na, double out[3][CP_NA][CP_MAXW])
+{
+    int K = X->K, Kc = 2 * K;
+    double g[6][CP_MAXW], c[5][CP_MAXW], x[4][CP_MAXW];
+    jet_hermite(Kc, 0, J0, J1, W, S, 1, 1, s, na + 1, g);                  /* γ */
+    jet_hermite(Kc - 1, 1, J0, J1, W, S, S->ew[0], S->ew[1], s, na, c);   /* χ_F */
+    if (K >= 2)
+        jet_hermite(Kc - 2, 2, J0, J1, W, S, S->ew[0] * S->ew[0], S->ew[1] * S->ew[1], s, na - 1, x); /* ξ_F */
+    for (int b = 0; b <= 2; b++)
+        for (int a = 0; a < na; a++) memset(out[b][a], 0, sizeof(double) * W);
+    for (int a = 0; a < na; a++) memcpy(out[0][a], g[a], sizeof(double) * W);
+    if (!S->derived) {
+        for (int a = 0; a < na; a++) {
+            memcpy(out[1][a], c[a], sizeof(double) * W);
+            if (K >= 2) memcpy(out[2][a], x[a], sizeof(double) * W);
+        }
+        return;
+    }
+    /* derived side: χ_G = α χ_F + β γ_t, ξ_G = α² ξ_F + 2αβ ∂t χ_F + β² γ_tt */
+    double H[Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1], al[4], be[4];
+    q2n_hermite_eval(K, s, 3, H); /* smoothstep of order K: H_{0,1} */
+    for (int q = 0; q < 4; q++) {
+        al[q] = (q == 0 ? S->al[0] : 0) + (S->al[1] - S->al[0]) * H[0][1][q];
+        be[q] = (q == 0 ? S->be[0] : 0) + (S->be[1] - S->be[0]) * H[0][1][q];
+    }
+    for (int a = 0; a < na; a++)
+        for (int i = 0; i <= a; i++) {
+            double fa = bn4[a][i] * al[i], fb = bn4[a][i] * be[i];
+            for (int l = 0; l < W; l++) out[1][a][l] += fa * c[a - i][l] + fb * g[a - i + 1][l];
+        }
+    if (K < 2) return;
+    double a2[4], ab[4], b2[4];
+    for (int q = 0; q < 4; q++) {
+        a2[q] = ab[q] = b2[q] = 0;
+        for (int i = 0; i <= q; i++) {
+            a2[q] += bn4[q][i] * al[i] * al[q - i];
+            ab[q] += 2 * bn4[q][i] * al[i] * be[q - i];
+            b2[q] += bn4[q][i] * be[i] * be[q - i];
+        }
+    }
+    for (int a = 0; a < na; a++)
+        for (int i = 0; i <= a; i++) {
+            double f1 = bn4[a][i] * a2[i], f2 = bn4[a][i] * ab[i], f3 = bn4[a][i] * b2[i];
+            for (int l = 0; l < W; l++) out[2][a][l] += f1 * x[a - i][l] + f2 * c[a - i + 1][l] + f3 * g[a - i + 2][l];
+        }
+}
+
+/* Regular side: local data of the neighbour (ev_side_eval, along derivatives <= 2; the third by
+ * central differences of the second, only the energy asks for it) times the local
+ * parametrization function across the side (seed 003 §4, eq. 22–23). */
+static void regular(const fe_ctx *X, int sd, double s, int na, double F[3][CP_NA][CP_MAXW])
+{
+    const fe_side *S = &X->side[sd];
+    double loc[3][4][3], r[3][3][3], L[4];
+    ev_side_eval(&S->reg, s, r);
+    for (int b = 0; b < 3; b++)
+        for (int a = 0; a < 3; a++) memcpy(loc[b][a], r[b][a], sizeof r[b][a]);
+    if (na > 3) {
+        const double h = 1e-4;
+        double rp[3][3][3], rm[3][3][3];
+        ev_side_eval(&S->reg, s + h, rp);
+        ev_side_eval(&S->reg, s - h, rm);
+        for (int b = 0; b < 3; b++)
+            for (int c = 0; c < 3; c++) loc[b][3][c] = (rp[b][2][c] - rm[b][2][c]) / (2 * h);
+    }
+    if (sd == 0 || sd == 2) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
+    else q2n_spline_blend_derivs(X->kb, X->d0, X->d1, s, L);                   /* δ(v) */
+    double L2[4] = {L[0] * L[0], 2 * L[0] * L[1], 2 * L[1] * L[1] + 2 * L[0] * L[2], 6 * L[1] * L[2] + 2 * L[0] * L[3]};
+    double io = side_iota[sd];
+    for (int a = 0; a < na; a++)
+        for (int c = 0; c < 3; c++) {
+            double f1 = 0, f2 = 0;
+            for (int i = 0; i <= a; i++) {
+                f1 += bn4[a][i] * L[i] * loc[1][a - i][c];
+                f2 += bn4[a][i] * L2[i] * loc[2][a - i][c];
+            }
+            F[0][a][c] = loc[0][a][c];
+            F[1][a][c] = io * f1;
+            F[2][a][c] = f2;
+        }
+}
+
+static void fe_side_fn(const void *ctx, const void *lanes, int W, int sd, double s, int na,
+                       double F[3][CP_NA][CP_MAXW])
+{
+    const fe_ctx *X = ctx;
+    const fe_side *S = &X->side[sd];
+    for (int b = 0; b < 3; b++)
+        for (int a = 0; a < na; a++) memset(F[b][a], 0, sizeof(double) * W);
+    if (S->kind == 1) {
+        regular(X, sd, s, na, F);
+        return;
+    }
+    const double *const *J = lanes;
+    double loc[3][CP_NA][CP_MAXW];
+    constructed(X, S, J[S->c0], J[S->c1], W, s, na, loc);
+    double io = side_iota[sd]; /* inward -> axis direction */
+    for (int a = 0; a < na; a++)
+        for (int l = 0; l < W; l++) {
+            F[0][a][l] = loc[0][a][l];
+            F[1][a][l] = io * loc[1][a][l];
+            F[2][a][l] = loc[2][a][l];
+        }
+}
+
+/* The production patch: the Coons evaluator first (the surface's data pointer is this struct). */
+typedef struct fe_eval {
+    cp_eval E;
+    fe_ctx X;
+    double J[4][EV_JS][3];
+    const double *Jp[4];
+} fe_eval;
+
+static void fe_eval_free(void *d) { free(d); }
+
+/* ------------------------------------------------------------ the driver */
+
+/* Direction of edge e in the chart of its end vertex v (dir of ev_vertex_jets). */
+static const double *edge_dir(const q2n_mesh *m, const double (*dir)[2], int e, int v)
+{
+    return dir[2 * e + (q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1)];
+}
+
+/* Solve w = α a + β b in the plane; 0 when a, b are parallel. */
+static int solve2(const double w[2], const double a[2], const double b[2], double *al, double *be)
+{
+    double det = a[0] * b[1] - a[1] * b[0];
+    if (!(fabs(det) > 1e-12 * (fabs(a[0]) + fabs(a[1])) * (fabs(b[0]) + fabs(b[1])))) return 0;
+    *al = (w[0] * b[1] - w[1] * b[0]) / det;
+    *be = (a[0] * w[1] - a[1] * w[0]) / det;
+    return 1;
+}
+
+/* |sin| of the angle between a and b */
+static double sine2(const double a[2], const double b[2])
+{
+    double la = hypot(a[0], a[1]), lb = hypot(b[0], b[1]);
+    return la > 0 && lb > 0 ? fabs(a[0] * b[1] - a[1] * b[0]) / (la * lb) : 0;
+}
+
+/* The other edge of face f at its vertex v, for its side on edge e (-1 if v is not a corner). */
+static int cross_edge(const q2n_mesh *m, int f, int e, int v)
+{
+    for (int i = 0; i < 4; i++) {
+        int h = q2n_face_he(m, f, i), hp = q2n_he_prev(m, h);
+        if (q2n_he_origin(m, h) != v) continue;
+        return m->he_edge[h] == e ? m->he_edge[hp] : m->he_edge[h];
+    }
+    return -1;
+}
+
+/* The face's inward cross direction at vertex v for its side on edge e: the direction of its
+ * other edge at v. */
+static const double *cross_dir(const q2n_mesh *m, const double (*dir)[2], int f, int e, int v)
+{
+    int other = cross_edge(m, f, e, v);
+    return other < 0 ? NULL : edge_dir(m, dir, other, v);
+}
+
+typedef struct fe_build {
+    const q2n_mesh *m;
+    const q2n_surface *s;
+    const double *iv;
+    const double (*dir)[2];
+    const char *unc;
+    int K, kb;
+    int *base;                  /* per edge: base face (-1 when not constructed) */
+    double (*jet)[EV_JS][3];    /* per vertex: current jet values */
+    int *var;                   /* per vertex and slot: unknown index or -1 (fixed) */
+    int *bvar;                  /* per face of the list: first of its CP_NBUB bubble unknowns */
+    double (*bub)[CP_NBUB][3];  /* per face of the list: bubble values */
+    int nvar;
+} fe_build;
+
+/* Slots that are unknowns at a vertex: every slot of order 1..Kc, except at vertices of regular
+ * patches the terms with both exponents <= 2 (fixed by that patch, Lemma 1). */
+static int slot_free(int Kc, int fixed, int j, int i)
+{
+    if (j < 1 || j > Kc) return 0;
+    if (!fixed) return 1;
+    return j - i > 2 || i > 2;
+}
+
+static q2n_status setup_patch(const fe_build *B, int f, fe_ctx *X, cp_patch *P, q2n_error *err)
+{
+    const q2n_mesh *m = B->m;
+    memset(X, 0, sizeof *X);
+    X->K = B->K;
+    X->kb = B->kb;
+    X->d0 = B->iv[m->he_edge[q2n_face_he(m, f, 0)]];
+    X->e1 = B->iv[m->he_edge[q2n_face_he(m, f, 1)]];
+    X->d1 = B->iv[m->he_edge[q2n_face_he(m, f, 2)]];
+    X->e0 = B->iv[m->he_edge[q2n_face_he(m, f, 3)]];
+    memset(P, 0, sizeof *P);
+    P->K = B->K;
+    P->side = fe_side_fn;
+    P->ctx = X;
+    /* side sd runs from corner c0 to c1 (side 0: p0 -> p1, 1: p1 -> p2, 2: p3 -> p2, 3: p0 -> p3) */
+    static const int sc0[4] = {0, 1, 3, 0}, sc1[4] = {1, 2, 2, 3};
+    for (int sd = 0; sd < 4; sd++) {
+        int h = q2n_face_he(m, f, sd), t = m->he_twin[h], e = m->he_edge[h];
+        fe_side *S = &X->side[sd];
+        int along_h = sd < 2;
+        if (t >= 0 && !B->unc[m->he_face[t]]) {
+            int g = m->he_face[t], sR = t - m->face_start[g];
+            const q2n_augmented_patch *R = q2n_surface_patch_data(B->s, g);
+            if (!R) return q2n_error_set(err, Q2N_ERR_ARG, "%s: face %d: no regular patch data", m->name, g);
+            S->kind = 1;
+            S->reg.kind = 1;
+            S->reg.R = *R;
+            S->reg.sR = sR;
+            S->reg.rev = (sR >= 2) != along_h; /* R runs along t (= against h) on its sides 0, 1 */
+            continue;
+        }
+        S->kind = 0;
+        S->c0 = sc0[sd];
+        S->c1 = sc1[sd];
+        S->d = B->iv[e];
+        int v0 = m->face_vert[m->face_start[f] + S->c0], v1 = m->face_vert[m->face_start[f] + S->c1];
+        memcpy(S->u0, edge_dir(m, B->dir, e, v0), sizeof S->u0);
+        memcpy(S->u1, edge_dir(m, B->dir, e, v1), sizeof S->u1);
+        int fb = B->base[e];
+        S->derived = fb != f;
+        const double *wb0 = cross_dir(m, B->dir, fb, e, v0), *wb1 = cross_dir(m, B->dir, fb, e, v1);
+        if (!wb0 || !wb1) return q2n_error_set(err, Q2N_ERR_ARG, "%s: edge %d: inconsistent faces", m->name, e);
+        memcpy(S->w0, wb0, sizeof S->w0);
+        memcpy(S->w1, wb1, sizeof S->w1);
+        S->ew[0] = B->iv[cross_edge(m, fb, e, v0)];
+        S->ew[1] = B->iv[cross_edge(m, fb, e, v1)];
+        if (S->derived) {
+            /* w_G = α w_F + β u in each end's chart (u at end 1 is -u1); parametric: the cross
+             * derivatives carry the cross edges' intervals, the tangent γ_t the edge's */
+            const double *w0 = cross_dir(m, B->dir, f, e, v0), *w1 = cross_dir(m, B->dir, f, e, v1);
+            double mu1[2] = {-S->u1[0], -S->u1[1]};
+            if (!w0 || !w1 || !solve2(w0, S->w0, S->u0, &S->al[0], &S->be[0]) ||
+                !solve2(w1, S->w1, mu1, &S->al[1], &S->be[1]))
+                return q2n_error_set(err, Q2N_ERR_GEOMETRY,
+                                     "%s: edge %d: the two faces' cross directions are parallel to the edge",
+                                     m->name, e);
+            for (int k = 0; k < 2; k++) {
+                double eg = B->iv[cross_edge(m, f, e, k ? v1 : v0)];
+                S->al[k] *= eg / S->ew[k];
+                S->be[k] *= eg / S->d;
+            }
+        }
+    }
+    return Q2N_OK;
+}
+
+/* W-wide corner jets and bubbles of face fi (faces[fi] = f) for the assembly: fixed slots in
+ * lanes 0..2, free unknown k (local numbering; loc[k] = global index) in lane 3 + k. */
+static int assembly_lanes(const fe_build *B, int fi, int f, double *Jl, double *bl, int *loc)
+{
+    const q2n_mesh *m = B->m;
+    int n = 0;
+    for (int c = 0; c < 4; c++) {
+        int v = m->face_vert[m->face_start[f] + c];
+        for (int k = 0; k < EV_JS; k++)
+            if (B->var[v * EV_JS + k] >= 0) loc[n++] = B->var[v * EV_JS + k];
+    }
+    for (int b = 0; b < CP_NBUB; b++) loc[n++] = B->bvar[fi] + b;
+    int W = 3 + n, q = 0;
+    memset(Jl, 0, sizeof(double) * 4 * EV_JS * CP_MAXW);
+    memset(bl, 0, sizeof(double) * CP_NBUB * CP_MAXW);
+    for (int c = 0; c < 4; c++) {
+        int v = m->face_vert[m->face_start[f] + c];
+        double *J = Jl + (size_t)c * EV_JS * W;
+        for (int k = 0; k < EV_JS; k++) {
+            if (B->var[v * EV_JS + k] >= 0) J[k * W + 3 + q++] = 1;
+            else memcpy(J + k * W, B->jet[v][k], 3 * sizeof(double));
+        }
+    }
+    for (int b = 0; b < CP_NBUB; b++) bl[(size_t)b * W + 3 + q++] = 1;
+    return W;
+}
+
+/* Face scale for the energy: mean lengths of the u-edges and of the v-edges. */
+static void face_scale(const q2n_mesh *m, int f, double *Lu, double *Lv)
+{
+    const double *p[4];
+    for (int i = 0; i < 4; i++) p[i] = q2n_mesh_vpos(m, m->face_vert[m->face_start[f] + i]);
+    *Lu = 0.5 * (q2n_v3_dist(p[0], p[1]) + q2n_v3_dist(p[3], p[2]));
+    *Lv = 0.5 * (q2n_v3_dist(p[0], p[3]) + q2n_v3_dist(p[1], p[2]));
+}
+
+/* Gauss–Legendre nodes and weights on [0,1]. */
+static void gauss01(int n, double *x, double *w)
+{
+    for (int i = 0; i < n; i++) {
+        double z = cos(M_PI * (i + 0.75) / (n + 0.5)), pp = 1;
+        for (int it = 0; it < 100; it++) {
+            double p0 = 1, p1 = 0;
+            for (int j = 0; j < n; j++) { double p2 = p1; p1 = p0; p0 = ((2 * j + 1) * z * p1 - j * p2) / (j + 1); }
+            pp = n * (z * p0 - p1) / (z * z - 1);
+            double z1 = z;
+            z = z1 - p0 / pp;
+            if (fabs(z - z1) < 1e-15) break;
+        }
+        x[i] = 0.5 * (1 - z);
+        w[i] = 1 / ((1 - z * z) * pp * pp);
+    }
+}
+
+/* Growable triplet list of the upper triangle of the normal matrix. */
+typedef struct fe_trip {
+    size_t n, cap;
+    int *i, *j;
+    double *v;
+} fe_trip;
+
+static int trip_add(fe_trip *T, int i, int j, double v)
+{
+    if (T->n == T->cap) {
+        size_t cap = T->cap ? 2 * T->cap : 1 << 16;
+        int *a = realloc(T->i, cap * sizeof *a);
+        if (!a) return 0;
+        T->i = a;
+        int *b = realloc(T->j, cap * sizeof *b);
+        if (!b) return 0;
+        T->j = b;
+        double *c = realloc(T->v, cap * sizeof *c);
+        if (!c) return 0;
+        T->v = c;
+        T->cap = cap;
+    }
+    T->i[T->n] = i;
+    T->j[T->n] = j;
+    T->v[T->n++] = v;
+    return 1;
+}
+
+/* Energy of face fi on the Gauss grid: with W > 3 lanes its normal-equation block is added to
+ * (T, rhs, diag); with the current values (W = 3, no unknowns) its bending and variation values
+ * are returned in e[0], e[1].  w3: weight of the variation term. */
+static q2n_status face_energy(fe_build *B, int fi, int f, const cp_patch *P, const double *gx, const double *gw, int ng,
+                              double w3, int assemble, fe_trip *T, double *rhs, double *diag, double e[2])
+{
+    static const int n2 = 4 * EV_JS + CP_NBUB;
+    double *Jl = malloc(sizeof(double) * 4 * EV_JS * CP_MAXW), bl[CP_NBUB * CP_MAXW];
+    cp_line *Lu = malloc((size_t)ng * sizeof *Lu);
+    cp_corner C = {0, malloc(sizeof(double) * 3 * 36 * CP_MAXW)};
+    double *K = calloc((size_t)n2 * n2, sizeof *K), (*R)[3] = calloc((size_t)n2, sizeof *R);
+    if (!Jl || !Lu || !C.v || !K || !R) {
+        free(Jl); free(Lu); free(C.v); free(K); free(R);
+        return Q2N_ERR_NOMEM;
+    }
+    const q2n_mesh *m = B->m;
+    int loc[4 * EV_JS + CP_NBUB], W, nl;
+    if (assemble) {
+        W = assembly_lanes(B, fi, f, Jl, bl, loc);
+    } else {
+        W = 3;
+        for (int c = 0; c < 4; c++) memcpy(Jl + (size_t)c * EV_JS * 3, B->jet[m->face_vert[m->face_start[f] + c]], sizeof(double) * EV_JS * 3);
+        memcpy(bl, B->bub[fi], sizeof(double) * CP_NBUB * 3);
+    }
+    nl = W - 3;
+    const double *J[4];
+    for (int c = 0; c < 4; c++) J[c] = Jl + (size_t)c * EV_JS * W;
+    double Lsu, Lsv;
+    face_scale(m, f, &Lsu, &Lsv);
+    double Lc2 = Lsu * Lsv, s3 = sqrt(w3 * Lc2);
+    /* row scales: x = u Lsu, y = v Lsv */
+    double sc[7] = {1 / (Lsu * Lsu), 1.4142135623730951 / (Lsu * Lsv), 1 / (Lsv * Lsv), s3 / (Lsu * Lsu * Lsu),
+                    s3 * sqrt(3.0) / (Lsu * Lsu * Lsv), s3 * sqrt(3.0) / (Lsu * Lsv * Lsv), s3 / (Lsv * Lsv * Lsv)};
+    int nr = w3 > 0 || !assemble ? 7 : 3, na = nr > 3 ? 4 : 3;
+    if (!assemble) { sc[3] = 1 / (Lsu * Lsu * Lsu); sc[4] = sqrt(3.0) / (Lsu * Lsu * Lsv); sc[5] = sqrt(3.0) / (Lsu * Lsv * Lsv); sc[6] = 1 / (Lsv * Lsv * Lsv); }
+    cp_corner_terms(P, J, W, &C);
+    for (int a = 0; a < ng; a++) cp_line_u(P, J, W, gx[a], na, &Lu[a]);
+    e[0] = e[1] = 0;
+    for (int b = 0; b < ng; b++) {
+        cp_line Lv;
+        cp_line_v(P, J, W, gx[b], na, &Lv);
+        for (int a = 0; a < ng; a++) {
+            double o[10 * CP_MAXW];
+            cp_sum(P, &C, bl, W, gx[a], gx[b], nr > 3 ? 3 : 2, &Lu[a], &Lv, o);
+            double wq = gw[a] * gw[b] * Lc2;
+            for (int r = 0; r < nr; r++) {
+                const double *row = o + (size_t)(3 + r) * W;
+                double s2 = wq * sc[r] * sc[r];
+                if (!assemble) {
+                    e[r < 3 ? 0 : 1] += s2 * q2n_v3_dot(row, row);
+                    continue;
+                }
+                for (int i = 0; i < nl; i++) {
+                    double ci = row[3 + i] * s2;
+                    if (ci == 0) continue;
+                    double *Ki = K + (size_t)i * n2;
+                    for (int k = i; k < nl; k++) Ki[k] += ci * row[3 + k];
+                    for (int c = 0; c < 3; c++) R[i][c] -= ci * row[c];
+                }
+            }
+        }
+    }
+    int ok = 1;
+    for (int i = 0; assemble && i < nl && ok; i++) {
+        for (int c = 0; c < 3; c++) rhs[3 * loc[i] + c] += R[i][c];
+        diag[loc[i]] += K[(size_t)i * n2 + i];
+        for (int k = i; k < nl && ok; k++) {
+            double v = K[(size_t)i * n2 + k];
+            if (v == 0) continue;
+            int gi = loc[i], gk = loc[k];
+            ok = trip_add(T, gi < gk ? gi : gk, gi < gk ? gk : gi, gi == gk && i != k ? 2 * v : v);
+        }
+    }
+    free(Jl);
+    free(Lu);
+    free(C.v);
+    free(K);
+    free(R);
+    return ok ? Q2N_OK : Q2N_ERR_NOMEM;
+}
+
+/* One pass: assemble bending + w3·ω_F·variation over all faces, add the ridge, solve, update the
+ * jets and bubbles. */
+static q2n_status fair_pass(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const double *omega,
+                            double w3, const double (*jet0)[EV_JS][3], q2n_error *err)
+{
+    const q2n_mesh *m = B->m;
+    int n = B->nvar, ng = EV_FAIR_GAUSS;
+    double gx[EV_FAIR_GAUSS], gw[EV_FAIR_GAUSS], e[2];
+    gauss01(ng, gx, gw);
+    fe_trip T = {0};
+    double *rhs = calloc(3 * (size_t)n, sizeof *rhs), *diag = calloc((size_t)n, sizeof *diag), *Bm = NULL, *dg = NULL;
+    q2n_status st = Q2N_OK;
+    if (!rhs || !diag) { st = Q2N_ERR_NOMEM; goto done; }
+    for (int fi = 0; fi < nfaces && !st; fi++)
+        st = face_energy(B, fi, faces[fi], &P[fi], gx, gw, ng, w3 * (omega ? omega[fi] : 1), 1, &T, rhs, diag, e);
+    if (st) goto done;
+    /* ridge: jets towards the local estimates (first/second order firmer), bubbles towards 0 */
+    for (int v = 0; v < m->nv; v++)
+        for (int k = 1; k < EV_JS; k++) {
+            int x = B->var[v * EV_JS + k];
+            if (x < 0) continue;
+            double lam = (k < 6 ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
+            if (!(lam > 0)) lam = 1;
+            if (!trip_add(&T, x, x, lam)) { st = Q2N_ERR_NOMEM; goto done; }
+            for (int c = 0; c < 3; c++) rhs[3 * x + c] += lam * jet0[v][k][c];
+        }
+    for (int fi = 0; fi < nfaces; fi++)
+        for (int b = 0; b < CP_NBUB; b++) {
+            int x = B->bvar[fi] + b;
+            double lam = EV_FAIR_RIDGE_HIGH * diag[x];
+            if (!trip_add(&T, x, x, lam > 0 ? lam : 1)) { st = Q2N_ERR_NOMEM; goto done; }
+        }
+    /* symmetric diagonal scaling (the unknowns' scales differ by orders of magnitude), solve */
+    Bm = malloc(3 * (size_t)n * sizeof *Bm);
+    dg = calloc((size_t)n, sizeof *dg);
+    if (!Bm || !dg) { st = Q2N_ERR_NOMEM; goto done; }
+    for (size_t k = 0; k < T.n; k++)
+        if (T.i[k] == T.j[k]) dg[T.i[k]] += T.v[k];
+    for (int k = 0; k < n; k++) dg[k] = dg[k] > 0 ? 1 / sqrt(dg[k]) : 1;
+    for (size_t k = 0; k < T.n; k++) T.v[k] *= dg[T.i[k]] * dg[T.j[k]];
+    for (int k = 0; k < n; k++)
+        for (int c = 0; c < 3; c++) Bm[(size_t)c * n + k] = rhs[3 * k + c] * dg[k];
+    if ((st = q2n_sparse_spd_solve(n, (long)T.n, T.i, T.j, T.v, 3, Bm, Bm, err))) goto done;
+    for (int v = 0; v < m->nv; v++)
+        for (int k = 0; k < EV_JS; k++) {
+            int x = B->var[v * EV_JS + k];
+            if (x >= 0)
+                for (int c = 0; c < 3; c++) B->jet[v][k][c] = Bm[(size_t)c * n + x] * dg[x];
+        }
+    for (int fi = 0; fi < nfaces; fi++)
+        for (int b = 0; b < CP_NBUB; b++)
+            for (int c = 0; c < 3; c++) B->bub[fi][b][c] = Bm[(size_t)c * n + B->bvar[fi] + b] * dg[B->bvar[fi] + b];
+done:
+    if (st == Q2N_ERR_NOMEM) q2n_error_set(err, st, "out of memory (fair solve, %d unknowns)", n);
+    free(T.i);
+    free(T.j);
+    free(T.v);
+    free(rhs);
+    free(diag);
+    free(Bm);
+    free(dg);
+    return st;
+}
+
+static int cmp_dbl(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The energy solve: a bending-only pass, then the variation weights ω_F from its result, then
+ * the full pass. */
+static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp_patch *P,
+                             const double (*jet0)[EV_JS][3], q2n_error *err)
+{
+    q2n_status st = fair_pass(B, faces, nfaces, P, NULL, 0, jet0, err);
+    if (st || !(EV_FAIR_W3 > 0)) return st;
+    double gx[EV_FAIR_GAUSS], gw[EV_FAIR_GAUSS], e[2];
+    gauss01(EV_FAIR_GAUSS, gx, gw);
+    double *v3 = malloc((size_t)nfaces * sizeof *v3), *srt = malloc((size_t)nfaces * sizeof *srt);
+    if (!v3 || !srt) { free(v3); free(srt); return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)"); }
+    for (int fi = 0; fi < nfaces && !st; fi++) {
+        st = face_energy(B, fi, faces[fi], &P[fi], gx, gw, EV_FAIR_GAUSS, 0, 0, NULL, NULL, NULL, e);
+        v3[fi] = srt[fi] = e[1];
+    }
+    if (st) { free(v3); free(srt); return q2n_error_set(err, st, "out of memory (fair solve)"); }
+    qsort(srt, (size_t)nfaces, sizeof *srt, cmp_dbl);
+    double med = srt[nfaces / 2], cap = EV_FAIR_VAR_OUTLIER * med;
+    for (int fi = 0; fi < nfaces; fi++) v3[fi] = v3[fi] > cap && cap > 0 ? cap / v3[fi] : 1;
+    st = fair_pass(B, faces, nfaces, P, v3, EV_FAIR_W3, jet0, err);
+    free(v3);
+    free(srt);
+    return st;
+}
+
+q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+                         ev_fair_stats *stats, q2n_error *err)
+{
+    q2n_status st = Q2N_OK;
+    fe_build B = {0};
+    B.m = m;
+    B.s = s;
+    B.iv = iv;
+    B.K = K;
+    B.kb = cls->k;
+    int Kc = 2 * K, nf = 0;
+    ev_vjet *vj = calloc((size_t)m->nv, sizeof *vj);
+    double (*dir)[2] = calloc(2 * (size_t)m->ne, sizeof *dir);
+    char *unc = calloc((size_t)m->nf, 1);
+    int *faces = malloc((size_t)m->nf * sizeof *faces);
+    double (*jet0)[EV_JS][3] = calloc((size_t)m->nv, sizeof *jet0);
+    fe_ctx *X = calloc((size_t)m->nf, sizeof *X);
+    cp_patch *CP = calloc((size_t)m->nf, sizeof *CP);
+    B.jet = calloc((size_t)m->nv, sizeof *B.jet);
+    B.var = malloc((size_t)m->nv * EV_JS * sizeof *B.var);
+    B.base = malloc((size_t)m->ne * sizeof *B.base);
+    B.bvar = malloc((size_t)m->nf * sizeof *B.bvar);
+    B.bub = calloc((size_t)m->nf, sizeof *B.bub);
+    if (stats) memset(stats, 0, sizeof *stats);
+    if (!vj || !dir || !unc || !faces || !jet0 || !X || !CP || !B.jet || !B.var || !B.base || !B.bvar || !B.bub) {
+        st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair extraordinary construction)");
+        goto done;
+    }
+    B.dir = (const double (*)[2])dir;
+    B.unc = unc;
+    for (int f = 0; f < m->nf; f++)
+        if ((unc[f] = q2n_surface_kind(s, f) == Q2N_PATCH_UNCOVERED)) faces[nf++] = f;
+    if ((st = ev_vertex_jets(m, s, iv, cls, vj, dir, err))) goto done;
+
+    /* jets: initial values (the local estimates; orders 3, 4 zero) and unknowns */
+    for (int i = 0; i < m->nv * EV_JS; i++) B.var[i] = -1;
+    for (int v = 0; v < m->nv; v++) {
+        if (!vj[v].source) continue;
+        double (*T)[3] = jet0[v];
+        memcpy(T[0], q2n_mesh_vpos(m, v), 3 * sizeof(double));
+        for (int c = 0; c < 3; c++) {
+            T[EV_SLOT(1, 0)][c] = vj[v].J1[c][0];
+            T[EV_SLOT(1, 1)][c] = vj[v].J1[c][1];
+            T[EV_SLOT(2, 0)][c] = vj[v].J2[c][0];
+            T[EV_SLOT(2, 1)][c] = vj[v].J2[c][1];
+            T[EV_SLOT(2, 2)][c] = vj[v].J2[c][2];
+            if (vj[v].source == 1) {
+                T[EV_SLOT(3, 1)][c] = vj[v].Jm[c][0];
+                T[EV_SLOT(3, 2)][c] = vj[v].Jm[c][1];
+                T[EV_SLOT(4, 2)][c] = vj[v].Jm[c][2];
+            }
+        }
+        int fixed = vj[v].source == 1;
+        for (int j = 1; j <= Kc; j++)
+            for (int i = 0; i <= j; i++)
+                if (slot_free(Kc, fixed, j, i)) B.var[v * EV_JS + EV_SLOT(j, i)] = B.nvar++;
+        if (stats) stats->vertices++, stats->fixed_vertices += fixed;
+    }
+    memcpy(B.jet, jet0, (size_t)m->nv * sizeof *jet0);
+    for (int i = 0; i < nf; i++) {
+        B.bvar[i] = B.nvar;
+        B.nvar += CP_NBUB;
+    }
+
+    /* constructed edges and their base faces: the face whose cross direction is the more
+     * transversal to the edge at its worse end (α = ratio of the transversal parts stays moderate) */
+    for (int e = 0; e < m->ne; e++) {
+        B.base[e] = -1;
+        int h = m->edge_he[e], t = m->he_twin[h], f0 = m->he_face[h], f1 = t >= 0 ? m->he_face[t] : -1;
+        int c0 = unc[f0], c1 = f1 >= 0 && unc[f1];
+        if (!(c0 || c1) || (f1 >= 0 && (!c0 || !c1))) continue; /* not constructed */
+        if (stats) stats->edges++;
+        if (f1 < 0) { B.base[e] = f0; continue; }
+        int va = q2n_he_origin(m, h), vb = q2n_he_dest(m, h);
+        double q[2];
+        for (int k = 0; k < 2; k++) {
+            int f = k ? f1 : f0;
+            const double *wa = cross_dir(m, B.dir, f, e, va), *wb = cross_dir(m, B.dir, f, e, vb);
+            q[k] = fmin(sine2(wa, edge_dir(m, B.dir, e, va)), sine2(wb, edge_dir(m, B.dir, e, vb)));
+        }
+        B.base[e] = q[1] > q[0] ? f1 : f0;
+    }
+    for (int i = 0; i < nf && !st; i++) st = setup_patch(&B, faces[i], &X[i], &CP[i], err);
+    if (st) goto done;
+
+    /* corners whose two sides disagree (possible only where a side comes from a regular patch:
+     * constructed data are jet contractions, and they involve only the fixed terms there) keep a
+     * Gregory blend */
+    for (int i = 0; i < nf; i++) {
+        double ctv[3 * 36 * 3];
+        cp_corner C = {3, ctv};
+        const double *J[4];
+        for (int c = 0; c < 4; c++) J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
+        cp_corner_terms(&CP[i], J, 3, &C);
+        for (int ci = 0; ci < 2; ci++)
+            for (int cj = 0; cj < 2; cj++) {
+                double mis = cp_corner_mismatch(&CP[i], &C, ci, cj);
+                if (mis > EV_FAIR_COMPAT_REL) {
+                    CP[i].greg[corner_of[ci][cj]] = 1;
+                    if (stats) stats->gregory_corners++;
+                }
+                if (stats) stats->corner_mismatch_max = fmax(stats->corner_mismatch_max, mis);
+            }
+    }
+
+    if ((st = fair_solve(&B, faces, nf, CP, (const double (*)[EV_JS][3])jet0, err))) goto done;
+    if (stats) stats->unknowns = B.nvar;
+
+    for (int i = 0; i < nf; i++) {
+        int f = faces[i];
+        fe_eval *E = calloc(1, sizeof *E);
+        if (!E) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (patch %d)", f); goto done; }
+        E->X = X[i];
+        E->E.P = CP[i];
+        E->E.P.ctx = &E->X;
+        for (int c = 0; c < 4; c++) {
+            memcpy(E->J[c], B.jet[m->face_vert[m->face_start[f] + c]], sizeof E->J[c]);
+            E->Jp[c] = &E->J[c][0][0];
+        }
+        E->E.lanes = E->Jp;
+        memcpy(E->E.bub, B.bub[i], sizeof E->E.bub);
+        cp_eval_init(&E->E);
+        if ((st = q2n_surface_set_patch(s, f, Q2N_PATCH_COONS_GREGORY, E, cp_eval_point, fe_eval_free))) {
+            free(E);
+            q2n_error_set(err, st, "%s: face %d: cannot attach the patch", m->name, f);
+            goto done;
+        }
+        q2n_surface_set_patch_grid(s, f, cp_eval_grid);
+        q2n_surface_set_patch_corner(s, f, cp_eval_corner);
+    }
+done:
+    free(vj);
+    free(dir);
+    free(unc);
+    free(faces);
+    free(jet0);
+    free(X);
+    free(CP);
+    free(B.jet);
+    free(B.var);
+    free(B.base);
+    free(B.bvar);
+    free(B.bub);
+    return st;
+}

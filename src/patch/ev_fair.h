@@ -1,0 +1,22 @@
+/* ev_fair.h — the fair extraordinary construction (ev_fair.c): one jet per vertex, compatible
+ * Coons patches, jets chosen by a bending-energy solve.  Internal to src/patch/. */
+#ifndef Q2N_PATCH_EV_FAIR_H
+#define Q2N_PATCH_EV_FAIR_H
+
+#include "patch/ev_internal.h"
+
+typedef struct ev_fair_stats {
+    int vertices;              /* vertices with a jet */
+    int fixed_vertices;        /* of which corners of regular patches */
+    int edges;                 /* constructed edges between two extraordinary faces */
+    int unknowns;              /* free jet coefficients (3-vectors) */
+    int gregory_corners;       /* corners whose two sides disagreed (kept a Gregory blend) */
+    double corner_mismatch_max;/* largest relative disagreement of two sides at a corner */
+} ev_fair_stats;
+
+/* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the
+ * edge intervals the regular patches were built with.  stats may be NULL. */
+q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+                         ev_fair_stats *stats, q2n_error *err);
+
+#endif

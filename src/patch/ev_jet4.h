@@ -1,0 +1,51 @@
+/* ev_jet4.h — vertex jets of order up to 4 for the fair extraordinary construction (ev_fair.c).
+ *
+ * A jet at vertex v is the Taylor polynomial P(x, y) of a local surface through v in the
+ * vertex's chart (the 2D directions of its edges, in local variables: ev_internal.h):
+ *     P(x, y) = Σ_{j=0..4} Σ_{i=0..j} x^(j-i) y^i / ((j-i)! i!) · T[slot(j, i)],
+ * T[slot(j, i)] = ∂x^(j-i) ∂y^i P(0, 0), slot(j, i) = j(j+1)/2 + i (15 slots, slot 0 = v).
+ * Every datum of a face at v is a contraction of this one polynomial: the j-th derivative of P
+ * along the directions a (p times) and b (q times), p + q = j, is T_j[a^p, b^q]; hence all
+ * corner data at v are derivatives of one surface and agree by construction.
+ *
+ * "Lanes": the construction is linear in the jets, and the fairness solve needs the response
+ * of a patch to every free jet coefficient.  Jets and everything computed from them are
+ * therefore W-wide: lanes 0..2 carry x, y, z of the fixed part, lane 3 + c the (scalar,
+ * coordinate-independent) response to the c-th free coefficient.  The production evaluator is
+ * the case W = 3. */
+#ifndef Q2N_PATCH_EV_JET4_H
+#define Q2N_PATCH_EV_JET4_H
+
+#define EV_JS 15                                /* jet slots, orders 0..4 */
+#define EV_SLOT(j, i) ((j) * ((j) + 1) / 2 + (i)) /* ∂x^(j-i) ∂y^i */
+
+/* out[0..W-1] += s · T_j[a^p, b^q] for the W-wide jet T (EV_JS x W, slot-major). */
+static inline void ev_jet_contract(const double *T, int W, int p, const double a[2], int q, const double b[2],
+                                   double s, double *out)
+{
+    static const double binom[5][5] = {{1, 0, 0, 0, 0}, {1, 1, 0, 0, 0}, {1, 2, 1, 0, 0}, {1, 3, 3, 1, 0},
+                                       {1, 4, 6, 4, 1}};
+    int j = p + q;
+    double ap[5][2], bp[5][2]; /* powers of the x and y components */
+    ap[0][0] = ap[0][1] = bp[0][0] = bp[0][1] = 1;
+    for (int k = 1; k <= 4; k++) {
+        ap[k][0] = ap[k - 1][0] * a[0];
+        ap[k][1] = ap[k - 1][1] * a[1];
+        bp[k][0] = bp[k - 1][0] * b[0];
+        bp[k][1] = bp[k - 1][1] * b[1];
+    }
+    for (int i = 0; i <= j; i++) { /* i = number of y slots */
+        double n = 0;
+        for (int r = 0; r <= p && r <= i; r++) {
+            int t = i - r;
+            if (t > q) continue;
+            n += binom[p][r] * ap[r][1] * ap[p - r][0] * binom[q][t] * bp[t][1] * bp[q - t][0];
+        }
+        if (n == 0) continue;
+        const double *Ts = T + (size_t)EV_SLOT(j, i) * W;
+        n *= s;
+        for (int l = 0; l < W; l++) out[l] += n * Ts[l];
+    }
+}
+
+#endif

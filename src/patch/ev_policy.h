@@ -1,0 +1,34 @@
+/* ev_policy.h — tuning constants of the extraordinary-vertex constructions, each with its why.
+ * The files that implement the papers' formulas hold none of these. */
+#ifndef Q2N_PATCH_EV_POLICY_H
+#define Q2N_PATCH_EV_POLICY_H
+
+/* Gauss–Legendre points per direction for the fairness energy of a patch: the patches are
+ * polynomials of degree up to ~17 along a side, and with fewer points the solve finds shapes whose
+ * wiggles fall between the nodes (6 left osd_catmark_righthanded at 3x the curvature oscillation
+ * of 10; 14 changed nothing more). */
+#define EV_FAIR_GAUSS 10
+
+/* Weight of the curvature-variation term against bending (both dimensionless per face): it is
+ * what removes the ripples (bending alone ranks a wavy and a smooth cap alike); larger values
+ * trade bending for monotone curvature. */
+#define EV_FAIR_W3 0.1
+
+/* A face whose variation after the bending-only pass exceeds this many times the median face's
+ * gets its variation weight scaled down to that level: thin features (a rim of a few percent of
+ * the model) must change curvature fast, and unweighted they would dictate the shape elsewhere. */
+#define EV_FAIR_VAR_OUTLIER 4.0
+
+/* Ridge towards the local estimates (ev_vertex_jets), relative to each unknown's own energy
+ * diagonal.  First and second order: keeps tangent planes and curvatures near the mesh's local
+ * shape where the energy is indifferent; third/fourth order and bubbles: only makes the system
+ * definite (the energy decides). */
+#define EV_FAIR_RIDGE_LOW 1e-3
+#define EV_FAIR_RIDGE_HIGH 1e-6
+
+/* Two sides of a corner "agree" when their mixed derivatives differ by less than this fraction of
+ * the corner's first- and mixed-derivative scale (rounding of the regular patches' jets); beyond
+ * it the corner keeps a Gregory blend. */
+#define EV_FAIR_COMPAT_REL 1e-9
+
+#endif

@@ -1,0 +1,119 @@
+/* fairness.h — fairness figures of a constructed surface, the definitions of
+ * ../shared/tools/fairness.py (which reads fitted STEP files) applied to q2n_surface_eval:
+ *   E        bending energy ∫ (κ1² + κ2²) dA = ∫ (4H² − 2K) dA, Gauss–Legendre 12 x 12 per face;
+ *   jac      min |Xu × Xv| / median |Xu × Xv| over a face's Gauss nodes (worst face): a fold or
+ *            a degenerate parametrisation drives it to 0;
+ *   osc      curvature oscillation along each diagonal of each face, (TV(H) − |H_end − H_start|)·L/2
+ *            with H sampled at 129 points and L the diagonal's 3-D length: 0 when H is monotone;
+ * split into faces touching an extraordinary vertex (interior valence != 4, boundary valence not
+ * in {2, 3}) and the others. */
+#ifndef Q2N_TEST_FAIRNESS_H
+#define Q2N_TEST_FAIRNESS_H
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mesh/mesh.h"
+#include "patch/surface.h"
+
+typedef struct fair_figures {
+    double E_ev, E_reg;
+    double osc_ev_mean, osc_ev_max, osc_reg_mean;
+    int ev_lines, reg_lines, ev_faces;
+    double jac_min; /* over all faces */
+    int jac_face;
+    int failed;     /* evaluation errors */
+} fair_figures;
+
+static inline int fair_is_ev(const q2n_mesh *m, int v)
+{
+    return m->vert_boundary[v] ? (m->valence[v] != 2 && m->valence[v] != 3) : m->valence[v] != 4;
+}
+
+/* H, K and |Xu x Xv| from an evaluation with second derivatives (q2n_surface_eval layout). */
+static inline void fair_curv(const double *o, double *H, double *K, double *W)
+{
+    const double *Xu = o + 3, *Xv = o + 6, *Xuu = o + 9, *Xuv = o + 12, *Xvv = o + 15;
+    double N[3] = {Xu[1] * Xv[2] - Xu[2] * Xv[1], Xu[2] * Xv[0] - Xu[0] * Xv[2], Xu[0] * Xv[1] - Xu[1] * Xv[0]};
+    double w = sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]), n[3];
+    for (int c = 0; c < 3; c++) n[c] = N[c] / fmax(w, 1e-300);
+    double E = 0, F = 0, G = 0, L = 0, M = 0, Nn = 0;
+    for (int c = 0; c < 3; c++) {
+        E += Xu[c] * Xu[c]; F += Xu[c] * Xv[c]; G += Xv[c] * Xv[c];
+        L += Xuu[c] * n[c]; M += Xuv[c] * n[c]; Nn += Xvv[c] * n[c];
+    }
+    double den = fmax(E * G - F * F, 1e-300);
+    *H = (E * Nn - 2 * F * M + G * L) / (2 * den);
+    *K = (L * Nn - M * M) / den;
+    *W = w;
+}
+
+static inline int fair_cmp(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static inline void fair_measure(const q2n_mesh *m, const q2n_surface *s, fair_figures *out)
+{
+    static const double gx[12] = {0.009219682876640378, 0.04794137181476255, 0.11504866290284765, 0.20634102285669127,
+                                  0.31608425050090994, 0.43738329574426554, 0.5626167042557344, 0.6839157494990901,
+                                  0.7936589771433087, 0.8849513370971523, 0.9520586281852375, 0.9907803171233596};
+    static const double gw[12] = {0.02358766819325591, 0.053469662997659216, 0.08003916427167311, 0.10158371336153296,
+                                  0.11674626826917739, 0.12457352290670139, 0.12457352290670139, 0.11674626826917739,
+                                  0.10158371336153296, 0.08003916427167311, 0.053469662997659216, 0.02358766819325591};
+    memset(out, 0, sizeof *out);
+    out->jac_min = INFINITY;
+    out->jac_face = -1;
+    for (int f = 0; f < m->nf; f++) {
+        int ev = 0;
+        for (int i = 0; i < 4; i++) ev |= fair_is_ev(m, m->face_vert[m->face_start[f] + i]);
+        out->ev_faces += ev;
+        double E = 0, Wn[144];
+        for (int a = 0; a < 12; a++)
+            for (int b = 0; b < 12; b++) {
+                double o[18], H, K, W;
+                if (q2n_surface_eval(s, f, gx[a], gx[b], 2, o)) { out->failed++; continue; }
+                fair_curv(o, &H, &K, &W);
+                Wn[a * 12 + b] = W;
+                E += (4 * H * H - 2 * K) * W * gw[a] * gw[b];
+            }
+        if (ev) out->E_ev += E;
+        else out->E_reg += E;
+        double med[144];
+        memcpy(med, Wn, sizeof med);
+        qsort(med, 144, sizeof *med, fair_cmp);
+        double mn = med[0], jr = mn / fmax(0.5 * (med[71] + med[72]), 1e-300);
+        if (jr < out->jac_min) { out->jac_min = jr; out->jac_face = f; }
+        for (int d = 0; d < 2; d++) { /* (0,0)->(1,1) and (0,1)->(1,0) */
+            double tv = 0, Hp = 0, H0 = 0, L = 0, Xp[3] = {0, 0, 0}, nprev[3] = {0, 0, 0};
+            for (int k = 0; k <= 128; k++) {
+                double t = k / 128.0, o[18], H, K, W;
+                if (q2n_surface_eval(s, f, t, d ? 1 - t : t, 2, o)) { out->failed++; break; }
+                fair_curv(o, &H, &K, &W);
+                (void)nprev;
+                if (k == 0) H0 = H;
+                else {
+                    tv += fabs(H - Hp);
+                    L += sqrt((o[0] - Xp[0]) * (o[0] - Xp[0]) + (o[1] - Xp[1]) * (o[1] - Xp[1]) + (o[2] - Xp[2]) * (o[2] - Xp[2]));
+                }
+                Hp = H;
+                memcpy(Xp, o, sizeof Xp);
+            }
+            double osc = (tv - fabs(Hp - H0)) * L / 2;
+            if (ev) {
+                out->osc_ev_mean += osc;
+                out->osc_ev_max = fmax(out->osc_ev_max, osc);
+                out->ev_lines++;
+            } else {
+                out->osc_reg_mean += osc;
+                out->reg_lines++;
+            }
+        }
+    }
+    if (out->ev_lines) out->osc_ev_mean /= out->ev_lines;
+    if (out->reg_lines) out->osc_reg_mean /= out->reg_lines;
+}
+
+#endif
