@@ -48,8 +48,6 @@ static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
     if (o->g1_target_deg <= 0) o->g1_target_deg = d.g1_target_deg;
     if (o->g2_target_rel <= 0) o->g2_target_rel = d.g2_target_rel;
     if (o->g1_weight <= 0) o->g1_weight = d.g1_weight;
-    if (getenv("Q2N_NO_EXACT")) o->no_exact = 1;
-    if (getenv("Q2N_W")) o->g1_weight = atof(getenv("Q2N_W"));
 }
 
 /* ------------------------------------------------------------------ measurement of a round */
@@ -349,27 +347,14 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
     c->e = calloc((size_t)m->ne, sizeof *c->e);
     c->sc = calloc(4 * (size_t)m->nf, sizeof *c->sc);
     if (!c->p || !c->e || !c->sc) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
-    for (int e = 0; e < m->ne; e++) {
-        c->e[e].fitted = -1;
-        if (getenv("Q2N_FIT_INIT")) fit_breaks_add(&c->e[e].K, 0.5);   /* DEBUG */
-    }
-    int dbg = getenv("Q2N_FIT_DEBUG") != NULL;
-    double tt = q2n_now();
+    for (int e = 0; e < m->ne; e++) c->e[e].fitted = -1;
     q2n_status st = fit_glue_measure(c);
-    if (dbg) { fprintf(stderr, "glue_measure %.3f s\n", q2n_now() - tt); tt = q2n_now(); }
     if (!st) st = fit_target_setup(c);
-    if (dbg) { int np = 0; for (int k = 0; k < m->nf; k++) np += c->p[k].phi; fprintf(stderr, "target_setup %.3f s (%d patches reparametrized)\n", q2n_now() - tt, np); tt = q2n_now(); }
     if (!st) st = fit_prepare(c);
-    if (dbg) { fprintf(stderr, "prepare %.3f s\n", q2n_now() - tt); tt = q2n_now(); }
     if (!st) st = fit_glue_classify(c);
-    if (dbg) { fprintf(stderr, "classify %.3f s\n", q2n_now() - tt); tt = q2n_now(); }
     for (int round = 0; !st; round++) {
         c->round = round;
-        st = fit_round(c);
-        if (dbg) { fprintf(stderr, "round %d fit %.3f s\n", round, q2n_now() - tt); tt = q2n_now(); }
-        if (!st) st = measure_round(c);
-        if (dbg) { fprintf(stderr, "round %d measure %.3f s\n", round, q2n_now() - tt); tt = q2n_now(); }
-        if (st) break;
+        if ((st = fit_round(c)) || (st = measure_round(c))) break;
         rep->rounds = round + 1;
         if (round + 1 >= c->o.max_rounds) break;
         double t0 = q2n_now();

@@ -17,6 +17,8 @@
 #define Q2N_FIT_REFINE_AIM 0.5          /* continuity refinement aims at this fraction of the acceptance target, so acceptance holds with margin */
 #define Q2N_FIT_EDGE_SHARE 0.5          /* share of the tolerance the edge curve may use (the rest is the cross rows' and interior's) */
 #define Q2N_FIT_ROW_SHARE 0.25          /* share of the tolerance a cross-derivative row may cost in position terms */
+#define Q2N_FIT_SPLIT_LEVELS 3         /* a span is split into at most 2^3 parts per round: the error model (h^6, h^5, h^4) is only asymptotic */
+#define Q2N_FIT_SPLIT_MARGIN 2.0       /* a second (third) level of splitting only when the h^p model asks for twice the first's reduction */
 #define Q2N_FIT_DIR_SHARE 0.25          /* a direction whose 6th-difference share of a cell's error is below this is not refined */
 #define Q2N_FIT_STALL_SPANS 8          /* stalling is judged from this many edge spans on: coarser rows may not yet resolve the construction */
 #define Q2N_FIT_STALL_GAIN 1.2          /* a continuity edge refined twice in a row that improved by less than this each time stops driving refinement */

@@ -10,10 +10,11 @@
  *  - an edge whose curve or cross rows are off bisects that span of the edge's own knots, which
  *    both neighbours (and only they) take up;
  *  - an edge whose G1 or G2 relation is least squares and misses half its target, where the
- *    construction itself meets that, bisects every span of its knots (that converges; grading
+ *    construction itself meets that, splits every span of its knots (that converges; grading
  *    towards the worst point did not next to extraordinary corners);
  * all within max_spans per patch direction.  A bisection halves h: the deviation falls ~64x, the
- * normal jump ~32x, the curvature jump ~16x per round where the construction is smooth. */
+ * normal jump ~32x, the curvature jump ~16x per round where the construction is smooth; a span
+ * whose error needs more is split into 4 or 8 at once (split_levels). */
 #include "fit/fit_policy.h"
 #include "fit/fit_state.h"
 #include "core/clock.h"
@@ -39,8 +40,8 @@ static int new_in_patch(const fit_ctx *c, int k, int i, double t)
     return 1;
 }
 
-/* Add breakpoint mid (owner orientation; the midpoint of one of its spans) to edge e unless a cap
- * forbids it; returns 1 when a knot was added. */
+/* Add breakpoint mid (owner orientation, inside one of its spans) to edge e unless a cap forbids
+ * it; returns 1 when a knot was added. */
 static int bisect_edge(fit_ctx *c, int e, double mid)
 {
     fit_edge *E = &c->e[e];
@@ -64,17 +65,13 @@ static int bisect_edge(fit_ctx *c, int e, double mid)
     return 1;
 }
 
-/* Bisect patch k's span in direction d containing x; returns 1 when a knot was added. */
-static int bisect_patch(fit_ctx *c, int k, int d, double x)
+/* Add breakpoint t (inside one of its spans) to patch k's interior knots in direction d unless the
+ * span cap forbids it; returns 1 when a knot was added. */
+static int bisect_patch(fit_ctx *c, int k, int d, double t)
 {
     fit_patch *p = &c->p[k];
     if (patch_spans(c, k, d) >= c->o.max_spans) return 0;
-    const double *kv = d ? p->kv : p->ku;
-    int n = d ? p->nv : p->nu;
-    int s = q2n_fit_span(n, kv, x);
-    double mid = 0.5 * (kv[s] + kv[s + 1]);
-    if (!(mid > kv[s] && mid < kv[s + 1])) return 0;
-    if (fit_breaks_add(&p->I[d], mid) <= 0) return 0;
+    if (fit_breaks_add(&p->I[d], t) <= 0) return 0;
     p->pending[d]++;
     return 1;
 }
@@ -89,11 +86,36 @@ static int stall_update(double now, double prev, int *fails, int failing, int re
     return *fails >= 2;
 }
 
+/* Levels of bisection (each halves the span) that bring an error `ratio` times its target down
+ * to it when the error falls like h^order, at least one and at most Q2N_FIT_SPLIT_LEVELS per round;
+ * a further level only when the model asks for Q2N_FIT_SPLIT_MARGIN times more (it overshoots
+ * otherwise: the error model is asymptotic and the next round can still bisect). */
+static int split_levels(double ratio, double order)
+{
+    double f = pow(ratio > 1 ? ratio : 1, 1.0 / order);
+    int lv = 1;
+    while (Q2N_FIT_SPLIT_MARGIN * (double)(1 << lv) < f && lv < Q2N_FIT_SPLIT_LEVELS) lv++;
+    return lv;
+}
+
+/* Split span [a, b] into 2^lv equal parts through add(t) (dyadic knots stay dyadic); returns the
+ * number of knots added. */
+typedef int (*split_fn)(fit_ctx *c, int id, int d, double t);
+static int split_span(fit_ctx *c, int id, int d, double a, double b, int lv, split_fn add)
+{
+    int n = 1 << lv, r = 0;
+    for (int i = 1; i < n; i++) r += add(c, id, d, a + (b - a) * i / n);
+    return r;
+}
+
+static int add_edge(fit_ctx *c, int e, int d, double t) { (void)d; return bisect_edge(c, e, t); }
+static int add_patch(fit_ctx *c, int k, int d, double t) { return bisect_patch(c, k, d, t); }
+
 int fit_refine(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
     double tol = c->o.tol;
-    int added = 0, why[6] = {0};
+    int added = 0;
     for (int k = 0; k < m->nf; k++) c->p[k].pending[0] = c->p[k].pending[1] = 0;
     /* edges: curve, rows, continuity */
     for (int e = 0; e < m->ne; e++) {
@@ -105,51 +127,41 @@ int fit_refine(fit_ctx *c)
         /* stalling is judged only in the asymptotic range (a coarse edge's jumps may not fall
          * until its rows resolve the construction) */
         int refined = E->K.n > E->kn_prev && E->kn_prev + 1 >= Q2N_FIT_STALL_SPANS;
-        if (getenv("Q2N_FIT_EDGE") && atoi(getenv("Q2N_FIT_EDGE")) == e)
-            fprintf(stderr, "  edge %d: glue %d/%d K.n %d g1 %.3g g2 %.3g g1c %.3g g2c %.3g stalled %d fails %d/%d c1 %d c2 %d nchk %d\n", e,
-                    E->glue, E->glue2, E->K.n, E->g1, E->g2, E->g1c, E->g2c, E->stalled, E->g1_fails, E->g2_fails, c1, c2, E->nchk);
-        if (getenv("Q2N_FIT_EDGE") && atoi(getenv("Q2N_FIT_EDGE")) == e) {
-            for (int q = 0; q < E->nchk; q++) fprintf(stderr, " (%.3g: %.2g %.2g)", E->chk[5*q], E->chk[5*q+3], E->chk[5*q+4]);
-            fprintf(stderr, "\n");
-        }
         if (c1 && stall_update(E->g1, E->g1_prev, &E->g1_fails, E->g1 > aim1, refined)) { E->stalled |= 1; c1 = 0; }
         if (c2 && stall_update(E->g2, E->g2_prev, &E->g2_fails, E->g2 > aim2, refined)) { E->stalled |= 2; c2 = 0; }
         E->g1_prev = E->g1;
         E->g2_prev = E->g2;
         E->kn_prev = E->K.n;
-        /* the spans of the knots as they were measured: each bad one is bisected once */
-        int nsp = E->K.n + 1, nmark = 0;
-        unsigned char *mark = calloc((size_t)nsp, 1);
-        if (!mark) continue;
+        /* split levels per span of the knots as measured: the curve and the rows where they miss
+         * their share of the tolerance; a least-squares gluing relation that misses its aim splits
+         * every span (it converges under uniform refinement of its edge; graded towards the worst
+         * point it did not next to extraordinary corners: docs/fit.md) */
+        int nsp = E->K.n + 1, cont = 0;
+        unsigned char *lv = calloc((size_t)nsp, 1);
+        double *br = malloc(sizeof(double) * (size_t)(nsp + 1));
+        if (!lv || !br) { free(lv); free(br); continue; }
+        br[0] = 0.0;
+        for (int q = 0; q < E->K.n; q++) br[q + 1] = E->K.t[q];
+        br[nsp] = 1.0;
         for (int q = 0; q < E->nchk; q++) {
             const double *ck = E->chk + 5 * (size_t)q;
-            int r0 = ck[1] > Q2N_FIT_EDGE_SHARE * tol, r1 = ck[2] > Q2N_FIT_ROW_SHARE * tol;
-            int r2 = c1 && ck[3] > aim1, r3 = c2 && ck[4] > aim2;
-            if (!(r0 || r1 || r2 || r3)) continue;
+            double r0 = ck[1] / (Q2N_FIT_EDGE_SHARE * tol), r1 = ck[2] / (Q2N_FIT_ROW_SHARE * tol);
+            double r2 = c1 ? ck[3] / aim1 : 0.0, r3 = c2 ? ck[4] / aim2 : 0.0;
             int sp = 0;
             while (sp < E->K.n && E->K.t[sp] <= ck[0]) sp++;
-            if (r2 || r3) {
-                /* a least-squares gluing relation converges under uniform refinement of its edge;
-                 * graded towards the worst point it did not (the jump next to an extraordinary
-                 * corner grew as the spans there shrank: docs/fit.md) */
-                for (int z = 0; z < nsp; z++)
-                    if (!mark[z]) { mark[z] = 1; nmark++; }
-                why[2] += r2; why[3] += r3;
-                continue;
-            }
-            if (!mark[sp]) {
-                mark[sp] = 1;
-                nmark++;
-                why[0] += r0; why[1] += r1; why[2] += r2; why[3] += r3;
-            }
+            int l = 0;
+            if (r0 > 1) l = split_levels(r0, 6.0);
+            if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
+            if (l > lv[sp]) lv[sp] = (unsigned char)l;
+            if (r2 > 1 && split_levels(r2, 5.0) > cont) cont = split_levels(r2, 5.0);
+            if (r3 > 1 && split_levels(r3, 4.0) > cont) cont = split_levels(r3, 4.0);
         }
-        double *mids = malloc(sizeof(double) * (size_t)(nmark + 1));
-        int nm = 0;
-        for (int sp = 0; mids && sp < nsp; sp++)
-            if (mark[sp]) mids[nm++] = 0.5 * ((sp ? E->K.t[sp - 1] : 0.0) + (sp < E->K.n ? E->K.t[sp] : 1.0));
-        for (int q = 0; mids && q < nm; q++) added += bisect_edge(c, e, mids[q]);
-        free(mids);
-        free(mark);
+        for (int sp = 0; sp < nsp; sp++) {
+            int l = lv[sp] > cont ? lv[sp] : cont;
+            if (l) added += split_span(c, e, 0, br[sp], br[sp + 1], l, add_edge);
+        }
+        free(lv);
+        free(br);
     }
     /* patches: cells over the tolerance, in the limiting direction(s) */
     for (int k = 0; k < m->nf; k++) {
@@ -165,51 +177,24 @@ int fit_refine(fit_ctx *c)
             p->spiky = ratio <= Q2N_FIT_SPIKE_RATIO ? 1 : 2;
             if (p->spiky == 2) continue;
         }
-        /* cells in span order; one bisection per span and direction */
-        double *cu = malloc(sizeof(double) * (size_t)p->ncu), *cv = malloc(sizeof(double) * (size_t)p->ncv);
-        if (!cu || !cv) { free(cu); free(cv); continue; }
-        q2n_fit_check_params(p->nu, p->ku, Q2N_FIT_SAMPLES_PER_SPAN, cu);
-        q2n_fit_check_params(p->nv, p->kv, Q2N_FIT_SAMPLES_PER_SPAN, cv);
-        unsigned char *su = calloc((size_t)p->mu, 1), *sv = calloc((size_t)p->mv, 1);
-        if (su && sv)
-            for (int j = 0; j < p->ncv; j++)
-                for (int i = 0; i < p->ncu; i++) {
-                    if (!(p->cell[(size_t)j * p->ncu + i] > tol)) continue;
-                    if (dirs[0]) su[i / Q2N_FIT_SAMPLES_PER_SPAN] = 1;
-                    if (dirs[1]) sv[j / Q2N_FIT_SAMPLES_PER_SPAN] = 1;
-                }
+        /* per span and direction, the worst cell ratio decides the split levels */
+        double *ru = calloc((size_t)p->mu, sizeof(double)), *rv = calloc((size_t)p->mv, sizeof(double));
+        if (!ru || !rv) { free(ru); free(rv); continue; }
+        for (int j = 0; j < p->ncv; j++)
+            for (int i = 0; i < p->ncu; i++) {
+                double r = p->cell[(size_t)j * p->ncu + i] / tol;
+                if (!(r > 1)) continue;
+                int iu = i / Q2N_FIT_SAMPLES_PER_SPAN, iv = j / Q2N_FIT_SAMPLES_PER_SPAN;
+                /* each refined direction takes its share of the error */
+                if (dirs[0] && r * p->share[0] > ru[iu]) ru[iu] = fmax(r * p->share[0], 1.0001);
+                if (dirs[1] && r * p->share[1] > rv[iv]) rv[iv] = fmax(r * p->share[1], 1.0001);
+            }
         int mu = p->mu, mv = p->mv;
-        for (int s = 0; su && sv && s < mu; s++)
-            if (su[s]) { int r = bisect_patch(c, k, 0, cu[s * Q2N_FIT_SAMPLES_PER_SPAN]); added += r; why[4] += r; }
-        for (int s = 0; su && sv && s < mv; s++)
-            if (sv[s]) { int r = bisect_patch(c, k, 1, cv[s * Q2N_FIT_SAMPLES_PER_SPAN]); added += r; why[5] += r; }
-        free(su); free(sv); free(cu); free(cv);
-    }
-    if (getenv("Q2N_FIT_DEBUG")) {
-        double md = 0; int nbad = 0;
-        for (int k = 0; k < m->nf; k++) { if (c->p[k].dev > md) md = c->p[k].dev; nbad += c->p[k].dev > tol; }
-        fprintf(stderr, "round %d: maxdev %.3g (%d patches over), added %d: curve %d row %d g1 %d g2 %d patch-u %d patch-v %d\n",
-                c->round, md, nbad, added, why[0], why[1], why[2], why[3], why[4], why[5]);
-        int wk = 0;
-        for (int k = 0; k < m->nf; k++) if (c->p[k].dev > c->p[wk].dev) wk = k;
-        const fit_patch *p = &c->p[wk];
-        fprintf(stderr, "  worst patch %d: %d x %d spans, share %.2f/%.2f, ku:", wk, p->mu, p->mv, p->share[0], p->share[1]);
-        for (int q = 5; q <= p->nu; q++) fprintf(stderr, " %g", p->ku[q]);
-        fprintf(stderr, " kv:");
-        for (int q = 5; q <= p->nv; q++) fprintf(stderr, " %g", p->kv[q]);
-        fprintf(stderr, " I_u %d I_v %d; edges:", p->I[0].n, p->I[1].n);
-        for (int i = 0; i < 4; i++) { int h = 4 * wk + i, e = m->he_edge[h]; fprintf(stderr, " [e%d %s glue %d:", e, m->edge_he[e] == h ? "own" : "twin", c->e[e].glue); for (int q = 0; q < c->e[e].K.n; q++) fprintf(stderr, " %g", c->e[e].K.t[q]); fprintf(stderr, "]"); }
-        fprintf(stderr, "\n");
-        for (int j = p->ncv - 1; j >= 0 && p->ncu <= 32; j--) {
-            fprintf(stderr, "   ");
-            for (int i = 0; i < p->ncu; i++) fprintf(stderr, " %5.1f", p->cell[j * p->ncu + i] / tol);
-            fprintf(stderr, "\n");
-        }
-        double mr = 0, mc = 0; int er = -1;
-        for (int e = 0; e < m->ne; e++) for (int q = 0; q < c->e[e].nchk; q++) {
-            if (c->e[e].chk[5*q+2] > mr) { mr = c->e[e].chk[5*q+2]; er = e; }
-            if (c->e[e].chk[5*q+1] > mc) mc = c->e[e].chk[5*q+1]; }
-        fprintf(stderr, "  max row err %.3g (edge %d glue %d), max curve err %.3g\n", mr/tol, er, er >= 0 ? c->e[er].glue : -1, mc/tol);
+        for (int sp = 0; sp < mu; sp++)
+            if (ru[sp] > 1) added += split_span(c, k, 0, p->ku[5 + sp], p->ku[6 + sp], split_levels(ru[sp], 6.0), add_patch);
+        for (int sp = 0; sp < mv; sp++)
+            if (rv[sp] > 1) added += split_span(c, k, 1, p->kv[5 + sp], p->kv[6 + sp], split_levels(rv[sp], 6.0), add_patch);
+        free(ru); free(rv);
     }
     return added;
 }
