@@ -52,6 +52,9 @@ static void usage(FILE *f)
           "      --tess N          tessellation points per patch side (default 9)\n"
           "      --tol T           fit tolerance relative to the bounding-box diagonal (default 1e-5)\n"
           "      --max-spans N     at most N knot spans per patch direction (default 64)\n"
+          "      --gluing G        G1/G2 across edges: exact (default: equality constraints wherever the\n"
+          "                        construction's gluing allows, least squares elsewhere) or least-squares\n"
+          "                        (everywhere: fewer spans on strongly non-uniform meshes)\n"
           "      --threads N       fit threads (default 1; results do not depend on it)\n"
           "      --solver S        fit solver: ceres (default) or direct (LAPACK QR, same result)\n"
           "      --continuity C    continuity the fit imposes: g1 or g2 (default: the construction's)\n"
@@ -87,7 +90,7 @@ static const char *extension(const char *path)
 static int parse_args(int argc, char **argv, cli_options *o)
 {
     enum { OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT,
-           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_EVMETHOD, OPT_MAXSPANS };
+           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},   {"tess", required_argument, 0, OPT_TESS},
         {"grid", required_argument, 0, OPT_GRID}, {"class", required_argument, 0, OPT_CLASS},
@@ -95,7 +98,7 @@ static int parse_args(int argc, char **argv, cli_options *o)
         {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
         {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
         {"tol", required_argument, 0, OPT_TOL},  {"threads", required_argument, 0, OPT_THREADS},
-        {"max-spans", required_argument, 0, OPT_MAXSPANS},
+        {"max-spans", required_argument, 0, OPT_MAXSPANS}, {"gluing", required_argument, 0, OPT_GLUING},
         {"units", required_argument, 0, OPT_UNITS}, {"ev-patch", required_argument, 0, OPT_EVPATCH},
         {"ev-construction", required_argument, 0, OPT_EVMETHOD},
         {"solver", required_argument, 0, OPT_SOLVER}, {"continuity", required_argument, 0, OPT_CONT},
@@ -121,6 +124,14 @@ static int parse_args(int argc, char **argv, cli_options *o)
         case OPT_SUBDIV: if (parse_int(optarg, "--subdivide", 0, 6, &o->model.subdivide)) return 2; break;
         case OPT_THREADS: if (parse_int(optarg, "--threads", 1, 256, &o->fit.threads)) return 2; break;
         case OPT_MAXSPANS: if (parse_int(optarg, "--max-spans", 1, 1024, &o->fit.max_spans)) return 2; break;
+        case OPT_GLUING:
+            if (strcmp(optarg, "exact") == 0) o->fit.no_exact = 0;
+            else if (strcmp(optarg, "least-squares") == 0) o->fit.no_exact = 1;
+            else {
+                fprintf(stderr, "quad2nurbs: --gluing: expected exact or least-squares, got '%s'\n", optarg);
+                return 2;
+            }
+            break;
         case OPT_CLASS:
             if (!(o->model.cls = q2n_spline_class_find(optarg))) {
                 fprintf(stderr, "quad2nurbs: --class: unknown class '%s' (known:", optarg);
