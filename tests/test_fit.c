@@ -480,6 +480,48 @@ static void dense(void)
     CHECK(resid > 0.1, "inconsistent constraints: residual %g", resid);
 }
 
+/* The dimension count behind the exact gluing (docs/fit.md, "Which relations are exact").  Rows
+ * f_L, f_R and an edge curve gamma in the quintic C4 spline space of m spans (dim m + 5 each), glued
+ * by the identity f_R = a f_L + b gamma' on every span (7 points per span: the pieces have degree
+ * <= 6).  The solution space has dimension
+ *   2m + 10 for a constant scale a and b = 0 (f_L, gamma free, f_R = a f_L): any knots work;
+ *   m + 10  for a linear a and b = 0 (a f_L must stay quintic and C4: f_L is one quartic);
+ *   m + 10  for a constant a and a quadratic b (b gamma' must stay quintic and C4: gamma is one quartic),
+ * so beyond one span a non-constant gluing leaves the rows or the curve one polynomial. */
+static void dimension_counts(void)
+{
+    for (int m = 1; m <= 4; m++)
+        for (int kind = 0; kind < 3; kind++) {
+            int nb = m - 1, n = m + 5, nu = 3 * n, nc = 7 * m;
+            double br[8], kv[32];
+            for (int i = 0; i < nb; i++) br[i] = (i + 1.0) / m + 0.07 * (i % 2 ? 1 : -1) / m;   /* non-uniform */
+            q2n_fit_knots_from_breaks(nb, br, kv);
+            double *C = calloc((size_t)nc * nu, sizeof(double)), *D = calloc((size_t)nc, sizeof(double));
+            double *Z = malloc(sizeof(double) * (size_t)nu * nu), Xp[64], resid;
+            int row = 0;
+            for (int sp = 0; sp < m; sp++)
+                for (int q = 0; q < 7; q++) {
+                    double t = kv[5 + sp] + (kv[6 + sp] - kv[5 + sp]) * (q + 0.5) / 7.0, N[3][6];
+                    int span = q2n_fit_span(n, kv, t);
+                    q2n_fit_basis(span, kv, t, 1, N);
+                    double a = kind == 1 ? 1.3 + 0.4 * t : 1.3, b = kind == 2 ? 0.5 - 0.8 * t + 0.6 * t * t : 0.0;
+                    for (int j = 0; j < 6; j++) {
+                        int c = span - 5 + j;
+                        C[(size_t)c * nc + row] -= a * N[0][j];            /* f_L */
+                        C[(size_t)(n + c) * nc + row] += N[0][j];          /* f_R */
+                        C[(size_t)(2 * n + c) * nc + row] -= b * N[1][j];  /* gamma' */
+                    }
+                    row++;
+                }
+            int k = -1;
+            q2n_dense_nullspace(nc, nu, C, nc, 1, D, nc, 1e-10, Z, &k, Xp, &resid);
+            int expect = kind == 0 ? 2 * m + 10 : m + 10;
+            CHECK(k == expect, "gluing %s, %d spans: solution space %d, expected %d",
+                  kind == 0 ? "constant scale" : kind == 1 ? "linear scale" : "scale + quadratic tangential", m, k, expect);
+            free(C); free(D); free(Z);
+        }
+}
+
 /* max_spans is a hard cap on every patch direction. */
 static void span_cap(void)
 {
@@ -557,6 +599,7 @@ int main(void)
     internals();
     knot_insertion();
     dense();
+    dimension_counts();
     span_cap();
     reproduction();
     solver_agreement();

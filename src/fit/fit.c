@@ -74,7 +74,7 @@ static void direction_shares(fit_ctx *c, int k, double u, double v, double share
         double acc[3] = {0, 0, 0};
         for (int q = 0; q < 7; q++) {
             double S[3], x = x0 + q * h[d];
-            if (fit_target_point(c, k, d ? u : x, d ? x : v, S)) { share[0] = share[1] = 0.5; return; }
+            if (q2n_fit_target_point(c, k, d ? u : x, d ? x : v, S)) { share[0] = share[1] = 0.5; return; }
             q2n_v3_axpy(acc, bin[q], S);
         }
         e6[d] = q2n_v3_norm(acc);
@@ -104,7 +104,7 @@ static void measure_patch(void *arg, int k)
     if (!cu || !cv || !S || !p->cell) { free(cu); free(cv); free(S); a->st[k] = Q2N_ERR_NOMEM; return; }
     p->ncu = q2n_fit_check_params(p->nu, p->ku, Q2N_FIT_SAMPLES_PER_SPAN, cu);
     p->ncv = q2n_fit_check_params(p->nv, p->kv, Q2N_FIT_SAMPLES_PER_SPAN, cv);
-    q2n_status st = fit_patch_grid(c, k, ncu, cu, ncv, cv, S, &a->evals[k]);
+    q2n_status st = q2n_fit_patch_grid(c, k, ncu, cu, ncv, cv, S, &a->evals[k]);
     q2n_bspline_surface b = patch_view(p);
     double dev = 0.0, s2 = 0.0;
     int wi = 0, wj = 0;
@@ -135,7 +135,7 @@ static void measure_edge(void *arg, int e)
     fit_ctx *c = a->c;
     fit_edge *E = &c->e[e];
     fit_side sd[2];
-    int two = fit_edge_sides(c, e, &sd[0], &sd[1]);
+    int two = q2n_fit_edge_sides(c, e, &sd[0], &sd[1]);
     if (!c->p[sd[0].k].dirty && !(two && c->p[sd[1].k].dirty)) return;
     /* the check points of the edge's own knots: the edge curve written to STEP/IGES has exactly
      * these knots, so an importer can sample the same points (tools/q2n_audit.py) */
@@ -154,8 +154,8 @@ static void measure_edge(void *arg, int e)
     n = q2n_fit_check_params(E->K.n + 6, kv, Q2N_FIT_SAMPLES_PER_SPAN, t);
     free(kv);
     for (int q = 0; q < n; q++) tr[q] = 1.0 - t[n - 1 - q];
-    q2n_status st = fit_side_values(c, sd[0].k, sd[0].i, n, t, DL);
-    if (!st && two) st = fit_side_values(c, sd[1].k, sd[1].i, n, tr, DR);
+    q2n_status st = q2n_fit_side_values(c, sd[0].k, sd[0].i, n, t, DL);
+    if (!st && two) st = q2n_fit_side_values(c, sd[1].k, sd[1].i, n, tr, DR);
     E->nchk = st ? 0 : n;
     E->g0 = E->g1 = E->g2 = 0.0;
     double Ns[2][3][Q2N_FIT_DEG + 1];
@@ -316,14 +316,14 @@ static void ctx_free(fit_ctx *c)
     const q2n_mesh *m = c->m;
     for (int k = 0; c->p && k < m->nf; k++) {
         fit_patch *p = &c->p[k];
-        fit_breaks_free(&p->I[0]);
-        fit_breaks_free(&p->I[1]);
+        q2n_fit_breaks_free(&p->I[0]);
+        q2n_fit_breaks_free(&p->I[1]);
         free(p->ku); free(p->kv); free(p->kur); free(p->kvr); free(p->cp); free(p->fixed); free(p->var);
         free(p->gc.u); free(p->gc.v); free(p->gc.val); free(p->gc.have);
         free(p->cell);
     }
     for (int e = 0; c->e && e < m->ne; e++) {
-        fit_breaks_free(&c->e[e].K);
+        q2n_fit_breaks_free(&c->e[e].K);
         free(c->e[e].cp);
         free(c->e[e].chk);
     }
@@ -348,24 +348,24 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
     c->sc = calloc(4 * (size_t)m->nf, sizeof *c->sc);
     if (!c->p || !c->e || !c->sc) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     for (int e = 0; e < m->ne; e++) c->e[e].fitted = -1;
-    q2n_status st = fit_glue_measure(c);
-    if (!st) st = fit_target_setup(c);
-    if (!st) st = fit_prepare(c);
-    if (!st) st = fit_glue_classify(c);
+    q2n_status st = q2n_fit_glue_measure(c);
+    if (!st) st = q2n_fit_target_setup(c);
+    if (!st) st = q2n_fit_prepare(c);
+    if (!st) st = q2n_fit_glue_classify(c);
     for (int round = 0; !st; round++) {
         c->round = round;
-        if ((st = fit_round(c)) || (st = measure_round(c))) break;
+        if ((st = q2n_fit_round(c)) || (st = measure_round(c))) break;
         rep->rounds = round + 1;
         if (round + 1 >= c->o.max_rounds) break;
         double t0 = q2n_now();
-        int added = fit_refine(c);
+        int added = q2n_fit_refine(c);
         rep->t_build += q2n_now() - t0;
         if (!added) break;
     }
     if (st) return st;
     if ((st = make_model(c, out))) return st;
     report_totals(c, *out);
-    fit_accept(c);
+    q2n_fit_accept(c);
     if (!rep->dev_met) {
         int worst = 0;
         for (int k = 1; k < m->nf; k++)

@@ -73,7 +73,7 @@ enum { NG = Q2N_FIT_GLUE_SAMPLES };
 static q2n_status edge_samples(fit_ctx *c, int e, int target, double DL[NG][6][3], double DR[NG][6][3], double g[NG][4])
 {
     fit_side L, R;
-    fit_edge_sides(c, e, &L, &R);
+    q2n_fit_edge_sides(c, e, &L, &R);
     double tl[NG], trs[NG], DRs[NG][6][3];
     for (int j = 0; j < NG; j++) {
         tl[j] = (double)j / (NG - 1);
@@ -81,12 +81,12 @@ static q2n_status edge_samples(fit_ctx *c, int e, int target, double DL[NG][6][3
     }
     q2n_status st = Q2N_OK;
     if (target) {
-        if ((st = fit_side_values(c, L.k, L.i, NG, tl, &DL[0][0][0])) || (st = fit_side_values(c, R.k, R.i, NG, trs, &DRs[0][0][0])))
+        if ((st = q2n_fit_side_values(c, L.k, L.i, NG, tl, &DL[0][0][0])) || (st = q2n_fit_side_values(c, R.k, R.i, NG, trs, &DRs[0][0][0])))
             return st;
     } else
         for (int j = 0; j < NG && !st; j++) {
-            st = fit_frame_eval(c->s, L.k, L.i, tl[j], 0.0, 2, DL[j]);
-            if (!st) st = fit_frame_eval(c->s, R.k, R.i, trs[j], 0.0, 2, DRs[j]);
+            st = q2n_fit_frame_eval(c->s, L.k, L.i, tl[j], 0.0, 2, DL[j]);
+            if (!st) st = q2n_fit_frame_eval(c->s, R.k, R.i, trs[j], 0.0, 2, DRs[j]);
         }
     if (st) return st;
     for (int j = 0; j < NG; j++) memcpy(DR[j], DRs[NG - 1 - j], sizeof DR[j]);
@@ -115,7 +115,7 @@ static void measure_one(void *arg, int e)
     fit_side L, R;
     E->g1c = E->g2c = 0.0;
     E->rep = E->alpha_varies = 0;
-    if (!fit_edge_sides(c, e, &L, &R)) { E->glue = E->glue2 = FIT_GLUE_BOUNDARY; return; }
+    if (!q2n_fit_edge_sides(c, e, &L, &R)) { E->glue = E->glue2 = FIT_GLUE_BOUNDARY; return; }
     E->glue = E->glue2 = FIT_GLUE_LS;
     double DL[NG][6][3], DR[NG][6][3], g[NG][4];
     if ((a->st[e] = edge_samples(c, e, 0, DL, DR, g))) return;
@@ -147,7 +147,7 @@ static void measure_one(void *arg, int e)
     E->rep = !c->o.no_exact && flat && g[0][0] * g[NG - 1][0] > 0 && scale_only(DL, DR, g, c->o.continuity == 2);
 }
 
-q2n_status fit_glue_measure(fit_ctx *c)
+q2n_status q2n_fit_glue_measure(fit_ctx *c)
 {
     int ne = c->m->ne;
     q2n_status *st = calloc((size_t)ne + 1, sizeof *st);
@@ -182,7 +182,7 @@ static void classify_one(void *arg, int e)
     E->alpha = g[0][0];
 }
 
-q2n_status fit_glue_classify(fit_ctx *c)
+q2n_status q2n_fit_glue_classify(fit_ctx *c)
 {
     int ne = c->m->ne;
     q2n_status *st = calloc((size_t)ne + 1, sizeof *st);
@@ -257,7 +257,7 @@ static int add_deriv(fit_ctx *c, double *row, double *rhs, const fit_side *sd, d
         for (int q = 0; q <= Q2N_FIT_DEG; q++) {
             double w = scale * Nt[a][q] * Ns[b][j];
             if (w == 0.0) continue;
-            int g = fit_side_g(c, sd, span - Q2N_FIT_DEG + q, j);
+            int g = q2n_fit_side_g(c, sd, span - Q2N_FIT_DEG + q, j);
             if (p->fixed[g]) q2n_v3_axpy(rhs, -w, p->cp + 3 * (size_t)g);
             else if (p->var[g] >= 0) row[p->var[g]] += w;
             else return -1;   /* a free point of another block: the stages' ordering forbids it */
@@ -278,7 +278,7 @@ static int block_vars(fit_ctx *c, row_block *bl, const fit_side *sd, int nsd, in
         if (order >= sd[x].ns) continue;
         fit_patch *p = &c->p[sd[x].k];
         for (int it = 0; it < sd[x].nt; it++) {
-            int g = fit_side_g(c, &sd[x], it, order);
+            int g = q2n_fit_side_g(c, &sd[x], it, order);
             if (p->fixed[g] || p->var[g] >= 0) continue;
             p->var[g] = bl->n;
             bl->vk[bl->n] = sd[x].k;
@@ -314,7 +314,7 @@ static int side_params(const fit_side *sd, double *out)
 static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
 {
     fit_side sd[2];
-    int e = bl->e, two = fit_edge_sides(c, e, &sd[0], &sd[1]);
+    int e = bl->e, two = q2n_fit_edge_sides(c, e, &sd[0], &sd[1]);
     const fit_edge *E = &c->e[e];
     bl->two = two;
     bl->exact = two && (order == 1 ? E->glue : E->glue2) == FIT_GLUE_EXACT;
@@ -335,7 +335,7 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
     }
     /* fidelity */
     for (int x = 0; x < 1 + two; x++) {
-        if ((st = fit_side_values(c, sd[x].k, sd[x].i, ns[x], ts[x], D))) goto out;
+        if ((st = q2n_fit_side_values(c, sd[x].k, sd[x].i, ns[x], ts[x], D))) goto out;
         double sc = 1.0 / Ns[x][order][order];
         for (int q = 1; q + 1 < ns[x]; q++) {
             double *rhs, *row = block_row(bl, 0, &rhs);
@@ -377,7 +377,7 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
         if (!tt || !tr) { free(tt); free(tr); st = Q2N_ERR_NOMEM; goto out; }
         int nt = union_sorted(ns[0], ts[0], ns[1], tu, tt);
         for (int q = 0; q < nt; q++) tr[q] = 1.0 - tt[nt - 1 - q];
-        if ((st = fit_side_values(c, sd[0].k, sd[0].i, nt, tt, D)) || (st = fit_side_values(c, sd[1].k, sd[1].i, nt, tr, DR))) {
+        if ((st = q2n_fit_side_values(c, sd[0].k, sd[0].i, nt, tt, D)) || (st = q2n_fit_side_values(c, sd[1].k, sd[1].i, nt, tr, DR))) {
             free(tt); free(tr);
             goto out;
         }
@@ -480,7 +480,7 @@ static void rows_one(void *arg, int l)
     if (!bl->st) bl->st = block_reduce(a->c, bl);
 }
 
-q2n_status fit_rows_stage(fit_ctx *c, const int *edges, int n, int order)
+q2n_status q2n_fit_rows_stage(fit_ctx *c, const int *edges, int n, int order)
 {
     row_block *bl = calloc((size_t)n + 1, sizeof *bl);
     if (!bl) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");

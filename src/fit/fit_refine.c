@@ -54,7 +54,7 @@ static int bisect_edge(fit_ctx *c, int e, double mid)
         double ts = x ? 1.0 - mid : mid;
         if (new_in_patch(c, k, i, ts) && patch_spans(c, k, i & 1) >= c->o.max_spans) return 0;
     }
-    int r = fit_breaks_add(&E->K, mid);
+    int r = q2n_fit_breaks_add(&E->K, mid);
     if (r <= 0) return 0;
     E->ver++;
     for (int x = 0; x < 2; x++)
@@ -71,7 +71,7 @@ static int bisect_patch(fit_ctx *c, int k, int d, double t)
 {
     fit_patch *p = &c->p[k];
     if (patch_spans(c, k, d) >= c->o.max_spans) return 0;
-    if (fit_breaks_add(&p->I[d], t) <= 0) return 0;
+    if (q2n_fit_breaks_add(&p->I[d], t) <= 0) return 0;
     p->pending[d]++;
     return 1;
 }
@@ -111,7 +111,7 @@ static int split_span(fit_ctx *c, int id, int d, double a, double b, int lv, spl
 static int add_edge(fit_ctx *c, int e, int d, double t) { (void)d; return bisect_edge(c, e, t); }
 static int add_patch(fit_ctx *c, int k, int d, double t) { return bisect_patch(c, k, d, t); }
 
-int fit_refine(fit_ctx *c)
+int q2n_fit_refine(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
     double tol = c->o.tol;
@@ -199,7 +199,7 @@ int fit_refine(fit_ctx *c)
     return added;
 }
 
-void fit_accept(fit_ctx *c)
+void q2n_fit_accept(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
     q2n_fit_report *rep = c->rep;

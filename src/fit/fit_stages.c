@@ -31,7 +31,7 @@
 
 /* ------------------------------------------------------------------ breakpoints */
 
-int fit_breaks_add(fit_breaks *b, double t)
+int q2n_fit_breaks_add(fit_breaks *b, double t)
 {
     int lo = 0, hi = b->n;
     while (lo < hi) {
@@ -53,7 +53,7 @@ int fit_breaks_add(fit_breaks *b, double t)
     return 1;
 }
 
-void fit_breaks_free(fit_breaks *b)
+void q2n_fit_breaks_free(fit_breaks *b)
 {
     free(b->t);
     memset(b, 0, sizeof *b);
@@ -61,7 +61,7 @@ void fit_breaks_free(fit_breaks *b)
 
 /* ------------------------------------------------------------------ frames */
 
-fit_side fit_make_side(const fit_ctx *c, int k, int i)
+fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i)
 {
     const fit_patch *p = &c->p[k];
     const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3], *c3 = q2n_fit_corner_uv[(i + 3) & 3];
@@ -80,23 +80,23 @@ fit_side fit_make_side(const fit_ctx *c, int k, int i)
     return sd;
 }
 
-int fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js)
+int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js)
 {
     int a = sd->ox + it * sd->tx + js * sd->sx, b = sd->oy + it * sd->ty + js * sd->sy;
     return b * c->p[sd->k].nu + a;
 }
 
-int fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R)
+int q2n_fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R)
 {
     const q2n_mesh *m = c->m;
     int h = m->edge_he[e], ht = m->he_twin[h];
-    *L = fit_make_side(c, m->he_face[h], h - m->face_start[m->he_face[h]]);
+    *L = q2n_fit_make_side(c, m->he_face[h], h - m->face_start[m->he_face[h]]);
     if (ht < 0) return 0;
-    *R = fit_make_side(c, m->he_face[ht], ht - m->face_start[m->he_face[ht]]);
+    *R = q2n_fit_make_side(c, m->he_face[ht], ht - m->face_start[m->he_face[ht]]);
     return 1;
 }
 
-q2n_status fit_frame_eval(const q2n_surface *surf, int k, int i, double t, double s, int nder, double D[6][3])
+q2n_status q2n_fit_frame_eval(const q2n_surface *surf, int k, int i, double t, double s, int nder, double D[6][3])
 {
     const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3], *c3 = q2n_fit_corner_uv[(i + 3) & 3];
     int ax[2] = {c1[0] - c0[0], c3[0] - c0[0]}, ay[2] = {c1[1] - c0[1], c3[1] - c0[1]};
@@ -137,14 +137,14 @@ static int sc_find(const fit_side_cache *sc, double t, int *pos)
     return lo < sc->n && sc->t[lo] == t ? lo : -1;
 }
 
-q2n_status fit_side_values(fit_ctx *c, int k, int i, int n, const double *t, double *D)
+q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t, double *D)
 {
     fit_side_cache *sc = &c->sc[4 * k + i];
     for (int q = 0; q < n; q++) {
         int pos, at = sc_find(sc, t[q], &pos);
         if (at < 0) {
             double V[6][3];
-            q2n_status st = fit_target_frame(c, k, i, t[q], V);
+            q2n_status st = q2n_fit_target_frame(c, k, i, t[q], V);
             if (st) return st;
             if (sc->n == sc->cap) {
                 int nc = sc->cap ? 2 * sc->cap : 32;
@@ -225,7 +225,7 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
         for (int i = 0; i < nu; i++) missing += !g->have[(size_t)iv[j] * g->nu + iu[i]];
     q2n_status st = Q2N_OK;
     if (missing == nu * nv) {   /* nothing cached: one grid */
-        st = fit_target_grid(c, k, nu, us, nv, vs, buf, 9);
+        st = q2n_fit_target_grid(c, k, nu, us, nv, vs, buf, 9);
         for (int j = 0; !st && j < nv; j++)
             for (int i = 0; i < nu; i++) {
                 size_t at = (size_t)iv[j] * g->nu + iu[i];
@@ -239,7 +239,7 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
             for (int i = 0; i < nu; i++)
                 if (!g->have[(size_t)iv[j] * g->nu + iu[i]]) ru[n++] = us[i];
             if (!n) continue;
-            st = fit_target_grid(c, k, n, ru, 1, &vs[j], buf, 9);
+            st = q2n_fit_target_grid(c, k, n, ru, 1, &vs[j], buf, 9);
             for (int i = 0, q = 0; !st && i < nu; i++) {
                 size_t at = (size_t)iv[j] * g->nu + iu[i];
                 if (g->have[at]) continue;
@@ -259,7 +259,7 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
     return st;
 }
 
-q2n_status fit_patch_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
+q2n_status q2n_fit_patch_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
                           long *evals)
 {
     return grid_values(c, k, nu, us, nv, vs, out, evals);
@@ -303,7 +303,7 @@ static q2n_status corner_mixed(const q2n_surface *surf, int k, int i, double J[4
     double D[2][6][6][3];
     for (int dir = 0; dir < 2; dir++)
         for (int q = 1; q <= 6; q++) {
-            q2n_status st = fit_frame_eval(surf, k, i, dir ? 0.0 : q * h, dir ? q * h : 0.0, 2, D[dir][q - 1]);
+            q2n_status st = q2n_fit_frame_eval(surf, k, i, dir ? 0.0 : q * h, dir ? q * h : 0.0, 2, D[dir][q - 1]);
             if (st) return st;
         }
     for (int o = 0; o < 4; o++) {
@@ -333,7 +333,7 @@ static void jet_one(void *arg, int k)
         double J[4][3], sp[4];
         a->st[k] = corner_mixed(a->c->s, k, i, J, sp);
         for (int o = 0; o < 4; o++) {
-            double f = fit_target_jet_scale(a->c, k, i, jet_order[o][0], jet_order[o][1]);
+            double f = q2n_fit_target_jet_scale(a->c, k, i, jet_order[o][0], jet_order[o][1]);
             for (int q = 0; q < 3; q++) a->c->jet[k][i][o][q] = f * J[o][q];
             a->c->jet[k][i][o][3] = f * sp[o];
         }
@@ -346,10 +346,10 @@ static void ends_one(void *arg, int e)
     fit_ctx *c = a->c;
     int h = c->m->edge_he[e], f = c->m->he_face[h];
     for (int end = 0; end < 2 && !a->st[e]; end++)
-        a->st[e] = fit_target_frame(c, f, h - c->m->face_start[f], (double)end, c->e[e].end[end]);
+        a->st[e] = q2n_fit_target_frame(c, f, h - c->m->face_start[f], (double)end, c->e[e].end[end]);
 }
 
-q2n_status fit_prepare(fit_ctx *c)
+q2n_status q2n_fit_prepare(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
     c->vpos = malloc(3 * sizeof(double) * (size_t)m->nv);
@@ -509,7 +509,7 @@ static q2n_status curve_assemble(fit_ctx *c, int e, curve_block *cb)
     cb->b = malloc(3 * sizeof(double) * (size_t)ns);
     if (!ts || !D || !cb->A || !cb->b) { free(kv); free(ts); free(D); return Q2N_ERR_NOMEM; }
     ns = q2n_fit_sample_params(E->n, kv, Q2N_FIT_SAMPLES_PER_SPAN, ts);
-    q2n_status st = fit_side_values(c, f, i, ns, ts, D);
+    q2n_status st = q2n_fit_side_values(c, f, i, ns, ts, D);
     if (st) { free(kv); free(ts); free(D); return st; }
     for (int q = 1; q + 1 < ns; q++) {
         double N[3][Q2N_FIT_DEG + 1];
@@ -580,7 +580,7 @@ static q2n_status boundary_row(fit_ctx *c, int k, int i)
     const q2n_mesh *m = c->m;
     int h = m->face_start[k] + i, e = m->he_edge[h], own = m->edge_he[e] == h;
     const fit_edge *E = &c->e[e];
-    fit_side sd = fit_make_side(c, k, i);
+    fit_side sd = q2n_fit_make_side(c, k, i);
     fit_patch *p = &c->p[k];
     double *kv = malloc(sizeof(double) * (size_t)(E->n + 6)), *cp = malloc(3 * sizeof(double) * (size_t)E->n);
     double *out = malloc(3 * sizeof(double) * (size_t)sd.nt);
@@ -600,7 +600,7 @@ static q2n_status boundary_row(fit_ctx *c, int k, int i)
     else r = q2n_fit_curve_refine(E->n, kv, cp, 3, sd.nt, sd.kt, out);
     if (!r)
         for (int it = 0; it < sd.nt; it++) {
-            int g = fit_side_g(c, &sd, it, 0);
+            int g = q2n_fit_side_g(c, &sd, it, 0);
             memcpy(p->cp + 3 * (size_t)g, out + 3 * it, 3 * sizeof(double));
             p->fixed[g] = 1;
         }
@@ -618,7 +618,7 @@ static void pin_corners(fit_ctx *c, int k)
     int npin = c->o.continuity == 2 ? 4 : 3;
     p->gregory = 0;
     for (int i = 0; i < 4; i++) {
-        fit_side sd = fit_make_side(c, k, i);
+        fit_side sd = q2n_fit_make_side(c, k, i);
         double Nt[3][Q2N_FIT_DEG + 1], Ns[3][Q2N_FIT_DEG + 1];
         q2n_fit_basis(Q2N_FIT_DEG, sd.kt, 0.0, 2, Nt);
         q2n_fit_basis(Q2N_FIT_DEG, sd.ks, 0.0, 2, Ns);
@@ -638,9 +638,9 @@ static void pin_corners(fit_ctx *c, int k)
             for (int pp = 0; pp <= a; pp++)
                 for (int qq = 0; qq <= b; qq++) {
                     if (pp == a && qq == b) continue;
-                    q2n_v3_axpy(J, -Nt[a][pp] * Ns[b][qq], p->cp + 3 * (size_t)fit_side_g(c, &sd, pp, qq));
+                    q2n_v3_axpy(J, -Nt[a][pp] * Ns[b][qq], p->cp + 3 * (size_t)q2n_fit_side_g(c, &sd, pp, qq));
                 }
-            int g = fit_side_g(c, &sd, a, b);
+            int g = q2n_fit_side_g(c, &sd, a, b);
             q2n_v3_scale(p->cp + 3 * (size_t)g, 1.0 / (Nt[a][a] * Ns[b][b]), J);
             p->fixed[g] = 1;
         }
@@ -907,12 +907,12 @@ out:
 /* Mark side i's rows (0 .. order) of patch k fixed with their current values. */
 static void keep_rows(fit_ctx *c, int k, int i, int order)
 {
-    fit_side sd = fit_make_side(c, k, i);
+    fit_side sd = q2n_fit_make_side(c, k, i);
     for (int js = 0; js <= order && js < sd.ns; js++)
-        for (int it = 0; it < sd.nt; it++) c->p[k].fixed[fit_side_g(c, &sd, it, js)] = 1;
+        for (int it = 0; it < sd.nt; it++) c->p[k].fixed[q2n_fit_side_g(c, &sd, it, js)] = 1;
 }
 
-q2n_status fit_round(fit_ctx *c)
+q2n_status q2n_fit_round(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
     int nf = m->nf, ne = m->ne, order = c->o.continuity;
@@ -958,8 +958,8 @@ q2n_status fit_round(fit_ctx *c)
     /* 5. cross rows of the dirty edges */
     for (int e = 0; e < ne; e++)
         if (edirty[e]) elist[nedge++] = e;
-    if ((st = fit_rows_stage(c, elist, nedge, 1))) goto out;
-    if (order == 2 && (st = fit_rows_stage(c, elist, nedge, 2))) goto out;
+    if ((st = q2n_fit_rows_stage(c, elist, nedge, 1))) goto out;
+    if (order == 2 && (st = q2n_fit_rows_stage(c, elist, nedge, 2))) goto out;
     /* 6. interiors */
     if ((st = stage_interior(c, plist, npatch))) goto out;
 out:

@@ -111,52 +111,52 @@ typedef struct fit_ctx {
 } fit_ctx;
 
 /* ---- breakpoints (fit_stages.c) ---- */
-int fit_breaks_add(fit_breaks *b, double t);            /* 1 added, 0 present, -1 out of memory */
-void fit_breaks_free(fit_breaks *b);
+int q2n_fit_breaks_add(fit_breaks *b, double t);            /* 1 added, 0 present, -1 out of memory */
+void q2n_fit_breaks_free(fit_breaks *b);
 
 /* ---- frames and construction access (fit_stages.c) ---- */
-fit_side fit_make_side(const fit_ctx *c, int k, int i);
-int fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js);   /* grid index of (t index, s index) */
+fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i);
+int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js);   /* grid index of (t index, s index) */
 /* The sides of edge e: L = owner half-edge's face (its t is the edge's t), R = the twin's
  * (t_R = 1 - t); returns 0 (R unset) on boundary edges. */
-int fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R);
+int q2n_fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R);
 /* Exact construction derivatives of patch k in the frame of its side i at (t, s) (see
  * fit_side_cache; nder 0..2). */
-q2n_status fit_frame_eval(const q2n_surface *s, int k, int i, double t, double s_, int nder, double D[6][3]);
+q2n_status q2n_fit_frame_eval(const q2n_surface *s, int k, int i, double t, double s_, int nder, double D[6][3]);
 /* Side-frame derivatives (nder 2) at parameters t[0..n-1] of side (k, i) from the side cache,
  * evaluating and caching what is missing; D gets 18 doubles per parameter. */
-q2n_status fit_side_values(fit_ctx *c, int k, int i, int n, const double *t, double *D);
+q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t, double *D);
 
 /* ---- stages (fit_stages.c) ---- */
-q2n_status fit_prepare(fit_ctx *c);        /* once per fit: corner points, edge ends, corner jets */
-q2n_status fit_round(fit_ctx *c);          /* knots, curves, corners, rows, interiors of the dirty set */
+q2n_status q2n_fit_prepare(fit_ctx *c);        /* once per fit: corner points, edge ends, corner jets */
+q2n_status q2n_fit_round(fit_ctx *c);          /* knots, curves, corners, rows, interiors of the dirty set */
 /* Positions of the construction's patch k on the grid us x vs (sorted, distinct), through the
  * patch's sample cache (evaluations counted in *evals). */
-q2n_status fit_patch_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
+q2n_status q2n_fit_patch_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
                           long *evals);
 
 /* ---- the fit target T_k = S_k o phi_k (fit_target.c) ---- */
-q2n_status fit_target_setup(fit_ctx *c);   /* edge speeds and which patches are reparametrized */
+q2n_status q2n_fit_target_setup(fit_ctx *c);   /* edge speeds and which patches are reparametrized */
 /* Side-frame derivatives of T (nder 2) at (t, 0) of side i of patch k. */
-q2n_status fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][3]);
+q2n_status q2n_fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][3]);
 /* Positions of T on the grid us x vs into out (stride doubles per point, u fastest). */
-q2n_status fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride);
-q2n_status fit_target_point(fit_ctx *c, int k, double u, double v, double out[3]);
+q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride);
+q2n_status q2n_fit_target_point(fit_ctx *c, int k, double u, double v, double out[3]);
 /* Factor turning the construction's mixed derivative d_t^a d_s^b at corner i of patch k into T's. */
-double fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b);
+double q2n_fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b);
 
 /* ---- gluing (fit_glue.c) ---- */
-q2n_status fit_glue_measure(fit_ctx *c);   /* once per fit, on the construction: which edges are scaled (rep) */
-q2n_status fit_glue_classify(fit_ctx *c);  /* once per fit, on the target: gluing kind of every edge */
+q2n_status q2n_fit_glue_measure(fit_ctx *c);   /* once per fit, on the construction: which edges are scaled (rep) */
+q2n_status q2n_fit_glue_classify(fit_ctx *c);  /* once per fit, on the target: gluing kind of every edge */
 /* The order-th cross rows of interior edge e with its gluing relation (order 1: exact or least
  * squares; order 2: least squares), solved and stored into both patches. */
-q2n_status fit_rows_stage(fit_ctx *c, const int *edges, int n, int order);
+q2n_status q2n_fit_rows_stage(fit_ctx *c, const int *edges, int n, int order);
 
 /* ---- refinement (fit_refine.c) ---- */
 /* From the last measurement: add breakpoints where the errors are; returns the number of knots
  * added (0: converged or nothing refinable). */
-int fit_refine(fit_ctx *c);
+int q2n_fit_refine(fit_ctx *c);
 /* Acceptance after the last round: fills rep's met flags and note. */
-void fit_accept(fit_ctx *c);
+void q2n_fit_accept(fit_ctx *c);
 
 #endif

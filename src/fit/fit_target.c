@@ -108,8 +108,8 @@ static q2n_status edge_alpha(const fit_ctx *c, int e, double x, double *al, doub
     const q2n_mesh *m = c->m;
     int h = m->edge_he[e], ht = m->he_twin[h], fL = m->he_face[h], fR = m->he_face[ht];
     double DL[6][3], DR[6][3];
-    q2n_status st = fit_frame_eval(c->s, fL, h - m->face_start[fL], x, 0.0, 2, DL);
-    if (!st) st = fit_frame_eval(c->s, fR, ht - m->face_start[fR], 1.0 - x, 0.0, 2, DR);
+    q2n_status st = q2n_fit_frame_eval(c->s, fL, h - m->face_start[fL], x, 0.0, 2, DL);
+    if (!st) st = q2n_fit_frame_eval(c->s, fR, ht - m->face_start[fR], 1.0 - x, 0.0, 2, DR);
     if (st) return st;
     double nn = q2n_v3_dot(DL[2], DL[2]);
     *al = q2n_v3_dot(DR[2], DL[2]) / nn;
@@ -144,13 +144,13 @@ static q2n_status side_lambda(const fit_ctx *c, int k, int i, double t, double *
     return Q2N_OK;
 }
 
-q2n_status fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][3])
+q2n_status q2n_fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][3])
 {
-    if (!c->p[k].phi) return fit_frame_eval(c->s, k, i, t, 0.0, 2, D);
+    if (!c->p[k].phi) return q2n_fit_frame_eval(c->s, k, i, t, 0.0, 2, D);
     double tau[3], l, dl, S[6][3];
     side_tau(c, k, i, t, tau);
     q2n_status st = side_lambda(c, k, i, t, &l, &dl);
-    if (!st) st = fit_frame_eval(c->s, k, i, tau[0], 0.0, 2, S);
+    if (!st) st = q2n_fit_frame_eval(c->s, k, i, tau[0], 0.0, 2, S);
     if (st) return st;
     for (int q = 0; q < 3; q++) {
         D[0][q] = S[0][q];
@@ -197,7 +197,7 @@ static void corner_speeds(const fit_ctx *c, int k, double cs[4][2])
     cs[3][0] = s2; cs[3][1] = s3;
 }
 
-q2n_status fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride)
+q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride)
 {
     if (!c->p[k].phi) {
         double *buf = stride == 9 ? out : malloc(9 * sizeof(double) * (size_t)nu * nv);
@@ -240,14 +240,14 @@ q2n_status fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, 
     return st;
 }
 
-q2n_status fit_target_point(fit_ctx *c, int k, double u, double v, double out[3])
+q2n_status q2n_fit_target_point(fit_ctx *c, int k, double u, double v, double out[3])
 {
-    return fit_target_grid(c, k, 1, &u, 1, &v, out, 3);
+    return q2n_fit_target_grid(c, k, 1, &u, 1, &v, out, 3);
 }
 
 /* Mixed corner derivatives of T from those of S (φ is separable to order (2, 2) at the corners):
  * d_t^a d_s^b T = s_t^a s_s^b d_t^a d_s^b S for corner i of patch k (side i's frame). */
-double fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b)
+double q2n_fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b)
 {
     int own;
     double st = speed(c, side_edge(c, k, i, &own)), ss = speed(c, side_edge(c, k, (i + 3) & 3, &own));
@@ -302,7 +302,7 @@ done:
     return out;
 }
 
-q2n_status fit_target_setup(fit_ctx *c)
+q2n_status q2n_fit_target_setup(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
     int ne = m->ne, nf = m->nf, nrow = 0;
