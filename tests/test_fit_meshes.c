@@ -85,6 +85,18 @@ static void fit_and_check(const char *name, const q2n_mesh *mesh, const q2n_surf
         if (r.g1_construction_deg < 1e-3) CHECK(r.g1_max_deg <= 0.01, "%s: g1 %g deg", name, r.g1_max_deg);
         if (cont == 2 && expect_g2 && r.g2_construction_rel < 1e-3)
             CHECK(r.g2_max_rel <= 0.01, "%s: g2 %g", name, r.g2_max_rel);
+        /* q2n_fit_measure measures the model again from scratch: the same edge check points give the
+         * same continuity; its deviation is the distance to the construction by foot points, which
+         * the report's (against the reparametrized target) bounds from above */
+        q2n_fit_report mr;
+        memset(&mr, 0, sizeof mr);
+        CHECK(q2n_fit_measure(md, s, 2, &mr, &err) == Q2N_OK, "%s: q2n_fit_measure: %s", name, err.message);
+        CHECK(mr.max_dev_rel <= r.max_dev_rel * (1 + 1e-9) + 1e-15, "%s: measured deviation %g > report %g", name,
+              mr.max_dev_rel, r.max_dev_rel);
+        CHECK(fabs(mr.g1_max_deg - r.g1_max_deg) <= 1e-9 * (1 + r.g1_max_deg) &&
+                  fabs(mr.g2_max_rel - r.g2_max_rel) <= 1e-9 * (1 + r.g2_max_rel),
+              "%s: q2n_fit_measure G1 %g / G2 %g, report %g / %g", name, mr.g1_max_deg, mr.g2_max_rel, r.g1_max_deg,
+              r.g2_max_rel);
         if (expect_g2 && r.g1_exact_edges == r.interior_edges) {   /* all exact: G1 (and G2) to rounding */
             CHECK(r.g1_max_deg <= 1e-6, "%s: exact G1 %g deg", name, r.g1_max_deg);
             if (cont == 2) CHECK(r.g2_max_rel <= 1e-6, "%s: exact G2 %g", name, r.g2_max_rel);

@@ -185,9 +185,10 @@ static void measure_edge(void *arg, int e)
         ck[1] = q2n_v3_dist(f[0], DL + 18 * (size_t)q) / c->diag;
         ck[2] = row / c->diag;
         ck[3] = ck[4] = 0.0;
-        if (two) {
+        if (two) {   /* the tangent of the fitted side, as q2n_fit_measure and the audit use */
             double T[3];
-            memcpy(T, DL + 18 * (size_t)q + 3, sizeof T);
+            const int *c0 = q2n_fit_corner_uv[sd[0].i], *c1 = q2n_fit_corner_uv[(sd[0].i + 1) & 3];
+            for (int r = 0; r < 3; r++) T[r] = (c1[0] - c0[0]) * f[0][Q2N_EV_U + r] + (c1[1] - c0[1]) * f[0][Q2N_EV_V + r];
             q2n_fit_jumps(f[0], f[1], T, c->diag, &ck[3], &ck[4]);
             double gap = q2n_v3_dist(f[0], f[1]) / c->diag;
             if (gap > E->g0) E->g0 = gap;

@@ -8,7 +8,11 @@
  * at Q2N_FIT_GLUE_SAMPLES points per edge (a 2 x 2 least-squares solve per point, exact for a G1
  * construction).
  *
- * Exact relations.  Where the construction's gluing is a constant scale (alpha const, beta = 0; in
+ * The gluing is measured twice: on the construction (q2n_fit_glue_measure: which edges glue by a
+ * scale alpha(t), beta = gamma = delta = 0, which fit_target.c reparametrizes into a constant) and
+ * on the fit target (q2n_fit_glue_classify: which relations are exact).
+ *
+ * Exact relations.  Where the target's gluing is a constant scale (alpha const, beta = 0; in
  * G2 mode also gamma = delta = 0), the relation is linear in the control points with constant
  * coefficients, and it is imposed as an EQUALITY constraint: the identity of the two sides'
  * piecewise polynomials  d_s S_R(1 - t) - alpha d_s S_L(t) = 0  holds on every span of the union of
@@ -301,8 +305,7 @@ static int union_sorted(int na, const double *a, int nb, const double *b, double
     return n;
 }
 
-/* Fidelity samples of side sd (its sample parameters without the ends) and, for R, the mirrored
- * parameters of the other side, so the gluing rows can use both sides at one edge point. */
+/* Fidelity samples of side sd: its sample parameters (the ends are dropped by the caller). */
 static int side_params(const fit_side *sd, double *out)
 {
     return q2n_fit_sample_params(sd->nt, sd->kt, Q2N_FIT_SAMPLES_PER_SPAN, out);

@@ -26,7 +26,6 @@
 /* ---- gluing data (exact G1 constraints) ---- */
 #define Q2N_FIT_GLUE_SAMPLES 9          /* construction samples per edge that decide the gluing polynomial: 9 dyadic points, reused by the row fits */
 #define Q2N_FIT_GLUE_EXACT 1e-11        /* relative residual below which the construction's gluing is a polynomial of the tested degree (rounding of the 2x2 solve is ~1e-14) */
-#define Q2N_FIT_GLUE_MAX_DEG 2          /* highest gluing degree imposed exactly: degree d needs the rows to drop to degree 5 - d (docs/fit.md) */
 #define Q2N_FIT_GLUE_FLAT 1e-9         /* alpha' at an edge end below this (relative) is zero: second derivatives carry ~1e-13 rounding */
 #define Q2N_FIT_SPEED_ITER 4000        /* CGLS iterations of the speed system: its graph-Laplacian-like condition needs ~mesh diameter x 30 */
 #define Q2N_FIT_SPEED_RESID 1e-12       /* an edge whose speed equation (fit_target.c) is missed by more keeps least-squares gluing */
