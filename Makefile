@@ -38,7 +38,7 @@ EXE      := $(BUILD)/quad2nurbs
 ifneq ($(LIB_CXX),)
   DEPLIBS := -lceres -lglog -lgflags -lstdc++ -lpthread
 endif
-LDLIBS   := $(DEPLIBS) -lcholmod -lblas -lm $(LDASAN)
+LDLIBS   := $(DEPLIBS) -lcholmod -llapack -lblas -lm $(LDASAN)
 
 TEST_C   := $(wildcard tests/test_*.c)
 TEST_BIN := $(TEST_C:tests/%.c=$(BUILD)/tests/%)

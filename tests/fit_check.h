@@ -1,35 +1,171 @@
-/* fit_check.h — checks on a fitted q2n_nurbs_model shared by the fit tests. */
+/* fit_check.h — checks on a fitted q2n_nurbs_model shared by the fit tests, written independently
+ * of src/fit/ (they use bspline.c's evaluator and the construction's, nothing of the fit's own). */
 #ifndef Q2N_TEST_FIT_CHECK_H
 #define Q2N_TEST_FIT_CHECK_H
 
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "fit/bspline.h"
+#include "patch/surface.h"
 
-/* 1 when the two patches of every interior edge have bit-identical boundary control points
- * (the watertightness the export relies on), traversed in opposite directions. */
-static inline int fit_shared_rows_identical(const q2n_nurbs_model *md)
+static const int fck_cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+
+/* Point of patch p on side i at parameter t along the side (corner i -> i+1). */
+static inline void fck_side_point(const q2n_bspline_surface *p, int i, double t, double out[3])
 {
-    static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const int *c0 = fck_cuv[i], *c1 = fck_cuv[(i + 1) & 3];
+    q2n_bspline_eval(p, c0[0] + t * (c1[0] - c0[0]), c0[1] + t * (c1[1] - c0[1]), out, NULL, NULL);
+}
+
+static inline double fck_dist(const double *a, const double *b)
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+/* Watertightness of a model: along every edge, both patch boundaries (reversed on the twin) and
+ * the model's edge curve (when it has them) coincide; returns the largest gap at 33 points per
+ * edge, and counts in *nsame / *nsides the patch sides with the edge curve's own number of
+ * control points (then the same knots) and how many of those are bit-identical to it (each must
+ * be: the fit copies them). */
+static inline double fit_boundary_gap(const q2n_nurbs_model *md, int *nsame, int *nsides)
+{
     const q2n_mesh *m = md->mesh;
+    double gap = 0.0;
+    *nsame = *nsides = 0;
+    for (int e = 0; e < m->ne; e++) {
+        int h[2] = {m->edge_he[e], m->he_twin[m->edge_he[e]]};
+        for (int q = 0; q <= 32; q++) {
+            double t = q / 32.0, p[2][3], c[3];
+            for (int x = 0; x < 2; x++)
+                if (h[x] >= 0) {
+                    int f = m->he_face[h[x]];
+                    fck_side_point(&md->patches[f], h[x] - m->face_start[f], x ? 1.0 - t : t, p[x]);
+                }
+            if (h[1] >= 0) gap = fmax(gap, fck_dist(p[0], p[1]));
+            if (md->edges) {
+                q2n_bspline_curve_eval(&md->edges[e], t, c, NULL);
+                gap = fmax(gap, fck_dist(p[0], c));
+            }
+        }
+        for (int x = 0; x < 2; x++) {
+            if (h[x] < 0) continue;
+            int f = m->he_face[h[x]], i = h[x] - m->face_start[f];
+            const q2n_bspline_surface *P = &md->patches[f];
+            int along_u = !(i & 1), n = along_u ? P->ncp_u : P->ncp_v;
+            /* reference: the edge curve, or (models without edge curves) the owner side's row */
+            const double *ref;
+            int rn, rev = x;
+            double *own = NULL;
+            if (md->edges) {
+                ref = md->edges[e].cp;
+                rn = md->edges[e].ncp;
+            } else {
+                if (x == 0 || h[1] < 0) continue;
+                int f0 = m->he_face[h[0]], i0 = h[0] - m->face_start[f0];
+                const q2n_bspline_surface *P0 = &md->patches[f0];
+                rn = (i0 & 1) ? P0->ncp_v : P0->ncp_u;
+                own = (double *)malloc(3 * sizeof(double) * (size_t)rn);
+                if (!own) continue;
+                for (int it = 0; it < rn; it++) {
+                    const int *c0 = fck_cuv[i0], *c1 = fck_cuv[(i0 + 1) & 3];
+                    int a = c0[0] * (P0->ncp_u - 1) + it * (c1[0] - c0[0]), b = c0[1] * (P0->ncp_v - 1) + it * (c1[1] - c0[1]);
+                    memcpy(own + 3 * it, P0->cp + 3 * (b * P0->ncp_u + a), 3 * sizeof(double));
+                }
+                ref = own;
+            }
+            if (rn != n) { free(own); continue; }   /* different knots: compared through the points above */
+            (*nsides)++;
+            int same = 1;
+            for (int it = 0; it < n && same; it++) {
+                const int *c0 = fck_cuv[i], *c1 = fck_cuv[(i + 1) & 3];
+                int a = c0[0] * (P->ncp_u - 1) + it * (c1[0] - c0[0]), b = c0[1] * (P->ncp_v - 1) + it * (c1[1] - c0[1]);
+                const double *pc = P->cp + 3 * (b * P->ncp_u + a), *rc = ref + 3 * (rev ? n - 1 - it : it);
+                same = !memcmp(pc, rc, 3 * sizeof(double));
+            }
+            *nsame += same;
+            free(own);
+        }
+    }
+    return gap;
+}
+
+/* Distance from P to patch k of the construction: Gauss–Newton on |S(u, v) - P|^2 from (u0, v0),
+ * parameters kept in [0,1]^2 (the fitted patch may be a reparametrization of the construction's,
+ * so parametric differences only bound the distance from above). */
+static inline double fit_foot_distance(const q2n_surface *s, int k, double u, double v, const double P[3])
+{
+    double best = 1e300;
+    for (int it = 0; it < 12; it++) {
+        double e[Q2N_EVAL_MAX], r[3];
+        if (q2n_surface_eval(s, k, u, v, 1, e)) break;
+        for (int c = 0; c < 3; c++) r[c] = e[c] - P[c];
+        double d = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        if (d < best) best = d;
+        const double *Su = e + 3, *Sv = e + 6;
+        double a = Su[0] * Su[0] + Su[1] * Su[1] + Su[2] * Su[2], b = Su[0] * Sv[0] + Su[1] * Sv[1] + Su[2] * Sv[2];
+        double cc = Sv[0] * Sv[0] + Sv[1] * Sv[1] + Sv[2] * Sv[2];
+        double gu = -(Su[0] * r[0] + Su[1] * r[1] + Su[2] * r[2]), gv = -(Sv[0] * r[0] + Sv[1] * r[1] + Sv[2] * r[2]);
+        double det = a * cc - b * b;
+        if (!(det > 0)) break;
+        double du = (cc * gu - b * gv) / det, dv = (a * gv - b * gu) / det;
+        u = fmin(1.0, fmax(0.0, u + du));
+        v = fmin(1.0, fmax(0.0, v + dv));
+        if (fabs(du) + fabs(dv) < 1e-15) break;
+    }
+    return best;
+}
+
+/* Largest distance / diag from n pseudo-random points per patch of the model to the construction. */
+static inline double fit_random_distance(const q2n_nurbs_model *md, const q2n_surface *s, int n, double diag)
+{
+    double worst = 0;
+    unsigned x = 12345u;
+    for (int k = 0; k < md->n; k++)
+        for (int i = 0; i < n; i++) {
+            x = x * 1664525u + 1013904223u;
+            double u = (x >> 8) / 16777216.0;
+            x = x * 1664525u + 1013904223u;
+            double v = (x >> 8) / 16777216.0, p[3];
+            q2n_bspline_eval(&md->patches[k], u, v, p, NULL, NULL);
+            double d = fit_foot_distance(s, k, u, v, p) / diag;
+            if (d > worst) worst = d;
+        }
+    return worst;
+}
+
+/* Largest normal-angle jump (degrees) across interior edges at n pseudo-random edge points, from
+ * bspline.c's first derivatives. */
+static inline double fit_random_angle(const q2n_nurbs_model *md, int n)
+{
+    const q2n_mesh *m = md->mesh;
+    double worst = 0;
+    unsigned seed = 777u;
     for (int e = 0; e < m->ne; e++) {
         int h = m->edge_he[e], ht = m->he_twin[h];
         if (ht < 0) continue;
         int f[2] = {m->he_face[h], m->he_face[ht]}, sd[2] = {h - m->face_start[f[0]], ht - m->face_start[f[1]]};
-        const q2n_bspline_surface *P[2] = {&md->patches[f[0]], &md->patches[f[1]]};
-        int nt = (sd[0] & 1) ? P[0]->ncp_v : P[0]->ncp_u;
-        for (int it = 0; it < nt; it++) {
-            const double *pt[2];
+        for (int q = 0; q < n; q++) {
+            seed = seed * 1664525u + 1013904223u;
+            double t = (seed >> 8) / 16777216.0, nrm[2][3];
             for (int x = 0; x < 2; x++) {
-                int i = x ? nt - 1 - it : it;
-                const int *c0 = cuv[sd[x]], *c1 = cuv[(sd[x] + 1) & 3];
-                int a = c0[0] * (P[x]->ncp_u - 1) + i * (c1[0] - c0[0]), b = c0[1] * (P[x]->ncp_v - 1) + i * (c1[1] - c0[1]);
-                pt[x] = P[x]->cp + 3 * (b * P[x]->ncp_u + a);
+                double tt = x ? 1 - t : t, p[3], du[3], dv[3];
+                const int *c0 = fck_cuv[sd[x]], *c1 = fck_cuv[(sd[x] + 1) & 3];
+                q2n_bspline_eval(&md->patches[f[x]], c0[0] + tt * (c1[0] - c0[0]), c0[1] + tt * (c1[1] - c0[1]), p, du, dv);
+                nrm[x][0] = du[1] * dv[2] - du[2] * dv[1];
+                nrm[x][1] = du[2] * dv[0] - du[0] * dv[2];
+                nrm[x][2] = du[0] * dv[1] - du[1] * dv[0];
+                double l = sqrt(nrm[x][0] * nrm[x][0] + nrm[x][1] * nrm[x][1] + nrm[x][2] * nrm[x][2]);
+                for (int c = 0; c < 3; c++) nrm[x][c] /= l;
             }
-            if (memcmp(pt[0], pt[1], 3 * sizeof(double)) != 0) return 0;
+            double dot = nrm[0][0] * nrm[1][0] + nrm[0][1] * nrm[1][1] + nrm[0][2] * nrm[1][2];
+            double cx = nrm[0][1] * nrm[1][2] - nrm[0][2] * nrm[1][1], cy = nrm[0][2] * nrm[1][0] - nrm[0][0] * nrm[1][2],
+                   cz = nrm[0][0] * nrm[1][1] - nrm[0][1] * nrm[1][0];
+            worst = fmax(worst, atan2(sqrt(cx * cx + cy * cy + cz * cz), dot) * 180 / 3.14159265358979323846);
         }
     }
-    return 1;
+    return worst;
 }
 
 #endif

@@ -97,6 +97,8 @@ int main(void)
     expect_error("bad --grid", "quad.obj", NULL, "--tess x", "--tess");
     expect_error("bad class", "quad.obj", NULL, "--class D9", "D9");
     expect_error("bad extension", "quad.obj", NULL, "-o x.xyz", "xyz");
+    expect_error("bad --max-spans", "quad.obj", NULL, "--max-spans 0", "--max-spans");
+    expect_error("bad --gluing", "quad.obj", NULL, "--gluing loose", "--gluing");
 
     /* success paths */
     char args[1024], err[1024];

@@ -86,7 +86,7 @@ static void check_topology(const char *what, const char *js, const q2n_mesh *m, 
 }
 
 /* Closed form: largest normal-angle jump (deg) of the bilinear patches across interior edges at
- * the audit's samples t = (i + 0.5)/N, N = 4 spans + 3 (the samples are symmetric, so the two sides' parameters
+ * the audit's samples t = (i + 0.5)/N (for uniform knots, its 4 points per span are these with N = 4 spans; the samples are symmetric, so the two sides' parameters
  * t and 1 - t give the same set of points). */
 static double bilinear_g1_reference(const q2n_mesh *m, int N)
 {
@@ -202,7 +202,7 @@ static void cases(int pass)
     /* 1. open bilinear grid (polynomial bi-quintic): STEP and IGES B-rep, plain IGES */
     q2n_mesh *g = em_mesh_grid(5, 3);
     q2n_nurbs_model gm = em_model_bilinear(g);
-    double g1_ref = bilinear_g1_reference(g, 4 * 3 + 3); /* the audit's rule: 4 spans + 3 samples */
+    double g1_ref = bilinear_g1_reference(g, 4 * 3); /* the audit's rule: 4 per knot span (3 uniform spans: (i + 0.5)/12) */
     const char *names[2] = {"export_fc_grid.step", "export_fc_grid.igs"};
     for (int k = 0; k < 2; k++) {
         char *js = export_audit(pass, &gm, NULL, names[k], NULL);

@@ -185,6 +185,7 @@ static inline q2n_nurbs_model em_model_alloc(const q2n_mesh *m)
     md.patches = (q2n_bspline_surface *)calloc((size_t)m->nf, sizeof(q2n_bspline_surface));
     md.mesh = m;
     md.tol_abs = 0.0;
+    md.edges = NULL;   /* the writers take each edge curve from a patch boundary */
     return md;
 }
 

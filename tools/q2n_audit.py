@@ -6,10 +6,11 @@ An importer nobody here wrote checks what quad2nurbs exported:
     non-manifold edges (used by more than two faces), the largest edge / vertex tolerance OCCT
     assigned on import (it raises them to cover gaps it finds: 1e-7 means none), and with --check
     the full BRepCheck (shape.check(True), seconds on ~1000 faces);
-  * continuity across every shared edge, in the terms of Rhino's EdgeContinuity, sampled at the
-    N points t_i = t0 + (i + 0.5)/N (t1 - t0) that lie between the fit's collocation points
-    (default: N = 4 m + 3 for an edge curve of m knot spans, the fit's rule in src/fit/, so the
-    audit samples the very points quad2nurbs' report measures; --samples N fixes N):
+  * continuity across every shared edge, in the terms of Rhino's EdgeContinuity, sampled between
+    the fit's collocation points (default: in every knot span of the edge curve, the 4 midpoints
+    between its 4 fit samples — the odd eighths of the span, the fit's rule in src/fit/ — so the
+    audit samples the very points quad2nurbs' report measures; --samples N takes N points at
+    t_i = t0 + (i + 0.5)/N (t1 - t0) instead):
       G0  gap |S_A - S_B| between the two faces' surfaces at the edge's p-curve points,
       G1  angle between the two (face-oriented) unit normals, degrees,
       G2  normal curvature across the edge (direction d = N_A x T) on each side: absolute jump
@@ -151,21 +152,24 @@ def edge_faces(shape):
     return [emap[k] for k in order]
 
 
-def edge_samples(edge, nsamp):
-    """Samples for this edge: nsamp, or (nsamp == 0) the fit's rule 4 m + 3 for m knot spans."""
-    if nsamp > 0:
-        return nsamp
-    try:
-        m = len(edge.Curve.getKnots()) - 1
-    except Exception:  # not a B-spline edge curve
-        return 16
-    return 4 * max(1, m) + 3
+def edge_params(edge, nsamp):
+    """Sample parameters on this edge: nsamp points at (i + 0.5)/nsamp of its range, or (nsamp == 0)
+    the fit's rule: in every knot span of the edge curve, the midpoints between its 4 samples per
+    span, i.e. the odd eighths (src/fit/fit_basis.c, q2n_fit_check_params)."""
+    t0, t1 = edge.ParameterRange
+    if nsamp <= 0:
+        try:
+            kn = list(edge.Curve.getKnots())
+        except Exception:  # not a B-spline edge curve
+            kn = []
+        if len(kn) >= 2:
+            return [a + (b - a) * (2 * j + 1) / 8.0 for a, b in zip(kn[:-1], kn[1:]) for j in range(4)]
+        nsamp = 16
+    return [t0 + (i + 0.5) / nsamp * (t1 - t0) for i in range(nsamp)]
 
 
 def audit_edge(edge, fa, fb, nsamp, k_flat, diag):
-    nsamp = edge_samples(edge, nsamp)
-    t0, t1 = edge.ParameterRange
-    ts = [t0 + (i + 0.5) / nsamp * (t1 - t0) for i in range(nsamp)]
+    ts = edge_params(edge, nsamp)
     uva, uvb = fa.uv_on_edge(edge, ts), fb.uv_on_edge(edge, ts)
     res = {'g0': 0.0, 'g1_deg': 0.0, 'g2_abs': 0.0, 'g2_rel_radii': 0.0, 'g2_rel': 0.0,
            'g0_at': None, 'g1_at': None, 'g2_at': None}
@@ -267,7 +271,7 @@ def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False):
         'nonmanifold_edges': sum(1 for _, fl in edges if len(fl) > 2),
         'shared_edges': sum(1 for _, fl in edges if len(fl) == 2),
         'bbox_diag': diag,
-        'samples_per_edge': nsamp if nsamp > 0 else '4 spans + 3',
+        'samples_per_edge': nsamp if nsamp > 0 else '4 per knot span',
         'flat_radius': flat * diag,
         'area': shape.Area,
         'max_edge_tolerance': max((e.Tolerance for e in shape.Edges), default=0.0),
@@ -321,7 +325,7 @@ def make_parser():
     ap.add_argument('file', nargs='?', help='.step/.stp or .igs/.iges file')
     ap.add_argument('--mesh', help='the quad mesh (.obj): report vertex distances to the shape')
     ap.add_argument('--samples', type=int, default=0,
-                    help='samples per edge, at (i+0.5)/N (default 0: N = 4 spans + 3 as the fit report)')
+                    help='samples per edge, at (i+0.5)/N (default 0: 4 per knot span, as the fit report)')
     ap.add_argument('--flat', type=float, default=100.0,
                     help='G2 flatness cut-off: radii above FLAT x bbox diagonal count as flat (default 100)')
     ap.add_argument('--no-edges', action='store_true', help='omit the per-edge table')

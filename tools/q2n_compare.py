@@ -9,7 +9,7 @@ with ABS/REL per field (defaults: g0 1e-9 / 0.01, g1 1e-4 deg / 0.01, g2 1e-4 / 
 --tol-g0 ABS,REL etc.).  Optional targets (--target-g0/-g1/-g2) are upper bounds the audit's
 figures must also meet.  The report's fields are looked up at its top level, then in nested
 objects (first match).  A field missing from the report is listed and skipped unless --strict.
-The audit samples the report's own points by default (4 spans + 3 per edge), where the two agree
+The audit samples the report's own points by default (4 per knot span of each edge), where the two agree
 to ~1e-6 relative (the report prints 6 digits): hence the tight defaults.  Audits run with other
 --samples need looser --tol-* values.
 Prints one line per field; exit 0 = agree, 1 = disagreement or target missed, 2 = bad input.

@@ -11,13 +11,6 @@
 #include "patch/augmented.h"
 #include "patch/extraordinary.h"
 
-double q2n_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 void q2n_model_free(q2n_model *m)
 {
     if (!m) return;
@@ -136,7 +129,17 @@ q2n_status q2n_model_write(q2n_model *m, const char *path, int tess, const q2n_e
     if (!needs_fit) st = q2n_model_write_tessellation(m, tess, path, err);
     else if (!m->nurbs) st = q2n_error_set(err, Q2N_ERR_ARG, "%s: the surface has not been fitted", path);
     else if (strcasecmp(dot, ".json") == 0) st = q2n_fit_report_write_json(&m->fit, path, err);
-    else st = q2n_export_file(m->nurbs, xopt, path, err);
+    else {
+        st = q2n_export_file(m->nurbs, xopt, path, err);
+        FILE *f = st ? NULL : fopen(path, "rb");   /* the size goes into the fit report */
+        if (f && fseek(f, 0, SEEK_END) == 0) {
+            long n = ftell(f);
+            int step = strcasecmp(dot, ".step") == 0 || strcasecmp(dot, ".stp") == 0;
+            if (step) m->fit.step_bytes = n;
+            else m->fit.iges_bytes = n;
+        }
+        if (f) fclose(f);
+    }
     m->t_write += q2n_now() - t0;
     return st;
 }

@@ -8,6 +8,7 @@
 #include <stdio.h>
 
 #include "acc/acc.h"
+#include "core/clock.h"
 #include "fit/fit.h"
 #include "iges/export.h"
 #include "mesh/mesh.h"
@@ -63,6 +64,5 @@ void q2n_model_free(q2n_model *m);
 q2n_status q2n_model_write_tessellation(const q2n_model *m, int n, const char *path, q2n_error *err);
 q2n_status q2n_model_write_samples(const q2n_model *m, int n, FILE *out, q2n_error *err);
 
-double q2n_now(void);
 
 #endif

@@ -52,9 +52,13 @@ static void usage(FILE *f)
           "      --subdivide N     apply N Catmull-Clark steps first (needed for non-quad faces)\n"
           "      --tess N          tessellation points per patch side (default 9)\n"
           "      --tol T           fit tolerance relative to the bounding-box diagonal (default 1e-5)\n"
+          "      --max-spans N     at most N knot spans per patch direction (default 64)\n"
+          "      --gluing G        G1/G2 across edges: exact (default: equality constraints wherever the\n"
+          "                        construction's gluing allows, least squares elsewhere) or least-squares\n"
+          "                        (everywhere: fewer spans on strongly non-uniform meshes)\n"
           "      --threads N       threads of the construction and the fit (default 1; results do not\n"
           "                        depend on it)\n"
-          "      --solver S        fit solver: ceres (default) or direct (own QR, same result, faster)\n"
+          "      --solver S        fit solver: ceres (default) or direct (LAPACK QR, same result)\n"
           "      --continuity C    continuity the fit imposes: g1 or g2 (default: the construction's)\n"
           "      --units U         CAD file units: mm (default) or in\n"
           "      --grid N          sample points per patch side (default 5)\n"
@@ -88,7 +92,7 @@ static const char *extension(const char *path)
 static int parse_args(int argc, char **argv, cli_options *o)
 {
     enum { OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT,
-           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_EVMETHOD };
+           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},   {"tess", required_argument, 0, OPT_TESS},
         {"grid", required_argument, 0, OPT_GRID}, {"class", required_argument, 0, OPT_CLASS},
@@ -96,6 +100,7 @@ static int parse_args(int argc, char **argv, cli_options *o)
         {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
         {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
         {"tol", required_argument, 0, OPT_TOL},  {"threads", required_argument, 0, OPT_THREADS},
+        {"max-spans", required_argument, 0, OPT_MAXSPANS}, {"gluing", required_argument, 0, OPT_GLUING},
         {"units", required_argument, 0, OPT_UNITS}, {"ev-patch", required_argument, 0, OPT_EVPATCH},
         {"ev-construction", required_argument, 0, OPT_EVMETHOD},
         {"solver", required_argument, 0, OPT_SOLVER}, {"continuity", required_argument, 0, OPT_CONT},
@@ -122,6 +127,15 @@ static int parse_args(int argc, char **argv, cli_options *o)
         case OPT_THREADS:
             if (parse_int(optarg, "--threads", 1, 256, &o->fit.threads)) return 2;
             o->model.threads = o->fit.threads;
+            break;
+        case OPT_MAXSPANS: if (parse_int(optarg, "--max-spans", 1, 1024, &o->fit.max_spans)) return 2; break;
+        case OPT_GLUING:
+            if (strcmp(optarg, "exact") == 0) o->fit.no_exact = 0;
+            else if (strcmp(optarg, "least-squares") == 0) o->fit.no_exact = 1;
+            else {
+                fprintf(stderr, "quad2nurbs: --gluing: expected exact or least-squares, got '%s'\n", optarg);
+                return 2;
+            }
             break;
         case OPT_CLASS:
             if (!(o->model.cls = q2n_spline_class_find(optarg))) {
@@ -296,7 +310,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "quad2nurbs: warning: continuity target not met: %s (max G1 %.3g deg, G2 %.3g)\n",
                 m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
     if (o.sample) st = q2n_model_write_samples(m, o.grid, stdout, &err);
-    for (int i = 0; !st && i < o.noutputs; i++) st = q2n_model_write(m, o.outputs[i], o.tess, &o.xopt, &err);
+    /* CAD files first, so the report written after them gives their sizes */
+    for (int pass = 0; pass < 2; pass++)
+        for (int i = 0; !st && i < o.noutputs; i++) {
+            const char *x = extension(o.outputs[i]);
+            if ((strcasecmp(x, ".json") == 0) == pass) st = q2n_model_write(m, o.outputs[i], o.tess, &o.xopt, &err);
+        }
     if (st) {
         fprintf(stderr, "quad2nurbs: %s\n", err.message);
         q2n_model_free(m);
@@ -305,9 +324,14 @@ int main(int argc, char **argv)
     if (!o.quiet && !o.sample) {
         fprintf(stderr, "quad2nurbs: %s: %d faces, %d patches, read %.3f s, build %.3f s", o.input, m->mesh->nf,
                 m->mesh->nf - m->uncovered, m->t_read, m->t_build);
-        if (fit)
-            fprintf(stderr, ", fit %.3f s (max dev %.2e, G1 %.2e deg, G2 %.2e, spans %d..%d)", m->t_fit,
-                    m->fit.max_dev_rel, m->fit.g1_max_deg, m->fit.g2_max_rel, m->fit.spans_min, m->fit.spans_max);
+        if (fit) {
+            fprintf(stderr, ", fit %.3f s (max dev %.2e, G1 %.2e deg, G2 %.2e, control points per face %d/%d/%d "
+                    "min/median/max", m->t_fit, m->fit.max_dev_rel, m->fit.g1_max_deg, m->fit.g2_max_rel, m->fit.cp_min,
+                    m->fit.cp_median, m->fit.cp_max);
+            if (m->fit.step_bytes) fprintf(stderr, ", STEP %.1f KB/face", m->fit.step_bytes / 1024.0 / m->mesh->nf);
+            if (m->fit.iges_bytes) fprintf(stderr, ", IGES %.1f KB/face", m->fit.iges_bytes / 1024.0 / m->mesh->nf);
+            fputc(')', stderr);
+        }
         fprintf(stderr, ", write %.3f s\n", m->t_write);
     }
     q2n_model_free(m);

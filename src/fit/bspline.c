@@ -178,5 +178,29 @@ void q2n_nurbs_model_free(q2n_nurbs_model *m)
     if (m->patches)
         for (int k = 0; k < m->n; k++) q2n_bspline_free(&m->patches[k]);
     free(m->patches);
+    if (m->edges && m->mesh)
+        for (int e = 0; e < m->mesh->ne; e++) {
+            free(m->edges[e].knots);
+            free(m->edges[e].cp);
+        }
+    free(m->edges);
     free(m);
+}
+
+void q2n_bspline_curve_eval(const q2n_bspline_curve *c, double t, double p[3], double d[3])
+{
+    double N[Q2N_BSPLINE_MAX_DEG + 1], D[Q2N_BSPLINE_MAX_DEG + 1];
+    int sp = find_span(c->ncp, c->deg, c->knots, t);
+    basis_ders(sp, c->deg, c->knots, t, N, d ? D : NULL);
+    for (int q = 0; q < 3; q++) {
+        p[q] = 0.0;
+        if (d) d[q] = 0.0;
+    }
+    for (int a = 0; a <= c->deg; a++) {
+        const double *P = c->cp + 3 * (size_t)(sp - c->deg + a);
+        for (int q = 0; q < 3; q++) {
+            p[q] += N[a] * P[q];
+            if (d) d[q] += D[a] * P[q];
+        }
+    }
 }

@@ -20,6 +20,13 @@ typedef struct q2n_bspline_surface {
     double *weights;    /* ncp_u * ncp_v, or NULL for a polynomial (non-rational) surface */
 } q2n_bspline_surface;
 
+/* A polynomial B-spline curve in 3-space (clamped knots on [0,1]). */
+typedef struct q2n_bspline_curve {
+    int deg, ncp;
+    double *knots;      /* ncp + deg + 1 */
+    double *cp;         /* 3 * ncp */
+} q2n_bspline_curve;
+
 /* What the export stage needs: the surfaces plus the mesh they sit on (edges shared by two
  * faces become shared CAD edges) and the tolerance they were fitted to. */
 typedef struct q2n_nurbs_model {
@@ -27,6 +34,11 @@ typedef struct q2n_nurbs_model {
     q2n_bspline_surface *patches;   /* n surfaces, patch k on face k */
     const q2n_mesh *mesh;           /* borrowed */
     double tol_abs;                 /* fit tolerance in model units (sets file resolutions) */
+    /* Optional (NULL: the writers take each edge from its owner patch's boundary): one curve per
+     * mesh edge, parameter 0 at the origin of mesh->edge_he[e].  Each patch boundary along edge e
+     * is this curve re-expressed on the patch's knots by knot insertion (the same curve; control
+     * points bit-identical where the knots agree). */
+    q2n_bspline_curve *edges;
 } q2n_nurbs_model;
 
 /* Evaluate a B-spline surface (value and first derivatives; d may be NULL): p[3], du[3], dv[3]. */
@@ -35,6 +47,8 @@ void q2n_bspline_eval(const q2n_bspline_surface *s, double u, double v, double p
 /* Knot-vector and size checks (tests, writers). */
 q2n_status q2n_bspline_check(const q2n_bspline_surface *s, q2n_error *err);
 void q2n_bspline_free(q2n_bspline_surface *s);      /* frees the arrays, not s itself */
-void q2n_nurbs_model_free(q2n_nurbs_model *m);      /* frees patches; NULL is a no-op */
+void q2n_nurbs_model_free(q2n_nurbs_model *m);      /* frees patches and edges; NULL is a no-op */
+/* Evaluate a curve (point, first derivative; d may be NULL). */
+void q2n_bspline_curve_eval(const q2n_bspline_curve *c, double t, double p[3], double d[3]);
 
 #endif

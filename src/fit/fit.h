@@ -1,10 +1,11 @@
 /* fit.h — turn a composite surface into bi-quintic B-spline patches (pipeline stage 4):
  * watertight, G1 (or G2) across every interior edge, within a tolerance of the construction.
  *
- * Augmented / Coons–Gregory patches (non-polynomial) are least-squares fitted; Bézier patches
- * (the Catmull–Clark ACC path) are converted exactly by degree elevation to 5 x 5.  The method,
- * what is exact and what holds at collocation points only, is described in docs/fit.md and at
- * the top of fit.c. */
+ * Augmented / Coons–Gregory patches (non-polynomial) are least-squares fitted with local knots
+ * (every mesh edge has its own knot vector, every patch its own interior knots) and, wherever the
+ * construction's gluing data across an edge are polynomial, with the G1 relation imposed exactly
+ * as linear equality constraints; Bézier patches (the Catmull–Clark ACC path) are converted
+ * exactly by degree elevation to 5 x 5.  docs/fit.md describes the method and what is exact. */
 #ifndef Q2N_FIT_FIT_H
 #define Q2N_FIT_FIT_H
 
@@ -16,20 +17,21 @@
 typedef enum q2n_fit_solver {
     Q2N_FIT_SOLVER_CERES = 0,    /* Ceres DENSE_QR per independent block, blocks over threads (default) */
     Q2N_FIT_SOLVER_CERES_SPARSE, /* Ceres SPARSE_NORMAL_CHOLESKY over all blocks of a stage at once */
-    Q2N_FIT_SOLVER_DIRECT        /* own Householder QR per block: the reference path */
+    Q2N_FIT_SOLVER_DIRECT        /* LAPACK rank-revealing QR per block: the reference path */
 } q2n_fit_solver;
 
-/* Zero-initialised options mean defaults (given in brackets). */
+/* Zero-initialised options mean defaults (given in brackets; fit_policy.h). */
 typedef struct q2n_fit_options {
     double tol;            /* max deviation, relative to the bounding-box diagonal [1e-5] (--tol) */
     int continuity;        /* 1 = G1, 2 = G2 [1] */
-    int threads;           /* solver threads [1] (--threads) */
+    int threads;           /* worker threads [1] (--threads) */
     int solver;            /* q2n_fit_solver [Q2N_FIT_SOLVER_CERES] */
-    int max_spans;         /* cap on knot spans per ribbon [48] */
-    int max_rounds;        /* refinement rounds [10] */
-    double g1_target_deg;  /* normal-angle jump target across edges [0.005 degrees] */
-    double g2_target_rel;  /* relative normal-curvature jump target, G2 mode [0.005] */
-    double g1_weight;      /* weight of the gluing relations against sample fidelity [100] */
+    int max_spans;         /* cap on knot spans per patch direction [64] (--max-spans) */
+    int max_rounds;        /* refinement rounds [12] */
+    double g1_target_deg;  /* acceptance: normal-angle jump across edges [0.01 degrees]; refinement aims at half */
+    double g2_target_rel;  /* acceptance: relative normal-curvature jump, G2 mode [0.01]; refinement aims at half */
+    double g1_weight;      /* weight of least-squares gluing rows against sample fidelity [100] */
+    int no_exact;          /* 1: impose every gluing relation by least squares (no equality constraints) [0] */
 } q2n_fit_options;
 
 /* What q2n_fit_surface measured (all relative values are divided by the bounding-box diagonal,
@@ -39,15 +41,20 @@ typedef struct q2n_fit_report {
     int exact;                 /* 1: all patches were Bézier and converted exactly */
     int continuity;            /* 1 or 2 */
     double tol;                /* requested relative tolerance */
+    double g1_target_deg, g2_target_rel;      /* acceptance targets used */
     int tol_met;               /* dev_met && g1_met && g2_met */
     int dev_met;               /* max_dev_rel <= tol (else q2n_fit_surface fails) */
     int g1_met, g2_met;        /* continuity targets held on every edge where the construction
                                   meets them itself (g2_met is 1 in G1 mode) */
-    char note[200];            /* which edge missed a continuity target, or "" */
+    char note[240];            /* which edge missed a continuity target, or "" */
     int rounds;                /* refinement rounds used */
+    int g1_exact_edges;        /* interior edges whose G1 relation is an equality constraint */
+    int g1_ls_edges;           /* interior edges whose G1 relation is least squares */
     int spans_min, spans_median, spans_max;   /* knot spans per patch (m_u * m_v) */
-    int ribbon_spans_max;      /* largest span count of any ribbon */
-    long samples, checks;      /* fit samples and check points (patch interiors) */
+    int cp_min, cp_median, cp_max;            /* control points per patch (n_u * n_v) */
+    long cp_total;             /* control points of all patches */
+    int edge_spans_max;        /* largest span count of any edge curve */
+    long samples, checks;      /* construction evaluations for fit samples and check points */
     double max_dev_rel, rms_dev_rel;          /* at check points between the fit samples */
     double vertex_dev_max_rel; /* construction's patch corners vs mesh vertices */
     double g0_max_rel;         /* gap between the two fitted sides of every interior edge */
@@ -55,6 +62,7 @@ typedef struct q2n_fit_report {
     double g2_max_rel;         /* max normal-curvature jump / local curvature (fitted) */
     double g1_construction_deg, g2_construction_rel;  /* the same on the construction itself */
     double t_sample, t_build, t_solve, t_measure, t_total;  /* seconds per stage */
+    long step_bytes, iges_bytes;   /* sizes of the CAD files written from this fit (0: none; set by the writer's caller) */
     int solver, threads;
 } q2n_fit_report;
 
@@ -65,9 +73,8 @@ void q2n_fit_options_default(q2n_fit_options *o);
  * patches, non-quads or a mix of Bézier and non-polynomial patches; with Q2N_ERR_GEOMETRY
  * (message names the worst face) when the deviation tolerance is not met within max_spans /
  * max_rounds — *out is then still set, so the caller may inspect or export it.  Continuity
- * targets that refinement cannot reach (the construction's own limits, e.g. curvature at
- * Gregory-type corners) do not fail the call: rep->g1_met / g2_met say so and rep->note names
- * the worst edge. */
+ * targets that refinement cannot reach (the construction's own limits) do not fail the call:
+ * rep->g1_met / g2_met say so and rep->note names the worst edge. */
 q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fit_options *opt,
                            q2n_nurbs_model **out, q2n_fit_report *rep, q2n_error *err);
 

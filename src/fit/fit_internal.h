@@ -1,32 +1,46 @@
-/* fit_internal.h — internals shared by the files of src/fit/ (not a public header): the uniform
- * clamped quintic B-spline basis with derivatives, second-order evaluation of fitted surfaces, and
- * the linear least-squares "stage" structure that both solvers (Ceres shim, direct Householder QR)
- * consume. */
+/* fit_internal.h — internals shared by the files of src/fit/ (not a public header): the quintic
+ * B-spline basis on arbitrary clamped knot vectors, knot insertion, second-order evaluation of
+ * fitted surfaces, the linear least-squares container both solvers (Ceres shim, LAPACK) consume,
+ * the parallel loop, and the measurement of a model against its construction. */
 #ifndef Q2N_FIT_INTERNAL_H
 #define Q2N_FIT_INTERNAL_H
 
 #include "core/error.h"
 #include "fit/bspline.h"
+#include "fit/fit.h"
+#include "patch/surface.h"
 
-#define FIT_DEG 5                 /* every fitted or converted patch is bi-quintic */
-#define FIT_MAX_SPANS 256
+#define Q2N_FIT_DEG 5                 /* every fitted or converted patch is bi-quintic */
 
-/* Clamped uniform knot vector of degree FIT_DEG with m spans: kv[0..m+2*FIT_DEG] (m + 11 knots). */
-void fit_knots_uniform(int m, double *kv);
-/* Span index i (FIT_DEG <= i <= n-1) with kv[i] <= t < kv[i+1]; n = number of control points. */
-int fit_span(int n, const double *kv, double t);
-/* Non-zero basis functions of span i at t and their derivatives up to order nder <= 2:
- * ders[r][a] = d^r/dt^r N_{i-FIT_DEG+a}(t) (NURBS Book A2.3). */
-void fit_basis(int i, const double *kv, double t, int nder, double ders[3][FIT_DEG + 1]);
+/* ---- knot vectors and basis (fit_basis.c) ----
+ * A knot vector of degree Q2N_FIT_DEG is clamped on [0,1]: 6 zeros, the interior breakpoints (all
+ * simple), 6 ones; nb interior breakpoints give nb + 1 spans and nb + 6 control points. */
+void q2n_fit_knots_from_breaks(int nb, const double *br, double *kv);       /* kv: nb + 12 entries */
+void q2n_fit_knots_uniform(int m, double *kv);                              /* m spans, i/m */
+/* Span index i (Q2N_FIT_DEG <= i <= n-1) with kv[i] <= t < kv[i+1]; n = number of control points. */
+int q2n_fit_span(int n, const double *kv, double t);
+/* Non-zero basis functions of span i at t and derivatives up to order nder <= 2:
+ * ders[r][a] = d^r/dt^r N_{i-5+a}(t) (NURBS Book A2.3). */
+void q2n_fit_basis(int i, const double *kv, double t, int nder, double ders[3][Q2N_FIT_DEG + 1]);
+/* Parameters of the fit samples (per_span points per span: a + (b - a) j / per_span, then 1) and of the
+ * check points between them (the midpoints); returns the count written (nspans * per_span + 1, or
+ * nspans * per_span for checks). */
+int q2n_fit_sample_params(int n, const double *kv, int per_span, double *out);
+int q2n_fit_check_params(int n, const double *kv, int per_span, double *out);
+/* Knot insertion (Boehm; NURBS Book A5.4): the degree-5 curve (n control points of dim doubles
+ * each, knots kv) re-expressed on kv2 (n2 control points), which must contain every knot of kv;
+ * returns 0, or -1 when kv2 is not a refinement of kv. */
+int q2n_fit_curve_refine(int n, const double *kv, const double *cp, int dim, int n2, const double *kv2, double *cp2);
 /* Evaluate a polynomial B-spline surface with derivatives up to order nder (0..2) into out[] in
  * the layout of q2n_surface_eval (S, Su, Sv, Suu, Suv, Svv; surface.h). */
-void fit_surface_eval(const q2n_bspline_surface *s, double u, double v, int nder, double *out);
+void q2n_fit_surface_eval(const q2n_bspline_surface *s, double u, double v, int nder, double *out);
 
-/* A linear least-squares stage: independent items, each with its own unknown control points
- * (3-vectors) and rows  sum_j val_j * x[col_j] = rhs (3 components, same coefficients for x, y, z:
- * every fit condition here — sample fidelity and the G1/G2 gluing relations with scalar gluing
- * functions — acts coordinate-wise).  Items own contiguous ranges of variables and rows. */
-typedef struct fit_ls {
+/* ---- linear least squares (fit_ls.c) ----
+ * A stage: independent items, each with its own unknown control points (3-vectors) and rows
+ *   sum_j val_j * x[col_j] = rhs (3 components, same coefficients for x, y, z: every fit condition —
+ * sample fidelity, gluing relations with scalar gluing functions — acts coordinate-wise).  Items own
+ * contiguous ranges of variables and rows. */
+typedef struct q2n_fit_ls {
     int nvar, nrow, nent, nitem;
     int cap_row, cap_ent, cap_item;
     int *row_start;   /* nrow+1 */
@@ -36,60 +50,75 @@ typedef struct fit_ls {
     int *item_var;    /* nitem+1: first variable of each item */
     int *item_row;    /* nitem+1: first row of each item */
     double *x;        /* 3*nvar: the solution */
-} fit_ls;
+} q2n_fit_ls;
 
-void fit_ls_init(fit_ls *ls);
-void fit_ls_free(fit_ls *ls);
-void fit_ls_clear(fit_ls *ls);
-q2n_status fit_ls_item_begin(fit_ls *ls);          /* closes the previous item */
-void fit_ls_item_end(fit_ls *ls);                  /* closes the last item */
-q2n_status fit_ls_new_var(fit_ls *ls, int *id);
-/* Start a row with right-hand side rhs[3]; entries follow with fit_ls_entry. */
-q2n_status fit_ls_row(fit_ls *ls, const double rhs[3]);
-q2n_status fit_ls_entry(fit_ls *ls, int var, double val);
+void q2n_fit_ls_init(q2n_fit_ls *ls);
+void q2n_fit_ls_free(q2n_fit_ls *ls);
+void q2n_fit_ls_clear(q2n_fit_ls *ls);
+q2n_status q2n_fit_ls_item_begin(q2n_fit_ls *ls);      /* closes the previous item */
+void q2n_fit_ls_item_end(q2n_fit_ls *ls);              /* closes the last item */
+q2n_status q2n_fit_ls_new_var(q2n_fit_ls *ls, int *id);
+/* Start a row with right-hand side rhs[3]; entries follow with q2n_fit_ls_entry. */
+q2n_status q2n_fit_ls_row(q2n_fit_ls *ls, const double rhs[3]);
+q2n_status q2n_fit_ls_entry(q2n_fit_ls *ls, int var, double val);
+/* A whole item at once: m rows over n new unknowns, A row-major m x n, b m x 3 (row-major);
+ * *var0 gets the first unknown. */
+q2n_status q2n_fit_ls_dense_item(q2n_fit_ls *ls, int m, int n, const double *A, const double *b, int *var0);
 
-/* Direct reference solver: Householder QR per item (3 right-hand sides). */
-q2n_status fit_ls_solve_direct(fit_ls *ls, q2n_error *err);
-/* Ceres solver (ceres_shim.cpp). */
-q2n_status fit_ls_solve_ceres(fit_ls *ls, int threads, int dense, q2n_error *err);
+/* Direct reference solver: LAPACK rank-revealing QR per item (3 right-hand sides). */
+q2n_status q2n_fit_ls_solve_direct(q2n_fit_ls *ls, q2n_error *err);
+/* Ceres (core/ceres_shim.cpp): dense != 0 DENSE_QR per item over `threads` workers, else one
+ * SPARSE_NORMAL_CHOLESKY solve of everything. */
+q2n_status q2n_fit_ls_solve_ceres(q2n_fit_ls *ls, int threads, int dense, q2n_error *err);
+/* With the solver the options name. */
+q2n_status q2n_fit_ls_solve(q2n_fit_ls *ls, int solver, int threads, q2n_error *err);
 
-#endif
+/* ---- parallel loop (fit_par.c) ----
+ * Run fn(arg, i) for i = 0..n-1 on `threads` workers (item i on worker i mod threads, so the
+ * assignment does not depend on timing); falls back to the calling thread when a thread cannot be
+ * started.  fn must only write data owned by item i. */
+void q2n_fit_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg);
 
-/* ---- shared by fit.c and fit_report.c ---- */
-#include "fit/fit.h"
+/* ---- measurement (fit_measure.c) ---- */
 
-/* Fit samples per direction for a span count m: t_k = k/(N-1), k = 0..N-1; deviation and
- * continuity are checked at the midpoints (k+1/2)/(N-1), which are never fit samples. */
-static inline int fit_nsamples(int m) { return 4 * m + 4; }
+/* Corner (u, v) of corner i of a patch (0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)). */
+extern const int q2n_fit_corner_uv[4][2];
 
-/* Per-patch and per-edge results of a measurement (arrays may be NULL). */
-typedef struct fit_measure_out {
+/* Per-patch and per-edge results of a measurement (arrays may be NULL).  Deviation is measured at
+ * the cell centres of each patch's check grid (q2n_fit_check_params in u and v), continuity at the
+ * check points of each interior edge's owner side. */
+typedef struct q2n_fit_measure_out {
     double *patch_dev;     /* nf: max deviation / diag */
-    double *patch_dir;     /* 2*nf: share of the u- and v-direction in the error estimate (sum 1) */
+    double *edge_g0;       /* ne: max gap / diag between the two fitted sides */
     double *edge_g1;       /* ne: max normal-angle jump (degrees), fitted */
     double *edge_g2;       /* ne: max relative normal-curvature jump, fitted */
     double *edge_g1_c;     /* ne: the same on the construction (NULL: skip) */
     double *edge_g2_c;
-} fit_measure_out;
+} q2n_fit_measure_out;
 
-/* threads: workers over patches and edges (results reduced in index order: thread-count
- * independent).  The construction's evaluators must be safe to call concurrently (they are pure
- * functions of const data in this project). */
-q2n_status fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
-                             fit_measure_out *mo, int threads, q2n_error *err);
-double fit_now(void);   /* monotonic seconds */
+/* Normal-angle (degrees) and relative normal-curvature jump between two sides' derivative sets at
+ * one edge point (layout of q2n_surface_eval, nder 2); T = tangent along the edge; diag sets the
+ * curvature floor 1/diag. */
+void q2n_fit_jumps(const double *dL, const double *dR, const double T[3], double diag, double *g1, double *g2);
+
+/* Measure every patch and edge of `model` against s on `threads` workers (results reduced in index
+ * order: thread-count independent) into rep's measured fields and mo. */
+q2n_status q2n_fit_measure_model(const q2n_nurbs_model *model, const q2n_surface *s, q2n_fit_report *rep,
+                                 q2n_fit_measure_out *mo, int threads, q2n_error *err);
 
 /* Smoothness scan of the construction's patch k (explains a failed fit, and stops refinement of
- * patches that no spline can follow): first derivatives on an n x n grid (FIT_SCAN_N for the
- * final message, FIT_SCAN_N_QUICK during refinement); *ratio = max(|Su|, |Sv|) / its median over the grid, at
- * (*u, *v), *dmax the maximum itself.  A ratio in the hundreds means a feature narrower than any
- * knot spacing the fit may use (a near-pole of the construction), not slow convergence. */
-#define FIT_SCAN_N 513
-#define FIT_SCAN_N_QUICK 257
-q2n_status fit_scan_construction(const q2n_surface *s, int k, int n, double *ratio, double *u, double *v,
-                                 double *dmax);
+ * patches that no spline can follow): first derivatives on an n x n grid; *ratio = max(|Su|, |Sv|) /
+ * its median over the grid, at (*u, *v), *dmax the maximum itself.  A ratio in the hundreds means a
+ * feature narrower than any knot spacing the fit may use (a near-pole of the construction). */
+q2n_status q2n_fit_scan_construction(const q2n_surface *s, int k, int n, double *ratio, double *u, double *v,
+                                     double *dmax);
 
-/* Run fn(arg, i) for i = 0..n-1 on `threads` workers (item i on worker i mod threads, so the
- * assignment does not depend on timing); falls back to the calling thread when a thread cannot be
- * started.  fn must only write data owned by item i. */
-void fit_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg);
+/* Control points per face (min, median, max) and spans per patch of a model into rep. */
+void q2n_fit_report_sizes(const q2n_nurbs_model *md, q2n_fit_report *rep);
+
+/* ---- exact conversion (fit_bezier.c) ---- */
+/* Every patch of s is Bézier: elevate each to 5 x 5 (exact), unify shared boundaries, measure. */
+q2n_status q2n_fit_convert_bezier(const q2n_surface *s, const q2n_mesh *m, const q2n_fit_options *o,
+                                  q2n_nurbs_model **out, q2n_fit_report *rep, q2n_error *err);
+
+#endif

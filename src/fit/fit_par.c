@@ -5,7 +5,7 @@
 
 #include <pthread.h>
 
-#define FIT_MAX_THREADS 64
+#define Q2N_FIT_MAX_THREADS 64
 
 typedef struct par_job {
     void (*fn)(void *, int);
@@ -20,13 +20,13 @@ static void *par_worker(void *p)
     return NULL;
 }
 
-void fit_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg)
+void q2n_fit_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg)
 {
-    int T = threads < 1 ? 1 : threads > FIT_MAX_THREADS ? FIT_MAX_THREADS : threads;
+    int T = threads < 1 ? 1 : threads > Q2N_FIT_MAX_THREADS ? Q2N_FIT_MAX_THREADS : threads;
     if (T > n) T = n > 0 ? n : 1;
-    par_job jobs[FIT_MAX_THREADS];
-    pthread_t tid[FIT_MAX_THREADS];
-    int started[FIT_MAX_THREADS] = {0};
+    par_job jobs[Q2N_FIT_MAX_THREADS];
+    pthread_t tid[Q2N_FIT_MAX_THREADS];
+    int started[Q2N_FIT_MAX_THREADS] = {0};
     for (int w = 0; w < T; w++) {
         jobs[w] = (par_job){fn, arg, n, w, T};
         if (w > 0) started[w] = pthread_create(&tid[w], NULL, par_worker, &jobs[w]) == 0;

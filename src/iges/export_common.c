@@ -244,6 +244,16 @@ static q2n_status check_watertight(const q2n_nurbs_model *m, q2n_export_topo *t,
         if (g < 0) continue;
         int fh = me->he_face[h], fg = me->he_face[g];
         int sh = h - me->face_start[fh], sg = g - me->face_start[fg];
+        for (int j = 0; m->edges && j <= 8; j++) {   /* the model's edge curve lies on the patch boundary */
+            double a[3], b[3];
+            side_point(&m->patches[fh], sh, j / 8.0, a);
+            q2n_bspline_curve_eval(&m->edges[e], j / 8.0, b, NULL);
+            double d = q2n_v3_dist(a, b);
+            if (!(d <= tol))
+                return q2n_error_set(err, Q2N_ERR_GEOMETRY,
+                                     "export: edge %d: its curve and the boundary of face %d differ by %.3g at t = %g "
+                                     "(resolution %.3g)", e, fh, d, j / 8.0, t->resolution);
+        }
         for (int j = 0; j <= 8; j++) {
             double a[3], b[3];
             side_point(&m->patches[fh], sh, j / 8.0, a);
@@ -341,7 +351,22 @@ static int build_components(const q2n_mesh *me, q2n_export_topo *t)
     return 1;
 }
 
-/* Edge curves: the boundary of the patch of edge_he[e], in that patch's parameter direction
+/* A copy of a model edge curve in the writers' form. */
+static q2n_status copy_curve(const q2n_bspline_curve *in, q2n_export_curve *c)
+{
+    memset(c, 0, sizeof *c);
+    c->deg = in->deg;
+    c->ncp = in->ncp;
+    c->knots = malloc(sizeof(double) * (size_t)(in->ncp + in->deg + 1));
+    c->cp = malloc(3 * sizeof(double) * (size_t)in->ncp);
+    if (!c->knots || !c->cp) { q2n_export_curve_free(c); return Q2N_ERR_NOMEM; }
+    memcpy(c->knots, in->knots, sizeof(double) * (size_t)(in->ncp + in->deg + 1));
+    memcpy(c->cp, in->cp, 3 * sizeof(double) * (size_t)in->ncp);
+    return Q2N_OK;
+}
+
+/* Edge curves: the model's edge curves when it has them (each patch boundary is the same curve by
+ * knot insertion), else the boundary of the patch of edge_he[e], in that patch's parameter direction
  * (sides 0, 1 run origin -> dest, sides 2, 3 dest -> origin); he_sense says which half-edges
  * run along their curve.  Returns 0 when out of memory. */
 static int build_edges(const q2n_nurbs_model *m, q2n_export_topo *t)
@@ -349,7 +374,11 @@ static int build_edges(const q2n_nurbs_model *m, q2n_export_topo *t)
     const q2n_mesh *me = m->mesh;
     for (int e = 0; e < me->ne; e++) {
         int h = me->edge_he[e], f = me->he_face[h], side = h - me->face_start[f], fwd = side < 2;
-        if (q2n_export_side_curve(&m->patches[f], side, &t->edge_curve[e]) != Q2N_OK) return 0;
+        if (m->edges) {   /* the model's own edge curve (owner orientation) */
+            if (copy_curve(&m->edges[e], &t->edge_curve[e]) != Q2N_OK) return 0;
+            fwd = 1;
+        } else if (q2n_export_side_curve(&m->patches[f], side, &t->edge_curve[e]) != Q2N_OK)
+            return 0;
         t->edge_v[2 * e] = fwd ? q2n_he_origin(me, h) : q2n_he_dest(me, h);
         t->edge_v[2 * e + 1] = fwd ? q2n_he_dest(me, h) : q2n_he_origin(me, h);
     }

@@ -1,0 +1,29 @@
+/* dense.h — the project's one home for dense linear algebra: small least-squares and constraint
+ * problems solved by LAPACK (Debian liblapack-dev; the Fortran routines dgelsy_ and dgesvd_ called
+ * from C).  Matrices are column-major (Fortran order) with a leading dimension, as LAPACK takes
+ * them.  Functions return 0 on success, a negative value for a bad argument and a positive value
+ * when out of memory or when LAPACK reports a failure. */
+#ifndef Q2N_CORE_DENSE_H
+#define Q2N_CORE_DENSE_H
+
+/* min ||A X - B|| (Frobenius) for A m x n and B m x nrhs, by a rank-revealing complete orthogonal
+ * factorisation (LAPACK dgelsy: QR with column pivoting; Golub & Van Loan, Matrix Computations
+ * §5.4.1).  Columns whose pivot falls below rcond times the largest are treated as dependent;
+ * *rank (may be NULL) gets the numerical rank.  A is overwritten; B (ldb >= max(m, n)) holds X in
+ * its first n rows on return.  When rank < n, X is the minimum-norm solution. */
+int q2n_dense_lstsq(int m, int n, int nrhs, double *A, int lda, double *B, int ldb, double rcond, int *rank);
+
+/* Equality constraints C X = D (C c x n, D c x nrhs) in null-space form (Golub & Van Loan §12.1.4,
+ * LSE by elimination): every solution is X = Xp + Z Y with Z an orthonormal basis (n x k, column-
+ * major, ldz = n) of the null space of C and Xp (n x nrhs, ldx = n) the minimum-norm least-squares
+ * solution of C X = D, from the SVD of C (LAPACK dgesvd).  Singular values below rcond times the
+ * largest count as zero (the rows of C may be dependent; consistent dependent rows are harmless).
+ * *k gets the null-space dimension, *resid (may be NULL) max |C Xp - D| (0 for consistent
+ * constraints up to rounding).  C and D are not modified.  Z needs room for n x n doubles. */
+int q2n_dense_nullspace(int c, int n, const double *C, int ldc, int nrhs, const double *D, int ldd, double rcond,
+                        double *Z, int *k, double *Xp, double *resid);
+
+/* R = A B for A m x p, B p x n (column-major, leading dimensions lda, ldb, ldr). */
+void q2n_dense_mul(int m, int p, int n, const double *A, int lda, const double *B, int ldb, double *R, int ldr);
+
+#endif

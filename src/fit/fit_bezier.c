@@ -1,0 +1,115 @@
+/* fit_bezier.c — exact conversion of Bézier patches (the Catmull–Clark ACC path) into the fit's
+ * output: every patch is degree-elevated to 5 x 5 with one span (Farin, Curves and Surfaces for
+ * CAGD, §5.1: b_i' = i/(n+1) b_{i-1} + (1 - i/(n+1)) b_i), which is exact.  Why quintic and not
+ * cubic: every patch of every model then has one degree, so the edge curves of neighbours (cubic
+ * ACC faces next to quintic G1 faces near extraordinary vertices) have identical control points and
+ * knots, which the one-edge-curve-per-mesh-edge STEP/IGES writers need. */
+#include "fit/fit_internal.h"
+#include "fit/fit_policy.h"
+#include "core/clock.h"
+#include "core/vec3.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* Elevate a Bézier patch of degree (du, dv) to (5, 5) into the grid out[3*36]. */
+static void elevate(int du, int dv, const double *cp, double *out)
+{
+    double a[3 * 36], b[3 * 36];
+    int nu = du + 1, nv = dv + 1;
+    memcpy(a, cp, 3 * (size_t)nu * nv * sizeof(double));
+    for (; nu < Q2N_FIT_DEG + 1; nu++) {   /* u: b_i = i/n a_{i-1} + (1 - i/n) a_i, n = new degree */
+        for (int j = 0; j < nv; j++)
+            for (int i = 0; i <= nu; i++)
+                for (int q = 0; q < 3; q++) {
+                    double l = i > 0 ? a[3 * (j * nu + i - 1) + q] : 0.0, r = i < nu ? a[3 * (j * nu + i) + q] : 0.0;
+                    b[3 * (j * (nu + 1) + i) + q] = (double)i / nu * l + (1.0 - (double)i / nu) * r;
+                }
+        memcpy(a, b, 3 * (size_t)(nu + 1) * nv * sizeof(double));
+    }
+    for (; nv < Q2N_FIT_DEG + 1; nv++) {
+        for (int j = 0; j <= nv; j++)
+            for (int i = 0; i < nu; i++)
+                for (int q = 0; q < 3; q++) {
+                    double l = j > 0 ? a[3 * ((j - 1) * nu + i) + q] : 0.0, r = j < nv ? a[3 * (j * nu + i) + q] : 0.0;
+                    b[3 * (j * nu + i) + q] = (double)j / nv * l + (1.0 - (double)j / nv) * r;
+                }
+        memcpy(a, b, 3 * (size_t)nu * (nv + 1) * sizeof(double));
+    }
+    memcpy(out, a, 3 * 36 * sizeof(double));
+}
+
+/* Grid index of the it-th control point along side i of a 6 x 6 patch. */
+static int side_index(int i, int it)
+{
+    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3];
+    int a = c0[0] * 5 + it * (c1[0] - c0[0]), b = c0[1] * 5 + it * (c1[1] - c0[1]);
+    return b * 6 + a;
+}
+
+q2n_status q2n_fit_convert_bezier(const q2n_surface *s, const q2n_mesh *m, const q2n_fit_options *o,
+                                  q2n_nurbs_model **out, q2n_fit_report *rep, q2n_error *err)
+{
+    double diag = q2n_mesh_bbox_diag(m);
+    q2n_nurbs_model *md = calloc(1, sizeof *md);
+    if (!md) return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (model)");
+    md->n = m->nf;
+    md->mesh = m;
+    md->tol_abs = o->tol * diag;
+    md->patches = calloc((size_t)m->nf, sizeof *md->patches);
+    if (!md->patches) { free(md); return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (model)"); }
+    for (int k = 0; k < m->nf; k++) {
+        int du, dv;
+        const double *cp;
+        q2n_surface_bezier(s, k, &du, &dv, &cp);
+        q2n_bspline_surface *b = &md->patches[k];
+        if (du > Q2N_FIT_DEG || dv > Q2N_FIT_DEG) {
+            q2n_nurbs_model_free(md);
+            return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "fit: face %d: Bézier degree %d x %d above 5", k, du, dv);
+        }
+        b->deg_u = b->deg_v = Q2N_FIT_DEG;
+        b->ncp_u = b->ncp_v = Q2N_FIT_DEG + 1;
+        b->knots_u = malloc(12 * sizeof(double));
+        b->knots_v = malloc(12 * sizeof(double));
+        b->cp = malloc(3 * 36 * sizeof(double));
+        if (!b->knots_u || !b->knots_v || !b->cp) {
+            q2n_nurbs_model_free(md);
+            return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (patch %d)", k);
+        }
+        q2n_fit_knots_uniform(1, b->knots_u);
+        q2n_fit_knots_uniform(1, b->knots_v);
+        elevate(du, dv, cp, b->cp);
+    }
+    /* shared edges: identical control points on both sides (copy the owner's row) */
+    for (int e = 0; e < m->ne; e++) {
+        int h = m->edge_he[e], ht = m->he_twin[h];
+        if (ht < 0) continue;
+        int kl = m->he_face[h], kr = m->he_face[ht], il = h - m->face_start[kl], ir = ht - m->face_start[kr];
+        for (int it = 0; it < 6; it++) {
+            double *pl = md->patches[kl].cp + 3 * side_index(il, it), *pr = md->patches[kr].cp + 3 * side_index(ir, 5 - it);
+            if (q2n_v3_dist(pl, pr) > Q2N_FIT_BEZIER_AGREE * diag) {
+                double d = q2n_v3_dist(pl, pr);
+                q2n_nurbs_model_free(md);
+                return q2n_error_set(err, Q2N_ERR_GEOMETRY, "fit: edge %d (faces %d, %d): Bézier boundaries differ by %.3g",
+                                     e, kl, kr, d);
+            }
+            memcpy(pr, pl, 3 * sizeof(double));
+        }
+    }
+    *out = md;
+    double t0 = q2n_now();
+    double *g1c = malloc(sizeof(double) * (size_t)m->ne), *g2c = malloc(sizeof(double) * (size_t)m->ne);
+    q2n_fit_measure_out mo = {NULL, NULL, NULL, NULL, g1c, g2c};
+    q2n_status st = g1c && g2c ? q2n_fit_measure_model(md, s, rep, &mo, o->threads, err)
+                               : q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory");
+    free(g1c);
+    free(g2c);
+    rep->t_measure += q2n_now() - t0;
+    rep->exact = 1;
+    rep->rounds = 0;
+    rep->dev_met = rep->max_dev_rel <= o->tol;
+    rep->g1_met = rep->g2_met = 1;   /* the conversion is exact: continuity is the construction's */
+    rep->tol_met = rep->dev_met;
+    q2n_fit_report_sizes(md, rep);
+    return st;
+}

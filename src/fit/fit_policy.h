@@ -1,0 +1,48 @@
+/* fit_policy.h — every threshold and cap of the fit stage, each with why it has its value.  The
+ * mathematics (degree, basis, gluing relations) lives in the .c files; the measured figures that
+ * led to these values are in docs/fit.md, not here. */
+#ifndef Q2N_FIT_POLICY_H
+#define Q2N_FIT_POLICY_H
+
+/* ---- defaults of q2n_fit_options ---- */
+#define Q2N_FIT_TOL_DEFAULT 1e-5        /* relative to the bounding-box diagonal: CAD import tolerances are ~1e-6..1e-4 of a part */
+#define Q2N_FIT_MAX_SPANS_DEFAULT 64    /* knot spans per patch direction: 69 x 69 control points is already heavy for CAD */
+#define Q2N_FIT_MAX_ROUNDS_DEFAULT 12   /* bisection halves a span per round: 2^11 spans of refinement is far beyond the span cap */
+#define Q2N_FIT_G1_TARGET_DEFAULT 0.01  /* degrees of normal jump a CAD kernel still calls tangent-continuous (OCCT's angular tolerance is 0.01 rad; we stay far below) */
+#define Q2N_FIT_G2_TARGET_DEFAULT 0.01  /* relative curvature jump: 1 % is invisible in zebra stripes and curvature combs */
+#define Q2N_FIT_G1_WEIGHT_DEFAULT 10.0  /* least-squares gluing rows against fidelity rows: a row with one free point cannot satisfy both, and 100 cost deviation where refinement was about to make both hold */
+
+/* ---- refinement ---- */
+#define Q2N_FIT_SAMPLES_PER_SPAN 4      /* fit samples per knot span and direction: 4 per new unknown keeps every block well overdetermined */
+#define Q2N_FIT_REFINE_AIM 0.5          /* continuity refinement aims at this fraction of the acceptance target, so acceptance holds with margin */
+#define Q2N_FIT_EDGE_SHARE 0.5          /* share of the tolerance the edge curve may use (the rest is the cross rows' and interior's) */
+#define Q2N_FIT_ROW_SHARE 0.25          /* share of the tolerance a cross-derivative row may cost in position terms */
+#define Q2N_FIT_SPLIT_LEVELS 3         /* a span is split into at most 2^3 parts per round: the error model (h^6, h^5, h^4) is only asymptotic */
+#define Q2N_FIT_SPLIT_MARGIN 2.0       /* a second (third) level of splitting only when the h^p model asks for twice the first's reduction */
+#define Q2N_FIT_DIR_SHARE 0.25          /* a direction whose 6th-difference share of a cell's error is below this is not refined */
+#define Q2N_FIT_STALL_SPANS 8          /* stalling is judged from this many edge spans on: coarser rows may not yet resolve the construction */
+#define Q2N_FIT_STALL_GAIN 1.2          /* a continuity edge refined twice in a row that improved by less than this each time stops driving refinement */
+
+/* ---- gluing data (exact G1 constraints) ---- */
+#define Q2N_FIT_GLUE_SAMPLES 9          /* construction samples per edge that decide the gluing polynomial: 9 dyadic points, reused by the row fits */
+#define Q2N_FIT_GLUE_EXACT 1e-11        /* relative residual below which the construction's gluing is a polynomial of the tested degree (rounding of the 2x2 solve is ~1e-14) */
+#define Q2N_FIT_GLUE_FLAT 1e-9         /* alpha' at an edge end below this (relative) is zero: second derivatives carry ~1e-13 rounding */
+#define Q2N_FIT_SPEED_ITER 4000        /* CGLS iterations of the speed system: its graph-Laplacian-like condition needs ~mesh diameter x 30 */
+#define Q2N_FIT_SPEED_RESID 1e-12       /* an edge whose speed equation (fit_target.c) is missed by more keeps least-squares gluing */
+#define Q2N_FIT_CONSTRAINT_RCOND 1e-11  /* singular values of a constraint block below this (relative) are dependent rows, not conditions */
+#define Q2N_FIT_CONSTRAINT_RESID 1e-9   /* a constraint block whose best solution misses by more (relative) is inconsistent: fall back to least squares */
+
+/* ---- corners ---- */
+#define Q2N_FIT_JET_SPREAD 0.1          /* two corner estimates disagreeing by more than this fraction of tol (control-point terms) are a Gregory-type corner */
+#define Q2N_FIT_JET_H 0.002             /* step of the one-sided 6-point corner differences: rounding ~eps/h^2 stays below 1e-10 relative */
+
+/* ---- construction scan (explains failures) ---- */
+#define Q2N_FIT_SCAN_N 513              /* grid of the final scan: resolves features 1/500 of a face wide */
+#define Q2N_FIT_SCAN_N_QUICK 257        /* grid of the scan during refinement: half the cost, still far below any knot spacing */
+#define Q2N_FIT_SPIKE_RATIO 10.0        /* |dS| above 10x its median on a face is a spike narrower than any knot spacing (smooth faces stay below ~3) */
+#define Q2N_FIT_SCAN_SPANS 16           /* a failing patch is scanned once before it gets this many spans in a direction */
+
+/* ---- exact Bézier conversion ---- */
+#define Q2N_FIT_BEZIER_AGREE 1e-9       /* shared Bézier boundaries must agree to this (relative) before they are unified */
+
+#endif

@@ -1,0 +1,232 @@
+/* fit_refine.c — where the knots go: the refinement policy of the fit (thresholds in fit_policy.h).
+ *
+ * After each round the driver has measured, per patch, the deviation in every cell of its check
+ * grid and, per edge, at the check points of its owner side: the edge curve's deviation, the cross
+ * rows' deviation (in position terms) and the fitted normal and curvature jumps.  Refinement bisects
+ * knot spans where the error is, so the knots grade towards it and never travel:
+ *  - a cell over the tolerance bisects its patch's span(s) in the direction(s) that limit it (6th
+ *    differences of the construction around the worst cell: the quintic error term is
+ *    ~ h^6 |d^6 S| per direction) — an interior knot of that patch only;
+ *  - an edge whose curve or cross rows are off bisects that span of the edge's own knots, which
+ *    both neighbours (and only they) take up;
+ *  - an edge whose G1 or G2 relation is least squares and misses half its target, where the
+ *    construction itself meets that, splits every span of its knots (that converges; grading
+ *    towards the worst point did not next to extraordinary corners);
+ * all within max_spans per patch direction.  A bisection halves h: the deviation falls ~64x, the
+ * normal jump ~32x, the curvature jump ~16x per round where the construction is smooth; a span
+ * whose error needs more is split into 4 or 8 at once (split_levels). */
+#include "fit/fit_policy.h"
+#include "fit/fit_state.h"
+#include "core/clock.h"
+#include "core/vec3.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Spans of patch k in direction d, counting the knots added to it in this round. */
+static int patch_spans(const fit_ctx *c, int k, int d) { return (d ? c->p[k].mv : c->p[k].mu) + c->p[k].pending[d]; }
+
+/* Would breakpoint t (in side orientation of side i of patch k) be new in that patch? */
+static int new_in_patch(const fit_ctx *c, int k, int i, double t)
+{
+    const fit_patch *p = &c->p[k];
+    double x = i < 2 ? t : 1.0 - t;
+    const double *kv = (i & 1) ? p->kv : p->ku;
+    int n = (i & 1) ? p->nv : p->nu;
+    for (int q = 6; q < n; q++)
+        if (kv[q] == x) return 0;
+    return 1;
+}
+
+/* Add breakpoint mid (owner orientation, inside one of its spans) to edge e unless a cap forbids
+ * it; returns 1 when a knot was added. */
+static int bisect_edge(fit_ctx *c, int e, double mid)
+{
+    fit_edge *E = &c->e[e];
+    if (E->K.n + 1 >= c->o.max_spans) return 0;
+    const q2n_mesh *m = c->m;
+    int h[2] = {m->edge_he[e], m->he_twin[m->edge_he[e]]};
+    for (int x = 0; x < 2; x++) {
+        if (h[x] < 0) continue;
+        int k = m->he_face[h[x]], i = h[x] - m->face_start[k];
+        double ts = x ? 1.0 - mid : mid;
+        if (new_in_patch(c, k, i, ts) && patch_spans(c, k, i & 1) >= c->o.max_spans) return 0;
+    }
+    int r = q2n_fit_breaks_add(&E->K, mid);
+    if (r <= 0) return 0;
+    E->ver++;
+    for (int x = 0; x < 2; x++)
+        if (h[x] >= 0) {
+            int k = m->he_face[h[x]], i = h[x] - m->face_start[k];
+            if (new_in_patch(c, k, i, x ? 1.0 - mid : mid)) c->p[k].pending[i & 1]++;
+        }
+    return 1;
+}
+
+/* Add breakpoint t (inside one of its spans) to patch k's interior knots in direction d unless the
+ * span cap forbids it; returns 1 when a knot was added. */
+static int bisect_patch(fit_ctx *c, int k, int d, double t)
+{
+    fit_patch *p = &c->p[k];
+    if (patch_spans(c, k, d) >= c->o.max_spans) return 0;
+    if (q2n_fit_breaks_add(&p->I[d], t) <= 0) return 0;
+    p->pending[d]++;
+    return 1;
+}
+
+/* Stalled: refined twice in a row (its knots grew) while failing, without improving by
+ * Q2N_FIT_STALL_GAIN either time — a smooth construction's jumps fall ~16-32x per bisection, and one
+ * round may get worse while the neighbours' knots change.  *fails counts such rounds. */
+static int stall_update(double now, double prev, int *fails, int failing, int refined)
+{
+    if (!failing) { *fails = 0; return 0; }
+    if (refined) *fails = now < prev / Q2N_FIT_STALL_GAIN ? 0 : *fails + 1;
+    return *fails >= 2;
+}
+
+/* Levels of bisection (each halves the span) that bring an error `ratio` times its target down
+ * to it when the error falls like h^order, at least one and at most Q2N_FIT_SPLIT_LEVELS per round;
+ * a further level only when the model asks for Q2N_FIT_SPLIT_MARGIN times more (it overshoots
+ * otherwise: the error model is asymptotic and the next round can still bisect). */
+static int split_levels(double ratio, double order)
+{
+    double f = pow(ratio > 1 ? ratio : 1, 1.0 / order);
+    int lv = 1;
+    while (Q2N_FIT_SPLIT_MARGIN * (double)(1 << lv) < f && lv < Q2N_FIT_SPLIT_LEVELS) lv++;
+    return lv;
+}
+
+/* Split span [a, b] into 2^lv equal parts through add(t) (dyadic knots stay dyadic); returns the
+ * number of knots added. */
+typedef int (*split_fn)(fit_ctx *c, int id, int d, double t);
+static int split_span(fit_ctx *c, int id, int d, double a, double b, int lv, split_fn add)
+{
+    int n = 1 << lv, r = 0;
+    for (int i = 1; i < n; i++) r += add(c, id, d, a + (b - a) * i / n);
+    return r;
+}
+
+static int add_edge(fit_ctx *c, int e, int d, double t) { (void)d; return bisect_edge(c, e, t); }
+static int add_patch(fit_ctx *c, int k, int d, double t) { return bisect_patch(c, k, d, t); }
+
+int q2n_fit_refine(fit_ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    double tol = c->o.tol;
+    int added = 0;
+    for (int k = 0; k < m->nf; k++) c->p[k].pending[0] = c->p[k].pending[1] = 0;
+    /* edges: curve, rows, continuity */
+    for (int e = 0; e < m->ne; e++) {
+        fit_edge *E = &c->e[e];
+        if (!E->nchk) continue;
+        int lsg1 = E->glue == FIT_GLUE_LS, lsg2 = c->o.continuity == 2 && E->glue2 == FIT_GLUE_LS;
+        double aim1 = Q2N_FIT_REFINE_AIM * c->o.g1_target_deg, aim2 = Q2N_FIT_REFINE_AIM * c->o.g2_target_rel;
+        int c1 = lsg1 && E->g1c <= aim1 && !(E->stalled & 1), c2 = lsg2 && E->g2c <= aim2 && !(E->stalled & 2);
+        /* stalling is judged only in the asymptotic range (a coarse edge's jumps may not fall
+         * until its rows resolve the construction) */
+        int refined = E->K.n > E->kn_prev && E->kn_prev + 1 >= Q2N_FIT_STALL_SPANS;
+        if (c1 && stall_update(E->g1, E->g1_prev, &E->g1_fails, E->g1 > aim1, refined)) { E->stalled |= 1; c1 = 0; }
+        if (c2 && stall_update(E->g2, E->g2_prev, &E->g2_fails, E->g2 > aim2, refined)) { E->stalled |= 2; c2 = 0; }
+        E->g1_prev = E->g1;
+        E->g2_prev = E->g2;
+        E->kn_prev = E->K.n;
+        /* split levels per span of the knots as measured: the curve and the rows where they miss
+         * their share of the tolerance; a least-squares gluing relation that misses its aim splits
+         * every span (it converges under uniform refinement of its edge; graded towards the worst
+         * point it did not next to extraordinary corners: docs/fit.md) */
+        int nsp = E->K.n + 1, cont = 0;
+        unsigned char *lv = calloc((size_t)nsp, 1);
+        double *br = malloc(sizeof(double) * (size_t)(nsp + 1));
+        if (!lv || !br) { free(lv); free(br); continue; }
+        br[0] = 0.0;
+        for (int q = 0; q < E->K.n; q++) br[q + 1] = E->K.t[q];
+        br[nsp] = 1.0;
+        for (int q = 0; q < E->nchk; q++) {
+            const double *ck = E->chk + 5 * (size_t)q;
+            double r0 = ck[1] / (Q2N_FIT_EDGE_SHARE * tol), r1 = ck[2] / (Q2N_FIT_ROW_SHARE * tol);
+            double r2 = c1 ? ck[3] / aim1 : 0.0, r3 = c2 ? ck[4] / aim2 : 0.0;
+            int sp = 0;
+            while (sp < E->K.n && E->K.t[sp] <= ck[0]) sp++;
+            int l = 0;
+            if (r0 > 1) l = split_levels(r0, 6.0);
+            if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
+            if (l > lv[sp]) lv[sp] = (unsigned char)l;
+            if (r2 > 1 && split_levels(r2, 5.0) > cont) cont = split_levels(r2, 5.0);
+            if (r3 > 1 && split_levels(r3, 4.0) > cont) cont = split_levels(r3, 4.0);
+        }
+        for (int sp = 0; sp < nsp; sp++) {
+            int l = lv[sp] > cont ? lv[sp] : cont;
+            if (l) added += split_span(c, e, 0, br[sp], br[sp + 1], l, add_edge);
+        }
+        free(lv);
+        free(br);
+    }
+    /* patches: cells over the tolerance, in the limiting direction(s) */
+    for (int k = 0; k < m->nf; k++) {
+        fit_patch *p = &c->p[k];
+        if (!(p->dev > tol) || p->spiky == 2 || !p->cell) continue;
+        int dirs[2] = {p->share[0] >= Q2N_FIT_DIR_SHARE, p->share[1] >= Q2N_FIT_DIR_SHARE};
+        if (!p->spiky && ((dirs[0] && p->mu * 2 >= Q2N_FIT_SCAN_SPANS) || (dirs[1] && p->mv * 2 >= Q2N_FIT_SCAN_SPANS))) {
+            /* before a patch gets many spans, make sure its construction is smooth at the scale of
+             * the knots (a spike narrower than any knot spacing is reported, not chased) */
+            double ratio = 1.0, su, sv, dmax, t1 = q2n_now();
+            if (q2n_fit_scan_construction(c->s, k, Q2N_FIT_SCAN_N_QUICK, &ratio, &su, &sv, &dmax)) ratio = 1.0;
+            c->rep->t_measure += q2n_now() - t1;
+            p->spiky = ratio <= Q2N_FIT_SPIKE_RATIO ? 1 : 2;
+            if (p->spiky == 2) continue;
+        }
+        /* per span and direction, the worst cell ratio decides the split levels */
+        double *ru = calloc((size_t)p->mu, sizeof(double)), *rv = calloc((size_t)p->mv, sizeof(double));
+        if (!ru || !rv) { free(ru); free(rv); continue; }
+        for (int j = 0; j < p->ncv; j++)
+            for (int i = 0; i < p->ncu; i++) {
+                double r = p->cell[(size_t)j * p->ncu + i] / tol;
+                if (!(r > 1)) continue;
+                int iu = i / Q2N_FIT_SAMPLES_PER_SPAN, iv = j / Q2N_FIT_SAMPLES_PER_SPAN;
+                /* each refined direction takes its share of the error */
+                if (dirs[0] && r * p->share[0] > ru[iu]) ru[iu] = fmax(r * p->share[0], 1.0001);
+                if (dirs[1] && r * p->share[1] > rv[iv]) rv[iv] = fmax(r * p->share[1], 1.0001);
+            }
+        int mu = p->mu, mv = p->mv;
+        for (int sp = 0; sp < mu; sp++)
+            if (ru[sp] > 1) added += split_span(c, k, 0, p->ku[5 + sp], p->ku[6 + sp], split_levels(ru[sp], 6.0), add_patch);
+        for (int sp = 0; sp < mv; sp++)
+            if (rv[sp] > 1) added += split_span(c, k, 1, p->kv[5 + sp], p->kv[6 + sp], split_levels(rv[sp], 6.0), add_patch);
+        free(ru); free(rv);
+    }
+    return added;
+}
+
+void q2n_fit_accept(fit_ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    q2n_fit_report *rep = c->rep;
+    double aim1 = Q2N_FIT_REFINE_AIM * c->o.g1_target_deg, aim2 = Q2N_FIT_REFINE_AIM * c->o.g2_target_rel;
+    int worst_f = -1, worst_e1 = -1, worst_e2 = -1;
+    for (int k = 0; k < m->nf; k++)
+        if (c->p[k].dev > c->o.tol && (worst_f < 0 || c->p[k].dev > c->p[worst_f].dev)) worst_f = k;
+    for (int e = 0; e < m->ne; e++) {
+        const fit_edge *E = &c->e[e];
+        if (E->glue == FIT_GLUE_BOUNDARY) continue;
+        if (E->g1 > c->o.g1_target_deg && E->g1c <= aim1 && (worst_e1 < 0 || E->g1 > c->e[worst_e1].g1)) worst_e1 = e;
+        if (c->o.continuity == 2 && E->g2 > c->o.g2_target_rel && E->g2c <= aim2 &&
+            (worst_e2 < 0 || E->g2 > c->e[worst_e2].g2))
+            worst_e2 = e;
+    }
+    rep->dev_met = worst_f < 0;
+    rep->g1_met = worst_e1 < 0;
+    rep->g2_met = c->o.continuity == 1 || worst_e2 < 0;
+    rep->tol_met = rep->dev_met && rep->g1_met && rep->g2_met;
+    rep->note[0] = 0;
+    if (worst_e1 >= 0 || worst_e2 >= 0) {
+        int e = worst_e1 >= 0 ? worst_e1 : worst_e2;
+        const fit_edge *E = &c->e[e];
+        snprintf(rep->note, sizeof rep->note,
+                 "edge %d (faces %d, %d): normal jump %.3g deg, curvature jump %.3g (targets %.3g deg, %.3g; "
+                 "the construction's own: %.3g deg, %.3g) not reached", e, m->he_face[m->edge_he[e]],
+                 m->he_face[m->he_twin[m->edge_he[e]]], E->g1, E->g2, c->o.g1_target_deg, c->o.g2_target_rel, E->g1c,
+                 E->g2c);
+    }
+}

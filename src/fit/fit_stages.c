@@ -1,0 +1,969 @@
+/* fit_stages.c — the linear stages of one fitting round, for the patches and edges whose knots or
+ * data changed (the "dirty" set), and the caches of construction samples they read.
+ *
+ * A round (fit_round) for given knots:
+ *  1. knots: each patch's u (v) knot vector is the union of its two u-edges' (v-edges') breakpoints
+ *     and its own interior ones (fit_state.h); patches whose vectors changed are rebuilt;
+ *  2. edge curves: each mesh edge's boundary curve is fitted ONCE on its own knots K_e: least
+ *     squares of the owner patch's edge samples with Hermite end conditions (value, first and
+ *     second derivative along the edge equal the construction's at both ends, exact);
+ *  3. patch boundaries: each patch side is its edge curve re-expressed on the patch's knots along
+ *     that side by knot insertion (the same curve; control points copied bit for bit where the
+ *     knots agree, which is always the case when neither patch has extra knots there);
+ *  4. corner jets: Q11 (and Q21, Q12, Q22) reproduce the construction's mixed derivatives at every
+ *     corner (computed once per fit; exact for polynomial patches), so the jets of all edges at a
+ *     vertex agree with the construction's and the G1/G2 relations hold there to that order;
+ *  5. cross rows (fit_glue.c): first rows of both sides of every edge jointly, with the G1 relation
+ *     as an equality constraint where the gluing data are polynomial, else as weighted rows;
+ *     second rows likewise with the G2 relation in G2 mode;
+ *  6. interiors: the remaining control points of each patch by least squares on its sample grid,
+ *     solved separably (two passes of 1-D blocks).
+ * Only what changed is refitted: an edge whose knots changed, the patches whose knot vectors
+ * changed, the edges of those patches and the patches on the other side of those edges. */
+#include "fit/fit_policy.h"
+#include "fit/fit_state.h"
+#include "core/clock.h"
+#include "core/vec3.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ------------------------------------------------------------------ breakpoints */
+
+int q2n_fit_breaks_add(fit_breaks *b, double t)
+{
+    int lo = 0, hi = b->n;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (b->t[mid] < t) lo = mid + 1;
+        else hi = mid;
+    }
+    if (lo < b->n && b->t[lo] == t) return 0;
+    if (b->n == b->cap) {
+        int nc = b->cap ? 2 * b->cap : 8;
+        double *nt = realloc(b->t, sizeof(double) * (size_t)nc);
+        if (!nt) return -1;
+        b->t = nt;
+        b->cap = nc;
+    }
+    memmove(b->t + lo + 1, b->t + lo, sizeof(double) * (size_t)(b->n - lo));
+    b->t[lo] = t;
+    b->n++;
+    return 1;
+}
+
+void q2n_fit_breaks_free(fit_breaks *b)
+{
+    free(b->t);
+    memset(b, 0, sizeof *b);
+}
+
+/* ------------------------------------------------------------------ frames */
+
+fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i)
+{
+    const fit_patch *p = &c->p[k];
+    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3], *c3 = q2n_fit_corner_uv[(i + 3) & 3];
+    fit_side sd;
+    sd.k = k; sd.i = i;
+    sd.ox = c0[0] * (p->nu - 1); sd.oy = c0[1] * (p->nv - 1);
+    sd.tx = c1[0] - c0[0]; sd.ty = c1[1] - c0[1];
+    sd.sx = c3[0] - c0[0]; sd.sy = c3[1] - c0[1];
+    int along_u = sd.tx != 0;
+    sd.nt = along_u ? p->nu : p->nv; sd.ns = along_u ? p->nv : p->nu;
+    sd.mt = along_u ? p->mu : p->mv; sd.ms = along_u ? p->mv : p->mu;
+    /* t runs along +u on side 0, +v on side 1, -u on side 2, -v on side 3; s into the patch */
+    static const int rev_t[4] = {0, 0, 1, 1}, rev_s[4] = {0, 1, 1, 0};
+    sd.kt = along_u ? (rev_t[i] ? p->kur : p->ku) : (rev_t[i] ? p->kvr : p->kv);
+    sd.ks = along_u ? (rev_s[i] ? p->kvr : p->kv) : (rev_s[i] ? p->kur : p->ku);
+    return sd;
+}
+
+int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js)
+{
+    int a = sd->ox + it * sd->tx + js * sd->sx, b = sd->oy + it * sd->ty + js * sd->sy;
+    return b * c->p[sd->k].nu + a;
+}
+
+int q2n_fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R)
+{
+    const q2n_mesh *m = c->m;
+    int h = m->edge_he[e], ht = m->he_twin[h];
+    *L = q2n_fit_make_side(c, m->he_face[h], h - m->face_start[m->he_face[h]]);
+    if (ht < 0) return 0;
+    *R = q2n_fit_make_side(c, m->he_face[ht], ht - m->face_start[m->he_face[ht]]);
+    return 1;
+}
+
+q2n_status q2n_fit_frame_eval(const q2n_surface *surf, int k, int i, double t, double s, int nder, double D[6][3])
+{
+    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3], *c3 = q2n_fit_corner_uv[(i + 3) & 3];
+    int ax[2] = {c1[0] - c0[0], c3[0] - c0[0]}, ay[2] = {c1[1] - c0[1], c3[1] - c0[1]};
+    double u = c0[0] + t * ax[0] + s * ax[1], v = c0[1] + t * ay[0] + s * ay[1];
+    double e[Q2N_EVAL_MAX];
+    q2n_status st = q2n_surface_eval(surf, k, u, v, nder, e);
+    if (st) return st;
+    for (int q = 0; q < 3 * (nder == 0 ? 1 : nder == 1 ? 3 : 6); q++)
+        if (!isfinite(e[q])) return Q2N_ERR_GEOMETRY;
+    for (int q = 0; q < 3; q++) {
+        D[0][q] = e[q];
+        if (nder < 1) continue;
+        D[1][q] = ax[0] * e[Q2N_EV_U + q] + ay[0] * e[Q2N_EV_V + q];
+        D[2][q] = ax[1] * e[Q2N_EV_U + q] + ay[1] * e[Q2N_EV_V + q];
+        if (nder < 2) continue;
+        static const int pr[3][2] = {{0, 0}, {0, 1}, {1, 1}};
+        for (int r = 0; r < 3; r++) {
+            int a = pr[r][0], b = pr[r][1];
+            D[3 + r][q] = ax[a] * ax[b] * e[Q2N_EV_UU + q] + (ax[a] * ay[b] + ay[a] * ax[b]) * e[Q2N_EV_UV + q] +
+                          ay[a] * ay[b] * e[Q2N_EV_VV + q];
+        }
+    }
+    return Q2N_OK;
+}
+
+/* ------------------------------------------------------------------ construction caches */
+
+/* Index of t in the side cache (binary search); -1 when absent, *pos the insertion point. */
+static int sc_find(const fit_side_cache *sc, double t, int *pos)
+{
+    int lo = 0, hi = sc->n;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (sc->t[mid] < t) lo = mid + 1;
+        else hi = mid;
+    }
+    *pos = lo;
+    return lo < sc->n && sc->t[lo] == t ? lo : -1;
+}
+
+q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t, double *D)
+{
+    fit_side_cache *sc = &c->sc[4 * k + i];
+    for (int q = 0; q < n; q++) {
+        int pos, at = sc_find(sc, t[q], &pos);
+        if (at < 0) {
+            double V[6][3];
+            q2n_status st = q2n_fit_target_frame(c, k, i, t[q], V);
+            if (st) return st;
+            if (sc->n == sc->cap) {
+                int nc = sc->cap ? 2 * sc->cap : 32;
+                double *nt = realloc(sc->t, sizeof(double) * (size_t)nc);
+                if (nt) sc->t = nt;
+                double *nd = nt ? realloc(sc->D, 18 * sizeof(double) * (size_t)nc) : NULL;
+                if (!nt || !nd) return Q2N_ERR_NOMEM;
+                sc->D = nd;
+                sc->cap = nc;
+            }
+            memmove(sc->t + pos + 1, sc->t + pos, sizeof(double) * (size_t)(sc->n - pos));
+            memmove(sc->D + 18 * (size_t)(pos + 1), sc->D + 18 * (size_t)pos, 18 * sizeof(double) * (size_t)(sc->n - pos));
+            sc->t[pos] = t[q];
+            memcpy(sc->D + 18 * (size_t)pos, V, sizeof V);
+            sc->n++;
+            at = pos;
+        }
+        if (D) memcpy(D + 18 * (size_t)q, sc->D + 18 * (size_t)at, 18 * sizeof(double));
+    }
+    return Q2N_OK;
+}
+
+/* Merge sorted distinct a[0..na-1] with sorted distinct b into out (sorted distinct); returns count. */
+static int merge_params(int na, const double *a, int nb, const double *b, double *out)
+{
+    int i = 0, j = 0, n = 0;
+    while (i < na || j < nb) {
+        double x = j >= nb || (i < na && a[i] < b[j]) ? a[i++] : b[j++];
+        if (n == 0 || out[n - 1] != x) out[n++] = x;
+        while (i < na && a[i] == x) i++;
+        while (j < nb && b[j] == x) j++;
+    }
+    return n;
+}
+
+/* Positions of the construction's patch k on the grid us x vs (sorted, distinct) into out
+ * (3 per point, u fastest), from the patch's grid cache; missing points are evaluated row by row
+ * with the grid fast path (a whole grid at once when nothing is cached). */
+static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
+                              long *evals)
+{
+    fit_grid_cache *g = &c->p[k].gc;
+    /* grow the cache to the union of parameters */
+    double *nu_t = malloc(sizeof(double) * (size_t)(g->nu + nu)), *nv_t = malloc(sizeof(double) * (size_t)(g->nv + nv));
+    if (!nu_t || !nv_t) { free(nu_t); free(nv_t); return Q2N_ERR_NOMEM; }
+    int NU = merge_params(g->nu, g->u, nu, us, nu_t), NV = merge_params(g->nv, g->v, nv, vs, nv_t);
+    if (NU != g->nu || NV != g->nv) {
+        double *val = malloc(3 * sizeof(double) * (size_t)NU * NV);
+        unsigned char *have = calloc((size_t)NU * NV, 1);
+        int *mu = malloc(sizeof(int) * (size_t)(g->nu + 1)), *mv = malloc(sizeof(int) * (size_t)(g->nv + 1));
+        if (!val || !have || !mu || !mv) {
+            free(val); free(have); free(mu); free(mv); free(nu_t); free(nv_t);
+            return Q2N_ERR_NOMEM;
+        }
+        for (int i = 0, a = 0; i < g->nu; i++) { while (nu_t[a] != g->u[i]) a++; mu[i] = a; }
+        for (int j = 0, b = 0; j < g->nv; j++) { while (nv_t[b] != g->v[j]) b++; mv[j] = b; }
+        for (int j = 0; j < g->nv; j++)
+            for (int i = 0; i < g->nu; i++)
+                if (g->have[(size_t)j * g->nu + i]) {
+                    size_t to = (size_t)mv[j] * NU + mu[i];
+                    memcpy(val + 3 * to, g->val + 3 * ((size_t)j * g->nu + i), 3 * sizeof(double));
+                    have[to] = 1;
+                }
+        free(mu); free(mv);
+        free(g->u); free(g->v); free(g->val); free(g->have);
+        g->u = nu_t; g->v = nv_t; g->val = val; g->have = have; g->nu = NU; g->nv = NV;
+    } else {
+        free(nu_t);
+        free(nv_t);
+    }
+    int *iu = malloc(sizeof(int) * (size_t)nu), *iv = malloc(sizeof(int) * (size_t)nv);
+    double *ru = malloc(sizeof(double) * (size_t)nu), *buf = malloc(9 * sizeof(double) * (size_t)nu * nv);
+    if (!iu || !iv || !ru || !buf) { free(iu); free(iv); free(ru); free(buf); return Q2N_ERR_NOMEM; }
+    for (int i = 0, a = 0; i < nu; i++) { while (g->u[a] != us[i]) a++; iu[i] = a; }
+    for (int j = 0, b = 0; j < nv; j++) { while (g->v[b] != vs[j]) b++; iv[j] = b; }
+    int missing = 0;
+    for (int j = 0; j < nv; j++)
+        for (int i = 0; i < nu; i++) missing += !g->have[(size_t)iv[j] * g->nu + iu[i]];
+    q2n_status st = Q2N_OK;
+    if (missing == nu * nv) {   /* nothing cached: one grid */
+        st = q2n_fit_target_grid(c, k, nu, us, nv, vs, buf, 9);
+        for (int j = 0; !st && j < nv; j++)
+            for (int i = 0; i < nu; i++) {
+                size_t at = (size_t)iv[j] * g->nu + iu[i];
+                memcpy(g->val + 3 * at, buf + 9 * ((size_t)j * nu + i), 3 * sizeof(double));
+                g->have[at] = 1;
+            }
+        *evals += (long)nu * nv;
+    } else if (missing) {       /* row by row, the missing points of each row */
+        for (int j = 0; !st && j < nv; j++) {
+            int n = 0;
+            for (int i = 0; i < nu; i++)
+                if (!g->have[(size_t)iv[j] * g->nu + iu[i]]) ru[n++] = us[i];
+            if (!n) continue;
+            st = q2n_fit_target_grid(c, k, n, ru, 1, &vs[j], buf, 9);
+            for (int i = 0, q = 0; !st && i < nu; i++) {
+                size_t at = (size_t)iv[j] * g->nu + iu[i];
+                if (g->have[at]) continue;
+                memcpy(g->val + 3 * at, buf + 9 * (size_t)q++, 3 * sizeof(double));
+                g->have[at] = 1;
+            }
+            *evals += n;
+        }
+    }
+    for (int j = 0; !st && j < nv; j++)
+        for (int i = 0; i < nu; i++) {
+            const double *x = g->val + 3 * ((size_t)iv[j] * g->nu + iu[i]);
+            if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) st = Q2N_ERR_GEOMETRY;
+            memcpy(out + 3 * ((size_t)j * nu + i), x, 3 * sizeof(double));
+        }
+    free(iu); free(iv); free(ru); free(buf);
+    return st;
+}
+
+q2n_status q2n_fit_patch_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
+                          long *evals)
+{
+    return grid_values(c, k, nu, us, nv, vs, out, evals);
+}
+
+/* ------------------------------------------------------------------ once per fit */
+
+/* One-sided weights at 0 for the nodes h, 2h, .., 6h (the corner itself is avoided: Gregory-type
+ * corners have direction-dependent mixed derivatives there): value, first and second derivative
+ * of the quintic through the six values, exact for polynomials of degree <= 5. */
+static const double FD[3][6] = {{6, -15, 20, -15, 6, -1},
+                                {-87.0 / 10, 117.0 / 4, -127.0 / 3, 33, -27.0 / 2, 137.0 / 60},
+                                {29.0 / 3, -461.0 / 12, 62, -307.0 / 6, 65.0 / 3, -15.0 / 4}};
+
+/* The mixed corner derivatives J[o] = d_t^a d_s^b S(0,0) for the four orders (a, b) of jet_order
+ * at corner i of patch k (side i's frame), and spread[o], the gap between the two edge-wise values:
+ * exact from the construction where it reports them (q2n_surface_corner_mixed), else read along both
+ * edges through the corner by one-sided 6-point differences of the evaluated second derivatives
+ * (the corner itself is avoided: Gregory-type corners have direction-dependent mixed derivatives
+ * there), averaged.  Every order uses the same 12 evaluations. */
+static q2n_status corner_mixed(const q2n_surface *surf, int k, int i, double J[4][3], double spread[4])
+{
+    static const int ord[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
+    double X[2][2][2][3];
+    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3], *c3 = q2n_fit_corner_uv[(i + 3) & 3];
+    if (q2n_surface_corner_mixed(surf, k, c0[0], c0[1], X) == Q2N_OK) {
+        int tu = c1[0] != c0[0];
+        double st = tu ? c1[0] - c0[0] : c1[1] - c0[1], ss = tu ? c3[1] - c0[1] : c3[0] - c0[0];
+        for (int o = 0; o < 4; o++) {
+            int a = ord[o][0], b = ord[o][1], au = tu ? a : b, bv = tu ? b : a;
+            double sg = (a & 1 ? st : 1) * (b & 1 ? ss : 1);
+            const double *E0 = X[0][au - 1][bv - 1], *E1 = X[1][au - 1][bv - 1];
+            for (int r = 0; r < 3; r++) J[o][r] = sg * 0.5 * (E0[r] + E1[r]);
+            spread[o] = q2n_v3_dist(E0, E1);
+        }
+        return Q2N_OK;
+    }
+    /* [o][edge] = {slot of the frame derivatives (3 d_tt, 4 d_ts, 5 d_ss), order of the difference} */
+    static const int tab[4][2][2] = {{{4, 0}, {4, 0}}, {{4, 1}, {3, 1}}, {{5, 1}, {4, 1}}, {{5, 2}, {3, 2}}};
+    const double h = Q2N_FIT_JET_H;
+    double D[2][6][6][3];
+    for (int dir = 0; dir < 2; dir++)
+        for (int q = 1; q <= 6; q++) {
+            q2n_status st = q2n_fit_frame_eval(surf, k, i, dir ? 0.0 : q * h, dir ? q * h : 0.0, 2, D[dir][q - 1]);
+            if (st) return st;
+        }
+    for (int o = 0; o < 4; o++) {
+        double E[2][3] = {{0, 0, 0}, {0, 0, 0}};
+        for (int dir = 0; dir < 2; dir++) {
+            int slot = tab[o][dir][0], nd = tab[o][dir][1];
+            double scale = nd == 0 ? 1.0 : nd == 1 ? 1.0 / h : 1.0 / (h * h);
+            for (int q = 0; q < 6; q++) q2n_v3_axpy(E[dir], FD[nd][q] * scale, D[dir][q][slot]);
+        }
+        for (int r = 0; r < 3; r++) J[o][r] = 0.5 * (E[0][r] + E[1][r]);
+        spread[o] = q2n_v3_dist(E[0], E[1]);
+    }
+    return Q2N_OK;
+}
+
+static const int jet_order[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
+
+typedef struct prep_arg {
+    fit_ctx *c;
+    q2n_status *st;
+} prep_arg;
+
+static void jet_one(void *arg, int k)
+{
+    prep_arg *a = arg;
+    for (int i = 0; i < 4 && !a->st[k]; i++) {
+        double J[4][3], sp[4];
+        a->st[k] = corner_mixed(a->c->s, k, i, J, sp);
+        for (int o = 0; o < 4; o++) {
+            double f = q2n_fit_target_jet_scale(a->c, k, i, jet_order[o][0], jet_order[o][1]);
+            for (int q = 0; q < 3; q++) a->c->jet[k][i][o][q] = f * J[o][q];
+            a->c->jet[k][i][o][3] = f * sp[o];
+        }
+    }
+}
+
+static void ends_one(void *arg, int e)
+{
+    prep_arg *a = arg;
+    fit_ctx *c = a->c;
+    int h = c->m->edge_he[e], f = c->m->he_face[h];
+    for (int end = 0; end < 2 && !a->st[e]; end++)
+        a->st[e] = q2n_fit_target_frame(c, f, h - c->m->face_start[f], (double)end, c->e[e].end[end]);
+}
+
+q2n_status q2n_fit_prepare(fit_ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    c->vpos = malloc(3 * sizeof(double) * (size_t)m->nv);
+    c->jet = malloc(sizeof *c->jet * (size_t)m->nf);
+    int nmax = m->nf > m->ne ? m->nf : m->ne;
+    q2n_status *st = calloc((size_t)nmax + 1, sizeof *st);
+    if (!c->vpos || !c->jet || !st) { free(st); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory"); }
+    double t0 = q2n_now();
+    prep_arg arg = {c, st};
+    q2n_fit_par_for(m->ne, c->o.threads, ends_one, &arg);
+    q2n_status r = Q2N_OK;
+    for (int e = 0; e < m->ne && !r; e++)
+        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d: evaluation at its ends %s", e,
+                                     st[e] == Q2N_ERR_GEOMETRY ? "not finite" : "failed");
+    memset(st, 0, sizeof *st * (size_t)nmax);
+    if (!r) q2n_fit_par_for(m->nf, c->o.threads, jet_one, &arg);
+    for (int k = 0; k < m->nf && !r; k++)
+        if (st[k]) r = q2n_error_set(c->err, st[k], "fit: face %d: corner derivatives %s", k,
+                                     st[k] == Q2N_ERR_GEOMETRY ? "not finite" : "cannot be evaluated");
+    free(st);
+    c->rep->t_sample += q2n_now() - t0;
+    if (r) return r;
+    /* corner points: an interpolating construction passes through the vertex (kept exactly);
+     * otherwise the corner of the patch of the vertex's first half-edge, the same point for every
+     * patch there */
+    for (int v = 0; v < m->nv; v++) {
+        double *P = c->vpos + 3 * (size_t)v;
+        memcpy(P, q2n_mesh_vpos(m, v), 3 * sizeof(double));
+        int h = m->vert_he[v];
+        if (h < 0) continue;
+        int e = m->he_edge[h];
+        const double *S = c->e[e].end[m->edge_he[e] == h ? 0 : 1][0];
+        if (q2n_v3_dist(S, P) > 1e-9 * c->diag) memcpy(P, S, 3 * sizeof(double));
+    }
+    return Q2N_OK;
+}
+
+/* ------------------------------------------------------------------ knots */
+
+/* Breakpoints of edge e as seen along half-edge h (t from origin(h) to dest(h)), then as u or v of
+ * face side i (sides 2, 3 run against u, v): appended to out; returns the new count. */
+static int side_breaks(const fit_ctx *c, int h, int i, double *out, int n)
+{
+    int e = c->m->he_edge[h], own = c->m->edge_he[e] == h;
+    const fit_breaks *K = &c->e[e].K;
+    for (int q = 0; q < K->n; q++) {
+        double t = own ? K->t[q] : 1.0 - K->t[K->n - 1 - q];
+        out[n++] = i < 2 ? t : 1.0 - t;
+    }
+    return n;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The union knot vector of patch k in direction d (0 u, 1 v) into br (sorted distinct); returns nb. */
+static int patch_breaks(const fit_ctx *c, int k, int d, double *br)
+{
+    int n = 0, h0 = c->m->face_start[k];
+    n = side_breaks(c, h0 + d, d, br, n);
+    n = side_breaks(c, h0 + d + 2, d + 2, br, n);
+    const fit_breaks *I = &c->p[k].I[d];
+    for (int q = 0; q < I->n; q++) br[n++] = I->t[q];
+    qsort(br, (size_t)n, sizeof *br, cmp_double);
+    int w = 0;
+    for (int q = 0; q < n; q++)
+        if (w == 0 || br[w - 1] != br[q]) br[w++] = br[q];
+    return w;
+}
+
+/* Rebuild patch k's knot vectors from its edges and interior breakpoints; sets knots_changed. */
+static q2n_status patch_knots(fit_ctx *c, int k)
+{
+    fit_patch *p = &c->p[k];
+    const q2n_mesh *m = c->m;
+    int cap = 2 * (c->e[m->he_edge[4 * k]].K.n + c->e[m->he_edge[4 * k + 1]].K.n + c->e[m->he_edge[4 * k + 2]].K.n +
+                   c->e[m->he_edge[4 * k + 3]].K.n) + p->I[0].n + p->I[1].n + 2;
+    double *bu = malloc(sizeof(double) * (size_t)cap), *bv = malloc(sizeof(double) * (size_t)cap);
+    if (!bu || !bv) { free(bu); free(bv); return Q2N_ERR_NOMEM; }
+    int nbu = patch_breaks(c, k, 0, bu), nbv = patch_breaks(c, k, 1, bv);
+    int same = p->cp && nbu + 6 == p->nu && nbv + 6 == p->nv &&
+               !memcmp(bu, p->ku + 6, sizeof(double) * (size_t)nbu) && !memcmp(bv, p->kv + 6, sizeof(double) * (size_t)nbv);
+    p->knots_changed = !same;
+    if (same) { free(bu); free(bv); return Q2N_OK; }
+    free(p->ku); free(p->kv); free(p->kur); free(p->kvr); free(p->cp); free(p->fixed); free(p->var);
+    p->mu = nbu + 1; p->mv = nbv + 1; p->nu = nbu + 6; p->nv = nbv + 6;
+    size_t n = (size_t)p->nu * p->nv;
+    p->ku = malloc(sizeof(double) * (size_t)(p->nu + 6));
+    p->kv = malloc(sizeof(double) * (size_t)(p->nv + 6));
+    p->kur = malloc(sizeof(double) * (size_t)(p->nu + 6));
+    p->kvr = malloc(sizeof(double) * (size_t)(p->nv + 6));
+    p->cp = calloc(3 * n, sizeof(double));
+    p->fixed = calloc(n, 1);
+    p->var = malloc(n * sizeof(int));
+    if (!p->ku || !p->kv || !p->kur || !p->kvr || !p->cp || !p->fixed || !p->var) {
+        free(bu); free(bv);
+        return Q2N_ERR_NOMEM;
+    }
+    q2n_fit_knots_from_breaks(nbu, bu, p->ku);
+    q2n_fit_knots_from_breaks(nbv, bv, p->kv);
+    for (int q = 0; q < p->nu + 6; q++) p->kur[q] = 1.0 - p->ku[p->nu + 5 - q];
+    for (int q = 0; q < p->nv + 6; q++) p->kvr[q] = 1.0 - p->kv[p->nv + 5 - q];
+    for (size_t g = 0; g < n; g++) p->var[g] = -1;
+    p->ver++;
+    free(bu); free(bv);
+    return Q2N_OK;
+}
+
+/* ------------------------------------------------------------------ edge curves */
+
+/* Fit edge e's curve on its knots: Hermite ends exact, interior points by least squares of the
+ * owner side's samples (one dense block; returns the rows through *A, *b for the caller's solve). */
+typedef struct curve_block {
+    int e, n, m, var0;
+    double *A, *b;
+} curve_block;
+
+static q2n_status curve_assemble(fit_ctx *c, int e, curve_block *cb)
+{
+    fit_edge *E = &c->e[e];
+    int h = c->m->edge_he[e], f = c->m->he_face[h], i = h - c->m->face_start[f];
+    E->n = E->K.n + 6;
+    free(E->cp);
+    E->cp = calloc(3 * (size_t)E->n, sizeof(double));
+    double *kv = malloc(sizeof(double) * (size_t)(E->n + 6));
+    if (!E->cp || !kv) { free(kv); return Q2N_ERR_NOMEM; }
+    q2n_fit_knots_from_breaks(E->K.n, E->K.t, kv);
+    /* ends: the vertex points, then d/dt and d2/dt2 of the spline at t = 0, 1 equal the construction's */
+    const q2n_mesh *m = c->m;
+    int v0 = q2n_he_origin(m, h), v1 = q2n_he_dest(m, h);
+    memcpy(E->cp, c->vpos + 3 * (size_t)v0, 3 * sizeof(double));
+    memcpy(E->cp + 3 * (size_t)(E->n - 1), c->vpos + 3 * (size_t)v1, 3 * sizeof(double));
+    for (int end = 0; end < 2; end++) {
+        double N[3][Q2N_FIT_DEG + 1];
+        int span = end ? E->n - 1 : Q2N_FIT_DEG;
+        q2n_fit_basis(span, kv, (double)end, 2, N);
+        int q0 = end ? 5 : 0, q1 = end ? 4 : 1, q2 = end ? 3 : 2;
+        int i0 = end ? E->n - 1 : 0, i1 = end ? E->n - 2 : 1, i2 = end ? E->n - 3 : 2;
+        double *P0 = E->cp + 3 * i0, *P1 = E->cp + 3 * i1, *P2 = E->cp + 3 * i2;
+        for (int q = 0; q < 3; q++) {
+            P1[q] = (E->end[end][1][q] - N[1][q0] * P0[q]) / N[1][q1];
+            P2[q] = (E->end[end][3][q] - N[2][q0] * P0[q] - N[2][q1] * P1[q]) / N[2][q2];
+        }
+    }
+    /* interior points 3 .. n-4 */
+    cb->e = e;
+    cb->n = E->n - 6;
+    cb->m = 0;
+    cb->A = cb->b = NULL;
+    if (cb->n <= 0) { free(kv); return Q2N_OK; }
+    int ns = (E->n - 5) * Q2N_FIT_SAMPLES_PER_SPAN + 1;
+    double *ts = malloc(sizeof(double) * (size_t)ns), *D = malloc(18 * sizeof(double) * (size_t)ns);
+    cb->A = calloc((size_t)ns * cb->n, sizeof(double));
+    cb->b = malloc(3 * sizeof(double) * (size_t)ns);
+    if (!ts || !D || !cb->A || !cb->b) { free(kv); free(ts); free(D); return Q2N_ERR_NOMEM; }
+    ns = q2n_fit_sample_params(E->n, kv, Q2N_FIT_SAMPLES_PER_SPAN, ts);
+    q2n_status st = q2n_fit_side_values(c, f, i, ns, ts, D);
+    if (st) { free(kv); free(ts); free(D); return st; }
+    for (int q = 1; q + 1 < ns; q++) {
+        double N[3][Q2N_FIT_DEG + 1];
+        int span = q2n_fit_span(E->n, kv, ts[q]);
+        q2n_fit_basis(span, kv, ts[q], 0, N);
+        double *row = cb->A + (size_t)cb->m * cb->n, *rhs = cb->b + 3 * (size_t)cb->m;
+        memcpy(rhs, D + 18 * (size_t)q, 3 * sizeof(double));
+        for (int a = 0; a <= Q2N_FIT_DEG; a++) {
+            int j = span - Q2N_FIT_DEG + a;
+            if (j >= 3 && j <= E->n - 4) row[j - 3] += N[0][a];
+            else q2n_v3_axpy(rhs, -N[0][a], E->cp + 3 * (size_t)j);
+        }
+        cb->m++;
+    }
+    free(kv); free(ts); free(D);
+    return Q2N_OK;
+}
+
+typedef struct curves_arg {
+    fit_ctx *c;
+    curve_block *cb;
+    q2n_status *st;
+} curves_arg;
+
+static void curve_one(void *arg, int l)
+{
+    curves_arg *a = arg;
+    a->st[l] = curve_assemble(a->c, a->cb[l].e, &a->cb[l]);
+}
+
+static q2n_status stage_curves(fit_ctx *c, const int *list, int n)
+{
+    curve_block *cb = calloc((size_t)n + 1, sizeof *cb);
+    q2n_status *st = calloc((size_t)n + 1, sizeof *st);
+    q2n_status r = Q2N_OK;
+    if (!cb || !st) { free(cb); free(st); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory"); }
+    for (int l = 0; l < n; l++) cb[l].e = list[l];
+    double t0 = q2n_now();
+    curves_arg arg = {c, cb, st};
+    q2n_fit_par_for(n, c->o.threads, curve_one, &arg);
+    c->rep->t_sample += q2n_now() - t0;
+    for (int l = 0; l < n && !r; l++)
+        if (st[l]) r = q2n_error_set(c->err, st[l], "fit: edge %d: %s", list[l],
+                                     st[l] == Q2N_ERR_NOMEM ? "out of memory" : "construction evaluation failed");
+    for (int l = 0; l < n && !r; l++)
+        if (cb[l].n > 0 && q2n_fit_ls_dense_item(&c->ls, cb[l].m, cb[l].n, cb[l].A, cb[l].b, &cb[l].var0))
+            r = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+    if (!r) {
+        double t1 = q2n_now();
+        r = q2n_fit_ls_solve(&c->ls, c->o.solver, c->o.threads, c->err);
+        c->rep->t_solve += q2n_now() - t1;
+    }
+    for (int l = 0; l < n && !r; l++) {
+        fit_edge *E = &c->e[list[l]];
+        for (int j = 0; j < cb[l].n; j++) memcpy(E->cp + 3 * (size_t)(3 + j), c->ls.x + 3 * (size_t)(cb[l].var0 + j), 3 * sizeof(double));
+        E->fitted = E->ver;
+    }
+    q2n_fit_ls_clear(&c->ls);
+    for (int l = 0; l < n; l++) { free(cb[l].A); free(cb[l].b); }
+    free(cb);
+    free(st);
+    return r;
+}
+
+/* Side (k, i)'s boundary row: its edge curve in the side's orientation, refined to the side's knots. */
+static q2n_status boundary_row(fit_ctx *c, int k, int i)
+{
+    const q2n_mesh *m = c->m;
+    int h = m->face_start[k] + i, e = m->he_edge[h], own = m->edge_he[e] == h;
+    const fit_edge *E = &c->e[e];
+    fit_side sd = q2n_fit_make_side(c, k, i);
+    fit_patch *p = &c->p[k];
+    double *kv = malloc(sizeof(double) * (size_t)(E->n + 6)), *cp = malloc(3 * sizeof(double) * (size_t)E->n);
+    double *out = malloc(3 * sizeof(double) * (size_t)sd.nt);
+    if (!kv || !cp || !out) { free(kv); free(cp); free(out); return Q2N_ERR_NOMEM; }
+    q2n_fit_knots_from_breaks(E->K.n, E->K.t, kv);
+    if (own) memcpy(cp, E->cp, 3 * sizeof(double) * (size_t)E->n);
+    else {
+        for (int q = 0; q < E->n; q++) memcpy(cp + 3 * q, E->cp + 3 * (size_t)(E->n - 1 - q), 3 * sizeof(double));
+        double *kr = malloc(sizeof(double) * (size_t)(E->n + 6));
+        if (!kr) { free(kv); free(cp); free(out); return Q2N_ERR_NOMEM; }
+        for (int q = 0; q < E->n + 6; q++) kr[q] = 1.0 - kv[E->n + 5 - q];
+        free(kv);
+        kv = kr;
+    }
+    int r = 0;
+    if (E->n == sd.nt && !memcmp(kv, sd.kt, sizeof(double) * (size_t)(sd.nt + 6))) memcpy(out, cp, 3 * sizeof(double) * (size_t)sd.nt);
+    else r = q2n_fit_curve_refine(E->n, kv, cp, 3, sd.nt, sd.kt, out);
+    if (!r)
+        for (int it = 0; it < sd.nt; it++) {
+            int g = q2n_fit_side_g(c, &sd, it, 0);
+            memcpy(p->cp + 3 * (size_t)g, out + 3 * it, 3 * sizeof(double));
+            p->fixed[g] = 1;
+        }
+    free(kv); free(cp); free(out);
+    return r ? Q2N_ERR_GEOMETRY : Q2N_OK;
+}
+
+/* ------------------------------------------------------------------ corners */
+
+/* Pin patch k's corner points from the cached jets: Q11 always, Q21 and Q12 unless the corner is
+ * Gregory-type, Q22 in G2 mode (the average of the two edge-wise values at a Gregory corner). */
+static void pin_corners(fit_ctx *c, int k)
+{
+    fit_patch *p = &c->p[k];
+    int npin = c->o.continuity == 2 ? 4 : 3;
+    p->gregory = 0;
+    for (int i = 0; i < 4; i++) {
+        fit_side sd = q2n_fit_make_side(c, k, i);
+        double Nt[3][Q2N_FIT_DEG + 1], Ns[3][Q2N_FIT_DEG + 1];
+        q2n_fit_basis(Q2N_FIT_DEG, sd.kt, 0.0, 2, Nt);
+        q2n_fit_basis(Q2N_FIT_DEG, sd.ks, 0.0, 2, Ns);
+        for (int o = 0; o < 3; o++) {
+            /* the two edge-wise estimates as positions of the control point they fix, for one span
+             * (Bézier factors 5, 20 for orders 1, 2), so the verdict does not depend on the knots */
+            int a = jet_order[o][0], b = jet_order[o][1];
+            double dq = c->jet[k][i][o][3] / ((a == 1 ? 5.0 : 20.0) * (b == 1 ? 5.0 : 20.0));
+            if (dq > Q2N_FIT_JET_SPREAD * c->o.tol * c->diag) p->gregory |= 1 << i;
+        }
+        for (int o = 0; o < npin; o++) {
+            if (o > 0 && o < 3 && (p->gregory & (1 << i))) continue;
+            int a = jet_order[o][0], b = jet_order[o][1];
+            double J[3];
+            memcpy(J, c->jet[k][i][o], sizeof J);
+            /* J = sum_{p<=a, q<=b} N_p^(a)(0) M_q^(b)(0) Q_pq, solved for Q_ab */
+            for (int pp = 0; pp <= a; pp++)
+                for (int qq = 0; qq <= b; qq++) {
+                    if (pp == a && qq == b) continue;
+                    q2n_v3_axpy(J, -Nt[a][pp] * Ns[b][qq], p->cp + 3 * (size_t)q2n_fit_side_g(c, &sd, pp, qq));
+                }
+            int g = q2n_fit_side_g(c, &sd, a, b);
+            q2n_v3_scale(p->cp + 3 * (size_t)g, 1.0 / (Nt[a][a] * Ns[b][b]), J);
+            p->fixed[g] = 1;
+        }
+    }
+}
+
+/* ------------------------------------------------------------------ rows */
+
+/* ------------------------------------------------------------------ interiors */
+
+/* The free control points of patch k when they form a tensor block [lu..hu] x [lv..hv]; 0 otherwise. */
+static int free_block(const fit_patch *p, int *lu, int *hu, int *lv, int *hv)
+{
+    *lu = p->nu; *hu = -1; *lv = p->nv; *hv = -1;
+    for (int b = 0; b < p->nv; b++)
+        for (int a = 0; a < p->nu; a++)
+            if (!p->fixed[b * p->nu + a]) {
+                if (a < *lu) *lu = a;
+                if (a > *hu) *hu = a;
+                if (b < *lv) *lv = b;
+                if (b > *hv) *hv = b;
+            }
+    for (int b = 0; b < p->nv; b++)
+        for (int a = 0; a < p->nu; a++) {
+            int in = a >= *lu && a <= *hu && b >= *lv && b <= *hv;
+            if (in == p->fixed[b * p->nu + a]) return 0;
+        }
+    return 1;
+}
+
+/* Per-patch data of the interior solve. */
+typedef struct sep_patch {
+    int k, lu, hu, lv, hv, Nu, Nv, tensor;
+    double *R;       /* Nu*Nv*3: samples minus the fixed control points' contribution */
+    double *Bu, *Bv; /* Nu x nu and Nv x nv basis matrices (row-major) */
+    int *var1;       /* Nu: first unknown of the pass-1 block of sample column i, or -1 */
+    int *var2;       /* hv-lv+1: first unknown of the pass-2 block of control column b */
+    long evals;
+    q2n_status st;
+} sep_patch;
+
+static void sep_free(sep_patch *sp, int n)
+{
+    for (int i = 0; sp && i < n; i++) {
+        free(sp[i].R); free(sp[i].Bu); free(sp[i].Bv); free(sp[i].var1); free(sp[i].var2);
+    }
+    free(sp);
+}
+
+/* Sample patch k (through its cache), build its basis matrices and the residual R of the fixed
+ * control points. */
+static q2n_status sep_prepare(fit_ctx *c, sep_patch *sp)
+{
+    fit_patch *p = &c->p[sp->k];
+    int cu = (p->nu - 5) * Q2N_FIT_SAMPLES_PER_SPAN + 1, cv = (p->nv - 5) * Q2N_FIT_SAMPLES_PER_SPAN + 1;
+    double *us = malloc(sizeof(double) * (size_t)cu), *vs = malloc(sizeof(double) * (size_t)cv);
+    double *S = malloc(3 * sizeof(double) * (size_t)cu * cv);
+    sp->R = malloc(3 * sizeof(double) * (size_t)cu * cv);
+    sp->Bu = calloc((size_t)cu * p->nu, sizeof(double));
+    sp->Bv = calloc((size_t)cv * p->nv, sizeof(double));
+    sp->var1 = malloc(sizeof(int) * (size_t)cu);
+    sp->var2 = malloc(sizeof(int) * (size_t)(sp->hv - sp->lv + 2));
+    if (!us || !vs || !S || !sp->R || !sp->Bu || !sp->Bv || !sp->var1 || !sp->var2) {
+        free(us); free(vs); free(S);
+        return Q2N_ERR_NOMEM;
+    }
+    int Nu = sp->Nu = q2n_fit_sample_params(p->nu, p->ku, Q2N_FIT_SAMPLES_PER_SPAN, us);
+    int Nv = sp->Nv = q2n_fit_sample_params(p->nv, p->kv, Q2N_FIT_SAMPLES_PER_SPAN, vs);
+    q2n_status st = grid_values(c, sp->k, Nu, us, Nv, vs, S, &sp->evals);
+    if (st) { free(us); free(vs); free(S); return st; }
+    double B[3][Q2N_FIT_DEG + 1];
+    for (int i = 0; i < Nu; i++) {
+        int su = q2n_fit_span(p->nu, p->ku, us[i]);
+        q2n_fit_basis(su, p->ku, us[i], 0, B);
+        for (int a = 0; a <= Q2N_FIT_DEG; a++) sp->Bu[(size_t)i * p->nu + su - Q2N_FIT_DEG + a] = B[0][a];
+    }
+    for (int j = 0; j < Nv; j++) {
+        int sv = q2n_fit_span(p->nv, p->kv, vs[j]);
+        q2n_fit_basis(sv, p->kv, vs[j], 0, B);
+        for (int b = 0; b <= Q2N_FIT_DEG; b++) sp->Bv[(size_t)j * p->nv + sv - Q2N_FIT_DEG + b] = B[0][b];
+    }
+    for (int j = 0; j < Nv; j++)
+        for (int i = 0; i < Nu; i++) {
+            double *r = sp->R + 3 * ((size_t)j * Nu + i);
+            memcpy(r, S + 3 * ((size_t)j * Nu + i), 3 * sizeof(double));
+            for (int b = 0; b < p->nv; b++) {
+                double wv = sp->Bv[(size_t)j * p->nv + b];
+                if (wv == 0.0) continue;
+                for (int a = 0; a < p->nu; a++) {
+                    double w = sp->Bu[(size_t)i * p->nu + a] * wv;
+                    if (w != 0.0 && p->fixed[b * p->nu + a]) q2n_v3_axpy(r, -w, p->cp + 3 * ((size_t)b * p->nu + a));
+                }
+            }
+        }
+    free(us); free(vs); free(S);
+    return Q2N_OK;
+}
+
+typedef struct sep_arg {
+    fit_ctx *c;
+    sep_patch *sp;
+} sep_arg;
+
+static void sep_one(void *arg, int l)
+{
+    sep_arg *a = arg;
+    a->sp[l].st = sep_prepare(a->c, &a->sp[l]);
+}
+
+/* Does sample i (u) touch the free block? */
+static int sep_touches(const sep_patch *sp, const fit_patch *p, int i)
+{
+    for (int a = sp->lu; a <= sp->hu; a++)
+        if (sp->Bu[(size_t)i * p->nu + a] != 0.0) return 1;
+    return 0;
+}
+
+/* A non-tensor free set (rare): one block over every free point, rows = all samples. */
+static q2n_status general_item(fit_ctx *c, sep_patch *q)
+{
+    fit_patch *p = &c->p[q->k];
+    int n = 0;
+    for (int g = 0; g < p->nu * p->nv; g++)
+        if (!p->fixed[g]) p->var[g] = n++;
+    q->var2[0] = -1;
+    if (!n) return Q2N_OK;
+    if (q2n_fit_ls_item_begin(&c->ls)) return Q2N_ERR_NOMEM;
+    q->var2[0] = c->ls.nvar;
+    for (int j = 0; j < n; j++) { int id; q2n_fit_ls_new_var(&c->ls, &id); }
+    for (int j = 0; j < q->Nv; j++)
+        for (int i = 0; i < q->Nu; i++) {
+            if (q2n_fit_ls_row(&c->ls, q->R + 3 * ((size_t)j * q->Nu + i))) return Q2N_ERR_NOMEM;
+            for (int b = 0; b < p->nv; b++) {
+                double wv = q->Bv[(size_t)j * p->nv + b];
+                if (wv == 0.0) continue;
+                for (int a = 0; a < p->nu; a++) {
+                    double w = q->Bu[(size_t)i * p->nu + a] * wv;
+                    int g = b * p->nu + a;
+                    if (w != 0.0 && !p->fixed[g] && q2n_fit_ls_entry(&c->ls, q->var2[0] + p->var[g], w)) return Q2N_ERR_NOMEM;
+                }
+            }
+        }
+    return Q2N_OK;
+}
+
+/* Stage 6: every control point of the listed patches not fixed yet, least squares on the patch's
+ * sample grid.  When the free points form a tensor block (the usual case), min |A X B^T - R| has
+ * the solution X = A^+ R B^+T: pass 1 fits every sample column in v (Z = R B^+T), pass 2 every
+ * column of Z in u — the same solution as the 2-D problem at a fraction of its cost. */
+static q2n_status stage_interior(fit_ctx *c, const int *list, int nlist)
+{
+    sep_patch *sp = calloc((size_t)nlist + 1, sizeof *sp);
+    q2n_status st = Q2N_OK;
+    int nsp = 0;
+    if (!sp) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+    for (int l = 0; l < nlist; l++) {
+        sep_patch q;
+        memset(&q, 0, sizeof q);
+        q.k = list[l];
+        q.tensor = free_block(&c->p[q.k], &q.lu, &q.hu, &q.lv, &q.hv);
+        if (q.tensor && q.hu < q.lu) continue;      /* nothing free */
+        if (!q.tensor) { q.lv = 0; q.hv = 0; }
+        sp[nsp++] = q;
+    }
+    double t0 = q2n_now();
+    sep_arg arg = {c, sp};
+    q2n_fit_par_for(nsp, c->o.threads, sep_one, &arg);
+    c->rep->t_sample += q2n_now() - t0;
+    for (int l = 0; l < nsp; l++) {
+        c->rep->samples += sp[l].evals;
+        if (sp[l].st && !st)
+            st = q2n_error_set(c->err, sp[l].st, "fit: face %d: %s", sp[l].k,
+                               sp[l].st == Q2N_ERR_NOMEM ? "out of memory (samples)" : "construction evaluation failed");
+    }
+    if (st) goto out;
+    /* pass 1 (and the non-tensor patches' whole blocks) */
+    for (int l = 0; l < nsp; l++) {
+        sep_patch *q = &sp[l];
+        fit_patch *p = &c->p[q->k];
+        if (!q->tensor) {
+            if (general_item(c, q)) goto nomem;
+            continue;
+        }
+        for (int i = 0; i < q->Nu; i++) {
+            q->var1[i] = -1;
+            if (!sep_touches(q, p, i)) continue;
+            if (q2n_fit_ls_item_begin(&c->ls)) goto nomem;
+            q->var1[i] = c->ls.nvar;
+            for (int b = q->lv; b <= q->hv; b++) { int id; q2n_fit_ls_new_var(&c->ls, &id); }
+            for (int j = 0; j < q->Nv; j++) {
+                const double *w = q->Bv + (size_t)j * p->nv;
+                int any = 0;
+                for (int b = q->lv; b <= q->hv; b++) any |= w[b] != 0.0;
+                if (!any) continue;
+                if (q2n_fit_ls_row(&c->ls, q->R + 3 * ((size_t)j * q->Nu + i))) goto nomem;
+                for (int b = q->lv; b <= q->hv; b++)
+                    if (w[b] != 0.0 && q2n_fit_ls_entry(&c->ls, q->var1[i] + b - q->lv, w[b])) goto nomem;
+            }
+        }
+    }
+    double t1 = q2n_now();
+    st = q2n_fit_ls_solve(&c->ls, c->o.solver, c->o.threads, c->err);
+    c->rep->t_solve += q2n_now() - t1;
+    if (st) goto out;
+    double *Z = c->ls.x;
+    c->ls.x = NULL;
+    for (int l = 0; l < nsp; l++) {    /* the non-tensor patches are done */
+        sep_patch *q = &sp[l];
+        fit_patch *p = &c->p[q->k];
+        if (q->tensor) continue;
+        for (int g = 0; g < p->nu * p->nv; g++)
+            if (!p->fixed[g]) {
+                memcpy(p->cp + 3 * (size_t)g, Z + 3 * (size_t)(q->var2[0] + p->var[g]), 3 * sizeof(double));
+                p->fixed[g] = 1;
+                p->var[g] = -1;
+            }
+    }
+    q2n_fit_ls_clear(&c->ls);
+    /* pass 2: for each control column b, min_x |Bu[touching i, lu..hu] x - Z[i, b]| */
+    for (int l = 0; l < nsp; l++) {
+        sep_patch *q = &sp[l];
+        fit_patch *p = &c->p[q->k];
+        if (!q->tensor) continue;
+        for (int b = q->lv; b <= q->hv; b++) {
+            if (q2n_fit_ls_item_begin(&c->ls)) { free(Z); goto nomem; }
+            q->var2[b - q->lv] = c->ls.nvar;
+            for (int a = q->lu; a <= q->hu; a++) { int id; q2n_fit_ls_new_var(&c->ls, &id); }
+            for (int i = 0; i < q->Nu; i++) {
+                if (q->var1[i] < 0) continue;
+                if (q2n_fit_ls_row(&c->ls, Z + 3 * (size_t)(q->var1[i] + b - q->lv))) { free(Z); goto nomem; }
+                const double *w = q->Bu + (size_t)i * p->nu;
+                for (int a = q->lu; a <= q->hu; a++)
+                    if (w[a] != 0.0 && q2n_fit_ls_entry(&c->ls, q->var2[b - q->lv] + a - q->lu, w[a])) { free(Z); goto nomem; }
+            }
+        }
+    }
+    free(Z);
+    t1 = q2n_now();
+    st = q2n_fit_ls_solve(&c->ls, c->o.solver, c->o.threads, c->err);
+    c->rep->t_solve += q2n_now() - t1;
+    if (st) goto out;
+    for (int l = 0; l < nsp; l++) {
+        sep_patch *q = &sp[l];
+        fit_patch *p = &c->p[q->k];
+        if (!q->tensor) continue;
+        for (int b = q->lv; b <= q->hv; b++)
+            for (int a = q->lu; a <= q->hu; a++) {
+                int g = b * p->nu + a;
+                memcpy(p->cp + 3 * (size_t)g, c->ls.x + 3 * (size_t)(q->var2[b - q->lv] + a - q->lu), 3 * sizeof(double));
+                p->fixed[g] = 1;
+            }
+    }
+    goto out;
+nomem:
+    st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (interior)");
+out:
+    q2n_fit_ls_clear(&c->ls);
+    sep_free(sp, nsp);
+    return st;
+}
+
+/* ------------------------------------------------------------------ a round */
+
+/* Mark side i's rows (0 .. order) of patch k fixed with their current values. */
+static void keep_rows(fit_ctx *c, int k, int i, int order)
+{
+    fit_side sd = q2n_fit_make_side(c, k, i);
+    for (int js = 0; js <= order && js < sd.ns; js++)
+        for (int it = 0; it < sd.nt; it++) c->p[k].fixed[q2n_fit_side_g(c, &sd, it, js)] = 1;
+}
+
+q2n_status q2n_fit_round(fit_ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    int nf = m->nf, ne = m->ne, order = c->o.continuity;
+    double t0 = q2n_now(), s0 = c->rep->t_sample, v0 = c->rep->t_solve;
+    unsigned char *edirty = calloc((size_t)ne, 1), *pdirty = calloc((size_t)nf, 1);
+    int *elist = malloc(sizeof(int) * (size_t)ne), *plist = malloc(sizeof(int) * (size_t)nf);
+    q2n_status st = Q2N_OK;
+    if (!edirty || !pdirty || !elist || !plist) { st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory"); goto out; }
+    /* 1. knots; dirty sets: edges whose knots changed, the edges of patches whose knot vectors
+     * changed, and the patches on both sides of every dirty edge */
+    for (int k = 0; k < nf; k++)
+        if ((st = patch_knots(c, k))) { st = q2n_error_set(c->err, st, "fit: out of memory (patch %d)", k); goto out; }
+    for (int e = 0; e < ne; e++) edirty[e] = c->e[e].fitted != c->e[e].ver;
+    for (int k = 0; k < nf; k++)
+        if (c->p[k].knots_changed)
+            for (int i = 0; i < 4; i++) edirty[m->he_edge[4 * k + i]] = 1;
+    int ncurve = 0, nedge = 0, npatch = 0;
+    for (int e = 0; e < ne; e++) {
+        if (c->e[e].fitted != c->e[e].ver) elist[ncurve++] = e;
+        if (!edirty[e]) continue;
+        int h = m->edge_he[e], ht = m->he_twin[h];
+        pdirty[m->he_face[h]] = 1;
+        if (ht >= 0) pdirty[m->he_face[ht]] = 1;
+    }
+    /* 2. edge curves */
+    if (ncurve && (st = stage_curves(c, elist, ncurve))) goto out;
+    /* 3., 4. dirty patches: corners, boundaries, jets, rows of the sides that stay */
+    for (int k = 0; k < nf; k++) {
+        fit_patch *p = &c->p[k];
+        p->dirty = pdirty[k];
+        if (!pdirty[k]) continue;
+        plist[npatch++] = k;
+        memset(p->fixed, 0, (size_t)p->nu * p->nv);
+        for (int i = 0; i < 4; i++)
+            if ((st = boundary_row(c, k, i))) {
+                st = q2n_error_set(c->err, st, "fit: face %d side %d: edge curve not refinable to the patch knots", k, i);
+                goto out;
+            }
+        pin_corners(c, k);
+        for (int i = 0; i < 4; i++)
+            if (!edirty[m->he_edge[4 * k + i]]) keep_rows(c, k, i, order);
+    }
+    /* 5. cross rows of the dirty edges */
+    for (int e = 0; e < ne; e++)
+        if (edirty[e]) elist[nedge++] = e;
+    if ((st = q2n_fit_rows_stage(c, elist, nedge, 1))) goto out;
+    if (order == 2 && (st = q2n_fit_rows_stage(c, elist, nedge, 2))) goto out;
+    /* 6. interiors */
+    if ((st = stage_interior(c, plist, npatch))) goto out;
+out:
+    free(edirty); free(pdirty); free(elist); free(plist);
+    c->rep->t_build += (q2n_now() - t0) - (c->rep->t_sample - s0) - (c->rep->t_solve - v0);
+    return st;
+}

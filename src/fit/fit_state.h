@@ -1,0 +1,162 @@
+/* fit_state.h — the fitting context shared by the files that run the fit (not a public header):
+ * fit.c (driver: rounds, model), fit_stages.c (the linear stages and the construction samples),
+ * fit_glue.c (gluing data and exact constraints), fit_refine.c (where knots go).
+ *
+ * Knots are local.  Edge e owns the interior breakpoints K_e of its curve (in the orientation of
+ * its owner half-edge mesh->edge_he[e]); patch k owns interior breakpoints I_u(k), I_v(k); the
+ * patch's u knots are K(side 0) ∪ K(side 2) ∪ I_u(k) mapped to u, its v knots likewise.  All
+ * breakpoints are dyadic rationals (refinement bisects spans), so 1 - t and unions are exact and
+ * both sides of an edge agree bit for bit about every knot they share. */
+#ifndef Q2N_FIT_STATE_H
+#define Q2N_FIT_STATE_H
+
+#include "fit/fit_internal.h"
+
+/* A sorted growable set of breakpoints in (0,1). */
+typedef struct fit_breaks {
+    int n, cap;
+    double *t;
+} fit_breaks;
+
+/* Cached construction values along one patch side: sorted parameters t and, per parameter, the
+ * side-frame derivatives D[6][3] (S, d_t, d_s, d_tt, d_ts, d_ss) at (t, 0). */
+typedef struct fit_side_cache {
+    int n, cap;
+    double *t;
+    double *D;       /* 18 per parameter */
+} fit_side_cache;
+
+/* Cached construction positions of one patch on the parameter grid u[i] x v[j] (sorted, distinct);
+ * have[j*nu+i] says whether S(u_i, v_j) (3 doubles at val) was evaluated. */
+typedef struct fit_grid_cache {
+    int nu, nv;
+    double *u, *v, *val;
+    unsigned char *have;
+} fit_grid_cache;
+
+typedef enum { FIT_GLUE_BOUNDARY = 0, FIT_GLUE_LS, FIT_GLUE_EXACT } fit_glue_kind;
+
+typedef struct fit_edge {
+    fit_breaks K;            /* interior breakpoints of the edge curve (owner orientation) */
+    int ver, fitted;         /* K's version; version the curve was last fitted for (-1: never) */
+    int n;                   /* control points of the curve: K.n + 6 */
+    double *cp;              /* 3 * n, owner orientation */
+    double end[2][6][3];     /* owner-frame derivatives of the construction at t = 0 and t = 1 */
+    int glue, glue2;         /* fit_glue_kind of the G1 and the G2 relation */
+    double alpha0, alpha1;   /* the construction's alpha at t = 0 and t = 1 (fit_target.c) */
+    int rep;                 /* the construction's gluing is a scale alpha(t): reparametrized to constant */
+    int alpha_varies;        /* alpha(t) is not constant on the construction */
+    int absorb;              /* rep: which side's cross speed absorbs alpha's variation (0 R, 1 L) */
+    double x;                /* log of the end speed of the edge's reparametrization (fit_target.c) */
+    double A;                /* rep: the constant gluing scale after reparametrization */
+    double alpha;            /* FIT_GLUE_EXACT: d_s S_R(1-t) = alpha d_s S_L(t), d_ss S_R = alpha^2 d_ss S_L
+                                (formulas.md §4.2 with beta = gamma = delta = 0) */
+    double g1c, g2c;         /* the construction's own normal / curvature jumps on this edge */
+    int nchk;                /* check points of the last measurement (owner side's check parameters) */
+    double *chk;             /* 5 per check point: t, curve deviation, cross-row deviation (position
+                                terms), fitted normal jump (deg), fitted curvature jump; deviations / diag */
+    double g0, g1, g2;       /* last measured fitted gap / diag and jumps (maxima over the check points) */
+    double g1_prev, g2_prev; /* the round before, for the stall rule */
+    int g1_fails, g2_fails;  /* consecutive rounds this edge drove refinement for continuity */
+    int kn_prev;             /* K.n at the previous refinement decision */
+    int stalled;             /* bit 0: G1, bit 1: G2 — no longer drives refinement */
+} fit_edge;
+
+typedef struct fit_patch {
+    fit_breaks I[2];         /* patch-interior breakpoints in u and v */
+    int ver;                 /* bumped when the knot vectors change */
+    int mu, mv, nu, nv;      /* spans and control points per direction */
+    double *ku, *kv;         /* knot vectors (nu + 6, nv + 6) */
+    double *kur, *kvr;       /* the same reversed (1 - t), for sides running against u or v */
+    double *cp;              /* 3 * nu * nv, u fastest */
+    unsigned char *fixed;    /* nu * nv */
+    int *var;                /* nu * nv: unknown index in the current block, or -1 */
+    int gregory;             /* bit i: the edges through corner i disagree about a mixed derivative */
+    fit_grid_cache gc;       /* construction samples */
+    double dev;              /* last measured max deviation / diag */
+    double s2;               /* sum of squared deviations / diag^2 over the check cells */
+    double *cell;            /* per check cell deviation / diag (ncu x ncv) */
+    int ncu, ncv;
+    double share[2];         /* share of the u and v directions in the error estimate */
+    int spiky;               /* 0 not scanned, 1 scanned smooth, 2 spiky construction (no longer refined) */
+    int phi;                 /* the fit target is the construction reparametrized (fit_target.c) */
+    int dirty;               /* refit this round */
+    int knots_changed;       /* knot vectors changed this round */
+    int pending[2];          /* knots added to its u / v vectors by the current refinement */
+} fit_patch;
+
+/* Frame of side i of a patch: t along the side (corner i -> i+1), s into the patch. */
+typedef struct fit_side {
+    int k, i;                /* patch and side */
+    int ox, oy;              /* corner in grid index space */
+    int tx, ty, sx, sy;      /* unit steps of t and s in (u,v) (and grid index) space */
+    int nt, ns, mt, ms;      /* control points / spans along and across */
+    const double *kt, *ks;   /* knots along and across, in the side's own orientation */
+} fit_side;
+
+typedef struct fit_ctx {
+    const q2n_surface *s;
+    const q2n_mesh *m;
+    q2n_fit_options o;
+    double diag;
+    fit_patch *p;            /* nf */
+    fit_edge *e;             /* ne */
+    fit_side_cache *sc;      /* 4 * nf: side i of patch k at 4k + i */
+    double (*jet)[4][4][4];  /* corner jets of the construction, once per fit */
+    double *vpos;            /* nv: patch corner point of every vertex */
+    int round;
+    q2n_fit_ls ls;
+    q2n_fit_report *rep;
+    q2n_error *err;
+} fit_ctx;
+
+/* ---- breakpoints (fit_stages.c) ---- */
+int q2n_fit_breaks_add(fit_breaks *b, double t);            /* 1 added, 0 present, -1 out of memory */
+void q2n_fit_breaks_free(fit_breaks *b);
+
+/* ---- frames and construction access (fit_stages.c) ---- */
+fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i);
+int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js);   /* grid index of (t index, s index) */
+/* The sides of edge e: L = owner half-edge's face (its t is the edge's t), R = the twin's
+ * (t_R = 1 - t); returns 0 (R unset) on boundary edges. */
+int q2n_fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R);
+/* Exact construction derivatives of patch k in the frame of its side i at (t, s) (see
+ * fit_side_cache; nder 0..2). */
+q2n_status q2n_fit_frame_eval(const q2n_surface *s, int k, int i, double t, double s_, int nder, double D[6][3]);
+/* Side-frame derivatives (nder 2) at parameters t[0..n-1] of side (k, i) from the side cache,
+ * evaluating and caching what is missing; D gets 18 doubles per parameter. */
+q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t, double *D);
+
+/* ---- stages (fit_stages.c) ---- */
+q2n_status q2n_fit_prepare(fit_ctx *c);        /* once per fit: corner points, edge ends, corner jets */
+q2n_status q2n_fit_round(fit_ctx *c);          /* knots, curves, corners, rows, interiors of the dirty set */
+/* Positions of the construction's patch k on the grid us x vs (sorted, distinct), through the
+ * patch's sample cache (evaluations counted in *evals). */
+q2n_status q2n_fit_patch_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
+                          long *evals);
+
+/* ---- the fit target T_k = S_k o phi_k (fit_target.c) ---- */
+q2n_status q2n_fit_target_setup(fit_ctx *c);   /* edge speeds and which patches are reparametrized */
+/* Side-frame derivatives of T (nder 2) at (t, 0) of side i of patch k. */
+q2n_status q2n_fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][3]);
+/* Positions of T on the grid us x vs into out (stride doubles per point, u fastest). */
+q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride);
+q2n_status q2n_fit_target_point(fit_ctx *c, int k, double u, double v, double out[3]);
+/* Factor turning the construction's mixed derivative d_t^a d_s^b at corner i of patch k into T's. */
+double q2n_fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b);
+
+/* ---- gluing (fit_glue.c) ---- */
+q2n_status q2n_fit_glue_measure(fit_ctx *c);   /* once per fit, on the construction: which edges are scaled (rep) */
+q2n_status q2n_fit_glue_classify(fit_ctx *c);  /* once per fit, on the target: gluing kind of every edge */
+/* The order-th cross rows of interior edge e with its gluing relation (order 1: exact or least
+ * squares; order 2: least squares), solved and stored into both patches. */
+q2n_status q2n_fit_rows_stage(fit_ctx *c, const int *edges, int n, int order);
+
+/* ---- refinement (fit_refine.c) ---- */
+/* From the last measurement: add breakpoints where the errors are; returns the number of knots
+ * added (0: converged or nothing refinable). */
+int q2n_fit_refine(fit_ctx *c);
+/* Acceptance after the last round: fills rep's met flags and note. */
+void q2n_fit_accept(fit_ctx *c);
+
+#endif

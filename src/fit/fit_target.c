@@ -1,0 +1,384 @@
+/* fit_target.c — what the fit approximates: the construction S_k seen through a reparametrization
+ * of each patch, T_k = S_k ∘ φ_k, chosen so that the gluing across the construction's "scaled" edges
+ * becomes a constant scale, which the fit can then impose exactly (fit_glue.c).
+ *
+ * Why.  Across an edge where S is parametrically continuous up to a scale — d_s S_R(1-t) =
+ * alpha(t) d_s S_L(t), and d_ss S_R = alpha^2 d_ss S_L in G2 (beta = gamma = delta = 0; the
+ * augmented patches of seed 003 on non-uniform meshes: alpha is a ratio of the local
+ * parametrization functions, not a polynomial) — no pair of spline rows satisfies the relation
+ * exactly unless alpha is constant.  T_k has the same geometry as S_k (φ_k is a diffeomorphism of
+ * [0,1]^2 that maps each side onto itself and fixes the corners), so its fit is a fit of the
+ * surface; its parametrization is chosen so that alpha becomes constant.
+ *
+ * How.  (1) Every edge e gets an end speed s_e = exp(x_e): its curve is reparametrized by the
+ * quintic tau_e with tau(0) = 0, tau(1) = 1, tau'(0) = tau'(1) = s_e, tau''(0) = tau''(1) = 0.  At a
+ * vertex the cross derivative of a patch is the tangent of the other edge there, so the end values
+ * of alpha across edge e become alpha(0) s_fR0 / s_fL0 and alpha(1) s_fR1 / s_fL1 (f.. = the edges
+ * of L and R at the two ends); asking them to agree is one linear equation in the x's per edge,
+ *      x_fR0 - x_fL0 - x_fR1 + x_fL1 = log(alpha(1) / alpha(0)),
+ * solved in the minimum-norm least-squares sense (CGLS, Björck, Numerical Methods for Least Squares
+ * Problems §7.4); edges whose equation is not met stay least squares.  (2) Along such an edge the
+ * cross speed of side L is lambda_L(t) = smoothstep between its end speeds and that of side R is
+ * lambda_R = A lambda_L / alpha(tau(t)), A = alpha(0) s_fR0 / s_fL0, so that the new gluing
+ * lambda_R alpha / lambda_L is the constant A (or side L absorbs alpha's variation instead, when R
+ * must keep phi = id); every other side's cross speed is the smoothstep.  Patches with a side whose
+ * gluing is not a scale (extraordinary regions) keep phi = id and their edges speed 1: those
+ * regions are least squares anyway, and they keep the construction's grid evaluation.
+ * (3) φ_k is the Boolean-sum Coons map (formulas.md §4.1, quintic Hermite blending) with boundary
+ * values tau on the sides, normal derivatives lambda and zero tangential and second derivatives;
+ * the corner data are compatible because alpha' = 0 at the ends of such an edge (checked) and the
+ * smoothstep is flat there.  On the boundary, with sigma = rho = kappa = 0:
+ *      T = S(tau), T_t = tau' S_t, T_s = lambda S_s, T_tt = tau'^2 S_tt + tau'' S_t,
+ *      T_ts = lambda' S_s + lambda tau' S_ts, T_ss = lambda^2 S_ss,
+ * so d_s T_R = A d_s T_L and d_ss T_R = A^2 d_ss T_L exactly; at the corners φ is separable to
+ * order (2,2), so the mixed derivatives of T are those of S times s_t^a s_s^b.
+ * Patches whose sides all have speed 1 and constant gluing keep φ = id (and the grid fast path). */
+#include "fit/fit_policy.h"
+#include "fit/fit_state.h"
+#include "core/vec3.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Quintic Hermite functions on [0,1] (formulas.md §4.1): h[0] = H00 (value at 0), h[1] = H01 (value
+ * at 1), h[2] = H10 (slope at 0), h[3] = H11 (slope at 1), and their first derivatives in dh. */
+static void hermite5(double x, double h[4], double dh[4])
+{
+    double x2 = x * x, x3 = x2 * x, x4 = x3 * x, x5 = x4 * x;
+    h[1] = 10 * x3 - 15 * x4 + 6 * x5;
+    h[0] = 1 - h[1];
+    h[2] = x - 6 * x3 + 8 * x4 - 3 * x5;
+    h[3] = -4 * x3 + 7 * x4 - 3 * x5;
+    if (!dh) return;
+    dh[1] = 30 * x2 - 60 * x3 + 30 * x4;
+    dh[0] = -dh[1];
+    dh[2] = 1 - 18 * x2 + 32 * x3 - 15 * x4;
+    dh[3] = -12 * x2 + 28 * x3 - 15 * x4;
+}
+
+/* tau(t) and its first two derivatives for end speeds s0, s1 (value 0 -> 1, curvature 0 at both). */
+static void tau_eval(double s0, double s1, double t, double d[3])
+{
+    double x = t, x2 = x * x, x3 = x2 * x, x4 = x3 * x, x5 = x4 * x;
+    /* H01 + s0 H10 + s1 H11 and derivatives */
+    d[0] = (10 * x3 - 15 * x4 + 6 * x5) + s0 * (x - 6 * x3 + 8 * x4 - 3 * x5) + s1 * (-4 * x3 + 7 * x4 - 3 * x5);
+    d[1] = (30 * x2 - 60 * x3 + 30 * x4) + s0 * (1 - 18 * x2 + 32 * x3 - 15 * x4) + s1 * (-12 * x2 + 28 * x3 - 15 * x4);
+    d[2] = (60 * x - 180 * x2 + 120 * x3) + s0 * (-36 * x + 96 * x2 - 60 * x3) + s1 * (-24 * x + 84 * x2 - 60 * x3);
+}
+
+/* Edge e and whether side (k, i) runs along its owner orientation. */
+static int side_edge(const fit_ctx *c, int k, int i, int *own)
+{
+    int h = c->m->face_start[k] + i, e = c->m->he_edge[h];
+    *own = c->m->edge_he[e] == h;
+    return e;
+}
+
+static double speed(const fit_ctx *c, int e) { return exp(c->e[e].x); }
+
+/* tau of side (k, i) in the side's orientation at t: tau_i(t) = tau_e(t) (owner) or 1 - tau_e(1 - t). */
+static void side_tau(const fit_ctx *c, int k, int i, double t, double d[3])
+{
+    int own, e = side_edge(c, k, i, &own);
+    double s = speed(c, e);
+    if (own) { tau_eval(s, s, t, d); return; }
+    tau_eval(s, s, 1.0 - t, d);
+    d[0] = 1.0 - d[0];
+    d[2] = -d[2];
+}
+
+/* The smoothstep cross speed of side (k, i): from the speed of the edge before it (corner i) to
+ * that of the edge after it (corner i + 1); value and derivative. */
+static void side_lin(const fit_ctx *c, int k, int i, double t, double *l, double *dl)
+{
+    int own;
+    double a = speed(c, side_edge(c, k, (i + 3) & 3, &own)), b = speed(c, side_edge(c, k, (i + 1) & 3, &own));
+    double h[4], dh[4];
+    hermite5(t, h, dh);
+    *l = a + (b - a) * h[1];
+    *dl = (b - a) * dh[1];
+}
+
+/* alpha(x) and alpha'(x) of edge e at owner parameter x from the construction's frame derivatives
+ * of both sides (d_s S_R(1 - x) = alpha d_s S_L(x); differentiating, -d_ts S_R = alpha' d_s S_L +
+ * alpha d_ts S_L, projected on d_s S_L). */
+static q2n_status edge_alpha(const fit_ctx *c, int e, double x, double *al, double *dal)
+{
+    const q2n_mesh *m = c->m;
+    int h = m->edge_he[e], ht = m->he_twin[h], fL = m->he_face[h], fR = m->he_face[ht];
+    double DL[6][3], DR[6][3];
+    q2n_status st = q2n_fit_frame_eval(c->s, fL, h - m->face_start[fL], x, 0.0, 2, DL);
+    if (!st) st = q2n_fit_frame_eval(c->s, fR, ht - m->face_start[fR], 1.0 - x, 0.0, 2, DR);
+    if (st) return st;
+    double nn = q2n_v3_dot(DL[2], DL[2]);
+    *al = q2n_v3_dot(DR[2], DL[2]) / nn;
+    double w[3];
+    for (int q = 0; q < 3; q++) w[q] = -DR[4][q] - *al * DL[4][q];
+    *dal = q2n_v3_dot(w, DL[2]) / nn;
+    return Q2N_OK;
+}
+
+/* Cross speed of side (k, i) at t: value and derivative. */
+static q2n_status side_lambda(const fit_ctx *c, int k, int i, double t, double *l, double *dl)
+{
+    int own, e = side_edge(c, k, i, &own);
+    const fit_edge *E = &c->e[e];
+    /* the side that absorbs alpha's variation: R (absorb 0) or L (absorb 1) */
+    if (!E->rep || own != E->absorb) { side_lin(c, k, i, t, l, dl); return Q2N_OK; }
+    const q2n_mesh *m = c->m;
+    int h = own ? m->he_twin[m->edge_he[e]] : m->edge_he[e], fo = m->he_face[h], io = h - m->face_start[fo];
+    double x = 1.0 - t, lo, dlo, tau[3], al, dal;   /* x: the other side's parameter, x = 1 - t */
+    side_lin(c, fo, io, x, &lo, &dlo);
+    double xe = own ? t : x;                         /* owner parameter of this point */
+    tau_eval(speed(c, e), speed(c, e), xe, tau);
+    q2n_status st = edge_alpha(c, e, tau[0], &al, &dal);
+    if (st) return st;
+    if (!own) {   /* R: lambda_R(t) = A lambda_L(x) / alpha(tau(x)); d/dt = -d/dx */
+        *l = E->A * lo / al;
+        *dl = -E->A * (dlo / al - lo * dal * tau[1] / (al * al));
+    } else {      /* L: lambda_L(t) = lambda_R(x) alpha(tau(t)) / A; d lambda_R(x)/dt = -lambda_R'(x) */
+        *l = lo * al / E->A;
+        *dl = (-dlo * al + lo * dal * tau[1]) / E->A;
+    }
+    return Q2N_OK;
+}
+
+q2n_status q2n_fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][3])
+{
+    if (!c->p[k].phi) return q2n_fit_frame_eval(c->s, k, i, t, 0.0, 2, D);
+    double tau[3], l, dl, S[6][3];
+    side_tau(c, k, i, t, tau);
+    q2n_status st = side_lambda(c, k, i, t, &l, &dl);
+    if (!st) st = q2n_fit_frame_eval(c->s, k, i, tau[0], 0.0, 2, S);
+    if (st) return st;
+    for (int q = 0; q < 3; q++) {
+        D[0][q] = S[0][q];
+        D[1][q] = tau[1] * S[1][q];
+        D[2][q] = l * S[2][q];
+        D[3][q] = tau[1] * tau[1] * S[3][q] + tau[2] * S[1][q];
+        D[4][q] = dl * S[2][q] + l * tau[1] * S[4][q];
+        D[5][q] = l * l * S[5][q];
+    }
+    return Q2N_OK;
+}
+
+/* phi_k(u, v) from the sides' tau values (tu0 = tau_0(u), tu2 = tau_2(1 - u), tv1 = tau_1(v),
+ * tv3 = tau_3(1 - v)) and cross speeds (l0(u), l2(1 - u), l1(v), l3(1 - v)) and the corner speeds:
+ * the Boolean sum P_u + P_v - P_uv (formulas.md §4.1) of each component. */
+static void coons_phi(double u, double v, double tu0, double tu2, double tv1, double tv3, double l0, double l1, double l2,
+                      double l3, const double cs[4][2], double out[2])
+{
+    double hu[4], hv[4];
+    hermite5(u, hu, NULL);
+    hermite5(v, hv, NULL);
+    /* phi^u: u = 0: 0, d_u = l3; u = 1: 1, d_u = l1; v = 0: tau_0(u), v = 1: 1 - tau_2(1 - u) */
+    double Pu = hu[1] + hu[2] * l3 + hu[3] * l1;
+    double Pv = hv[0] * tu0 + hv[1] * (1.0 - tu2);
+    double Puv = hu[1] + hu[2] * (hv[0] * cs[0][0] + hv[1] * cs[3][0]) + hu[3] * (hv[0] * cs[1][0] + hv[1] * cs[2][0]);
+    out[0] = Pu + Pv - Puv;
+    /* phi^v: v = 0: 0, d_v = l0; v = 1: 1, d_v = l2; u = 0: 1 - tau_3(1 - v), u = 1: tau_1(v) */
+    double Qv = hv[1] + hv[2] * l0 + hv[3] * l2;
+    double Qu = hu[0] * (1.0 - tv3) + hu[1] * tv1;
+    double Quv = hv[1] + hv[2] * (hu[0] * cs[0][1] + hu[1] * cs[1][1]) + hv[3] * (hu[0] * cs[3][1] + hu[1] * cs[2][1]);
+    out[1] = Qv + Qu - Quv;
+}
+
+/* Corner speeds of patch k: cs[i][0] = d_u phi^u and cs[i][1] = d_v phi^v at corner i (the speeds
+ * of the edges along u and v there). */
+static void corner_speeds(const fit_ctx *c, int k, double cs[4][2])
+{
+    int own;
+    double s0 = speed(c, side_edge(c, k, 0, &own)), s1 = speed(c, side_edge(c, k, 1, &own));
+    double s2 = speed(c, side_edge(c, k, 2, &own)), s3 = speed(c, side_edge(c, k, 3, &own));
+    cs[0][0] = s0; cs[0][1] = s3;
+    cs[1][0] = s0; cs[1][1] = s1;
+    cs[2][0] = s2; cs[2][1] = s1;
+    cs[3][0] = s2; cs[3][1] = s3;
+}
+
+q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride)
+{
+    if (!c->p[k].phi) {
+        double *buf = stride == 9 ? out : malloc(9 * sizeof(double) * (size_t)nu * nv);
+        if (!buf) return Q2N_ERR_NOMEM;
+        q2n_status st = q2n_surface_eval_grid(c->s, k, nu, us, nv, vs, buf);
+        if (buf != out) {
+            for (size_t q = 0; !st && q < (size_t)nu * nv; q++) memcpy(out + (size_t)stride * q, buf + 9 * q, 3 * sizeof(double));
+            free(buf);
+        }
+        return st;
+    }
+    /* side data at the grid's parameters */
+    double *a = malloc(sizeof(double) * 4 * (size_t)(nu + nv));
+    if (!a) return Q2N_ERR_NOMEM;
+    double *tu0 = a, *tu2 = a + nu, *l0 = a + 2 * nu, *l2 = a + 3 * nu;
+    double *tv1 = a + 4 * nu, *tv3 = tv1 + nv, *l1 = tv1 + 2 * nv, *l3 = tv1 + 3 * nv, d[3], dl;
+    q2n_status st = Q2N_OK;
+    for (int i = 0; i < nu && !st; i++) {
+        side_tau(c, k, 0, us[i], d); tu0[i] = d[0];
+        side_tau(c, k, 2, 1.0 - us[i], d); tu2[i] = d[0];
+        st = side_lambda(c, k, 0, us[i], &l0[i], &dl);
+        if (!st) st = side_lambda(c, k, 2, 1.0 - us[i], &l2[i], &dl);
+    }
+    for (int j = 0; j < nv && !st; j++) {
+        side_tau(c, k, 1, vs[j], d); tv1[j] = d[0];
+        side_tau(c, k, 3, 1.0 - vs[j], d); tv3[j] = d[0];
+        st = side_lambda(c, k, 1, vs[j], &l1[j], &dl);
+        if (!st) st = side_lambda(c, k, 3, 1.0 - vs[j], &l3[j], &dl);
+    }
+    double cs[4][2];
+    corner_speeds(c, k, cs);
+    for (int j = 0; j < nv && !st; j++)
+        for (int i = 0; i < nu && !st; i++) {
+            double uv[2], S[Q2N_EVAL_MAX];
+            coons_phi(us[i], vs[j], tu0[i], tu2[i], tv1[j], tv3[j], l0[i], l1[j], l2[i], l3[j], cs, uv);
+            st = q2n_surface_eval(c->s, k, uv[0], uv[1], 0, S);
+            memcpy(out + (size_t)stride * ((size_t)j * nu + i), S, 3 * sizeof(double));
+        }
+    free(a);
+    return st;
+}
+
+q2n_status q2n_fit_target_point(fit_ctx *c, int k, double u, double v, double out[3])
+{
+    return q2n_fit_target_grid(c, k, 1, &u, 1, &v, out, 3);
+}
+
+/* Mixed corner derivatives of T from those of S (φ is separable to order (2, 2) at the corners):
+ * d_t^a d_s^b T = s_t^a s_s^b d_t^a d_s^b S for corner i of patch k (side i's frame). */
+double q2n_fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b)
+{
+    int own;
+    double st = speed(c, side_edge(c, k, i, &own)), ss = speed(c, side_edge(c, k, (i + 3) & 3, &own));
+    return pow(st, a) * pow(ss, b);
+}
+
+/* ------------------------------------------------------------------ setup */
+
+/* CGLS for min |M x - r| (M sparse: rows of 4 entries +-1 over edges), from x = 0: the minimum-norm
+ * solution for a consistent system.  Returns the final max residual. */
+static double cgls(int n, int nrow, const int (*col)[4], const double (*val)[4], const double *r, double *x, int maxit)
+{
+    double *res = malloc(sizeof(double) * (size_t)nrow), *s = calloc((size_t)n, sizeof(double));
+    double *p = calloc((size_t)n, sizeof(double)), *q = malloc(sizeof(double) * (size_t)nrow);
+    double out = HUGE_VAL;
+    if (!res || !s || !p || !q) goto done;
+    memset(x, 0, sizeof(double) * (size_t)n);
+    memcpy(res, r, sizeof(double) * (size_t)nrow);
+    for (int i = 0; i < nrow; i++)
+        for (int j = 0; j < 4; j++) s[col[i][j]] += val[i][j] * res[i];
+    memcpy(p, s, sizeof(double) * (size_t)n);
+    double gamma = 0.0, g0;
+    for (int j = 0; j < n; j++) gamma += s[j] * s[j];
+    g0 = gamma;
+    for (int it = 0; it < maxit && gamma > 1e-30 * (g0 > 0 ? g0 : 1); it++) {
+        double qq = 0.0;
+        for (int i = 0; i < nrow; i++) {
+            q[i] = 0.0;
+            for (int j = 0; j < 4; j++) q[i] += val[i][j] * p[col[i][j]];
+            qq += q[i] * q[i];
+        }
+        if (qq <= 0) break;
+        double al = gamma / qq;
+        for (int j = 0; j < n; j++) x[j] += al * p[j];
+        for (int i = 0; i < nrow; i++) res[i] -= al * q[i];
+        memset(s, 0, sizeof(double) * (size_t)n);
+        for (int i = 0; i < nrow; i++)
+            for (int j = 0; j < 4; j++) s[col[i][j]] += val[i][j] * res[i];
+        double gn = 0.0;
+        for (int j = 0; j < n; j++) gn += s[j] * s[j];
+        for (int j = 0; j < n; j++) p[j] = s[j] + gn / gamma * p[j];
+        gamma = gn;
+    }
+    out = 0.0;
+    for (int i = 0; i < nrow; i++) {
+        double w = -r[i];
+        for (int j = 0; j < 4; j++) w += val[i][j] * x[col[i][j]];
+        if (fabs(w) > out) out = fabs(w);
+    }
+done:
+    free(res); free(s); free(p); free(q);
+    return out;
+}
+
+q2n_status q2n_fit_target_setup(fit_ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    int ne = m->ne, nf = m->nf, nrow = 0;
+    int (*col)[4] = malloc(sizeof *col * (size_t)(ne + 1));
+    double (*val)[4] = malloc(sizeof *val * (size_t)(ne + 1)), *r = malloc(sizeof(double) * (size_t)(ne + 1));
+    int *row_e = malloc(sizeof(int) * (size_t)(ne + 1));
+    double *x = calloc((size_t)ne + 1, sizeof(double));
+    unsigned char *fixed = calloc((size_t)nf + 1, 1), *efix = calloc((size_t)ne + 1, 1);
+    if (!col || !val || !r || !row_e || !x || !fixed || !efix) {
+        free(col); free(val); free(r); free(row_e); free(x); free(fixed); free(efix);
+        return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+    }
+    /* patches with a side whose gluing is not a scale (extraordinary regions) keep phi = id: their
+     * least-squares sides gain nothing, and they keep the construction's grid fast path */
+    for (int e = 0; e < ne; e++) {
+        const fit_edge *E = &c->e[e];
+        if (E->glue == FIT_GLUE_BOUNDARY || E->rep) continue;
+        int h = m->edge_he[e];
+        fixed[m->he_face[h]] = fixed[m->he_face[m->he_twin[h]]] = 1;
+    }
+    for (int k = 0; k < nf; k++)
+        if (fixed[k])
+            for (int i = 0; i < 4; i++) efix[m->he_edge[4 * k + i]] = 1;
+    for (int e = 0; e < ne; e++) {
+        fit_edge *E = &c->e[e];
+        E->x = 0.0;
+        if (!E->rep) continue;
+        int h = m->edge_he[e], fL = fixed[m->he_face[h]], fR = fixed[m->he_face[m->he_twin[h]]];
+        E->absorb = fR;                       /* the free side absorbs alpha's variation */
+        if (fL && fR && E->alpha_varies) E->rep = 0;
+    }
+    for (int pass = 0; pass < 4; pass++) {
+        nrow = 0;
+        for (int e = 0; e < ne; e++) {
+            fit_edge *E = &c->e[e];
+            if (!E->rep) continue;
+            int h = m->edge_he[e], ht = m->he_twin[h];
+            int fL0 = m->he_edge[q2n_he_prev(m, h)], fL1 = m->he_edge[q2n_he_next(m, h)];
+            int fR0 = m->he_edge[q2n_he_next(m, ht)], fR1 = m->he_edge[q2n_he_prev(m, ht)];
+            int cc[4] = {fR0, fL0, fR1, fL1};
+            double vv[4] = {1.0, -1.0, -1.0, 1.0};
+            for (int j = 0; j < 4; j++) {   /* edges of fixed patches keep speed 1 (x = 0) */
+                col[nrow][j] = cc[j];
+                val[nrow][j] = efix[cc[j]] ? 0.0 : vv[j];
+            }
+            r[nrow] = log(E->alpha1 / E->alpha0);
+            row_e[nrow++] = e;
+        }
+        if (!nrow) break;
+        cgls(ne, nrow, (const int (*)[4])col, (const double (*)[4])val, r, x, Q2N_FIT_SPEED_ITER);
+        int dropped = 0;
+        for (int i = 0; i < nrow; i++) {
+            double w = -r[i];
+            for (int j = 0; j < 4; j++) w += val[i][j] * x[col[i][j]];
+            if (fabs(w) > Q2N_FIT_SPEED_RESID) { c->e[row_e[i]].rep = 0; dropped++; }
+        }
+        if (!dropped) break;
+        if (pass == 3) for (int i = 0; i < nrow; i++) c->e[row_e[i]].rep = 0;   /* no consistent set found */
+    }
+    for (int e = 0; e < ne; e++) c->e[e].x = efix[e] ? 0.0 : x[e];
+    for (int e = 0; e < ne; e++) {
+        fit_edge *E = &c->e[e];
+        if (!E->rep) continue;
+        int h = m->edge_he[e], ht = m->he_twin[h];
+        int fL0 = m->he_edge[q2n_he_prev(m, h)], fR0 = m->he_edge[q2n_he_next(m, ht)];
+        E->A = E->alpha0 * exp(c->e[fR0].x - c->e[fL0].x);
+    }
+    /* phi = id when every side has speed 1 and none absorbs a varying alpha */
+    for (int k = 0; k < nf; k++) {
+        fit_patch *p = &c->p[k];
+        p->phi = 0;
+        for (int i = 0; i < 4; i++) {
+            int own, e = side_edge(c, k, i, &own);
+            if (c->e[e].x != 0.0 || (c->e[e].rep && own == c->e[e].absorb && c->e[e].alpha_varies)) p->phi = 1;
+        }
+    }
+    free(col); free(val); free(r); free(row_e); free(x); free(fixed); free(efix);
+    return Q2N_OK;
+}
