@@ -3,12 +3,14 @@
 #   gcc, g++, make             build (C11 library and CLI; C++ only for the Ceres shim and test references)
 #   libceres-dev               Ceres Solver: the least-squares fit of patches into B-splines (src/fit)
 #   liblapack-dev, libblas-dev LAPACK: the fit's null-space form of exact gluing constraints and its
-#                              direct reference solver (src/core/dense.c)
+#                              direct reference solver (src/core/dense.c); BLAS: the fair construction's
+#                              energy blocks (src/patch/ev_fair.c)
+#   libsuitesparse-dev         CHOLMOD: the fair construction's sparse energy solve (src/core/sparse.c)
 #   libosd-dev                 OpenSubdiv: Catmull-Clark limit reference in tests and the evaluation benchmark
 #   libocct-*-dev              OpenCASCADE: STEP/IGES import and fitting reference in tests/benchmarks
 #   freecad-python3            FreeCAD (headless): import audit of the exported STEP/IGES files (tools/)
 set -e
-PKGS="gcc g++ make libceres-dev liblapack-dev libblas-dev libosd-dev libocct-foundation-dev \
+PKGS="gcc g++ make libceres-dev liblapack-dev libblas-dev libsuitesparse-dev libosd-dev libocct-foundation-dev \
 libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev freecad-python3"
 missing=""
 for p in $PKGS; do
