@@ -47,7 +47,7 @@ def knot_reciprocals(U, p):
 
 
 def basis_matrix(knots, p, t, nd):
-    """Every B-spline basis function of degree p and its derivatives up to nd <= p at the
+    """Every B-spline basis function of degree p and its derivatives up to nd at the
     parameters t: array (nd+1, n, m), n = len(knots) - p - 1, m = len(t).
     Cox-de Boor recursion (The NURBS Book eq. 2.5) level by level, each level one array operation
     over all functions and parameters; the r-th derivative applies eq. 2.9/2.10,
@@ -68,6 +68,9 @@ def basis_matrix(knots, p, t, nd):
         levels.append(a * prev[:-1] + b * prev[1:])
     out = [levels[p]]
     for r in range(1, nd + 1):
+        if r > p:                                    # derivatives beyond the degree vanish
+            out.append(np.zeros_like(levels[p]))
+            continue
         D = levels[p - r]
         for k in range(p - r + 1, p + 1):
             n = D.shape[0] - 1

@@ -298,6 +298,7 @@ class WholeViews:
 def draw_panels(panels, title, cbar=None, markers=None):
     """One figure: images side by side at their own pixel size (no resampling), optional colour bar
     (ScalarMappable, label, [(value, text)] lines) and per-panel markers [(x, y, style dict)]."""
+    from matplotlib.ticker import NullFormatter
     dpi = 100.0
     ph, pw = panels[0][0].shape[:2]
     gap, top, bottom, right = 8, 46, 22, (110 if cbar else 8)
@@ -318,6 +319,9 @@ def draw_panels(panels, title, cbar=None, markers=None):
         mappable, label, lines = cbar
         cax = fig.add_axes([(len(panels) * (pw + gap) + 10) / W, (bottom + 0.1 * ph) / H, 14 / W, 0.8 * ph / H])
         cb = fig.colorbar(mappable, cax=cax)
+        if type(mappable.norm).__name__ == 'LogNorm':
+            cb.ax.yaxis.set_major_formatter(decade_formatter())
+            cb.ax.yaxis.set_minor_formatter(NullFormatter())
         cb.set_label(label, fontsize=8)
         cb.ax.tick_params(labelsize=7)
         for val, text in lines:
@@ -422,7 +426,7 @@ def closeup(faces, datas, tess, center, radius, toward, up_hint, title, line_pts
             vis, x, y = R.visible(frame, ras, np.asarray(point)[None, :])
             mk.append((x[vis], y[vis], dict(marker='o', ms=11, mfc='none', mec='magenta', mew=1.5)))
         marks.append(mk)
-    return draw_panels(panels, title, markers=marks)
+    return draw_panels(panels, title, markers=marks), title
 
 
 def nearest_normal(tess, faces_idx, p):
@@ -445,9 +449,16 @@ def perpendicular(n):
     return q2n_render_unit(np.cross(n, a))
 
 
+def decade_formatter():
+    """Tick labels 1e-05 in plain text (matplotlib's 10^x labels go through mathtext: ~1 s)."""
+    from matplotlib.ticker import FuncFormatter
+    return FuncFormatter(lambda x, _: ('%g' % x) if 1e-3 <= x <= 1e4 else '%.0e' % x)
+
+
 def histograms(detail, diag, targets):
     """Log-scale histograms of G0 (relative), G1, G2 over the shared edges, targets as lines."""
     import numpy as np
+    from matplotlib.ticker import NullFormatter
     fig = new_figure(14, 3.6)
     series = [('G0 gap / diagonal', np.array([d['g0'] for d in detail]) / (diag if diag > 0 else 1.0), targets[0]),
               ('G1 normal angle (deg)', np.array([d['g1_deg'] for d in detail]), targets[1]),
@@ -474,6 +485,9 @@ def histograms(detail, diag, targets):
         if nlow:
             ax.text(0.02, 0.95, '%d edges ≤ %s\n(left bin)' % (nlow, fmt(floor, 1)), transform=ax.transAxes,
                     ha='left', va='top', fontsize=7.5, color='#444')
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_formatter(decade_formatter())
+            axis.set_minor_formatter(NullFormatter())
         ax.set_xlabel(label, fontsize=9)
         ax.set_ylabel('edges', fontsize=8)
         ax.tick_params(labelsize=7)
@@ -494,7 +508,7 @@ th{background:#f0f0f0} td.num{text-align:right;font-family:"DejaVu Sans Mono",mo
 td.ok,td.bad,td.na{white-space:nowrap}
 .ok{color:#17772b;font-weight:bold} .bad{color:#b00020;font-weight:bold} .na{color:#888}
 .note{color:#555;font-size:13px;max-width:1100px} img{display:block;max-width:100%;margin:6px 0}
-.grid{display:flex;gap:28px;flex-wrap:wrap}
+.grid{display:flex;gap:28px;flex-wrap:wrap} h3.caption{font-size:14px;font-weight:normal;margin:14px 0 0}
 """
 
 
@@ -725,8 +739,9 @@ def build(args):
                                 side, 'Close-up: extraordinary vertex of valence %d%s at (%s), mean-curvature '
                                 'variation %s' % (val, ' (boundary)' if bnd else '', ', '.join(fmt(c, 4) for c in p),
                                                    fmt(var[i][0], 3)), point=p))
-        ev_note = ('%d extraordinary vertices; the close-up shows the one whose faces span the largest range of '
-                   'mean curvature (times their radius around it).' % len(evs))
+        ev_note = ('%d extraordinary %s; the close-up shows the one whose faces span the largest range of '
+                   'mean curvature (times their radius around it).' % (len(evs), 'vertex' if len(evs) == 1
+                                                                       else 'vertices'))
     imgs['closeups'] = closeups
     imgs['hist'] = (histograms(a['edge_detail'], diag, (TARGET_G0_REL, TARGET_G1_DEG, TARGET_G2_REL))
                     if a['edge_detail'] else None)
@@ -788,7 +803,8 @@ def page_html(path, a, rep, units, extra, imgs, ev_note, clock, args):
              targets_html(a, rep, extra),
              '<h2 id="zebra">2. Zebra (reflection lines)</h2>', img(imgs['zebra'], 'zebra views'),
              note(LEGEND_ZEBRA), note(esc(ev_note))]
-    parts += [img(u, 'zebra close-up') for u in imgs['closeups']]
+    for uri, title in imgs['closeups']:
+        parts += ['<h3 class="caption">%s</h3>' % esc(title), img(uri, title)]
     if imgs['closeups']:
         parts.append(note(LEGEND_CLOSEUP))
     parts += ['<h2 id="curvature">3. Mean curvature</h2>', img(imgs['curv'], 'mean curvature views'),
