@@ -173,6 +173,8 @@ def test_renderer():
     frame = R.Frame.fit(cam, P, size, size)
     ras = R.rasterize(frame, P, T)
     got = R.zebra(ras, T, P, cam)[:, 0] > 0.5
+    culled = R.rasterize(frame, P, T, P)          # closed sphere: culling back faces changes nothing
+    check(bool((culled.tri == ras.tri).all()), 'back-face culling changed %d pixels' % (culled.tri != ras.tri).sum())
     # exact: the pixel's world point on the sphere, its normal = itself
     idx = np.nonzero(ras.covered)[0]
     x = (idx % size + 0.5 - size / 2) / frame.s + frame.c[0]

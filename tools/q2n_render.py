@@ -109,10 +109,17 @@ class Raster:
         return ((1 - l1 - l2)[:, None] * v[t[:, 0]] + l1[:, None] * v[t[:, 1]] + l2[:, None] * v[t[:, 2]])
 
 
-def rasterize(frame, V, tris):
-    """Scan-convert triangles (vertex indices into V, world coordinates) with a depth buffer."""
+def rasterize(frame, V, tris, normals=None):
+    """Scan-convert triangles (vertex indices into V, world coordinates) with a depth buffer.
+    normals (per vertex), when given, cull triangles facing away at all three vertices: for a closed
+    surface seen from outside they are hidden anyway."""
     W, H = frame.W, frame.H
     x, y, z = frame.project(V)
+    ids = np.arange(len(tris))                    # Raster.tri holds indices into the given tris
+    if normals is not None:
+        facing = normals @ frame.cam.R[2] >= 0
+        ids = np.nonzero(facing[tris].any(axis=1))[0]
+        tris = tris[ids]
     ax, bx, cx = x[tris[:, 0]], x[tris[:, 1]], x[tris[:, 2]]
     ay, by, cy = y[tris[:, 0]], y[tris[:, 1]], y[tris[:, 2]]
     det = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
@@ -121,44 +128,60 @@ def rasterize(frame, V, tris):
     y0 = np.clip(np.ceil(np.minimum(np.minimum(ay, by), cy) - 0.5), 0, H).astype(np.int64)
     y1 = np.clip(np.floor(np.maximum(np.maximum(ay, by), cy) - 0.5), -1, H - 1).astype(np.int64)
     keep = np.nonzero((x1 >= x0) & (y1 >= y0) & (np.abs(det) > 1e-12))[0]
-    bw = x1[keep] - x0[keep] + 1
-    counts = bw * (y1[keep] - y0[keep] + 1)
+    # barycentric weights of the 2nd and 3rd vertex and the depth are affine in the pixel centre:
+    # l = A x + B y + C per triangle (edge functions, e.g. Pineda 1988)
+    d = det[keep]
+    ax, ay, bx, by, cx, cy = ax[keep], ay[keep], bx[keep], by[keep], cx[keep], cy[keep]
+    A1, B1 = (cy - ay) / d, -(cx - ax) / d
+    A2, B2 = -(by - ay) / d, (bx - ax) / d
+    C1, C2 = -(A1 * ax + B1 * ay), -(A2 * ax + B2 * ay)
+    tz = z[tris[keep]]
+    dz1, dz2 = tz[:, 1] - tz[:, 0], tz[:, 2] - tz[:, 0]
+    coef = (A1, B1, C1, A2, B2, C2, A1 * dz1 + A2 * dz2, B1 * dz1 + B2 * dz2, tz[:, 0] + C1 * dz1 + C2 * dz2)
+    x0, y0 = x0[keep], y0[keep]
+    bw = x1[keep] - x0 + 1
+    counts = bw * (y1[keep] - y0 + 1)
     ras = Raster(W, H)
+    keep_ids = ids[keep]
     cum = np.cumsum(counts)
     start = 0
     while start < len(keep):
         base = cum[start - 1] if start else 0
         stop = max(start + 1, int(np.searchsorted(cum, base + MAX_CANDIDATES, side='right')))
-        _raster_batch(ras, keep[start:stop], counts[start:stop], bw[start:stop], x0, y0,
-                      (ax, ay, bx, by, cx, cy, det), z, tris)
+        sl = slice(start, stop)
+        _raster_batch(ras, keep_ids[sl], counts[sl], bw[sl], x0[sl], y0[sl], tuple(c[sl] for c in coef))
         start = stop
     return ras
 
 
-def _raster_batch(ras, tid, counts, bw, x0, y0, geo, z, tris):
-    ax, ay, bx, by, cx, cy, det = geo
+def _raster_batch(ras, tid, counts, bw, x0, y0, coef):
     total = int(counts.sum())
     rep = np.repeat(np.arange(len(tid)), counts)
     local = np.arange(total) - np.repeat(np.cumsum(counts) - counts, counts)
-    t = tid[rep]
-    px = x0[t] + local % bw[rep]
-    py = y0[t] + local // bw[rep]
+    w = bw[rep]
+    py = local // w
+    px = x0[rep] + (local - py * w)
+    py += y0[rep]
     fx, fy = px + 0.5, py + 0.5
-    d = det[t]
-    l1 = ((fx - ax[t]) * (cy[t] - ay[t]) - (fy - ay[t]) * (cx[t] - ax[t])) / d
-    l2 = ((bx[t] - ax[t]) * (fy - ay[t]) - (by[t] - ay[t]) * (fx - ax[t])) / d
-    ins = (l1 >= -INSIDE_EPS) & (l2 >= -INSIDE_EPS) & (1 - l1 - l2 >= -INSIDE_EPS)
-    t, px, py, l1, l2 = t[ins], px[ins], py[ins], l1[ins], l2[ins]
-    tv = tris[t]
-    depth = (1 - l1 - l2) * z[tv[:, 0]] + l1 * z[tv[:, 1]] + l2 * z[tv[:, 2]]
-    pix = py * ras.W + px
-    order = np.lexsort((-depth, pix))                 # per pixel, nearest first
+    l1 = coef[0][rep] * fx + coef[1][rep] * fy + coef[2][rep]
+    l2 = coef[3][rep] * fx + coef[4][rep] * fy + coef[5][rep]
+    ins = np.nonzero((l1 >= -INSIDE_EPS) & (l2 >= -INSIDE_EPS) & (1 - l1 - l2 >= -INSIDE_EPS))[0]
+    l1, l2, rep, fx, fy = l1[ins], l2[ins], rep[ins], fx[ins], fy[ins]
+    pix = py[ins] * ras.W + px[ins]
+    depth = coef[6][rep] * fx + coef[7][rep] * fy + coef[8][rep]
+    if len(pix) == 0:
+        return
+    # nearest candidate per pixel: one sort of the key (pixel, quantised depth, nearest first)
+    pbits = max(1, int(ras.W * ras.H - 1).bit_length())
+    dbits = 62 - pbits
+    lo, hi = depth.min(), depth.max()
+    q = ((hi - depth) * ((2 ** dbits - 1) / (hi - lo if hi > lo else 1.0))).astype(np.int64)
+    order = np.argsort((pix << dbits) | q)
     ps = pix[order]
-    first = order[np.r_[True, ps[1:] != ps[:-1]]] if len(ps) else order
-    win = depth[first] > ras.depth[pix[first]]
-    sel = first[win]
+    first = order[np.r_[True, ps[1:] != ps[:-1]]]
+    sel = first[depth[first] > ras.depth[pix[first]]]
     p = pix[sel]
-    ras.depth[p], ras.tri[p], ras.l1[p], ras.l2[p] = depth[sel], t[sel], l1[sel], l2[sel]
+    ras.depth[p], ras.tri[p], ras.l1[p], ras.l2[p] = depth[sel], tid[rep[sel]], l1[sel], l2[sel]
 
 
 def pixel_normals(ras, tris, normals, cam):

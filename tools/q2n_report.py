@@ -283,16 +283,17 @@ def new_figure(w_in, h_in):
 
 
 class WholeViews:
-    """The three whole-part views: camera, frame and raster, computed once and shaded many ways."""
+    """The three whole-part views: camera, frame and raster, computed once and shaded many ways
+    (triangles facing away are skipped when the part is closed)."""
 
-    def __init__(self, tess, up_axis):
+    def __init__(self, tess, up_axis, closed):
         import q2n_render as R
         self.views = []
         size = VIEW_PX * R.SUPERSAMPLE
         for az, el in VIEWS:
             cam = R.Camera.from_angles(az, el, up_axis)
             frame = R.Frame.fit(cam, tess.V, size, size)
-            self.views.append((az, el, cam, frame, R.rasterize(frame, tess.V, tess.T)))
+            self.views.append((az, el, cam, frame, R.rasterize(frame, tess.V, tess.T, tess.N if closed else None)))
 
 
 def draw_panels(panels, title, cbar=None, markers=None):
@@ -704,7 +705,7 @@ def build(args):
         extra['samples_dev_rel'] = float(np.nanmax(dev)) / diag if diag > 0 else float(np.nanmax(dev))
     clock.lap('tessellation')
     up_axis = 'xyz'.index(args.up)
-    wv = WholeViews(tess, up_axis)
+    wv = WholeViews(tess, up_axis, a['free_edges'] == 0 and a['nonmanifold_edges'] == 0)
     ev_pts = np.array([p for p, _, _, _ in evs]).reshape(-1, 3)
     worst_g1 = a['worst']['g1_deg']
     w_pt = np.array(worst_g1['point']).reshape(-1, 3) if worst_g1['point'] is not None else np.zeros((0, 3))
