@@ -379,6 +379,32 @@ def test_chromium(page_path):
         shutil.rmtree(tmp, ignore_errors=True)
 
 
+def test_targets():
+    """The summary's held / missed marks follow the numbers: a G1 figure above 0.01 deg is missed,
+    a G2 figure is no target for a G1 fit, the deviation target is the report's tol."""
+    import q2n_report
+    audit = {'g0_max_rel': 1e-16, 'g1_max_deg': 0.002, 'g2_max_rel': 0.5}
+    rep = {'tol': 1e-5, 'continuity': 'G2', 'g0_max_rel': 1e-16, 'g1_max_deg': 0.5, 'g2_max_rel': 0.004,
+           'max_dev_rel': 2e-5, 'vertex_dev_max_rel': 0.0, 'construction': {'g1_max_deg': 1e-12, 'g2_max_rel': 1e-12},
+           'tol_met': False, 'g1_met': False, 'g2_met': True}
+
+    def marks(a, r, extra):
+        text = q2n_report.targets_html(a, r, extra)
+        return [('✔' in row, '✘' in row) for row in text.split('<tr>')[2:]]
+    m = marks(audit, rep, {})
+    check(m[0] == (True, False), 'G0 within target not held: %s' % (m[0],))
+    check(m[1] == (False, True), 'G1 0.5 deg in the report not missed: %s' % (m[1],))
+    check(m[2] == (False, True), 'G2 0.5 in the import not missed: %s' % (m[2],))
+    check(m[3] == (False, True), 'deviation 2e-5 > tol 1e-5 not missed: %s' % (m[3],))
+    check(m[4] == (True, False), 'vertex interpolation 0 not held: %s' % (m[4],))
+    rep_g1 = dict(rep, continuity='G1', g1_max_deg=0.001, max_dev_rel=1e-6)
+    m = marks(audit, rep_g1, {})
+    check(m[1] == (True, False) and m[2] == (False, False) and m[3] == (True, False),
+          'G1 fit: G2 should be no target, G1 and deviation held: %s' % (m,))
+    text = q2n_report.targets_html(dict(audit, mesh={'max_vertex_dist_rel': 3e-6, 'vertices': 9}), None, {})
+    check('✘' in text.split('<tr>')[-1], 'a mesh vertex 3e-6 x diagonal off the surface not missed')
+
+
 def test_bad_input(step):
     out = OUT + 'bad.html'
     garbage = OUT + 'garbage.step'
@@ -419,6 +445,7 @@ def main():
     os.makedirs(os.path.dirname(OUT), exist_ok=True)
     t0 = time.time()
     test_renderer()
+    test_targets()
     test_rational(Part)
     # the demo torus: fit, report, audit by OCCT
     base = OUT + 'demo'

@@ -302,7 +302,7 @@ def draw_panels(panels, title, cbar=None, markers=None):
     from matplotlib.ticker import NullFormatter
     dpi = 100.0
     ph, pw = panels[0][0].shape[:2]
-    gap, top, bottom, right = 8, 46, 22, (110 if cbar else 8)
+    gap, top, bottom, right = 8, (46 if title else 24), 22, (110 if cbar else 8)
     W = len(panels) * (pw + gap) + right
     H = ph + top + bottom
     fig = new_figure(W / dpi, H / dpi)
@@ -329,7 +329,8 @@ def draw_panels(panels, title, cbar=None, markers=None):
             cb.ax.axhline(val, color='red', lw=1.5)
             cb.ax.text(-0.3, val, text, color='red', fontsize=7, va='center', ha='right',
                        transform=cb.ax.get_yaxis_transform())
-    fig.text(0.5, 1 - 6 / H, title, fontsize=11, ha='center', va='top')
+    if title:
+        fig.text(0.5, 1 - 6 / H, title, fontsize=11, ha='center', va='top')
     return png_uri(fig, dpi)
 
 
@@ -427,7 +428,7 @@ def closeup(faces, datas, tess, center, radius, toward, up_hint, title, line_pts
             vis, x, y = R.visible(frame, ras, np.asarray(point)[None, :])
             mk.append((x[vis], y[vis], dict(marker='o', ms=11, mfc='none', mec='magenta', mew=1.5)))
         marks.append(mk)
-    return draw_panels(panels, title, markers=marks), title
+    return draw_panels(panels, None, markers=marks), title
 
 
 def nearest_normal(tess, faces_idx, p):
