@@ -40,6 +40,12 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import q2n_audit  # noqa: E402
+try:
+    import numpy as np
+    import q2n_nurbs
+    import q2n_render as R
+except ImportError:  # main() says what is missing
+    np = None
 
 # Policy (report): targets and sizes, each with why.
 TARGET_G0_REL = 1e-9      # watertight: the writers' resolution, 1e-9 x diagonal (docs/export.md)
@@ -134,7 +140,6 @@ def iges_global_fields(text):
 
 def read_samples(path):
     """`quad2nurbs sample` output: rows k u v x y z xu yu zu xv yv zv -> (k, u, v, xyz) arrays."""
-    import numpy as np
     try:
         a = np.loadtxt(path, ndmin=2)
     except (OSError, ValueError) as ex:
@@ -167,7 +172,6 @@ class Tess:
 
 def face_datas(faces):
     """q2n_nurbs.SurfaceData per face (faces that are not B-splines: FreeCAD's NURBS conversion)."""
-    import q2n_nurbs
     out = []
     for f in faces:
         d = q2n_nurbs.SurfaceData.from_surface(f.Surface)
@@ -181,8 +185,6 @@ def face_datas(faces):
 
 
 def tessellate(faces, datas, which, n):
-    import numpy as np
-    import q2n_nurbs
     Vs, Ns, Hs, Ts, tf, vf = [], [], [], [], [], []
     base = 0
     g = np.arange(n - 1)
@@ -213,7 +215,6 @@ def tessellate(faces, datas, which, n):
 
 def vertex_valences(shape, edges):
     """Per B-rep vertex: point, number of faces around it, whether it lies on a free edge."""
-    import numpy as np
     faces_at, point, boundary = {}, {}, set()
     for fi, f in enumerate(shape.Faces):
         for v in f.Vertexes:
@@ -236,7 +237,6 @@ def extraordinary_vertices(shape, edges):
 def ev_variation(evs, tess):
     """Per extraordinary vertex: mean-curvature range over its faces times their radius around it
     (dimensionless), and that radius."""
-    import numpy as np
     out = []
     for p, _, _, fs in evs:
         m = np.isin(tess.vert_face, fs)
@@ -250,7 +250,6 @@ def ev_variation(evs, tess):
 
 def sample_deviation(datas, ks, us, vs, X, nfaces):
     """Per face: largest distance between the fitted face and the construction's sample points."""
-    import numpy as np
     if ks.min() < 0 or ks.max() >= nfaces:
         raise ReportError('samples name patch %d, the file has %d faces' % (ks.max(), nfaces))
     dev = np.full(nfaces, np.nan)
@@ -287,7 +286,6 @@ class WholeViews:
     (triangles facing away are skipped when the part is closed)."""
 
     def __init__(self, tess, up_axis, closed):
-        import q2n_render as R
         self.views = []
         size = VIEW_PX * R.SUPERSAMPLE
         for az, el in VIEWS:
@@ -336,7 +334,6 @@ def draw_panels(panels, title, cbar=None, markers=None):
 
 def view_markers(wv, tess, points_styles):
     """Markers per view for world points that the surface does not hide."""
-    import q2n_render as R
     out = []
     for _, _, _, frame, ras in wv.views:
         mk = []
@@ -350,7 +347,6 @@ def view_markers(wv, tess, points_styles):
 
 
 def zebra_whole(wv, tess, marks):
-    import q2n_render as R
     panels = []
     for az, el, cam, frame, ras in wv.views:
         rgb = R.zebra(ras, tess.T, tess.N, cam)
@@ -359,7 +355,6 @@ def zebra_whole(wv, tess, marks):
 
 
 def curvature_norm(tess):
-    import numpy as np
     from matplotlib.colors import Normalize
     lim = float(np.percentile(np.abs(tess.H), CURV_PERCENTILE)) if len(tess.H) else 0.0
     if not lim > 0:
@@ -368,7 +363,6 @@ def curvature_norm(tess):
 
 
 def curvature_whole(wv, tess, marks, units):
-    import q2n_render as R
     from matplotlib import cm
     norm, lim = curvature_norm(tess)
     cmap = cm.get_cmap('RdBu_r')
@@ -385,8 +379,6 @@ def curvature_whole(wv, tess, marks, units):
 
 def face_value_views(wv, tess, values, title, label, norm, cmap_name, lines):
     """Whole-part views coloured by one value per face (grey where the value is missing)."""
-    import numpy as np
-    import q2n_render as R
     from matplotlib import cm
     cmap = cm.get_cmap(cmap_name)
     panels = []
@@ -404,8 +396,6 @@ def face_value_views(wv, tess, values, title, label, norm, cmap_name, lines):
 def closeup(faces, datas, tess, center, radius, toward, up_hint, title, line_pts=None, point=None):
     """Zebra close-up: faces with a tessellation point within 2 radii of center, finely
     tessellated, seen along toward, stripes crossing up_hint (the screen's vertical)."""
-    import numpy as np
-    import q2n_render as R
     near = np.unique(tess.vert_face[np.linalg.norm(tess.V - center, axis=1) < 2 * radius])
     sub = tessellate(faces, datas, near, CLOSEUP_TESS)
     size = VIEW_PX * R.SUPERSAMPLE
@@ -432,23 +422,16 @@ def closeup(faces, datas, tess, center, radius, toward, up_hint, title, line_pts
 
 
 def nearest_normal(tess, faces_idx, p):
-    import numpy as np
     m = np.isin(tess.vert_face, faces_idx)
     idx = np.nonzero(m)[0]
     d = np.linalg.norm(tess.V[idx] - p, axis=1)
     near = idx[d <= d.min() * 1.5 + 1e-300]
-    return q2n_render_unit(tess.N[near].sum(axis=0))
-
-
-def q2n_render_unit(v):
-    import q2n_render as R
-    return R.unit(v)
+    return R.unit(tess.N[near].sum(axis=0))
 
 
 def perpendicular(n):
-    import numpy as np
     a = np.eye(3)[int(np.argmin(np.abs(n)))]
-    return q2n_render_unit(np.cross(n, a))
+    return R.unit(np.cross(n, a))
 
 
 def decade_formatter():
@@ -459,7 +442,6 @@ def decade_formatter():
 
 def histograms(detail, diag, targets):
     """Log-scale histograms of G0 (relative), G1, G2 over the shared edges, targets as lines."""
-    import numpy as np
     from matplotlib.ticker import NullFormatter
     fig = new_figure(14, 3.6)
     series = [('G0 gap / diagonal', np.array([d['g0'] for d in detail]) / (diag if diag > 0 else 1.0), targets[0]),
@@ -665,12 +647,8 @@ class Clock:
                                            ', '.join('%s %.1f / %.1f' % s for s in self.stages))
 
 
-def build(args):
-    """Everything but writing: returns (html text, audit dict, Clock)."""
-    import numpy as np
-    import q2n_nurbs
-    clock = Clock()
-    Part = q2n_audit.load_freecad()
+def read_part(args, Part):
+    """The inputs: (shape, report JSON or None, samples or None); ReportError names a bad one."""
     path = args.file
     if not os.path.exists(path):
         raise ReportError('%s: no such file' % path)
@@ -682,89 +660,104 @@ def build(args):
         shape = Part.read(path)
     except Exception as ex:
         raise ReportError('%s: %s' % (path, str(ex).strip() or 'FreeCAD cannot read it'))
-    faces = shape.Faces
-    if not faces:
+    if not shape.Faces:
         raise ReportError('%s: no faces imported' % path)
+    return shape, rep, samples
+
+
+def closeup_worst_g1(faces, datas, tess, edges, worst, diag):
+    """Close-up of the worst G1 sample's edge, looking along the normal there tilted along the edge,
+    stripes across the edge; None when no edge is shared."""
+    if worst['edge'] is None or worst['point'] is None:
+        return None
+    e, fl = edges[worst['edge']]
+    p = np.array(worst['point'])
+    t0, t1 = e.ParameterRange
+    tan = R.unit(np.asarray(q2n_audit.vec(e.tangentAt(0.5 * (t0 + t1)))))
+    toward = R.unit(nearest_normal(tess, fl, p) + 0.45 * tan)
+    line = np.array([(v.x, v.y, v.z) for v in e.discretize(Number=80)])
+    title = 'Close-up: worst G1 edge %d (faces %s), %s° at the circle' % (
+        worst['edge'], ' – '.join(map(str, fl)), fmt(worst['value'], 3))
+    return closeup(faces, datas, tess, p, CLOSEUP_RADIUS * max(e.Length, 1e-9 * diag), toward, tan, title,
+                   line_pts=line, point=p)
+
+
+def closeup_ev(faces, datas, tess, evs):
+    """Close-up of the extraordinary vertex whose faces span the largest mean-curvature range."""
+    var = ev_variation(evs, tess)
+    i = int(np.argmax([v for v, _ in var]))
+    p, val, bnd, fs = evs[i]
+    nrm = nearest_normal(tess, fs, p)
+    side = perpendicular(nrm)
+    title = 'Close-up: extraordinary vertex of valence %d%s at (%s), mean-curvature variation %s' % (
+        val, ' (boundary)' if bnd else '', ', '.join(fmt(c, 4) for c in p), fmt(var[i][0], 3))
+    return closeup(faces, datas, tess, p, CLOSEUP_RADIUS * var[i][1], R.unit(nrm + 0.45 * side), side, title,
+                   point=p)
+
+
+def poles_views(wv, tess, datas):
+    from matplotlib.colors import LogNorm, Normalize
+    poles = np.array([d.pole_count if d is not None else np.nan for d in datas], dtype=float)
+    pmin, pmax = np.nanmin(poles), np.nanmax(poles)
+    norm = LogNorm(pmin, pmax) if pmax > 4 * pmin else Normalize(pmin - 0.5, pmax + 0.5)
+    return face_value_views(wv, tess, poles, 'Control points per face: %d…%d, median %d, %d in all' % (
+        pmin, pmax, np.nanmedian(poles), np.nansum(poles)), 'control points', norm, 'viridis', [])
+
+
+def deviation_views(wv, tess, dev, diag, tol):
+    from matplotlib.colors import LogNorm
+    rel = dev / diag if diag > 0 else dev
+    pos = rel[np.isfinite(rel) & (rel > 0)]
+    lo = max(pos.min() if len(pos) else 1e-16, 1e-16)
+    hi = max(pos.max() if len(pos) else 1e-15, tol or 0, lo * 10)
+    return face_value_views(wv, tess, np.clip(rel, lo, None), 'Deviation from the construction per face (largest '
+                            'over the samples file\'s points) / diagonal', 'deviation / diagonal', LogNorm(lo, hi),
+                            'magma', [(tol, 'tol')] if tol else [])
+
+
+def build(args):
+    """Everything but writing: returns (html text, audit dict, Clock)."""
+    clock = Clock()
+    Part = q2n_audit.load_freecad()
+    shape, rep, samples = read_part(args, Part)
+    faces = shape.Faces
     clock.lap('read')
     datas = face_datas(faces)
     evals = [q2n_nurbs.NumpyFaceEval(f, d if type(f.Surface).__name__ == 'BSplineSurface' else None)
              for f, d in zip(faces, datas)]
     edges = q2n_audit.edge_faces(shape)
-    a = q2n_audit.audit_shape(Part, shape, path, args.mesh, 0, 100.0, True, False, evals, edges, mass=False)
+    a = q2n_audit.audit_shape(Part, shape, args.file, args.mesh, 0, 100.0, True, False, evals, edges, mass=False)
     diag = a['bbox_diag']
     clock.lap('audit')
     n = int(np.clip(int(math.sqrt(TESS_TRIANGLES / (2.0 * len(faces)))) + 1, TESS_MIN, TESS_MAX))
     tess = tessellate(faces, datas, range(len(faces)), n)
     evs = extraordinary_vertices(shape, edges)
-    dev = None
-    extra = {'bbox': None, 'bbox_diag': diag, 'size': os.path.getsize(path), 'n_ev': len(evs),
-             'json_path': args.json or ''}
     bb = shape.BoundBox
-    extra['bbox'] = (bb.XMin, bb.YMin, bb.ZMin, bb.XMax, bb.YMax, bb.ZMax)
-    if samples is not None:
-        dev = sample_deviation(datas, *samples, len(faces))
-        extra['samples_dev_rel'] = float(np.nanmax(dev)) / diag if diag > 0 else float(np.nanmax(dev))
+    extra = {'bbox': (bb.XMin, bb.YMin, bb.ZMin, bb.XMax, bb.YMax, bb.ZMax), 'bbox_diag': diag,
+             'size': os.path.getsize(args.file), 'n_ev': len(evs), 'json_path': args.json or ''}
+    dev = sample_deviation(datas, *samples, len(faces)) if samples is not None else None
+    if dev is not None:
+        extra['samples_dev_rel'] = float(np.nanmax(dev)) / (diag if diag > 0 else 1.0)
     clock.lap('tessellation')
-    up_axis = 'xyz'.index(args.up)
-    wv = WholeViews(tess, up_axis, a['free_edges'] == 0 and a['nonmanifold_edges'] == 0)
-    ev_pts = np.array([p for p, _, _, _ in evs]).reshape(-1, 3)
+    wv = WholeViews(tess, 'xyz'.index(args.up), a['free_edges'] == 0 and a['nonmanifold_edges'] == 0)
     worst_g1 = a['worst']['g1_deg']
-    w_pt = np.array(worst_g1['point']).reshape(-1, 3) if worst_g1['point'] is not None else np.zeros((0, 3))
-    marks = [(ev_pts, dict(marker='o', ms=4, mfc='magenta', mec='white', mew=0.5)),
-             (w_pt, dict(marker='x', ms=9, mew=2, color='red'))]
-    units = file_units(path)
-    imgs = {}
-    imgs['zebra'] = zebra_whole(wv, tess, marks)
-    imgs['curv'] = curvature_whole(wv, tess, marks, 'mm')
-    closeups = []
-    if worst_g1['edge'] is not None and worst_g1['point'] is not None:
-        e, fl = edges[worst_g1['edge']]
-        p = np.array(worst_g1['point'])
-        nrm = nearest_normal(tess, fl, p)
-        tan = q2n_render_unit(np.asarray(q2n_audit.vec(e.tangentAt(e.ParameterRange[0] + 0.5 * (
-            e.ParameterRange[1] - e.ParameterRange[0])))))
-        toward = q2n_render_unit(nrm + 0.45 * tan)
-        line = np.array([(v.x, v.y, v.z) for v in e.discretize(Number=80)])
-        closeups.append(closeup(faces, datas, tess, p, CLOSEUP_RADIUS * max(e.Length, 1e-9 * diag), toward, tan,
-                                'Close-up: worst G1 edge %d (faces %s), %s° at the circle' % (
-                                    worst_g1['edge'], ' – '.join(map(str, fl)), fmt(worst_g1['value'], 3)),
-                                line_pts=line, point=p))
-    ev_note = 'The part has no extraordinary vertex.'
-    if evs:
-        var = ev_variation(evs, tess)
-        i = int(np.argmax([v for v, _ in var]))
-        p, val, bnd, fs = evs[i]
-        radius = var[i][1]
-        nrm = nearest_normal(tess, fs, p)
-        side = perpendicular(nrm)
-        closeups.append(closeup(faces, datas, tess, p, CLOSEUP_RADIUS * radius, q2n_render_unit(nrm + 0.45 * side),
-                                side, 'Close-up: extraordinary vertex of valence %d%s at (%s), mean-curvature '
-                                'variation %s' % (val, ' (boundary)' if bnd else '', ', '.join(fmt(c, 4) for c in p),
-                                                   fmt(var[i][0], 3)), point=p))
-        ev_note = ('%d extraordinary %s; the close-up shows the one whose faces span the largest range of '
-                   'mean curvature (times their radius around it).' % (len(evs), 'vertex' if len(evs) == 1
-                                                                       else 'vertices'))
-    imgs['closeups'] = closeups
+    marks = [(np.array([p for p, _, _, _ in evs]).reshape(-1, 3), dict(marker='o', ms=4, mfc='magenta', mec='white',
+                                                                         mew=0.5)),
+             (np.array(worst_g1['point'] or np.zeros((0, 3))).reshape(-1, 3), dict(marker='x', ms=9, mew=2,
+                                                                                    color='red'))]
+    imgs = {'zebra': zebra_whole(wv, tess, marks), 'curv': curvature_whole(wv, tess, marks, 'mm')}
+    imgs['closeups'] = [c for c in (closeup_worst_g1(faces, datas, tess, edges, worst_g1, diag),
+                                    closeup_ev(faces, datas, tess, evs) if evs else None) if c]
+    ev_note = ('%d extraordinary %s; the close-up shows the one whose faces span the largest range of mean '
+               'curvature (times their radius around it).' % (len(evs), 'vertex' if len(evs) == 1 else 'vertices')
+               if evs else 'The part has no extraordinary vertex.')
     imgs['hist'] = (histograms(a['edge_detail'], diag, (TARGET_G0_REL, TARGET_G1_DEG, TARGET_G2_REL))
                     if a['edge_detail'] else None)
-    from matplotlib.colors import LogNorm, Normalize
-    poles = np.array([d.pole_count if d is not None else np.nan for d in datas], dtype=float)
-    pmin, pmax = np.nanmin(poles), np.nanmax(poles)
-    pnorm = LogNorm(pmin, pmax) if pmax > 4 * pmin else Normalize(pmin - 0.5, pmax + 0.5)
-    imgs['poles'] = face_value_views(
-        wv, tess, poles, 'Control points per face: %d…%d, median %d, %d in all' % (
-            pmin, pmax, np.nanmedian(poles), np.nansum(poles)), 'control points', pnorm, 'viridis', [])
+    imgs['poles'] = poles_views(wv, tess, datas)
     if dev is not None:
-        rel = dev / diag if diag > 0 else dev
-        pos = rel[np.isfinite(rel) & (rel > 0)]
-        lo = max(pos.min() if len(pos) else 1e-16, 1e-16)
-        hi = max(pos.max() if len(pos) else 1e-15, (rep or {}).get('tol') or 0, lo * 10)
-        lines = [((rep or {}).get('tol'), 'tol')] if rep and rep.get('tol') else []
-        imgs['dev'] = face_value_views(
-            wv, tess, np.clip(rel, lo, None), 'Deviation from the construction per face (largest over the '
-            'samples file\'s points) / diagonal', 'deviation / diagonal', LogNorm(lo, hi), 'magma', lines)
+        imgs['dev'] = deviation_views(wv, tess, dev, diag, (rep or {}).get('tol'))
     clock.lap('pictures')
-    page = page_html(path, a, rep, units, extra, imgs, ev_note, clock, args)
+    page = page_html(args.file, a, rep, file_units(args.file), extra, imgs, ev_note, clock, args)
     return page, a, clock
 
 
@@ -874,6 +867,9 @@ def main(argv=None):
     args.argv = argv
     if q2n_audit.load_freecad() is None:
         sys.stderr.write('q2n_report: FreeCAD is not installed (apt-get install freecad-python3)\n')
+        return 2
+    if np is None:
+        sys.stderr.write('q2n_report: numpy is not installed (apt-get install python3-numpy)\n')
         return 2
     try:
         import matplotlib
