@@ -22,7 +22,7 @@ def find_spans(knots, p, t):
     end parameter and parameters a rounding error outside take the first or last span)."""
     n = len(knots) - p - 1                      # number of basis functions
     span = np.searchsorted(knots, t, side='right') - 1
-    return np.clip(span, p, n - 1)
+    return np.minimum(np.maximum(span, p), n - 1)
 
 
 def _inv(d):
@@ -46,7 +46,30 @@ def knot_reciprocals(U, p):
     return r
 
 
+_BASES = {}
+_BASES_BYTES = [0]
+BASES_CACHE_BYTES = 256 << 20     # cap of the basis cache: faces of one part share a few knot vectors
+                                  # and parameter sets (grids, edge samples), so most calls are repeats
+
+
 def basis_matrix(knots, p, t, nd):
+    """basis_matrix_uncached, remembered per (knots, degree, parameters, order)."""
+    U = np.ascontiguousarray(knots, dtype=float)
+    t = np.ascontiguousarray(t, dtype=float)
+    key = (U.tobytes(), p, t.tobytes(), nd)
+    B = _BASES.get(key)
+    if B is None:
+        B = basis_matrix_uncached(U, p, t, nd)
+        B.setflags(write=False)
+        if _BASES_BYTES[0] + B.nbytes > BASES_CACHE_BYTES:
+            _BASES.clear()
+            _BASES_BYTES[0] = 0
+        _BASES[key] = B
+        _BASES_BYTES[0] += B.nbytes
+    return B
+
+
+def basis_matrix_uncached(knots, p, t, nd):
     """Every B-spline basis function of degree p and its derivatives up to nd at the
     parameters t: array (nd+1, n, m), n = len(knots) - p - 1, m = len(t).
     Cox-de Boor recursion (The NURBS Book eq. 2.5) level by level, each level one array operation
@@ -195,8 +218,9 @@ class CurveData:
 
 def unit_normals(su, sv, flip):
     """Unit normals Su x Sv (reversed for a reversed face), rows of the last axis."""
-    n = np.cross(su, sv)
-    ln = np.linalg.norm(n, axis=-1, keepdims=True)
+    a, b = np.moveaxis(su, -1, 0), np.moveaxis(sv, -1, 0)
+    n = np.stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]], axis=-1)
+    ln = np.sqrt((n * n).sum(axis=-1, keepdims=True))
     n = n / np.where(ln > 0, ln, 1.0)
     return -n if flip else n
 

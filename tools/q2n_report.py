@@ -62,6 +62,7 @@ WORST_EDGES = 10          # rows of the worst-edge tables
 HIST_BINS = 40            # histogram bins over the decades spanned
 HIST_DECADES = 14         # decades shown below the largest value or target (smaller values pile up left)
 CLOSEUP_RADIUS = 1.0      # close-up half-width in edge lengths (worst G1 edge) or ring radii (EV)
+CLOSEUP_REACH = 1.5       # close-ups draw the faces reaching within 1.5 half-widths: the corners lie at sqrt 2
 
 
 class ReportError(Exception):
@@ -235,15 +236,18 @@ def extraordinary_vertices(shape, edges):
 
 
 def ev_variation(evs, tess):
-    """Per extraordinary vertex: mean-curvature range over its faces times their radius around it
-    (dimensionless), and that radius."""
+    """Per extraordinary vertex: the mean-curvature range over its faces times their radius around
+    it (dimensionless), and that radius: the median over the faces of their farthest point (one long
+    face does not blow the close-up up)."""
     out = []
     for p, _, _, fs in evs:
         m = np.isin(tess.vert_face, fs)
         if not m.any():
             out.append((0.0, 0.0))
             continue
-        radius = float(np.linalg.norm(tess.V[m] - p, axis=1).max())
+        dist = np.linalg.norm(tess.V[m] - p, axis=1)
+        far = [dist[tess.vert_face[m] == f].max() for f in fs if (tess.vert_face[m] == f).any()]
+        radius = float(np.median(far))
         out.append((float(tess.H[m].max() - tess.H[m].min()) * radius, radius))
     return out
 
@@ -394,9 +398,9 @@ def face_value_views(wv, tess, values, title, label, norm, cmap_name, lines):
 
 
 def closeup(faces, datas, tess, center, radius, toward, up_hint, title, line_pts=None, point=None):
-    """Zebra close-up: faces with a tessellation point within 2 radii of center, finely
+    """Zebra close-up: faces with a tessellation point within CLOSEUP_REACH radii of center, finely
     tessellated, seen along toward, stripes crossing up_hint (the screen's vertical)."""
-    near = np.unique(tess.vert_face[np.linalg.norm(tess.V - center, axis=1) < 2 * radius])
+    near = np.unique(tess.vert_face[np.linalg.norm(tess.V - center, axis=1) < CLOSEUP_REACH * radius])
     sub = tessellate(faces, datas, near, CLOSEUP_TESS)
     size = VIEW_PX * R.SUPERSAMPLE
     cam = R.Camera(toward, up_hint)
