@@ -26,6 +26,9 @@ Run with /usr/bin/python3 (Debian freecad-python3), not freecadcmd.  Output: JSO
 Exit status 0 after a successful audit, 2 when FreeCAD is missing, 1 when the file cannot be read.
 Summary fields g0_max_rel (gap / bbox diagonal), g1_max_deg, g2_max_rel and faces use the names of
 quad2nurbs' own report, so tools/q2n_compare.py can put the two side by side.
+As a module: audit_shape() audits a shape already read, with any per-face evaluator that has
+FaceEval's methods (tools/q2n_report.py passes numpy ones, tools/q2n_nurbs.py); the continuity
+measures run on arrays of samples (continuity_samples), the same arithmetic for every evaluator.
 """
 import argparse
 import json
