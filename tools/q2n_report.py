@@ -700,12 +700,16 @@ def closeup_ev(faces, datas, tess, evs):
 
 
 def poles_views(wv, tess, datas):
+    """Control points per face; the title also gives the knot spans (u spans x v spans) per face."""
     from matplotlib.colors import LogNorm, Normalize
     poles = np.array([d.pole_count if d is not None else np.nan for d in datas], dtype=float)
+    spans = np.array([d.span_count if d is not None else np.nan for d in datas], dtype=float)
     pmin, pmax = np.nanmin(poles), np.nanmax(poles)
     norm = LogNorm(pmin, pmax) if pmax > 4 * pmin else Normalize(pmin - 0.5, pmax + 0.5)
-    return face_value_views(wv, tess, poles, 'Control points per face: %d…%d, median %d, %d in all' % (
-        pmin, pmax, np.nanmedian(poles), np.nansum(poles)), 'control points', norm, 'viridis', [])
+    return face_value_views(wv, tess, poles, 'Control points per face: %d…%d, median %d, %d in all; knot spans per '
+                            'face %d…%d, median %d' % (pmin, pmax, np.nanmedian(poles), np.nansum(poles),
+                                                       np.nanmin(spans), np.nanmax(spans), np.nanmedian(spans)),
+                            'control points', norm, 'viridis', [])
 
 
 def deviation_views(wv, tess, dev, diag, tol):
