@@ -405,6 +405,18 @@ def test_targets():
     check('✘' in text.split('<tr>')[-1], 'a mesh vertex 3e-6 x diagonal off the surface not missed')
 
 
+def test_units(mesh):
+    """The unit the file says: quad2nurbs --units in / mm, STEP and IGES."""
+    import q2n_report
+    for unit in ('in', 'mm'):
+        base = OUT + 'units_' + unit
+        r = run([EXE, '-q', mesh, '--units', unit, '-o', base + '.step', '-o', base + '.igs'])
+        if check(r.returncode == 0, 'quad2nurbs --units %s: %s' % (unit, r.stderr.strip())):
+            for ext in ('.step', '.igs'):
+                got = q2n_report.file_units(base + ext)
+                check(got == unit, '%s%s: unit %r, written as %r' % (base, ext, got, unit))
+
+
 def test_bad_input(step):
     out = OUT + 'bad.html'
     garbage = OUT + 'garbage.step'
@@ -482,6 +494,7 @@ def main():
     check_page(base + '_report.html', rep, audit, 6, obj_ev_count(mesh), 'demo')
     test_chromium(base + '_report.html')
     test_bad_input(base + '.step')
+    test_units(mesh)
     # a mesh with an extraordinary vertex: the EV close-up appears, the EV count is the mesh's
     ev_mesh = shared_mesh('gismo_ev_valence5_carpet.obj')
     if not ev_mesh:

@@ -99,13 +99,20 @@ def file_units(path):
             return names.get(int(fields[13]), fields[14] or '?')
         except (IndexError, ValueError):
             return '?'
-    m = re.search(rb'\(\s*LENGTH_UNIT\s*\(\s*\)[^;]*;', data) or re.search(rb'LENGTH_UNIT[^;]*;', data)
-    if not m:
-        return '?'
-    ent = m.group(0)
+    ent = None
+    g = re.search(rb'GLOBAL_UNIT_ASSIGNED_CONTEXT\s*\(\s*\(([^)]*)\)', data)
+    for ref in (g.group(1).split(b',') if g else []):
+        m = re.search(rb'(?m)^\s*' + re.escape(ref.strip()) + rb'\s*=([^;]*);', data)
+        if m and b'LENGTH_UNIT' in m.group(1):
+            ent = m.group(1)
+            break
+    if ent is None:                              # no context: the first length unit in the file
+        m = re.search(rb'=([^;=]*LENGTH_UNIT[^;]*);', data)
+        ent = m.group(1) if m else b''
     c = re.search(rb"CONVERSION_BASED_UNIT\s*\(\s*'([^']*)'", ent)
     if c:
-        return c.group(1).decode('latin-1').lower()
+        name = c.group(1).decode('latin-1').lower()
+        return {'inch': 'in', 'foot': 'ft', 'mile': 'mi'}.get(name, name)
     s = re.search(rb'SI_UNIT\s*\(\s*(\.\w+\.|\$)\s*,\s*\.METRE\.', ent)
     if s:
         prefix = s.group(1).decode()
