@@ -9,9 +9,14 @@
 #   libosd-dev                 OpenSubdiv: Catmull-Clark limit reference in tests and the evaluation benchmark
 #   libocct-*-dev              OpenCASCADE: STEP/IGES import and fitting reference in tests/benchmarks
 #   freecad-python3            FreeCAD (headless): import audit of the exported STEP/IGES files (tools/)
+#   python3-numpy              vectorised evaluation of the imported B-spline faces (tools/q2n_nurbs.py)
+#   python3-matplotlib         the pictures of the HTML continuity report (tools/q2n_report.py)
+#   python3-pil                PNG decoding in the report's test (matplotlib depends on it anyway)
+#   chromium                   headless browser: the report's test renders the page and screenshots it
 set -e
 PKGS="gcc g++ make libceres-dev liblapack-dev libblas-dev libsuitesparse-dev libosd-dev libocct-foundation-dev \
-libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev freecad-python3"
+libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev freecad-python3 \
+python3-numpy python3-matplotlib python3-pil chromium"
 missing=""
 for p in $PKGS; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -6,10 +6,10 @@ An importer nobody here wrote checks what quad2nurbs exported:
     non-manifold edges (used by more than two faces), the largest edge / vertex tolerance OCCT
     assigned on import (it raises them to cover gaps it finds: 1e-7 means none), and with --check
     the full BRepCheck (shape.check(True), seconds on ~1000 faces);
-  * continuity across every shared edge, in the terms of Rhino's EdgeContinuity, sampled between
-    the fit's collocation points (default: in every knot span of the edge curve, the 4 midpoints
-    between its 4 fit samples — the odd eighths of the span, the fit's rule in src/fit/ — so the
-    audit samples the very points quad2nurbs' report measures; --samples N takes N points at
+  * continuity across every shared edge, in the terms of Rhino's EdgeContinuity, sampled at the
+    points between the fit's collocation points (default: in every knot span of the edge curve, the 4
+    midpoints between its 4 fit samples — the odd eighths of the span, the fit's rule in src/fit/ —
+    so the audit samples the very points quad2nurbs' report measures; --samples N takes N points at
     t_i = t0 + (i + 0.5)/N (t1 - t0) instead):
       G0  gap |S_A - S_B| between the two faces' surfaces at the edge's p-curve points,
       G1  angle between the two (face-oriented) unit normals, degrees,
@@ -27,6 +27,9 @@ Run with /usr/bin/python3 (Debian freecad-python3), not freecadcmd.  Output: JSO
 Exit status 0 after a successful audit, 2 when FreeCAD is missing, 1 when the file cannot be read.
 Summary fields g0_max_rel (gap / bbox diagonal), g1_max_deg, g2_max_rel and faces use the names of
 quad2nurbs' own report, so tools/q2n_compare.py can put the two side by side.
+As a module: audit_shape() audits a shape already read, with any per-face evaluator that has
+FaceEval's methods (tools/q2n_report.py passes numpy ones, tools/q2n_nurbs.py); the continuity
+measures run on arrays of samples (continuity_samples), the same arithmetic for every evaluator.
 """
 import argparse
 import json
@@ -35,6 +38,11 @@ import os
 import shlex
 import sys
 import time
+
+try:
+    import numpy as np
+except ImportError:  # FreeCAD needs numpy: without it, load_freecad() fails the same way
+    np = None
 
 FREECAD_LIB = '/usr/lib/freecad-python3/lib'
 
@@ -69,17 +77,8 @@ def dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-def cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
 def norm(a):
     return math.sqrt(dot(a, a))
-
-
-def unit(a):
-    n = norm(a)
-    return (a[0] / n, a[1] / n, a[2] / n) if n > 0 else a
 
 
 def vec(v):
@@ -87,7 +86,9 @@ def vec(v):
 
 
 class FaceEval:
-    """One face's surface (cached: Face.Surface returns a new copy on every access) and orientation."""
+    """One face's surface (cached: Face.Surface returns a new copy on every access) and orientation,
+    evaluated by OpenCASCADE one point at a time.  Any object with the same three methods can stand
+    in for it (tools/q2n_report.py passes a numpy evaluator of the same B-spline data)."""
 
     def __init__(self, face):
         self.face = face
@@ -95,45 +96,114 @@ class FaceEval:
         self.flip = face.Orientation == 'Reversed'
 
     def uv_on_edge(self, edge, ts):
-        """(u, v) of the edge's p-curve on this face at edge parameters ts; projection as fallback."""
+        """(u, v) of the edge's p-curve on this face at edge parameters ts, shape (n, 2);
+        projection as fallback."""
         try:
             pc = self.face.curveOnSurface(edge)
         except Exception:
             pc = None
         if pc:
             c2 = pc[0]
-            out = []
-            for t in ts:
-                p = c2.value(t)
-                out.append((p.x, p.y))
-            return out
-        return [self.surf.parameter(edge.valueAt(t)) for t in ts]
+            return np.array([(p.x, p.y) for p in (c2.value(t) for t in ts)], dtype=float).reshape(-1, 2)
+        return np.array([self.surf.parameter(edge.valueAt(t)) for t in ts], dtype=float).reshape(-1, 2)
 
-    def jet(self, u, v):
-        """Point, oriented unit normal, Su, Sv, Suu, Suv, Svv."""
+    def jets(self, uv):
+        """Point, oriented unit normal, Su, Sv, Suu, Suv, Svv at the rows of uv: seven (n, 3) arrays."""
         s = self.surf
-        p = vec(s.value(u, v))
-        su, sv = vec(s.getDN(u, v, 1, 0)), vec(s.getDN(u, v, 0, 1))
-        suu, suv, svv = vec(s.getDN(u, v, 2, 0)), vec(s.getDN(u, v, 1, 1)), vec(s.getDN(u, v, 0, 2))
-        n = unit(cross(su, sv))
+        rows = []
+        for u, v in uv:
+            rows.append([vec(s.value(u, v)), vec(s.getDN(u, v, 1, 0)), vec(s.getDN(u, v, 0, 1)),
+                         vec(s.getDN(u, v, 2, 0)), vec(s.getDN(u, v, 1, 1)), vec(s.getDN(u, v, 0, 2))])
+        a = np.array(rows, dtype=float).reshape(-1, 6, 3)
+        p, su, sv, suu, suv, svv = (a[:, i] for i in range(6))
+        n = unit_rows(cross_rows(su, sv))
         if self.flip:
-            n = (-n[0], -n[1], -n[2])
+            n = -n
         return p, n, su, sv, suu, suv, svv
 
-    @staticmethod
-    def normal_curvature(jet, d):
-        """Normal curvature in tangent direction d: II(w,w)/I(w,w) with d = a Su + b Sv."""
-        _, n, su, sv, suu, suv, svv = jet
-        E, F, G = dot(su, su), dot(su, sv), dot(sv, sv)
-        r1, r2 = dot(d, su), dot(d, sv)
-        det = E * G - F * F
-        if det <= 0:
-            return 0.0
-        a = (G * r1 - F * r2) / det
-        b = (E * r2 - F * r1) / det
-        num = a * a * dot(suu, n) + 2 * a * b * dot(suv, n) + b * b * dot(svv, n)
-        den = a * a * E + 2 * a * b * F + b * b * G
-        return num / den if den > 0 else 0.0
+    def edge_tangents(self, edge, ts, uv, jet):
+        return occt_edge_tangents(edge, ts)
+
+
+def occt_edge_tangents(edge, ts):
+    """Unit tangents of the edge curve at ts (its own direction), shape (n, 3)."""
+    return unit_rows(np.array([vec(edge.tangentAt(t)) for t in ts], dtype=float).reshape(-1, 3))
+
+
+def dot_rows(a, b):
+    return a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1] + a[:, 2] * b[:, 2]
+
+
+def cross_rows(a, b):
+    return np.stack([a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1], a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+                     a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]], axis=1)
+
+
+def norm_rows(a):
+    return np.sqrt(dot_rows(a, a))
+
+
+def unit_rows(a):
+    """Rows scaled to unit length; zero rows stay zero."""
+    n = norm_rows(a)
+    return a / np.where(n > 0, n, 1.0)[:, None]
+
+
+def normal_curvature(jet, d):
+    """Normal curvature in tangent directions d (rows): II(w,w)/I(w,w) with d = a Su + b Sv;
+    0 where the first fundamental form degenerates."""
+    _, n, su, sv, suu, suv, svv = jet
+    E, F, G = dot_rows(su, su), dot_rows(su, sv), dot_rows(sv, sv)
+    r1, r2 = dot_rows(d, su), dot_rows(d, sv)
+    det = E * G - F * F
+    ok = det > 0
+    sdet = np.where(ok, det, 1.0)
+    a = (G * r1 - F * r2) / sdet
+    b = (E * r2 - F * r1) / sdet
+    num = a * a * dot_rows(suu, n) + 2 * a * b * dot_rows(suv, n) + b * b * dot_rows(svv, n)
+    den = a * a * E + 2 * a * b * F + b * b * G
+    ok &= den > 0
+    return np.where(ok, num / np.where(ok, den, 1.0), 0.0)
+
+
+def continuity_samples(ja, jb, tan, k_flat, diag):
+    """Per sample across an edge, sides A and B (jets from FaceEval.jets, edge tangents tan):
+    G0 gap, G1 angle (deg), G2 absolute jump, G2 jump relative by radii, G2 in the fit report's
+    measure (see the module comment).  Returns five arrays."""
+    gap = norm_rows(ja[0] - jb[0])
+    # atan2(|na x nb|, na . nb): accurate for tiny angles, where acos loses half the digits
+    ang = np.degrees(np.arctan2(norm_rows(cross_rows(ja[1], jb[1])), dot_rows(ja[1], jb[1])))
+    d = unit_rows(cross_rows(ja[1], tan))
+    ka, kb = normal_curvature(ja, d), normal_curvature(jb, d)
+    g2a = np.abs(ka - kb)
+    flat = np.maximum(np.abs(ka), np.abs(kb)) < k_flat
+    sden = np.abs(ka) + np.abs(kb)
+    g2r_radii = np.where(flat, 0.0, g2a / np.where(sden > 0, sden, 1.0))
+    # the fit report's measure: three directions, jump over the largest curvature (>= 1/diag)
+    jmax = np.zeros(len(gap))
+    kmax = np.full(len(gap), 1.0 / diag if diag > 0 else 0.0)
+    for w in (tan, d, unit_rows(tan + d)):
+        kwa, kwb = normal_curvature(ja, w), normal_curvature(jb, w)
+        jmax = np.maximum(jmax, np.abs(kwa - kwb))
+        kmax = np.maximum(kmax, np.maximum(np.abs(kwa), np.abs(kwb)))
+    g2r = np.where(kmax > 0, jmax / np.where(kmax > 0, kmax, 1.0), 0.0)
+    return gap, ang, g2a, g2r_radii, g2r
+
+
+def last_argmax(a):
+    return len(a) - 1 - int(np.argmax(a[::-1]))
+
+
+def reduce_edge(gap, ang, g2a, g2r_radii, g2r, pts):
+    """One edge's maxima and the worst samples' points (G0/G1: the last maximum, G2: the first)."""
+    if len(gap) == 0:
+        return {'g0': 0.0, 'g1_deg': 0.0, 'g2_abs': 0.0, 'g2_rel_radii': 0.0, 'g2_rel': 0.0,
+                'g0_at': None, 'g1_at': None, 'g2_at': None}
+    i0, i1, i2 = last_argmax(gap), last_argmax(ang), int(np.argmax(g2r))
+    return {'g0': float(gap[i0]), 'g1_deg': float(ang[i1]), 'g2_abs': float(g2a.max()),
+            'g2_rel_radii': float(g2r_radii.max()), 'g2_rel': float(g2r[i2]),
+            'g0_at': tuple(map(float, pts[i0])), 'g1_at': tuple(map(float, pts[i1])),
+            'g2_at': tuple(map(float, pts[i2]))}
 
 
 def edge_faces(shape):
@@ -152,74 +222,83 @@ def edge_faces(shape):
     return [emap[k] for k in order]
 
 
-def edge_params(edge, nsamp):
+def edge_sample_params(edge, nsamp):
     """Sample parameters on this edge: nsamp points at (i + 0.5)/nsamp of its range, or (nsamp == 0)
     the fit's rule: in every knot span of the edge curve, the midpoints between its 4 samples per
     span, i.e. the odd eighths (src/fit/fit_basis.c, q2n_fit_check_params)."""
     t0, t1 = edge.ParameterRange
     if nsamp <= 0:
         try:
-            kn = list(edge.Curve.getKnots())
+            kn = np.asarray(edge.Curve.getKnots(), dtype=float)
         except Exception:  # not a B-spline edge curve
-            kn = []
+            kn = np.zeros(0)
         if len(kn) >= 2:
-            return [a + (b - a) * (2 * j + 1) / 8.0 for a, b in zip(kn[:-1], kn[1:]) for j in range(4)]
+            a, b = kn[:-1, None], kn[1:, None]
+            return (a + (b - a) * (2 * np.arange(4) + 1) / 8.0).ravel()
         nsamp = 16
-    return [t0 + (i + 0.5) / nsamp * (t1 - t0) for i in range(nsamp)]
+    return t0 + (np.arange(nsamp) + 0.5) / nsamp * (t1 - t0)
 
 
 def audit_edge(edge, fa, fb, nsamp, k_flat, diag):
-    ts = edge_params(edge, nsamp)
-    uva, uvb = fa.uv_on_edge(edge, ts), fb.uv_on_edge(edge, ts)
-    res = {'g0': 0.0, 'g1_deg': 0.0, 'g2_abs': 0.0, 'g2_rel_radii': 0.0, 'g2_rel': 0.0,
-           'g0_at': None, 'g1_at': None, 'g2_at': None}
-    for t, (ua, va), (ub, vb) in zip(ts, uva, uvb):
-        ja, jb = fa.jet(ua, va), fb.jet(ub, vb)
-        pa, pb = ja[0], jb[0]
-        gap = norm(sub(pa, pb))
-        # atan2(|na x nb|, na . nb): accurate for tiny angles, where acos loses half the digits
-        ang = math.degrees(math.atan2(norm(cross(ja[1], jb[1])), dot(ja[1], jb[1])))
-        tan = unit(vec(edge.tangentAt(t)))
-        d = unit(cross(ja[1], tan))
-        ka = FaceEval.normal_curvature(ja, d)
-        kb = FaceEval.normal_curvature(jb, d)
-        g2a = abs(ka - kb)
-        g2r = 0.0 if max(abs(ka), abs(kb)) < k_flat else g2a / (abs(ka) + abs(kb))
-        res['g2_rel_radii'] = max(res['g2_rel_radii'], g2r)
-        # the fit report's measure: three directions, jump over the largest curvature (>= 1/diag)
-        jmax, kmax = 0.0, 1.0 / diag if diag > 0 else 0.0
-        for w in (tan, d, unit((tan[0] + d[0], tan[1] + d[1], tan[2] + d[2]))):
-            kwa, kwb = FaceEval.normal_curvature(ja, w), FaceEval.normal_curvature(jb, w)
-            jmax, kmax = max(jmax, abs(kwa - kwb)), max(kmax, abs(kwa), abs(kwb))
-        g2r = jmax / kmax if kmax > 0 else 0.0
-        if gap >= res['g0']:
-            res['g0'], res['g0_at'] = gap, pa
-        if ang >= res['g1_deg']:
-            res['g1_deg'], res['g1_at'] = ang, pa
-        if g2r > res['g2_rel'] or res['g2_at'] is None:
-            res['g2_rel'], res['g2_at'] = max(res['g2_rel'], g2r), pa
-        res['g2_abs'] = max(res['g2_abs'], g2a)
-    return res
+    return audit_edges([(edge, fa, fb)], nsamp, k_flat, diag)[0]
 
 
-def box_distance(bb, p):
-    """Lower bound: distance from p to an axis-aligned box."""
-    dx = max(bb.XMin - p[0], 0.0, p[0] - bb.XMax)
-    dy = max(bb.YMin - p[1], 0.0, p[1] - bb.YMax)
-    dz = max(bb.ZMin - p[2], 0.0, p[2] - bb.ZMax)
-    return math.sqrt(dx * dx + dy * dy + dz * dz)
+def jets_grouped(requests):
+    """jets(uv) for every (evaluator, uv) request, in order, with one call per evaluator over all
+    of its requests (a vectorised evaluator pays its overhead once per face, not once per edge)."""
+    by_eval = {}
+    for k, (ev, uv) in enumerate(requests):
+        by_eval.setdefault(id(ev), (ev, []))[1].append(k)
+    out = [None] * len(requests)
+    for ev, ks in by_eval.values():
+        sizes = [len(requests[k][1]) for k in ks]
+        jet = ev.jets(np.concatenate([requests[k][1] for k in ks]))
+        start = 0
+        for k, n in zip(ks, sizes):
+            out[k] = tuple(a[start:start + n] for a in jet)
+            start += n
+    return out
+
+
+def audit_edges(pairs, nsamp, k_flat, diag):
+    """Continuity of every (edge, evaluator A, evaluator B) in pairs: one dict per pair with
+    g0, g1_deg, g2_abs, g2_rel_radii, g2_rel and the worst samples' points.  The samples of all
+    edges go through continuity_samples at once."""
+    if not pairs:
+        return []
+    params, requests, bounds = [], [], [0]
+    for edge, fa, fb in pairs:
+        ts = edge_sample_params(edge, nsamp)
+        params.append(ts)
+        requests += [(fa, fa.uv_on_edge(edge, ts)), (fb, fb.uv_on_edge(edge, ts))]
+        bounds.append(bounds[-1] + len(ts))
+    jets = jets_grouped(requests)
+    tans = [fa.edge_tangents(edge, ts, requests[2 * k][1], jets[2 * k])
+            for k, ((edge, fa, _), ts) in enumerate(zip(pairs, params))]
+    ja = tuple(np.concatenate([j[i] for j in jets[0::2]]) for i in range(7))
+    jb = tuple(np.concatenate([j[i] for j in jets[1::2]]) for i in range(7))
+    s = continuity_samples(ja, jb, np.concatenate(tans), k_flat, diag)
+    return [reduce_edge(*(a[b0:b1] for a in s), ja[0][b0:b1]) for b0, b1 in zip(bounds[:-1], bounds[1:])]
+
+
+def box_array(boxes):
+    """FreeCAD BoundBoxes as an array (n, 6): XMin, YMin, ZMin, XMax, YMax, ZMax."""
+    return np.array([(b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax) for b in boxes], dtype=float).reshape(-1, 6)
 
 
 def vertex_distance(Part, faces, boxes, p):
     """Distance from p to the union of faces: exact distToShape per face, nearest bounding boxes
-    first, stopping when the next box is farther than the best distance found (the whole-shape
-    distToShape costs ~90 ms per point, this ~2 ms)."""
+    first (boxes: box_array; their distance to p is a lower bound), stopping when the next box is
+    farther than the best distance found (the whole-shape distToShape costs ~90 ms per point,
+    this ~2 ms)."""
     import FreeCAD
-    order = sorted((box_distance(bb, p), k) for k, bb in enumerate(boxes))
+    q = np.asarray(p, dtype=float)
+    gap = np.maximum(np.maximum(boxes[:, :3] - q, 0.0), q - boxes[:, 3:])
+    lbs = np.sqrt((gap * gap).sum(axis=1))
     vx = Part.Vertex(FreeCAD.Vector(*p))
     best = math.inf
-    for lb, k in order:
-        if lb >= best:
+    for k in np.lexsort((np.arange(len(lbs)), lbs)):
+        if lbs[k] >= best:
             break
         best = min(best, faces[k].distToShape(vx)[0])
     return best
@@ -240,23 +319,38 @@ def full_check(shape):
 
 
 def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False):
+    """Read path with FreeCAD and audit it (see the module comment); None when FreeCAD is missing."""
     Part = load_freecad()
     if Part is None:
         return None
     t_start = time.time()
     shape = Part.read(path)
     t_read = time.time() - t_start
+    out = audit_shape(Part, shape, path, mesh, nsamp, flat, per_edge, check)
+    out['seconds_read'] = t_read
+    out['seconds_audit'] = time.time() - t_start - t_read
+    return out
+
+
+def mesh_diag(verts):
+    lo = [min(v[i] for v in verts) for i in range(3)]
+    hi = [max(v[i] for v in verts) for i in range(3)]
+    return norm(sub(hi, lo))
+
+
+def audit_shape(Part, shape, path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False,
+                evals=None, edges=None, mass=True):
+    """The audit of an imported shape.  evals: one evaluator per face (default FaceEval, OCCT per
+    point); edges: edge_faces(shape) when the caller has it already; mass=False leaves out area
+    and volume (OCCT integrates them: seconds on large parts)."""
     faces = shape.Faces
-    evals = [FaceEval(f) for f in faces]
+    if evals is None:
+        evals = [FaceEval(f) for f in faces]
     verts = read_obj_vertices(mesh) if mesh else None
-    if verts:
-        lo = [min(v[i] for v in verts) for i in range(3)]
-        hi = [max(v[i] for v in verts) for i in range(3)]
-        diag = norm(sub(hi, lo))
-    else:
-        diag = bbox_diag_of(shape)
+    diag = mesh_diag(verts) if verts else bbox_diag_of(shape)
     k_flat = 1.0 / (flat * diag) if diag > 0 else 0.0
-    edges = edge_faces(shape)
+    if edges is None:
+        edges = edge_faces(shape)
     out = {
         'file': os.path.basename(path),
         'format': 'iges' if path.lower().endswith(('.igs', '.iges')) else 'step',
@@ -273,18 +367,19 @@ def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False):
         'bbox_diag': diag,
         'samples_per_edge': nsamp if nsamp > 0 else '4 per knot span',
         'flat_radius': flat * diag,
-        'area': shape.Area,
+        'area': shape.Area if mass else None,
         'max_edge_tolerance': max((e.Tolerance for e in shape.Edges), default=0.0),
         'max_vertex_tolerance': max((v.Tolerance for v in shape.Vertexes), default=0.0),
-        'volume': shape.Volume if shape.Solids else None,
+        'volume': shape.Volume if mass and shape.Solids else None,
     }
     worst = {'g0': (0.0, None, None), 'g1_deg': (0.0, None, None), 'g2_rel': (0.0, None, None)}
     g2_abs = g2_radii = 0.0
     detail = []
-    for ei, (e, fl) in enumerate(edges):
-        if len(fl) != 2:
-            continue
-        r = audit_edge(e, evals[fl[0]], evals[fl[1]], nsamp, k_flat, diag)
+    shared = [ei for ei, (_, fl) in enumerate(edges) if len(fl) == 2]
+    results = audit_edges([(edges[ei][0], evals[edges[ei][1][0]], evals[edges[ei][1][1]]) for ei in shared],
+                          nsamp, k_flat, diag)
+    for ei, r in zip(shared, results):
+        fl = edges[ei][1]
         g2_abs = max(g2_abs, r['g2_abs'])
         g2_radii = max(g2_radii, r['g2_rel_radii'])
         for key, at in (('g0', 'g0_at'), ('g1_deg', 'g1_at'), ('g2_rel', 'g2_at')):
@@ -303,7 +398,7 @@ def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False):
     out['worst'] = {k: {'value': v[0], 'edge': v[1], 'point': v[2]} for k, v in worst.items()}
     if verts is not None:
         dmax, imax = 0.0, -1
-        boxes = [f.BoundBox for f in faces]
+        boxes = box_array(f.BoundBox for f in faces)
         for i, v in enumerate(verts):
             d = vertex_distance(Part, faces, boxes, v)
             if d > dmax or imax < 0:
@@ -313,8 +408,6 @@ def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False):
                        'worst_vertex': imax}
     if check:
         out['check'] = full_check(shape)
-    out['seconds_read'] = t_read
-    out['seconds_audit'] = time.time() - t_start - t_read
     if per_edge:
         out['edge_detail'] = detail
     return out
