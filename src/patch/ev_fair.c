@@ -77,37 +77,65 @@ static const double bn4[6][6] = {{1, 0, 0, 0, 0, 0}, {1, 1, 0, 0, 0, 0}, {1, 2, 
 
 /* ------------------------------------------------------------ side data (W lanes) */
 
-/* Hermite interpolant of order K of jet contractions, t-derivatives 0..nq at s:
- * out[q] = Σ_j H_{j,0}^(q) d^j s0 T0_(j+p)[u0^j, w0^p] + H_{j,1}^(q) (-d)^j s1 T1_(j+p)[u1^j, w1^p]. */
-static void jet_hermite(int K, int p, const double *T0, const double *T1, int W, const fe_side *S, double s0,
-                        double s1, double s, int nq, double out[][CP_MAXW])
+/* Hermite end data of a constructed side: the jet contractions at both ends, for γ (order 2K),
+ * χ_F (2K - 1) and ξ_F (2K - 2).  They do not depend on the side parameter, so a patch computes them
+ * once (fe_lanes.ends) and every evaluation only combines them with the Hermite basis. */
+typedef struct fe_ends {
+    int W;
+    double *e; /* [γ|χ|ξ][end][j <= 4][lane]: FE_END(E, p, end, j) */
+} fe_ends;
+#define FE_END(E, p, end, j) ((E)->e + (size_t)((((p) * 2 + (end)) * 5) + (j)) * (E)->W)
+#define FE_END_SIZE(W) ((size_t)3 * 2 * 5 * (W))
+
+/* The lanes a fair patch's side function reads: the four corner jets (EV_JS x W each) and,
+ * optionally, the sides' end data computed from them. */
+typedef struct fe_lanes {
+    const double *J[4];
+    const fe_ends *ends; /* [4] (sides), or NULL: computed on the fly */
+} fe_lanes;
+
+/* End data of side S: d^j s T_(j+p)[u^j, w^p] at both ends, j <= 2K - p, p <= K (s: the cross-edge
+ * interval to the power p). */
+static void side_ends(int K, const fe_side *S, const double *T0, const double *T1, fe_ends *E)
 {
-    double H[Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1], e0[CP_MAXW], e1[CP_MAXW];
-    q2n_hermite_eval(K, s, nq, H);
-    for (int q = 0; q <= nq; q++) memset(out[q], 0, sizeof(double) * W);
-    for (int j = 0; j <= K; j++) {
-        memset(e0, 0, sizeof(double) * W);
-        memset(e1, 0, sizeof(double) * W);
-        ev_jet_contract(T0, W, j, S->u0, p, S->w0, pow(S->d, j) * s0, e0);
-        ev_jet_contract(T1, W, j, S->u1, p, S->w1, pow(-S->d, j) * s1, e1);
-        for (int q = 0; q <= nq; q++) {
+    int Kc = 2 * K, W = E->W;
+    memset(E->e, 0, sizeof(double) * FE_END_SIZE(W));
+    for (int p = 0; p <= K; p++) {
+        double s0 = p == 0 ? 1 : p == 1 ? S->ew[0] : S->ew[0] * S->ew[0];
+        double s1 = p == 0 ? 1 : p == 1 ? S->ew[1] : S->ew[1] * S->ew[1];
+        for (int j = 0; j <= Kc - p; j++) {
+            ev_jet_contract(T0, W, j, S->u0, p, S->w0, pow(S->d, j) * s0, FE_END(E, p, 0, j));
+            ev_jet_contract(T1, W, j, S->u1, p, S->w1, pow(-S->d, j) * s1, FE_END(E, p, 1, j));
+        }
+    }
+}
+
+/* The Hermite interpolant of order Kh of the end data of field p, t-derivatives 0..nq at s. */
+static void ends_hermite(int Kh, const fe_ends *E, int p, int W, double s, int nq, double out[][CP_MAXW])
+{
+    double H[Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1];
+    q2n_hermite_eval(Kh, s, nq, H);
+    for (int q = 0; q <= nq; q++) {
+        double *o = out[q];
+        memset(o, 0, sizeof(double) * W);
+        for (int j = 0; j <= Kh; j++) {
             double h0 = H[j][0][q], h1 = H[j][1][q];
-            for (int l = 0; l < W; l++) out[q][l] += h0 * e0[l] + h1 * e1[l];
+            const double *e0 = FE_END(E, p, 0, j), *e1 = FE_END(E, p, 1, j);
+            for (int l = 0; l < W; l++) o[l] += h0 * e0[l] + h1 * e1[l];
         }
     }
 }
 
 /* Parametric data of a constructed side at s: out[b][a] = ∂n^b ∂s^a with n the inward cross
  * parameter, b <= K, a < na (<= 4). */
-static void constructed(const fe_ctx *X, const fe_side *S, const double *J0, const double *J1, int W, double s,
-                        int na, double out[3][CP_NA][CP_MAXW])
+static void constructed(const fe_ctx *X, const fe_side *S, const fe_ends *E, int W, double s, int na,
+                        double out[3][CP_NA][CP_MAXW])
 {
     int K = X->K, Kc = 2 * K;
     double g[6][CP_MAXW], c[5][CP_MAXW], x[4][CP_MAXW];
-    jet_hermite(Kc, 0, J0, J1, W, S, 1, 1, s, na + 1, g);                  /* γ */
-    jet_hermite(Kc - 1, 1, J0, J1, W, S, S->ew[0], S->ew[1], s, na, c);   /* χ_F */
-    if (K >= 2)
-        jet_hermite(Kc - 2, 2, J0, J1, W, S, S->ew[0] * S->ew[0], S->ew[1] * S->ew[1], s, na - 1, x); /* ξ_F */
+    ends_hermite(Kc, E, 0, W, s, na + 1, g);                 /* γ */
+    ends_hermite(Kc - 1, E, 1, W, s, na, c);                 /* χ_F */
+    if (K >= 2) ends_hermite(Kc - 2, E, 2, W, s, na - 1, x); /* ξ_F */
     for (int b = 0; b <= 2; b++)
         for (int a = 0; a < na; a++) memset(out[b][a], 0, sizeof(double) * W);
     for (int a = 0; a < na; a++) memcpy(out[0][a], g[a], sizeof(double) * W);
@@ -193,9 +221,16 @@ static void fe_side_fn(const void *ctx, const void *lanes, int W, int sd, double
         regular(X, sd, s, na, F);
         return;
     }
-    const double *const *J = lanes;
+    const fe_lanes *L = lanes;
     double loc[3][CP_NA][CP_MAXW];
-    constructed(X, S, J[S->c0], J[S->c1], W, s, na, loc);
+    if (L->ends) {
+        constructed(X, S, &L->ends[sd], W, s, na, loc);
+    } else {
+        double buf[3 * 2 * 5 * CP_MAXW];
+        fe_ends E = {W, buf};
+        side_ends(X->K, S, L->J[S->c0], L->J[S->c1], &E);
+        constructed(X, S, &E, W, s, na, loc);
+    }
     double io = side_iota[sd]; /* inward -> axis direction */
     for (int a = 0; a < na; a++)
         for (int l = 0; l < W; l++) {
@@ -210,8 +245,23 @@ typedef struct fe_eval {
     cp_eval E;
     fe_ctx X;
     double J[4][EV_JS][3];
-    const double *Jp[4];
+    fe_lanes lanes;
+    fe_ends ends[4];
+    double endv[4][3 * 2 * 5 * 3];
 } fe_eval;
+
+/* The lanes of a patch whose corner jets are J (W lanes each, slot-major): the sides' end data
+ * go to ends (4 sides, W lanes, storage endv of FE_END_SIZE(W) doubles per side). */
+static void fill_lanes(const fe_ctx *X, const double *const J[4], int W, fe_lanes *L, fe_ends ends[4], double *endv)
+{
+    for (int c = 0; c < 4; c++) L->J[c] = J[c];
+    for (int sd = 0; sd < 4; sd++) {
+        ends[sd].W = W;
+        ends[sd].e = endv + FE_END_SIZE(W) * sd;
+        if (X->side[sd].kind == 0) side_ends(X->K, &X->side[sd], J[X->side[sd].c0], J[X->side[sd].c1], &ends[sd]);
+    }
+    L->ends = ends;
+}
 
 static void fe_eval_free(void *d) { free(d); }
 
@@ -476,9 +526,15 @@ static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P,
     const double sc[7] = {1 / (Lsu * Lsu), 1.4142135623730951 / (Lsu * Lsv), 1 / (Lsv * Lsv),
                           Lc / (Lsu * Lsu * Lsu), Lc * 1.7320508075688772 / (Lsu * Lsu * Lsv),
                           Lc * 1.7320508075688772 / (Lsu * Lsv * Lsv), Lc / (Lsv * Lsv * Lsv)};
-    cp_corner_terms(P, J, W, &C);
-    for (int a = 0; a < ng; a++) cp_line_u(P, J, W, gx[a], 4, &Lu[a]);
-    for (int b = 0; b < ng; b++) cp_line_v(P, J, W, gx[b], 4, &Lv[b]);
+    fe_lanes L;
+    fe_ends ends[4];
+    double *endv = malloc(sizeof(double) * 4 * FE_END_SIZE(W));
+    if (!endv) { st = Q2N_ERR_NOMEM; goto done; }
+    fill_lanes(P->ctx, J, W, &L, ends, endv);
+    cp_corner_terms(P, &L, W, &C);
+    for (int a = 0; a < ng; a++) cp_line_u(P, &L, W, gx[a], 4, &Lu[a]);
+    for (int b = 0; b < ng; b++) cp_line_v(P, &L, W, gx[b], 4, &Lv[b]);
+    free(endv);
     cp_grid(P, &C, bl, W, ng, gx, Lu, ng, gx, Lv, 3, 9, G);
     for (int t = 0; t < 2 && !st; t++) {
         int r0 = t ? 3 : 0, nr = t ? 4 : 3, nrow = 0;
@@ -760,8 +816,9 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
         double ctv[3 * 36 * 3];
         cp_corner C = {3, ctv};
         const double *J[4];
-        for (int c = 0; c < 4; c++) J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
-        cp_corner_terms(&CP[i], J, 3, &C);
+        fe_lanes L = {{NULL, NULL, NULL, NULL}, NULL};
+        for (int c = 0; c < 4; c++) L.J[c] = J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
+        cp_corner_terms(&CP[i], &L, 3, &C);
         for (int ci = 0; ci < 2; ci++)
             for (int cj = 0; cj < 2; cj++) {
                 double mis = cp_corner_mismatch(&CP[i], &C, ci, cj);
@@ -786,11 +843,13 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
         E->X = X[i];
         E->E.P = CP[i];
         E->E.P.ctx = &E->X;
+        const double *Jc[4];
         for (int c = 0; c < 4; c++) {
             memcpy(E->J[c], B.jet[m->face_vert[m->face_start[f] + c]], sizeof E->J[c]);
-            E->Jp[c] = &E->J[c][0][0];
+            Jc[c] = &E->J[c][0][0];
         }
-        E->E.lanes = E->Jp;
+        fill_lanes(&E->X, Jc, 3, &E->lanes, E->ends, &E->endv[0][0]);
+        E->E.lanes = &E->lanes;
         memcpy(E->E.bub, B.bub[i], sizeof E->E.bub);
         cp_eval_init(&E->E);
         if ((st = q2n_surface_set_patch(s, f, Q2N_PATCH_COONS_GREGORY, E, cp_eval_point, fe_eval_free))) {
