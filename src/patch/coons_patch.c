@@ -19,18 +19,26 @@
 
 static const int corner_of[2][2] = {{0, 3}, {1, 2}};
 
+static void line_fill(const cp_patch *P, const void *lanes, int W, int s0, int s1, double t, int na, cp_line *L)
+{
+    double F[3][CP_NA][CP_MAXW];
+    L->W = W;
+    for (int i = 0; i < 2; i++) {
+        P->side(P->ctx, lanes, W, i ? s1 : s0, t, na, F);
+        for (int b = 0; b < 3; b++)
+            for (int a = 0; a < na; a++) memcpy(CP_LS(L, i, b, a), F[b][a], sizeof(double) * W);
+    }
+    q2n_hermite_eval(P->K, t, na - 1, L->H);
+}
+
 void cp_line_u(const cp_patch *P, const void *lanes, int W, double u, int na, cp_line *L)
 {
-    P->side(P->ctx, lanes, W, 0, u, na, L->side[0]);
-    P->side(P->ctx, lanes, W, 2, u, na, L->side[1]);
-    q2n_hermite_eval(P->K, u, na - 1, L->H);
+    line_fill(P, lanes, W, 0, 2, u, na, L);
 }
 
 void cp_line_v(const cp_patch *P, const void *lanes, int W, double v, int na, cp_line *L)
 {
-    P->side(P->ctx, lanes, W, 3, v, na, L->side[0]);
-    P->side(P->ctx, lanes, W, 1, v, na, L->side[1]);
-    q2n_hermite_eval(P->K, v, na - 1, L->H);
+    line_fill(P, lanes, W, 3, 1, v, na, L);
 }
 
 void cp_corner_terms(const cp_patch *P, const void *lanes, int W, cp_corner *C)
@@ -91,17 +99,19 @@ static void gregory_weight(int r, int i, int j, double u, double v, double W[3][
 void cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
 {
     double bu[4], bv[4];
+    int p = K + 1;
+    double sc = p == 2 ? 16 : 64; /* 4^p */
+    static const double bn[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
     for (int k = 0; k < 2; k++) {
-        double t = k ? v : u, *r = k ? bv : bu, sc = pow(4, K + 1);
-        double pa[4], pb[4]; /* t^p, (1-t)^p and derivatives */
-        int p = K + 1;
+        double t = k ? v : u, *r = k ? bv : bu, pa[4], pb[4], ta[4], tb[4]; /* t^p, (1-t)^p and derivatives */
+        ta[0] = tb[0] = 1;
+        for (int i = 1; i < 4; i++) { ta[i] = ta[i - 1] * t; tb[i] = tb[i - 1] * (1 - t); }
         for (int d = 0; d < 4; d++) {
             double f = 1;
             for (int j = 0; j < d; j++) f *= (double)(p - j);
-            pa[d] = d > p ? 0 : f * pow(t, p - d);
-            pb[d] = d > p ? 0 : f * pow(1 - t, p - d) * (d & 1 ? -1 : 1);
+            pa[d] = d > p ? 0 : f * ta[p - d];
+            pb[d] = d > p ? 0 : f * tb[p - d] * (d & 1 ? -1 : 1);
         }
-        static const double bn[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
         for (int d = 0; d < 4; d++) {
             r[d] = 0;
             for (int i = 0; i <= d; i++) r[d] += bn[d][i] * pa[i] * pb[d - i];
@@ -141,7 +151,7 @@ void cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, dou
         for (int i = 0; i < 2; i++)
             for (int a = 0; a <= K; a++) {
                 double hu = Lu->H[a][i][al], hv = Lv->H[a][i][be];
-                const double *gv = Lv->side[i][a][be], *fu = Lu->side[i][a][al];
+                const double *gv = CP_LS(Lv, i, a, be), *fu = CP_LS(Lu, i, a, al);
                 for (int l = 0; l < W; l++) r[l] += hu * gv[l] + hv * fu[l];
             }
         for (int i = 0; i < 2; i++)
@@ -195,7 +205,7 @@ void cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, in
             for (int k = 0; k <= K; k++)
                 for (int q = 0; q < CP_NA; q++) {
                     double *r = Dv[i][k][q];
-                    memcpy(r, L->side[i][k][q], sizeof(double) * W);
+                    memcpy(r, CP_LS(L, i, k, q), sizeof(double) * W);
                     for (int j = 0; j < 2; j++)
                         for (int l = 0; l <= K; l++) {
                             double h = L->H[l][j][q];
@@ -215,7 +225,7 @@ void cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, in
                 for (int i = 0; i < 2; i++)
                     for (int k = 0; k <= K; k++) {
                         double hu = U->H[k][i][p], hv = L->H[k][i][q];
-                        const double *d = Dv[i][k][q], *f = U->side[i][k][p];
+                        const double *d = Dv[i][k][q], *f = CP_LS(U, i, k, p);
                         for (int x = 0; x < W; x++) r[x] += hu * d[x] + hv * f[x];
                     }
                 for (int bb = 0; bub && bb < CP_NBUB; bb++) {
@@ -240,7 +250,8 @@ void cp_eval_init(cp_eval *E)
 q2n_status cp_eval_point(const void *data, double u, double v, int nder, double *out)
 {
     const cp_eval *E = data;
-    cp_line Lu, Lv;
+    double su[CP_LINE_SIZE(3)], sv[CP_LINE_SIZE(3)];
+    cp_line Lu = {3, su, {{{0}}}}, Lv = {3, sv, {{{0}}}};
     int na = nder < 2 ? 2 : 3;
     cp_line_u(&E->P, E->lanes, 3, u, na, &Lu);
     cp_line_v(&E->P, E->lanes, 3, v, na, &Lv);
@@ -251,15 +262,31 @@ q2n_status cp_eval_point(const void *data, double u, double v, int nder, double 
 q2n_status cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out)
 {
     const cp_eval *E = data;
-    cp_line *Lu = malloc((size_t)nu * sizeof *Lu);
-    if (!Lu) return Q2N_ERR_NOMEM;
+    int greg = E->P.greg[0] || E->P.greg[1] || E->P.greg[2] || E->P.greg[3], nl = nu + (greg ? 1 : nv);
+    cp_line *Lu = malloc((size_t)nl * sizeof *Lu);
+    double *st = malloc((size_t)nl * CP_LINE_SIZE(3) * sizeof *st);
+    if (!Lu || !st) {
+        free(Lu);
+        free(st);
+        return Q2N_ERR_NOMEM;
+    }
+    for (int k = 0; k < nl; k++) Lu[k].s = st + (size_t)k * CP_LINE_SIZE(3);
     for (int a = 0; a < nu; a++) cp_line_u(&E->P, E->lanes, 3, us[a], 2, &Lu[a]);
+    if (!greg) { /* constant corner terms: the tensor form (S, Su, Sv are cp_grid's orders 0..2) */
+        cp_line *Lv = Lu + nu;
+        for (int b = 0; b < nv; b++) cp_line_v(&E->P, E->lanes, 3, vs[b], 2, &Lv[b]);
+        cp_grid(&E->P, &E->C, &E->bub[0][0], 3, nu, us, Lu, nv, vs, Lv, 0, 2, out);
+        free(Lu);
+        free(st);
+        return Q2N_OK;
+    }
     for (int b = 0; b < nv; b++) {
-        cp_line Lv;
-        cp_line_v(&E->P, E->lanes, 3, vs[b], 2, &Lv);
-        for (int a = 0; a < nu; a++) cp_sum(&E->P, &E->C, &E->bub[0][0], 3, us[a], vs[b], 1, &Lu[a], &Lv, out + 9 * ((size_t)b * nu + a));
+        cp_line *Lv = &Lu[nu];
+        cp_line_v(&E->P, E->lanes, 3, vs[b], 2, Lv);
+        for (int a = 0; a < nu; a++) cp_sum(&E->P, &E->C, &E->bub[0][0], 3, us[a], vs[b], 1, &Lu[a], Lv, out + 9 * ((size_t)b * nu + a));
     }
     free(Lu);
+    free(st);
     return Q2N_OK;
 }
 

@@ -41,13 +41,19 @@ typedef struct cp_corner {
 } cp_corner;
 #define CP_CT(C, k, i, j, a, b) ((C)->v + (size_t)(((((k) * 2 + (i)) * 2 + (j)) * 3 + (a)) * 3 + (b)) * (C)->W)
 
-/* What the sum needs from one parameter line: the two sides' fields and the Hermite weights. */
+/* What the sum needs from one parameter line: the two sides' fields (u-lines: sides 0, 2; v-lines:
+ * sides 3, 1; W lanes each, CP_LS) and the Hermite weights.  The fields live in the caller's
+ * storage (CP_LINE_SIZE(W) doubles), so the production evaluators (W = 3) stay small. */
 typedef struct cp_line {
-    double side[2][3][CP_NA][CP_MAXW]; /* u-lines: sides 0, 2; v-lines: sides 3, 1 */
+    int W;
+    double *s;
     double H[3][2][Q2N_HERMITE_MAXD + 1];
 } cp_line;
+#define CP_LINE_SIZE(W) ((size_t)2 * 3 * CP_NA * (W))
+#define CP_LS(L, i, b, a) ((L)->s + (size_t)((((i) * 3 + (b)) * CP_NA) + (a)) * (L)->W)
 
 void cp_corner_terms(const cp_patch *P, const void *lanes, int W, cp_corner *C);
+/* Fill line L (its storage L->s set by the caller, CP_LINE_SIZE(W) doubles) at u or v. */
 void cp_line_u(const cp_patch *P, const void *lanes, int W, double u, int na, cp_line *L);
 void cp_line_v(const cp_patch *P, const void *lanes, int W, double v, int na, cp_line *L);
 

@@ -507,13 +507,15 @@ static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P,
     const q2n_mesh *m = B->m;
     double *Jl = malloc(sizeof(double) * 4 * EV_JS * CP_MAXW), bl[CP_NBUB * CP_MAXW];
     cp_line *Lu = malloc(2 * (size_t)ng * sizeof *Lu), *Lv = Lu ? Lu + ng : NULL;
+    double *lst = malloc(2 * (size_t)ng * CP_LINE_SIZE(CP_MAXW) * sizeof *lst);
     cp_corner C = {0, malloc(sizeof(double) * 3 * 36 * CP_MAXW)};
     size_t np = (size_t)ng * ng;
     double *G = malloc(sizeof(double) * np * 7 * CP_MAXW);
     double *A = malloc(sizeof(double) * np * 4 * (4 * EV_JS + CP_NBUB)), *A0 = malloc(sizeof(double) * np * 4 * 3);
     q2n_status st = Q2N_OK;
     memset(F, 0, sizeof *F);
-    if (!Jl || !Lu || !C.v || !G || !A || !A0) { st = Q2N_ERR_NOMEM; goto done; }
+    if (!Jl || !Lu || !lst || !C.v || !G || !A || !A0) { st = Q2N_ERR_NOMEM; goto done; }
+    for (int k = 0; k < 2 * ng; k++) Lu[k].s = lst + (size_t)k * CP_LINE_SIZE(CP_MAXW);
     int W = assembly_lanes(B, fi, f, Jl, bl, F->loc), nl = W - 3;
     F->nl = nl;
     const double *J[4];
@@ -561,6 +563,7 @@ static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P,
 done:
     free(Jl);
     free(Lu);
+    free(lst);
     free(C.v);
     free(G);
     free(A);
