@@ -4,6 +4,10 @@
 #include "check.h"
 #include "quad2nurbs.h"
 
+/* data/demo_torus.obj: patch CORNER_PATCH has the file's first vertex at (u, v) = (0, 0) (its
+ * face's first corner); FD_PATCH is any other patch, for the finite difference. */
+enum { CORNER_PATCH = 0, FD_PATCH = 5 };
+
 int main(void)
 {
     char err[512];
@@ -25,13 +29,13 @@ int main(void)
         if (sscanf(line, "v %lf %lf %lf", &v0[0], &v0[1], &v0[2]) == 3) break; /* vertex 1 = v0 of face 0 */
     if (f) fclose(f);
     double p[9], a[9], b[9], h = 1e-6;
-    CHECK(q2n_patch_covered(m, 0) && q2n_patch_eval(m, 0, 0, 0, p) == 0, "eval");
+    CHECK(q2n_patch_covered(m, CORNER_PATCH) && q2n_patch_eval(m, CORNER_PATCH, 0, 0, p) == 0, "eval");
     CHECK_NEAR(p[0], v0[0], 1e-12, "corner x");
     CHECK_NEAR(p[1], v0[1], 1e-12, "corner y");
     CHECK_NEAR(p[2], v0[2], 1e-12, "corner z");
-    q2n_patch_eval(m, 5, 0.3 - h, 0.6, a);
-    q2n_patch_eval(m, 5, 0.3 + h, 0.6, b);
-    q2n_patch_eval(m, 5, 0.3, 0.6, p);
+    q2n_patch_eval(m, FD_PATCH, 0.3 - h, 0.6, a);
+    q2n_patch_eval(m, FD_PATCH, 0.3 + h, 0.6, b);
+    q2n_patch_eval(m, FD_PATCH, 0.3, 0.6, p);
     CHECK_NEAR(p[3], (b[0] - a[0]) / (2 * h), 1e-6, "Su vs finite difference");
     const char *objp = chk_scratch("api.obj");
     remove(objp);

@@ -533,9 +533,10 @@ int main(void)
     {
         const char *p = chk_scratch("export_bad.igs");
         remove(p);
-        q2n_bspline_surface *s = &gm.patches[3];
+        enum { GAP_PATCH = 3 }; /* its corner (0,1) is an interior vertex of the grid, shared with 3 neighbours */
+        q2n_bspline_surface *s = &gm.patches[GAP_PATCH];
         double keep = s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2];
-        s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2] += 1e-3; /* corner (0,1) of face 3 moves: a gap */
+        s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2] += 1e-3; /* corner (0,1) moves: a gap */
         CHECK(q2n_export_file(&gm, NULL, p, &err) == Q2N_ERR_GEOMETRY && strstr(err.message, "watertight"),
               "gap detected: %s", err.message);
         CHECK(!exists(p) && !exists(chk_scratch("export_bad.igs.tmp")), "no file after an error");
@@ -544,7 +545,9 @@ int main(void)
         CHECK(q2n_export_file(&gm, NULL, chk_scratch("no/such/dir/x.step"), &err) == Q2N_ERR_IO, "missing dir: %s", err.message);
         double k = s->knots_u[0];
         s->knots_u[0] = -1.0;
-        CHECK(q2n_export_file(&gm, NULL, p, &err) == Q2N_ERR_ARG && strstr(err.message, "patch 3"), "bad knots: %s", err.message);
+        char want[32];
+        snprintf(want, sizeof want, "patch %d", GAP_PATCH);
+        CHECK(q2n_export_file(&gm, NULL, p, &err) == Q2N_ERR_ARG && strstr(err.message, want), "bad knots: %s", err.message);
         s->knots_u[0] = k;
         CHECK(!exists(p), "no file after the knot error");
         gm.n--;

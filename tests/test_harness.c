@@ -5,6 +5,9 @@
  *  - the runner on a fake build folder of small shell programs: passes, failures, a crash, a
  *    non-zero exit without a failed check, a time-out, quick and full mode, the environment and
  *    the scratch folder each program gets, the closing line and exit status;
+ *  - the Makefile (make -n): the caller's CFLAGS/CPPFLAGS/LDFLAGS from the environment and the
+ *    command line reach the compiler next to the project's flags; a changed header in tests/ rebuilds
+ *    the test programs that include it;
  *  - a clone without the shared meshes (the first-contact defect: every case of
  *    test_export_pipeline skipped, then the audit ran on a batch file never written and failed):
  *    test_export_pipeline passes with skips when the meshes are absent, and fails under
@@ -227,9 +230,43 @@ static void test_plain_clone(void)
     }
 }
 
+/* make -n with the given prefix/arguments; its output (caller frees). */
+static char *make_n(const char *env, const char *args)
+{
+    char cmd[2048];
+    const char *out = chk_scratch("make_n.txt");
+    snprintf(cmd, sizeof cmd, "env -u MAKEFLAGS -u MFLAGS -u MAKELEVEL %s make -n %s > %s 2>&1", env, args, out);
+    if (system(cmd) == -1) return NULL;
+    return slurp(out);
+}
+
+static void test_makefile(void)
+{
+    if (run("command -v make > /dev/null") != 0) { SKIP("make not installed"); return; }
+    const char *obj = "build/src/core/error.o";
+    char args[512];
+    snprintf(args, sizeof args, "-B %s build/quad2nurbs", obj);
+    char *o = make_n("CFLAGS=-DQ2N_ENV_CFLAGS CPPFLAGS=-DQ2N_ENV_CPPFLAGS LDFLAGS=-Wl,-O1", args);
+    CHECK(o && strstr(o, "-DQ2N_ENV_CFLAGS") && strstr(o, "-DQ2N_ENV_CPPFLAGS") && strstr(o, "-std=c11") &&
+              strstr(o, "-Isrc"), "environment CFLAGS/CPPFLAGS with the project's flags:\n%s", o ? o : "");
+    const char *link = o ? strstr(o, "-o build/quad2nurbs") : NULL;
+    CHECK(link && strstr(o, "-Wl,-O1"), "environment LDFLAGS on the link line:\n%s", o ? o : "");
+    free(o);
+    snprintf(args, sizeof args, "-B CFLAGS=-DQ2N_CMD_CFLAGS %s", obj);
+    o = make_n("", args);
+    CHECK(o && strstr(o, "-DQ2N_CMD_CFLAGS") && strstr(o, "-std=c11") && strstr(o, "-D_POSIX_C_SOURCE"),
+          "command-line CFLAGS with the project's flags:\n%s", o ? o : "");
+    free(o);
+    o = make_n("", "-W tests/check.h build/tests/test_api");
+    CHECK(o && strstr(o, "tests/test_api.c -o build/tests/test_api"), "tests/check.h changed: test_api rebuilt:\n%s",
+          o ? o : "");
+    free(o);
+}
+
 int main(void)
 {
     test_helpers();
+    test_makefile();
     test_runner();
     test_plain_clone();
     CHECK_DONE("test_harness");
