@@ -4,7 +4,7 @@
 # tests/ref_*.cpp are reference programs that call OpenSubdiv / OpenCASCADE.  A new test program
 # is one file: tests/test_NAME.c (or tests/ref_NAME.cpp) is built and run by make check; extra
 # libraries, if any, go in one line LDLIBS_test_NAME := ... below.
-#   make            library + executable          make check       quick tests (< 3 min)
+#   make            library + executable          make check       quick tests (long sweeps left out)
 #   make check-full all tests (what CI runs)      make demo        main job on the demo mesh
 #   make bench      benchmarks (not tests)        make install PREFIX=/usr/local
 #   make CONFIG=debug|asan                        (default: release)

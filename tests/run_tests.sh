@@ -11,7 +11,7 @@
 #   Q2N_SHARED_MESHES   ../shared/meshes unless set
 #   Q2N_TEST_FULL       1 with --full (make check-full): the long sweeps run too
 #   Q2N_REQUIRE_SHARED  passed on (CI sets 1: a missing shared mesh fails)
-# and a time limit of Q2N_TEST_TIMEOUT seconds (default 1800).  Its output goes to
+# and a time limit of Q2N_TEST_TIMEOUT seconds (default 3600).  Its output goes to
 # DIR/scratch/<program>.log; as each program ends, its FAIL, SKIP and DEFER lines and its summary
 # are printed with its CPU and wall seconds.  The last line is "N passed, N failed, N skipped";
 # the exit status is 0 only if nothing failed.
@@ -26,7 +26,7 @@ if [ "${1:-}" = "--one" ]; then
     rm -rf "$dir" "$st.result" && mkdir -p "$dir" "$build/scratch/.run" || exit 2
     t0=$(date +%s.%N)
     (
-        Q2N_SCRATCH=$dir timeout "${Q2N_TEST_TIMEOUT:-1800}" "$prog" > "$log" 2>&1
+        Q2N_SCRATCH=$dir timeout "${Q2N_TEST_TIMEOUT:-3600}" "$prog" > "$log" 2>&1
         echo $? > "$st.rc"
         times > "$st.times"       # second line: CPU time of the program and its children
     )
@@ -39,7 +39,7 @@ if [ "${1:-}" = "--one" ]; then
     line=$(grep -E ': [0-9]+ passed, [0-9]+ failed, [0-9]+ skipped$' "$log" | tail -n 1)
     out=$(grep -E '^(FAIL|SKIP|DEFER)' "$log" | head -n 40)
     if [ -z "$line" ]; then
-        if [ "$rc" -eq 124 ]; then why="timed out after ${Q2N_TEST_TIMEOUT:-1800} s"
+        if [ "$rc" -eq 124 ]; then why="timed out after ${Q2N_TEST_TIMEOUT:-3600} s"
         else why="crashed or printed no summary (exit $rc)"; fi
         out="$out${out:+
 }$name: $why; last lines of $log:
