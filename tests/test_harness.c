@@ -139,7 +139,7 @@ static void test_runner(void)
         {"test_bad", "#!/bin/sh\necho 'FAIL x.c:1: wrong' >&2; echo 'test_bad: 1 passed, 2 failed, 0 skipped'; exit 1\n"},
         {"test_crash", "#!/bin/sh\necho 'half way'; kill -SEGV $$\n"},
         {"test_liar", "#!/bin/sh\necho 'test_liar: 1 passed, 0 failed, 0 skipped'; exit 3\n"},
-        {"test_slow", "#!/bin/sh\nexec sleep 30\necho 'test_slow: 1 passed, 0 failed, 0 skipped'\n"},
+        {"test_slow", "#!/bin/sh\nexec sleep 60\necho 'test_slow: 1 passed, 0 failed, 0 skipped'\n"},
         {"test_modes", "#!/bin/sh\n[ \"$Q2N_TEST_FULL\" = 1 ] || echo 'DEFER the long sweep: run by make check-full'\n"
                        "echo 'test_modes: 1 passed, 0 failed, 0 skipped'\n"},
     };
@@ -150,7 +150,7 @@ static void test_runner(void)
     }
     char *out;
     /* quick mode, every program */
-    snprintf(cmd, sizeof cmd, "env -u Q2N_EXE Q2N_SHARED_MESHES=/no/meshes Q2N_TEST_TIMEOUT=2 "
+    snprintf(cmd, sizeof cmd, "env -u Q2N_EXE Q2N_SHARED_MESHES=/no/meshes Q2N_TEST_TIMEOUT=5 "
              "sh tests/run_tests.sh -j 3 --build %s > %s/quick.txt 2>&1", fb, fb);
     int rc = run(cmd);
     snprintf(t, sizeof t, "%s/quick.txt", fb);
@@ -160,7 +160,7 @@ static void test_runner(void)
     CHECK(out && strstr(out, "failing programs: test_bad test_crash test_liar test_slow\n"), "failing programs listed");
     CHECK(out && strstr(out, "test_crash: crashed or printed no summary") && strstr(out, "half way"),
           "a crash is reported with its last lines");
-    CHECK(out && strstr(out, "test_slow: timed out after 2 s"), "a time-out is reported");
+    CHECK(out && strstr(out, "test_slow: timed out after 5 s"), "a time-out is reported");
     CHECK(out && strstr(out, "test_liar: exit status 3 although no check failed"), "a non-zero exit fails");
     CHECK(out && strstr(out, "FAIL x.c:1: wrong") && strstr(out, "SKIP one case"), "FAIL and SKIP lines shown");
     CHECK(out && strstr(out, "DEFER the long sweep") && strstr(out, "1 long sweeps left out"), "deferred sweeps counted");
