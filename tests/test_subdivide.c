@@ -219,7 +219,7 @@ static void test_shared_counts(void)
                                   "gismo_octtorus_hole.obj", "osd_catmark_pawn.obj"};
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
         const char *path = chk_shared_mesh(files[k]);
-        if (!path) { SKIP("%s not found (../shared/meshes)", files[k]); continue; }
+        if (!path) continue;
         q2n_mesh *m = NULL, *s = NULL, *s2 = NULL;
         q2n_error err = {0};
         if (q2n_mesh_read_obj(path, &m, &err) != Q2N_OK) {

@@ -14,7 +14,7 @@ refuses) and the row says "(subdivided)" after the mesh name; its free edges are
 mesh boundary x 2^N.  The Catmull-Clark methods (acc3, acc-g1) handle non-quads themselves and get
 the mesh as it is.
 
-usage: tools/q2n_audit_table.py [--exe build/quad2nurbs] [--meshes-dir ../shared/meshes]
+usage: tools/q2n_audit_table.py [--exe build/quad2nurbs] [--meshes-dir $Q2N_SHARED_MESHES or ../shared/meshes]
                                 [--methods augmented,acc3,acc-g1] [--out build/audit]
                                 [--nonquad-subdivide 1] [--threads N] [--timeout S] [MESH.obj ...]
 """
@@ -73,7 +73,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('meshes', nargs='*', help='OBJ files (default: every *.obj in --meshes-dir)')
     ap.add_argument('--exe', default='build/quad2nurbs')
-    ap.add_argument('--meshes-dir', default='../shared/meshes')
+    ap.add_argument('--meshes-dir', default=os.environ.get('Q2N_SHARED_MESHES') or '../shared/meshes')
     ap.add_argument('--methods', default='augmented,acc3,acc-g1')
     ap.add_argument('--formats', default='step,igs')
     ap.add_argument('--out', default='build/audit')
@@ -84,6 +84,8 @@ def main():
                     help='seconds one quad2nurbs run may take (default: no limit); a timed-out run is listed')
     a = ap.parse_args()
     meshes = a.meshes or sorted(glob.glob(os.path.join(a.meshes_dir, '*.obj')))
+    if not meshes:
+        sys.exit('q2n_audit_table.py: no *.obj in %s (name meshes or --meshes-dir)' % a.meshes_dir)
     fmts = a.formats.split(',')
     os.makedirs(a.out, exist_ok=True)
     # 1. every model (quad2nurbs writes all formats and its report in one run)
