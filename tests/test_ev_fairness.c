@@ -120,7 +120,10 @@ static void generated(const char *label, q2n_mesh *m, double osc_g2, double osc_
 int main(void)
 {
     printf("| mesh (* targets not met: regression bound) | mode | osc per EV diagonal | E_ev | min jac | jac / bound |\n");
-    for (size_t i = 0; i < sizeof shared_cases / sizeof shared_cases[0]; i++) shared_mesh(&shared_cases[i]);
+    for (size_t i = 0; i < sizeof shared_cases / sizeof shared_cases[0]; i++) {
+        if (strstr(shared_cases[i].file, "righthanded") && !q2n_test_full("fairness of osd_catmark_righthanded")) continue;
+        shared_mesh(&shared_cases[i]);
+    }
     /* the repository's hard meshes: extraordinary vertices on opposite corners of every face
      * (valence 10 and 3; 8 and 3 on an ellipsoid with quads of aspect up to ~6), valence 12, thin
      * sectors (x stretched 4:1); acc-g1 figures (fairness.py): 0.043 / 26.3, 0.181 / 110, -, 0.068 / 0.87 */

@@ -546,6 +546,7 @@ static void test_spikes(void)
     static const char *const meshes[] = {"osd_catmark_gregory_test1.obj", "osd_catmark_righthanded.obj", NULL};
     enum { NG = 41 };
     for (int i = 0; meshes[i]; i++) {
+        if (i > 0 && !q2n_test_full("spike scan on osd_catmark_righthanded")) continue;
         const char *path = chk_shared_mesh(meshes[i]);
         if (!path) continue;
         q2n_mesh *m = NULL;
@@ -707,6 +708,11 @@ static void test_corner_compat(void)
         {"osd_catmark_righthanded.obj", 0, RH_BAD}, {"osd_catmark_rook.obj", 1, ROOK_BAD},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        char what[128];
+        snprintf(what, sizeof what, "corner compatibility on %s", cases[c].file);
+        if ((strstr(cases[c].file, "crane") || strstr(cases[c].file, "righthanded") || strstr(cases[c].file, "rook")) &&
+            !q2n_test_full(what))
+            continue;
         const char *path = chk_shared_mesh(cases[c].file);
         if (!path) continue;
         q2n_mesh *mm = NULL, *sub = NULL;
@@ -735,7 +741,9 @@ int main(void)
     {
         static const char *const paper_sel[] = {"osd_catmark_pawn.obj", "gismo_polycube.obj", "osd_catmark_helmet.obj",
                                                 "gismo_ev_valence5_carpet.obj", NULL};
+        int full = q2n_test_full("the paper's construction on pawn, polycube, helmet");
         for (int i = 0; paper_sel[i]; i++) {
+            if (!full && !strstr(paper_sel[i], "carpet")) continue;
             const char *path = chk_shared_mesh(paper_sel[i]);
             if (!path) continue; /* reported by chk_shared_mesh */
             q2n_mesh *m = NULL;
@@ -808,6 +816,11 @@ int main(void)
         "gismo_cube_with_boundary.obj", "gismo_octtorus.obj", "gismo_octtorus_hole.obj", "gismo_polycube.obj",
         "crane_spot_control_mesh.obj", "osd_catmark_rook.obj", NULL};
     for (int i = 0; shared[i]; i++) {
+        char what[128];
+        snprintf(what, sizeof what, "G2 sweep on %s", shared[i]);
+        if ((strstr(shared[i], "crane") || strstr(shared[i], "righthanded") || strstr(shared[i], "rook")) &&
+            !q2n_test_full(what))
+            continue;
         const char *path = chk_shared_mesh(shared[i]);
         if (!path) continue;
         q2n_mesh *m = NULL, *sub = NULL;
@@ -838,8 +851,10 @@ int main(void)
         {"D5C2P2S4", Q2N_PARAM_MEAN, Q2N_EV_PATCH_G2, "D5C2P2S4, G2, mean"},
         {"D3C2P2S4", Q2N_PARAM_CHORDAL, Q2N_EV_PATCH_G2, "D3C2P2S4, G2, chordal"},
         {"D2C1P2S4", Q2N_PARAM_UNIFORM, Q2N_EV_PATCH_DEFAULT, "D2C1P2S4, G1, uniform"}};
+    int full = q2n_test_full("class and parametrization variants on polycube, helmet, pawn");
     for (int vi = 0; vi < 6; vi++)
         for (int i = 0; sel[i]; i++) {
+            if (!full && (strstr(sel[i], "polycube") || strstr(sel[i], "helmet") || strstr(sel[i], "pawn"))) continue;
             const char *path = chk_shared_mesh(sel[i]);
             if (!path) continue;
             q2n_mesh *m = NULL;

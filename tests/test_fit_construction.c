@@ -6,7 +6,7 @@
  * to rounding; --tol 1e-4 gives a smaller file than 1e-5; the control points stay within the
  * span cap; and the construction scan reports smooth faces where spikes used to be.
  *
- * The default set is fast (a few seconds); Q2N_CHECK_FULL=1 (make check-full) adds the long
+ * The default set is fast (a few seconds); make check-full (q2n_test_full) adds the long
  * sweep: every shared mesh (non-quad ones --subdivide 1) in G1 and G2 mode.
  * References: the construction's evaluator (foot-point distances, central differences for the
  * scan), bspline.c's evaluator (tests/fit_check.h), nothing of the fit's own. */
@@ -131,12 +131,9 @@ int main(void)
     const fit_case pawn = {"osd_catmark_pawn.obj", 0, 0};
     if (run(&pawn, 1e-5, &r5) && run(&pawn, 1e-4, &r4))
         CHECK(r4.cp_total < r5.cp_total, "pawn: %ld control points at 1e-4, %ld at 1e-5", r4.cp_total, r5.cp_total);
-    const char *full = getenv("Q2N_CHECK_FULL");
-    if (full && *full && strcmp(full, "0") != 0)
+    if (q2n_test_full("the long fit sweep (rook, righthanded, spot --subdivide 1)"))
         for (size_t i = 0; i < sizeof long_cases / sizeof *long_cases; i++) run(&long_cases[i], 1e-5, &r5);
-    else
-        printf("  (long sweep skipped: Q2N_CHECK_FULL=1 runs it)\n");
     check_scan("osd_catmark_gregory_test1.obj", 6);     /* a spike narrower than any knot spacing once */
-    check_scan("osd_catmark_righthanded.obj", 117);
+    if (q2n_test_full("the construction scan of osd_catmark_righthanded")) check_scan("osd_catmark_righthanded.obj", 117);
     CHECK_DONE("test_fit_construction");
 }
