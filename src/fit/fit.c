@@ -109,8 +109,8 @@ void q2n_fit_options_default(q2n_fit_options *o)
     o->solver = Q2N_FIT_SOLVER_CERES;
     o->max_spans = 48;
     o->max_rounds = 10;
-    o->g1_target_deg = 0.005;
-    o->g2_target_rel = 0.005;
+    o->g1_tol_deg = 0.01;
+    o->g2_tol_rel = 0.01;
     o->g1_weight = 100.0;
 }
 
@@ -122,11 +122,12 @@ static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
     if (o->tol <= 0) o->tol = d.tol;
     if (o->continuity != 2) o->continuity = 1;
     if (o->threads <= 0) o->threads = d.threads;
+    if (o->threads > Q2N_FIT_MAX_THREADS) o->threads = Q2N_FIT_MAX_THREADS;
     if (o->max_spans <= 0) o->max_spans = d.max_spans;
     if (o->max_spans > FIT_MAX_SPANS) o->max_spans = FIT_MAX_SPANS;
     if (o->max_rounds <= 0) o->max_rounds = d.max_rounds;
-    if (o->g1_target_deg <= 0) o->g1_target_deg = d.g1_target_deg;
-    if (o->g2_target_rel <= 0) o->g2_target_rel = d.g2_target_rel;
+    if (o->g1_tol_deg <= 0) o->g1_tol_deg = d.g1_tol_deg;
+    if (o->g2_tol_rel <= 0) o->g2_tol_rel = d.g2_tol_rel;
     if (o->g1_weight <= 0) o->g1_weight = d.g1_weight;
 }
 
@@ -1013,8 +1014,24 @@ static q2n_status fit_round(ctx *c)
     q2n_status st = alloc_patches(c);
     if (st) return st;
     double t0 = fit_now(), s0 = c->rep->t_sample, v0 = c->rep->t_solve;
-    if ((st = stage_curves(c)) || (st = stage_corners(c)) || (st = stage_rows(c, 1))) return st;
+    const q2n_progress_sink *pr = c->o.progress;
+    char what[64];
+    int r = c->rep->rounds + 1;
+    snprintf(what, sizeof what, "round %d: edge curves and corners", r);
+    q2n_progress_emit(pr, "fit", what, 0, 0);
+    if ((st = stage_curves(c)) || (st = stage_corners(c))) return st;
+    snprintf(what, sizeof what, "round %d: G1 rows", r);
+    q2n_progress_emit(pr, "fit", what, 0, 0);
+    if ((st = stage_rows(c, 1))) return st;
+    snprintf(what, sizeof what, "round %d: G2 rows", r);
+    if (c->o.continuity == 2) q2n_progress_emit(pr, "fit", what, 0, 0);
     if (c->o.continuity == 2 && ((st = stage_prefit(c)) || (st = stage_rows(c, 2)))) return st;
+    /* the edge samples serve the row stages only: freed before the interiors and the measurement,
+     * whose peak memory they would otherwise double */
+    free(c->edata);
+    c->edata = NULL;
+    snprintf(what, sizeof what, "round %d: interiors", r);
+    q2n_progress_emit(pr, "fit", what, 0, 0);
     if ((st = stage_interior(c, NULL, 0))) return st;
     c->rep->t_build += (fit_now() - t0) - (c->rep->t_sample - s0) - (c->rep->t_solve - v0);
     return Q2N_OK;
@@ -1136,6 +1153,9 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
         q2n_nurbs_model *md = NULL;
         if ((st = make_model(c, &md))) goto done;
         double t0 = fit_now();
+        char what[64];
+        snprintf(what, sizeof what, "round %d: measuring", round + 1);
+        q2n_progress_emit(c->o.progress, "fit", what, 0, 0);
         fit_measure_out mo = {pdev, pdir, eg[0], eg[1], round == 0 ? eg[2] : NULL, round == 0 ? eg[3] : NULL};
         st = fit_measure_model(md, c->s, rep, &mo, c->o.threads, c->err);
         rep->t_measure += fit_now() - t0;
@@ -1178,9 +1198,11 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             }
         }
         for (int e = 0; e < m->ne; e++) {
-            double r1 = eg[0][e] / c->o.g1_target_deg, r2 = eg[1][e] / c->o.g2_target_rel;
-            int bad1 = r1 > 1.0 && eg[2][e] < 0.5 * c->o.g1_target_deg;
-            int bad2 = c->o.continuity == 2 && r2 > 1.0 && eg[3][e] < 0.5 * c->o.g2_target_rel;
+            /* refinement aims at half the acceptance targets */
+            double t1 = 0.5 * c->o.g1_tol_deg, t2 = 0.5 * c->o.g2_tol_rel;
+            double r1 = eg[0][e] / t1, r2 = eg[1][e] / t2;
+            int bad1 = r1 > 1.0 && eg[2][e] < 0.5 * t1;
+            int bad2 = c->o.continuity == 2 && r2 > 1.0 && eg[3][e] < 0.5 * t2;
             int me = c->rspan[c->rib[e]];
             if (stalled(&rf[e], eg[0][e], bad1, me, 2.0)) bad1 = 0;
             if (stalled(&rf[m->ne + e], eg[1][e], bad2, me, 2.0)) bad2 = 0;
@@ -1206,13 +1228,13 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             memcpy(c->rspan, next, sizeof(int) * (size_t)c->nrib);
             continue;
         }
-        /* acceptance: twice the refinement targets (0.01 deg, 1 % by default), on every edge
-         * where the construction itself meets the refinement target */
+        /* acceptance: the targets (0.01 deg, 1 % by default), on every edge where the
+         * construction itself meets the refinement target (half of them) */
         for (int e = 0; e < m->ne; e++) {
-            if (eg[0][e] > 2 * c->o.g1_target_deg && eg[2][e] < 0.5 * c->o.g1_target_deg &&
+            if (eg[0][e] > c->o.g1_tol_deg && eg[2][e] < 0.25 * c->o.g1_tol_deg &&
                 (worst_e1 < 0 || eg[0][e] > eg[0][worst_e1]))
                 worst_e1 = e;
-            if (c->o.continuity == 2 && eg[1][e] > 2 * c->o.g2_target_rel && eg[3][e] < 0.5 * c->o.g2_target_rel &&
+            if (c->o.continuity == 2 && eg[1][e] > c->o.g2_tol_rel && eg[3][e] < 0.25 * c->o.g2_tol_rel &&
                 (worst_e2 < 0 || eg[1][e] > eg[1][worst_e2]))
                 worst_e2 = e;
         }
@@ -1228,7 +1250,7 @@ static q2n_status fit_all(ctx *c, q2n_nurbs_model **out)
             int e = worst_e1 >= 0 ? worst_e1 : worst_e2;
             snprintf(rep->note, sizeof rep->note,
                      "edge %d: normal jump %.3g deg, curvature jump %.3g (targets %.3g deg, %.3g) not reached",
-                     e, eg[0][e], eg[1][e], 2 * c->o.g1_target_deg, 2 * c->o.g2_target_rel);
+                     e, eg[0][e], eg[1][e], c->o.g1_tol_deg, c->o.g2_tol_rel);
         }
         *out = md;
         if (worst_f >= 0) {
@@ -1370,6 +1392,7 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     c.s = s; c.m = m; c.err = err; c.rep = &rep;
     fill_defaults(&c.o, opt);
     c.diag = q2n_mesh_bbox_diag(m);
+    if (c.o.tol_abs > 0 && c.diag > 0) c.o.tol = c.o.tol_abs / c.diag;
     fit_ls_init(&c.ls);
     c.p = calloc((size_t)m->nf, sizeof *c.p);
     double t0 = fit_now();
@@ -1381,6 +1404,10 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     for (int e = 0; e < m->ne; e++) rep.interior_edges += m->he_twin[m->edge_he[e]] >= 0;
     rep.continuity = c.o.continuity;
     rep.tol = c.o.tol;
+    rep.diag = c.diag;
+    rep.tol_abs = c.o.tol * c.diag;
+    rep.g1_tol_deg = c.o.g1_tol_deg;
+    rep.g2_tol_rel = c.o.continuity == 2 ? c.o.g2_tol_rel : 0.0;
     rep.solver = c.o.solver;
     rep.threads = c.o.threads;
     if (rep_out) *rep_out = rep;

@@ -5,7 +5,7 @@
 
 #include <pthread.h>
 
-#define FIT_MAX_THREADS 64
+#define FIT_MAX_THREADS Q2N_FIT_MAX_THREADS
 
 typedef struct par_job {
     void (*fn)(void *, int);
