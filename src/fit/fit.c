@@ -566,7 +566,18 @@ static int edge_gregory(const ctx *c, int e)
  * (and, for order 1, of the first row next to boundary edges) with the gluing relation. */
 /* Exact derivatives of both sides of every edge at its interior samples, evaluated once per round
  * on the worker threads and shared by the G1 and G2 row stages: edge e's block starts at
- * c->eoff[e] and holds, per sample k = 1..N-2 and side x, the 6 x 3 doubles of frame_eval. */
+ * c->eoff[e] and holds, per sample k = 1..N-2, only the frame_eval slots the rows read — side 0:
+ * d_t, d_s (and d_tt, d_ts, d_ss in G2 mode); side 1: d_s (and d_ss) — 9 (21) doubles instead of
+ * 2 x 18: these samples were half of the fit's peak memory. */
+static int edata_stride(const ctx *c) { return c->o.continuity == 2 ? 21 : 9; }
+
+/* The 3 doubles of slot `slot` (frame_eval numbering) of side x in sample block D. */
+static const double *edata_slot(const ctx *c, const double *D, int x, int slot)
+{
+    int n0 = c->o.continuity == 2 ? 5 : 2;   /* side 0 keeps slots 1..n0 */
+    return D + 3 * (x == 0 ? slot - 1 : n0 + (slot == 2 ? 0 : 1));
+}
+
 typedef struct edata_arg {
     ctx *c;
     q2n_status *st;
@@ -577,13 +588,16 @@ static void edata_one(void *arg, int e)
     edata_arg *a = arg;
     ctx *c = a->c;
     side sd[2];
-    int two = edge_sides(c, e, &sd[0], &sd[1]), N = fit_nsamples(sd[0].mt);
-    double *D = c->edata + c->eoff[e];
+    int two = edge_sides(c, e, &sd[0], &sd[1]), N = fit_nsamples(sd[0].mt), B = edata_stride(c);
+    int n0 = c->o.continuity == 2 ? 5 : 2;
     for (int k = 1; k + 1 < N && !a->st[e]; k++)
         for (int x = 0; x < 1 + two && !a->st[e]; x++) {
-            double t = (double)k / (N - 1);
-            a->st[e] = frame_eval(c->s, sd[x].k, sd[x].i, x ? 1.0 - t : t, 0.0, 2,
-                                  (double (*)[3])(D + ((size_t)(k - 1) * 2 + x) * 18));
+            double t = (double)k / (N - 1), F[6][3];
+            double *D = c->edata + c->eoff[e] + (size_t)(k - 1) * B;
+            a->st[e] = frame_eval(c->s, sd[x].k, sd[x].i, x ? 1.0 - t : t, 0.0, 2, F);
+            for (int slot = 1; slot <= 5; slot++)
+                if (x == 0 ? slot <= n0 : (slot == 2 || (slot == 5 && n0 == 5)))
+                    memcpy((double *)edata_slot(c, D, x, slot), F[slot], 3 * sizeof(double));
         }
 }
 
@@ -599,7 +613,7 @@ static q2n_status edge_samples(ctx *c)
     for (int e = 0; e < m->ne; e++) {
         side L, R;
         edge_sides(c, e, &L, &R);
-        c->eoff[e + 1] = c->eoff[e] + (size_t)(fit_nsamples(L.mt) - 2) * 2 * 18;
+        c->eoff[e + 1] = c->eoff[e] + (size_t)(fit_nsamples(L.mt) - 2) * edata_stride(c);
     }
     c->edata = malloc(sizeof(double) * (c->eoff[m->ne] ? c->eoff[m->ne] : 1));
     q2n_status *st = calloc((size_t)m->ne + 1, sizeof *st);
@@ -634,19 +648,19 @@ static q2n_status stage_rows(ctx *c, int order)
         for (int x = 0; x < 1 + two; x++) fit_basis(FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
         for (int k = 1; k + 1 < N; k++) {
             double t = (double)k / (N - 1);
-            const double(*D)[6][3] = (const double(*)[6][3])(c->edata + c->eoff[e] + (size_t)(k - 1) * 2 * 18);
+            const double *Dk = c->edata + c->eoff[e] + (size_t)(k - 1) * edata_stride(c);
             row r;
             q2n_status st;
             for (int x = 0; x < 1 + two; x++) {
                 double tx = x ? 1.0 - t : t;
                 /* fidelity to the exact order-th cross derivative, in units of control points */
                 double sc = 1.0 / Ns[x][order][order];
-                row_start(&r, D[x][order == 1 ? 2 : 5], sc);
+                row_start(&r, edata_slot(c, Dk, x, order == 1 ? 2 : 5), sc);
                 if ((st = add_deriv(c, &r, &sd[x], tx, 0, order, sc)) || (st = row_push(c, &r))) return st;
             }
             if (!glue) continue;
             double al, be, zero[3] = {0, 0, 0};
-            glue1(D[1][2], D[0][2], D[0][1], &al, &be);
+            glue1(edata_slot(c, Dk, 1, 2), edata_slot(c, Dk, 0, 2), edata_slot(c, Dk, 0, 1), &al, &be);
             double w = c->o.g1_weight / Ns[1][order][order];
             row_start(&r, zero, 0.0);
             if (order == 1) {
@@ -658,9 +672,10 @@ static q2n_status stage_rows(ctx *c, int order)
                 /* d_ss S_R = al^2 d_ss S_L + 2 al be d_ts S_L + be^2 d_tt S_L + ga d_s S_L + de d_t S_L
                  * (formulas.md §4.2, G2); gamma, delta: tangential part of the exact residual. */
                 double E[3], ga, de;
-                for (int q = 0; q < 3; q++)
-                    E[q] = D[1][5][q] - al * al * D[0][5][q] - 2 * al * be * D[0][4][q] - be * be * D[0][3][q];
-                glue1(E, D[0][2], D[0][1], &ga, &de);
+                const double *r5 = edata_slot(c, Dk, 1, 5), *l5 = edata_slot(c, Dk, 0, 5), *l4 = edata_slot(c, Dk, 0, 4),
+                             *l3 = edata_slot(c, Dk, 0, 3);
+                for (int q = 0; q < 3; q++) E[q] = r5[q] - al * al * l5[q] - 2 * al * be * l4[q] - be * be * l3[q];
+                glue1(E, edata_slot(c, Dk, 0, 2), edata_slot(c, Dk, 0, 1), &ga, &de);
                 if ((st = add_deriv(c, &r, &sd[1], 1.0 - t, 0, 2, w)) ||
                     (st = add_deriv(c, &r, &sd[0], t, 0, 2, -al * al * w)) ||
                     (st = add_deriv(c, &r, &sd[0], t, 1, 1, -2 * al * be * w)) ||

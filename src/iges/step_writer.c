@@ -199,14 +199,13 @@ static int step_context(step_out *o, const q2n_export_options *opt, const char *
     static const char *const prefix[Q2N_UNITS_COUNT] = {
         [Q2N_UNITS_MM] = ".MILLI.", [Q2N_UNITS_CM] = ".CENTI.", [Q2N_UNITS_M] = "$"};
     static const char *const conv[Q2N_UNITS_COUNT] = {[Q2N_UNITS_IN] = "INCH", [Q2N_UNITS_FT] = "FOOT"};
+    static const char *const conv_mm[Q2N_UNITS_COUNT] = {[Q2N_UNITS_IN] = "25.4", [Q2N_UNITS_FT] = "304.8"};
     int len_unit = step_begin(o);
     q2n_strbuf_printf(b, "(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(%s,.METRE.));\n",
                       conv[opt->units] ? ".MILLI." : prefix[opt->units]);
     if (conv[opt->units]) {
         int lmu = step_begin(o);
-        q2n_strbuf_puts(b, "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(");
-        put_real(b, q2n_units_in_mm(opt->units));
-        q2n_strbuf_printf(b, "),#%d);\n", len_unit);
+        q2n_strbuf_printf(b, "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(%s),#%d);\n", conv_mm[opt->units], len_unit);
         int dim = step_begin(o);
         q2n_strbuf_puts(b, "DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n");
         len_unit = step_begin(o);

@@ -236,8 +236,8 @@ static q2n_status parse_face(obj_data *d, char *cur, long line, const char *wher
     }
     size_t n = d->nfv - n0;
     if (n < 3)
-        return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face with %s%zu vertex%s (a face needs at least 3)",
-                             where, n ? "only " : "", n, n == 1 ? "" : "ices");
+        return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face with %s%zu vert%s (a face needs at least 3)",
+                             where, n ? "only " : "", n, n == 1 ? "ex" : "ices");
     if (d->nf >= OBJ_MAX_COUNT)
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: more than 2^31-2 faces", where);
     if (!grow((void **)&d->fstart, &d->cap_fs, d->nf + 2, sizeof *d->fstart) ||

@@ -77,8 +77,8 @@ static q2n_status read_face(off_ctx *c, rd_mesh *d, char *cur, int **idx, int *c
         return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: bad vertex count '%s' of a face", c->name, c->l.line,
                              rd_quote(t, q, sizeof q));
     if (n < 3)
-        return q2n_error_set(c->err, Q2N_ERR_TOPOLOGY, "%s:%ld: face with %s%lld vertex%s (a face needs at least 3)",
-                             c->name, c->l.line, n ? "only " : "", n, n == 1 ? "" : "ices");
+        return q2n_error_set(c->err, Q2N_ERR_TOPOLOGY, "%s:%ld: face with %s%lld vert%s (a face needs at least 3)",
+                             c->name, c->l.line, n ? "only " : "", n, n == 1 ? "ex" : "ices");
     for (long long i = 0; i < n; i++) {
         if (!(t = rd_tok(&cur)))
             return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: face with %lld vertices lists only %lld", c->name,

@@ -312,8 +312,8 @@ static q2n_status read_elem(ply_ctx *c, ply_elem *e, rd_mesh *d, int **idx, long
             if (!keep) continue;
             if (n < 3) {
                 where(c, e, k, w, sizeof w);
-                return q2n_error_set(c->err, Q2N_ERR_TOPOLOGY, "%s: face with %s%lld vertex%s (a face needs at least 3)",
-                                     w, n ? "only " : "", n, n == 1 ? "" : "ices");
+                return q2n_error_set(c->err, Q2N_ERR_TOPOLOGY, "%s: face with %s%lld vert%s (a face needs at least 3)",
+                                     w, n ? "only " : "", n, n == 1 ? "ex" : "ices");
             }
             int r = rd_add_face(d, *idx, (int)n, line);
             if (r) return q2n_error_set(c->err, r == -1 ? Q2N_ERR_NOMEM : Q2N_ERR_UNSUPPORTED, "%s: %s", c->name,
