@@ -76,15 +76,13 @@ q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q
     if (!(m->opt.scale > 0.0 && isfinite(m->opt.scale)))
         st = q2n_error_set(err, Q2N_ERR_ARG, "scale %g is not a positive number", m->opt.scale);
     if (!st) st = q2n_mesh_read(mesh_path, &m->mesh, &m->read_info, err);
-    if (!st && m->opt.scale != 1.0) {
-        /* --scale: every later stage, and every output, sees the scaled coordinates */
-        q2n_mesh *me = m->mesh;
-        for (size_t i = 0; i < 3 * (size_t)me->nv; i++) me->pos[i] *= m->opt.scale;
-        for (size_t i = 0; i < 3 * (size_t)me->nv && !st; i++)
-            if (!isfinite(me->pos[i]))
-                st = q2n_error_set(err, Q2N_ERR_ARG, "%s: vertex %zu: coordinate %g times scale %g overflows", mesh_path,
-                                   i / 3 + 1, me->pos[i] / m->opt.scale, m->opt.scale);
-    }
+    /* --scale multiplies what leaves the library (fitted control points, tessellation, samples,
+     * evaluations), not the mesh the construction sees: the output is then exactly the scaled
+     * surface, whether or not the construction is scale-free */
+    for (size_t i = 0; !st && i < 3 * (size_t)m->mesh->nv; i++)
+        if (!isfinite(m->mesh->pos[i] * m->opt.scale))
+            st = q2n_error_set(err, Q2N_ERR_ARG, "%s: vertex %zu: coordinate %g times scale %g overflows", mesh_path,
+                               i / 3 + 1, m->mesh->pos[i], m->opt.scale);
     m->t_read = q2n_now() - t0;
     if (st) { q2n_model_free(m); return st; }
     *out = m;
@@ -156,6 +154,7 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     q2n_fit_options o;
     if (fopt) o = *fopt;
     else q2n_fit_options_default(&o);
+    if (o.tol_abs > 0) o.tol_abs /= m->opt.scale; /* model units are output units: the mesh is unscaled */
     if (o.continuity == 0) o.continuity = m->continuity >= 2 ? 2 : 1;
     if (m->uncovered)
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
@@ -166,6 +165,16 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     q2n_nurbs_model_free(m->nurbs);
     m->nurbs = NULL;
     q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &m->nurbs, &m->fit, err);
+    double sc = m->opt.scale;
+    if (m->nurbs && sc != 1.0) { /* into output coordinates (--scale); relative figures stay */
+        for (int k = 0; k < m->nurbs->n; k++) {
+            q2n_bspline_surface *b = &m->nurbs->patches[k];
+            for (size_t i = 0; i < 3 * (size_t)b->ncp_u * b->ncp_v; i++) b->cp[i] *= sc;
+        }
+        m->nurbs->tol_abs *= sc;
+        m->fit.diag *= sc;
+        m->fit.tol_abs *= sc;
+    }
     m->t_fit = q2n_now() - t0;
     if (st && err && strncmp(err->message, "fit: ", 5) != 0) { /* every fit message says where it comes from */
         char msg[sizeof err->message];
@@ -216,7 +225,8 @@ q2n_status q2n_model_write_tessellation_file(const q2n_model *m, int n, FILE *f,
         }
         fprintf(f, "g patch_%d\n", k);
         for (int p = 0; p < n * n; p++) {
-            const double *e = buf + 9 * p;
+            double *e = buf + 9 * p;
+            for (int c = 0; c < 3; c++) e[c] *= m->opt.scale;
             double nrm[3];
             q2n_v3_cross(nrm, e + 3, e + 6);
             double len = q2n_v3_norm(nrm);
@@ -251,7 +261,8 @@ q2n_status q2n_model_write_samples(const q2n_model *m, int n, FILE *out, q2n_err
         }
         for (int j = 0; j < n; j++)
             for (int i = 0; i < n; i++) {
-                const double *e = buf + 9 * ((size_t)j * n + i);
+                double *e = buf + 9 * ((size_t)j * n + i);
+                for (int c = 0; c < 9; c++) e[c] *= m->opt.scale;
                 fprintf(out, "%d %.17g %.17g", k, t[i], t[j]);
                 for (int c = 0; c < 9; c++) fprintf(out, " %.17g", e[c]);
                 fputc('\n', out);

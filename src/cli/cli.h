@@ -17,6 +17,7 @@ typedef struct cli_progress {
     double shown_at;        /* elapsed time of the last line shown (-1: none yet) */
     double stage_t0;        /* elapsed time when the current stage began */
     char stage[32], detail[96];
+    char context[96];       /* the stage's last uncounted detail (an output's name), kept for counted reports */
     int line_len;           /* characters of the line on screen (TTY mode) */
 } cli_progress;
 

@@ -39,7 +39,11 @@ void cli_progress_report(void *user, const q2n_progress *r)
     cli_progress *p = user;
     if (p->mode == CLI_PROGRESS_OFF) return;
     int changed = strncmp(p->stage, r->stage, sizeof p->stage - 1) || strncmp(p->detail, r->detail, sizeof p->detail - 1);
-    if (strncmp(p->stage, r->stage, sizeof p->stage - 1)) p->stage_t0 = r->elapsed_s;
+    if (strncmp(p->stage, r->stage, sizeof p->stage - 1)) {
+        p->stage_t0 = r->elapsed_s;
+        p->context[0] = '\0';
+    }
+    if (r->total == 0) snprintf(p->context, sizeof p->context, "%s", r->detail);
     snprintf(p->stage, sizeof p->stage, "%s", r->stage);
     snprintf(p->detail, sizeof p->detail, "%s", r->detail);
     double every = p->mode == CLI_PROGRESS_TTY ? CLI_PROGRESS_TTY_EVERY : CLI_PROGRESS_LINE_EVERY;
@@ -47,9 +51,11 @@ void cli_progress_report(void *user, const q2n_progress *r)
     if (p->shown_at >= 0 && r->elapsed_s - p->shown_at < (changed ? CLI_PROGRESS_TTY_EVERY : every)) return;
     p->shown_at = r->elapsed_s;
 
-    char line[512], detail[200], el[32], left[32];
+    char line[640], detail[200], ctx[200], el[32], left[32];
     q2n_escape(detail, sizeof detail, r->detail);
-    int n = snprintf(line, sizeof line, "quad2nurbs: %s%s%s", r->stage, detail[0] ? " " : "", detail);
+    q2n_escape(ctx, sizeof ctx, r->total > 0 ? p->context : "");
+    int n = snprintf(line, sizeof line, "quad2nurbs: %s%s%s%s%s", r->stage, ctx[0] ? " " : "", ctx,
+                     detail[0] ? (ctx[0] ? ": " : " ") : "", detail);
     if (r->total > 0)
         n += snprintf(line + n, sizeof line - (size_t)n, " %ld/%ld (%d %%)", r->done, r->total,
                       (int)(100.0 * (double)r->done / (double)r->total));

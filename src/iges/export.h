@@ -51,6 +51,8 @@ typedef struct q2n_export_options {
     long long date;           /* seconds since 1970-01-01 UTC: IGES global 18 and 25 (YYYYMMDD.HHNNSS),
                                  STEP FILE_NAME time_stamp (ISO 8601, YYYY-MM-DDTHH:MM:SS) */
     const q2n_progress_sink *progress; /* NULL: no reports ("write", one per 1024 faces) */
+    double mesh_scale;        /* the patches are in the mesh's coordinates times this (0: 1); only
+                                 vertices no face uses are taken from the mesh */
 } q2n_export_options;
 
 /* Write an IGES 5.3 / STEP AP214 file (atomic). opts may be NULL (defaults). */

@@ -426,7 +426,14 @@ static int build_edges(const q2n_nurbs_model *m, q2n_export_topo *t)
     return 1;
 }
 
+static q2n_status topo_build(const q2n_nurbs_model *m, double mesh_scale, q2n_export_topo *t, q2n_error *err);
+
 q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q2n_error *err)
+{
+    return topo_build(m, 1.0, t, err);
+}
+
+static q2n_status topo_build(const q2n_nurbs_model *m, double mesh_scale, q2n_export_topo *t, q2n_error *err)
 {
     memset(t, 0, sizeof *t);
     q2n_status st = check_model(m, err);
@@ -450,7 +457,8 @@ q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q
         side_point(&m->patches[f], h - me->face_start[f], 0.0, t->vpos + 3 * v);
     }
     for (int v = 0; v < me->nv; v++) /* unused vertices (listed in IGES 502 only): the mesh position */
-        if (!t->vused[v]) memcpy(t->vpos + 3 * v, me->pos + 3 * v, 3 * sizeof(double));
+        if (!t->vused[v])
+            for (int c = 0; c < 3; c++) t->vpos[3 * v + c] = mesh_scale * me->pos[3 * v + c];
     if ((st = check_watertight(m, t, err)) != Q2N_OK) {
         q2n_export_topo_free(t);
         return st;
@@ -485,7 +493,7 @@ static q2n_status export_run(const char *format, q2n_export_build_fn build, cons
     if (opt->name) snprintf(name, sizeof name, "%s", opt->name);
     else q2n_export_basename(path ? path : "quad2nurbs", name, sizeof name);
     q2n_export_topo t;
-    if ((st = q2n_export_topo_build(m, &t, err)) != Q2N_OK) return st;
+    if ((st = topo_build(m, opt->mesh_scale > 0 ? opt->mesh_scale : 1.0, &t, err)) != Q2N_OK) return st;
     q2n_export_locale loc = q2n_export_locale_begin();
     st = build(m, &t, opt, name, out);
     q2n_export_locale_end(loc);
