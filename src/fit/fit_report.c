@@ -336,7 +336,7 @@ void q2n_fit_report_write_json_file(const q2n_fit_report *r, const char *units, 
             r->exact ? "exact_bezier_conversion" : "least_squares_fit", r->continuity, r->tol,
             r->tol_met ? "true" : "false");
     if (units) fprintf(f, "  \"units\": \"%s\",\n", units);
-    fprintf(f, "  \"tol_abs\": %.6g,\n  \"bbox_diag\": %.17g,\n  \"g1_tol_deg\": %.6g,\n  \"g2_tol_rel\": %.6g,\n",
+    fprintf(f, "  \"tol_abs\": %.17g,\n  \"bbox_diag\": %.17g,\n  \"g1_tol_deg\": %.6g,\n  \"g2_tol_rel\": %.6g,\n",
             r->tol_abs, r->diag, r->g1_tol_deg, r->g2_tol_rel);
     fprintf(f, "  \"dev_met\": %s,\n  \"g1_met\": %s,\n  \"g2_met\": %s,\n  \"note\": \"%s\",\n",
             r->dev_met ? "true" : "false", r->g1_met ? "true" : "false", r->g2_met ? "true" : "false", r->note);
