@@ -311,7 +311,7 @@ static void resources(void)
           rc, err);
     rc = run_sh("$Q quad.obj --max-memory 10K -o out.obj", err, sizeof err);
     CHECK(rc == 2 && strstr(err, "more than the limit 10.2 kB (--max-memory)"), "--max-memory 10K: %d '%s'", rc, err);
-    rc = run_sh("$Q quad.obj -q --max-memory 0 -o out1.obj", err, sizeof err);
+    rc = run_sh("$Q quad.obj -q --max-memory 0 -o nolimit.obj", err, sizeof err);
     CHECK(rc == 0, "--max-memory 0 is no limit: %d '%s'", rc, err);
     clock_gettime(CLOCK_MONOTONIC, &b);
     CHECK(b.tv_sec - a.tv_sec < 20, "refusals took %ld s: the work started", (long)(b.tv_sec - a.tv_sec));
