@@ -5,9 +5,10 @@
 #   libosd-dev                 OpenSubdiv: Catmull-Clark limit reference in tests and the evaluation benchmark
 #   libocct-*-dev              OpenCASCADE: STEP/IGES import and fitting reference in tests/benchmarks
 #   freecad-python3            FreeCAD (headless): import audit of the exported STEP/IGES files (tools/)
+#   strace                     a test checks that outputs are fsync'ed before the rename (skipped without it)
 set -e
 PKGS="gcc g++ make libceres-dev libosd-dev libocct-foundation-dev \
-libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev freecad-python3"
+libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev freecad-python3 strace"
 missing=""
 for p in $PKGS; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -154,7 +154,7 @@ q2n_status q2n_export_date_from_env(q2n_export_options *x, q2n_error *err);
 
 /* Estimated peak memory (bytes) and output sizes of the planned run on the read mesh, from the
  * faces the construction will have (after --subdivide) and measured bytes per face of each stage
- * (docs/usage.md, "Resource limits"). */
+ * (docs/cli.md, "Resource limits"). */
 typedef struct q2n_estimate {
     long long faces;          /* faces after subdivision */
     double memory;            /* bytes, peak */

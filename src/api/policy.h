@@ -1,6 +1,6 @@
 /* policy.h — the api stage's thresholds: resource estimates and limits (options.c).  Each figure
  * was measured with /usr/bin/time -v (maximum resident set) on generated tori of 2 500–90 000
- * faces and the shared meshes; docs/usage.md ("Resource limits") has the table. */
+ * faces and the shared meshes; docs/cli.md ("Resource limits") has the table. */
 #ifndef Q2N_API_POLICY_H
 #define Q2N_API_POLICY_H
 
