@@ -432,7 +432,15 @@ static int run(run_state *s)
                  m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
         warning(s, msg);
     }
-    if (o->sample && (st = q2n_model_write_samples(m, o->grid, stdout, &err))) return fail(s, 1, err.message);
+    if (o->sample && (st = q2n_model_write_samples(m, o->grid, stdout, &err))) {
+        if (errno == EPIPE) { /* `sample ... | head`: the reader has enough; end quietly, as filters do */
+            cli_signals_register(NULL);
+            q2n_outputs_abort(&s->outs);
+            signal(SIGPIPE, SIG_DFL);
+            raise(SIGPIPE);
+        }
+        return fail(s, 1, err.message);
+    }
     for (int i = 0; i < s->outs.n; i++)
         if ((st = q2n_model_write_output(m, &s->outs.out[i], o->tess, &o->xopt, &err))) return fail(s, 1, err.message);
     sigset_t old;

@@ -46,7 +46,8 @@ static mode_t current_umask(void)
 
 static q2n_status fail(q2n_outfile *o, q2n_error *err, const char *path, const char *what, int e)
 {
-    q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: %s: %s", path, what, strerror(e));
+    q2n_status st = q2n_error_set(err, Q2N_ERR_IO, "%s: %s: %s", strcmp(path, "-") ? path : "standard output", what,
+                                  strerror(e));
     q2n_outfile_abort(o);
     return st;
 }

@@ -319,8 +319,12 @@ static q2n_status iges_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
 {
     iges_layout L = layout(t, opt->iges_plain);
     iges_ent *ents = calloc((size_t)L.nent, sizeof(iges_ent));
-    q2n_strbuf pb = {0}, b = *out;   /* parameter data in memory; the file into *out (maybe a stream) */
+    /* the parameter section comes last but must be written first (the directory before it points
+     * into it): when the file is a stream it goes to an anonymous temporary file and is copied
+     * after the directory, so no copy of the file is held in memory; else into memory */
+    q2n_strbuf pb = {0}, b = *out;
     if (!ents) return Q2N_ERR_NOMEM;
+    if (b.fp) pb.fp = tmpfile();
     iges_pw w = {&pb, 0, 0, 0, {0}, 0};
     for (int f = 0; f < t->nf; f++) {
         if (f % Q2N_EXPORT_PROGRESS_EVERY == 0) q2n_progress_emit(opt->progress, "write", "IGES", f, t->nf);
@@ -339,8 +343,20 @@ static q2n_status iges_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
     write_global(&b, opt, name, t);
     int gcount = (int)((b.len - g0) / 81);
     write_directory(&b, ents, L.nent);
-    q2n_strbuf_putn(&b, pb.data ? pb.data : "", pb.len);
+    int bad = 0;
+    if (pb.fp) { /* the parameter section back from its temporary file */
+        char chunk[1 << 16];
+        size_t n;
+        bad = fflush(pb.fp) != 0 || ferror(pb.fp) || fseek(pb.fp, 0, SEEK_SET) != 0;
+        while (!bad && (n = fread(chunk, 1, sizeof chunk, pb.fp)) > 0) q2n_strbuf_putn(&b, chunk, n);
+        bad |= ferror(pb.fp);
+        fclose(pb.fp);
+        pb.fp = NULL;
+    } else {
+        q2n_strbuf_putn(&b, pb.data ? pb.data : "", pb.len);
+    }
     q2n_strbuf_printf(&b, "S%7dG%7dD%7dP%7d%40sT%7d\n", 1, gcount, 2 * L.nent, w.pseq, "", 1);
+    if (bad && b.fp) b.oom = 1; /* a failed temporary: reported like a failed allocation */
     int oom = b.oom || pb.oom;
     q2n_strbuf_free(&pb);
     free(ents);
