@@ -167,6 +167,15 @@ static void messages(void)
     write_file("tiny.obj", "v 0 0 0\nv 1e-200 0 0\nv 1e-200 1e-200 0\nv 0 1e-200 0\nf 1 2 3 4\n");
     rc = run_sh("$Q tiny.obj -o out.step", err, sizeof err);
     CHECK(!strstr(err, "fit: fit:"), "doubled fit prefix: '%s'", err);
+    /* OpenSubdiv tags: one warning with the count, the first line and the names; then ignored */
+    write_file("tags.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.2\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n"
+                           "t crease 2/1/0 1 2 4.0\nt crease 2/1/0 2 3 4.0\nt corner 1/1/0 4 2.0\n");
+    rc = run_sh("$Q tags.obj -o tags.step", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "quad2nurbs: warning: tags.obj:9: 3 OpenSubdiv tag lines ignored (crease, corner): "
+                                 "sharp features are not supported yet\n") && strstr(err, "2 faces"),
+          "tags warned about once: %d '%s'", rc, err);
+    rc = run_sh("$Q sample quad.obj -o - --format obj", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "both write to standard output"), "sample with -o -: %d '%s'", rc, err);
     /* valence above 64: refused with the line of a face at the vertex */
     FILE *f;
     char p[512];
