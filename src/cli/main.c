@@ -358,13 +358,23 @@ typedef struct run_state {
     int utf8;
 } run_state;
 
+/* Remove the outputs' temporaries; signals are held off meanwhile, so that the handler never
+ * sees a name that is being freed. */
+static void discard_outputs(run_state *s)
+{
+    sigset_t old;
+    cli_signals_block(&old);
+    q2n_outputs_abort(&s->outs);
+    cli_signals_register(NULL);
+    cli_signals_unblock(&old);
+}
+
 /* Print an error (after clearing the progress line), clean up, return the exit code. */
 static int fail(run_state *s, int code, const char *msg)
 {
     cli_progress_clear(&s->prog);
     say("%s", msg);
-    cli_signals_register(NULL);
-    q2n_outputs_abort(&s->outs);
+    discard_outputs(s);
     q2n_model_free(s->m);
     return code;
 }
@@ -383,10 +393,14 @@ static int run(run_state *s)
     q2n_status st;
     char msg[1200];
     if ((st = q2n_export_date_from_env(&o->xopt, &err))) return fail(s, 2, err.message);
-    /* outputs first: a wrong name or an unwritable place shows before any work */
-    if ((st = q2n_outputs_open(&s->outs, o->noutputs, o->outputs, o->format, o->input, &err)))
-        return fail(s, st == Q2N_ERR_ARG ? 2 : 1, err.message);
-    cli_signals_register(&s->outs);
+    /* outputs first: a wrong name or an unwritable place shows before any work; the temporaries
+     * are registered for the signal handler before a signal can come in */
+    sigset_t old;
+    cli_signals_block(&old);
+    st = q2n_outputs_open(&s->outs, o->noutputs, o->outputs, o->format, o->input, &err);
+    if (!st) cli_signals_register(&s->outs);
+    cli_signals_unblock(&old);
+    if (st) return fail(s, st == Q2N_ERR_ARG ? 2 : 1, err.message);
     o->model.progress = (q2n_progress_sink){cli_progress_report, &s->prog, q2n_progress_clock()};
     if ((st = q2n_model_read(o->input, &o->model, &s->m, &err))) return fail(s, input_exit(st), err.message);
     q2n_model *m = s->m;
@@ -434,8 +448,7 @@ static int run(run_state *s)
     }
     if (o->sample && (st = q2n_model_write_samples(m, o->grid, stdout, &err))) {
         if (errno == EPIPE) { /* `sample ... | head`: the reader has enough; end quietly, as filters do */
-            cli_signals_register(NULL);
-            q2n_outputs_abort(&s->outs);
+            discard_outputs(s);
             signal(SIGPIPE, SIG_DFL);
             raise(SIGPIPE);
         }
@@ -443,7 +456,6 @@ static int run(run_state *s)
     }
     for (int i = 0; i < s->outs.n; i++)
         if ((st = q2n_model_write_output(m, &s->outs.out[i], o->tess, &o->xopt, &err))) return fail(s, 1, err.message);
-    sigset_t old;
     cli_signals_block(&old); /* the temporaries' names stay valid for the handler until they are gone */
     st = q2n_outputs_commit(&s->outs, &err);
     cli_signals_register(NULL);

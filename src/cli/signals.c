@@ -42,7 +42,7 @@ void cli_signals_install(void)
 void cli_signals_register(const q2n_output_set *s)
 {
     sigset_t old;
-    cli_signals_block(&old);
+    cli_signals_block(&old);   /* nested blocks are fine: the caller's mask comes back */
     ntemps = 0;
     for (int i = 0; s && i < s->n && i < MAX_TEMPS; i++) temps[i] = s->out[i].file.tmp;
     ntemps = s ? (s->n < MAX_TEMPS ? s->n : MAX_TEMPS) : 0;
