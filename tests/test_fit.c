@@ -324,6 +324,37 @@ static void determinism(void)
     q2n_mesh_free(mesh);
 }
 
+/* The edge samples evaluated once per round, or per row stage and block of edges (the memory
+ * bound of large fits): the same model bit for bit, G1 and G2 mode, over several blocks. */
+static void edge_sample_blocks(void)
+{
+    q2n_mesh *mesh;
+    q2n_surface *s;
+    if (!build(1, 20, 16, 1.0, &mesh, &s)) { CHECK(0, "build"); return; }
+    for (int cont = 1; cont <= 2; cont++) {
+        q2n_nurbs_model *md[2] = {NULL, NULL};
+        for (int i = 0; i < 2; i++) {
+            q2n_fit_options o;
+            q2n_fit_options_default(&o);
+            o.continuity = cont;
+            o.tol = 1e-6;
+            if (i) o.edge_samples_once = 1;   /* every stage, blocks of edges */
+            q2n_error err;
+            CHECK(q2n_fit_surface(s, mesh, &o, &md[i], NULL, &err) == Q2N_OK, "blocks fit: %s", err.message);
+        }
+        int same = md[0] && md[1] && mesh->ne > 512;
+        for (int k = 0; same && k < mesh->nf; k++) {
+            const q2n_bspline_surface *a = &md[0]->patches[k], *b = &md[1]->patches[k];
+            same = a->ncp_u == b->ncp_u && a->ncp_v == b->ncp_v &&
+                   !memcmp(a->cp, b->cp, 3 * sizeof(double) * (size_t)a->ncp_u * a->ncp_v);
+        }
+        CHECK(same, "G%d: edge samples in blocks change the model (%d edges)", cont, mesh->ne);
+        for (int i = 0; i < 2; i++) q2n_nurbs_model_free(md[i]);
+    }
+    q2n_surface_free(s);
+    q2n_mesh_free(mesh);
+}
+
 /* A surface inside the spline space (bi-quintic polynomial graph, linear parametrisation) is
  * reproduced to rounding with one span, by every stage (Hermite ends, twists, rows, interior). */
 static void reproduction(void)
@@ -463,6 +494,7 @@ int main(void)
     reproduction();
     solver_agreement();
     determinism();
+    edge_sample_blocks();
     non_interpolating();
     errors_and_report();
     run_case("torus 8x6 G1 1e-5", 0, 8, 6, 1.0, 1e-5, 1, Q2N_FIT_SOLVER_CERES);

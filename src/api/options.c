@@ -186,13 +186,8 @@ void q2n_model_estimate(const q2n_model *m, const q2n_plan *plan, q2n_estimate *
         if (f == Q2N_FORMAT_OBJ) /* "v x y z" + "vn ..." per point, "f a//a b//b c//c d//d" per quad */
             e->output[i] = pts * 125.0 + faces * (n - 1) * (n - 1) * (8.0 * digits(pts) + 14.0) + faces * 16.0;
         else if (f == Q2N_FORMAT_STEP) e->output[i] = faces * Q2N_OUT_STEP_PER_FACE;
-        else if (f == Q2N_FORMAT_IGES) {
-            e->output[i] = faces * Q2N_OUT_IGES_PER_FACE;
-            if (build + faces * Q2N_MEM_IGES_PER_FACE > peak) {
-                peak = build + faces * Q2N_MEM_IGES_PER_FACE;
-                e->peak_stage = "IGES";
-            }
-        } else if (f == Q2N_FORMAT_JSON) e->output[i] = Q2N_OUT_JSON;
+        else if (f == Q2N_FORMAT_IGES) e->output[i] = faces * Q2N_OUT_IGES_PER_FACE;
+        else if (f == Q2N_FORMAT_JSON) e->output[i] = Q2N_OUT_JSON;
     }
     e->memory = peak;
 }

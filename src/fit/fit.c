@@ -84,7 +84,9 @@ typedef struct ctx {
     fit_ls ls;
     int *var_k, *var_g, cap_var;
     double (*jet)[4][4][4];  /* cached corner jets (compute_jets) */
-    double *edata;           /* edge samples of the current round (edge_samples) */
+    double *edata;           /* edge samples of the current block (edge_samples) */
+    int ed_order;            /* their layout: 1 (what the G1 rows read) or 2 (the G2 rows too) */
+    int ed_blocks;           /* 1: evaluated per row stage and block of edges (stage_rows) */
     double *vpos;            /* nv: patch corner point of every vertex (stage_curves) */
     size_t *eoff;
     q2n_fit_report *rep;
@@ -100,6 +102,14 @@ typedef struct row {
     double rhs[3];
 } row;
 
+/* Edge samples of a round up to this many doubles (64 MB) are evaluated once, in the G2 layout
+ * when the G2 rows need them too, and serve both row stages.  Beyond it (a 90 000-face torus:
+ * 180 MB, 40 % of the fit's peak) each row stage evaluates them FIT_EDGE_BLOCK edges at a time:
+ * memory bounded, G2 mode evaluates the samples twice (+6 % CPU on a torus, +11 % on an
+ * extraordinary-vertex carpet: why it is not the rule).  Neither changes a result bit. */
+#define FIT_EDGE_SAMPLES_ONCE (8 << 20)
+#define FIT_EDGE_BLOCK 256
+
 void q2n_fit_options_default(q2n_fit_options *o)
 {
     memset(o, 0, sizeof *o);
@@ -112,6 +122,7 @@ void q2n_fit_options_default(q2n_fit_options *o)
     o->g1_tol_deg = 0.01;
     o->g2_tol_rel = 0.01;
     o->g1_weight = 100.0;
+    o->edge_samples_once = FIT_EDGE_SAMPLES_ONCE;
 }
 
 static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
@@ -129,6 +140,7 @@ static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
     if (o->g1_tol_deg <= 0) o->g1_tol_deg = d.g1_tol_deg;
     if (o->g2_tol_rel <= 0) o->g2_tol_rel = d.g2_tol_rel;
     if (o->g1_weight <= 0) o->g1_weight = d.g1_weight;
+    if (o->edge_samples_once <= 0) o->edge_samples_once = d.edge_samples_once;
 }
 
 /* ------------------------------------------------------------------ construction access */
@@ -564,79 +576,98 @@ static int edge_gregory(const ctx *c, int e)
 
 /* Stage 4 (order 1) or 5 (order 2): joint fit of the order-th rows next to every interior edge
  * (and, for order 1, of the first row next to boundary edges) with the gluing relation. */
-/* Exact derivatives of both sides of every edge at its interior samples, evaluated once per round
- * on the worker threads and shared by the G1 and G2 row stages: edge e's block starts at
- * c->eoff[e] and holds, per sample k = 1..N-2, only the frame_eval slots the rows read — side 0:
- * d_t, d_s (and d_tt, d_ts, d_ss in G2 mode); side 1: d_s (and d_ss) — 9 (21) doubles instead of
- * 2 x 18: these samples were half of the fit's peak memory. */
-static int edata_stride(const ctx *c) { return c->o.continuity == 2 ? 21 : 9; }
+/* Exact derivatives of both sides of an edge at its interior samples, evaluated on the worker
+ * threads (for all edges, or a block of them: stage_rows): per sample k = 1..N-2 only the
+ * frame_eval slots the row stages read — layout 1 (G1 rows): d_t, d_s of side 0 and d_s of side 1
+ * (9 doubles, first derivatives only); layout 2 (G2 rows, and the G1 rows of G2 mode): d_t, d_s,
+ * d_tt, d_ts, d_ss of side 0 and d_s, d_ss of side 1 (21), instead of all 36. */
+static int edata_stride(const ctx *c) { return c->ed_order == 2 ? 21 : 9; }
 
 /* The 3 doubles of slot `slot` (frame_eval numbering) of side x in sample block D. */
 static const double *edata_slot(const ctx *c, const double *D, int x, int slot)
 {
-    int n0 = c->o.continuity == 2 ? 5 : 2;   /* side 0 keeps slots 1..n0 */
+    int n0 = c->ed_order == 2 ? 5 : 2;   /* side 0 keeps slots 1..n0 */
     return D + 3 * (x == 0 ? slot - 1 : n0 + (slot == 2 ? 0 : 1));
 }
 
 typedef struct edata_arg {
     ctx *c;
+    int e0;                  /* first edge of the block */
     q2n_status *st;
 } edata_arg;
 
-static void edata_one(void *arg, int e)
+static void edata_one(void *arg, int i)
 {
     edata_arg *a = arg;
     ctx *c = a->c;
+    int e = a->e0 + i;
     side sd[2];
     int two = edge_sides(c, e, &sd[0], &sd[1]), N = fit_nsamples(sd[0].mt), B = edata_stride(c);
-    int n0 = c->o.continuity == 2 ? 5 : 2;
-    for (int k = 1; k + 1 < N && !a->st[e]; k++)
-        for (int x = 0; x < 1 + two && !a->st[e]; x++) {
+    int n0 = c->ed_order == 2 ? 5 : 2;
+    for (int k = 1; k + 1 < N && !a->st[i]; k++)
+        for (int x = 0; x < 1 + two && !a->st[i]; x++) {
             double t = (double)k / (N - 1), F[6][3];
-            double *D = c->edata + c->eoff[e] + (size_t)(k - 1) * B;
-            a->st[e] = frame_eval(c->s, sd[x].k, sd[x].i, x ? 1.0 - t : t, 0.0, 2, F);
+            double *D = c->edata + c->eoff[i] + (size_t)(k - 1) * B;
+            a->st[i] = frame_eval(c->s, sd[x].k, sd[x].i, x ? 1.0 - t : t, 0.0, c->ed_order, F);
             for (int slot = 1; slot <= 5; slot++)
                 if (x == 0 ? slot <= n0 : (slot == 2 || (slot == 5 && n0 == 5)))
                     memcpy((double *)edata_slot(c, D, x, slot), F[slot], 3 * sizeof(double));
         }
 }
 
-static q2n_status edge_samples(ctx *c)
+/* The samples of edges e0 .. e1-1 for the rows of `order` (c->eoff[e - e0] is edge e's block). */
+static q2n_status edge_samples(ctx *c, int e0, int e1, int order)
 {
-    const q2n_mesh *m = c->m;
+    int n = e1 - e0;
+    c->ed_order = order;
     free(c->edata);
     free(c->eoff);
     c->edata = NULL;
-    c->eoff = malloc(sizeof(size_t) * ((size_t)m->ne + 1));
+    c->eoff = malloc(sizeof(size_t) * ((size_t)n + 1));
     if (!c->eoff) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     c->eoff[0] = 0;
-    for (int e = 0; e < m->ne; e++) {
+    for (int i = 0; i < n; i++) {
         side L, R;
-        edge_sides(c, e, &L, &R);
-        c->eoff[e + 1] = c->eoff[e] + (size_t)(fit_nsamples(L.mt) - 2) * edata_stride(c);
+        edge_sides(c, e0 + i, &L, &R);
+        c->eoff[i + 1] = c->eoff[i] + (size_t)(fit_nsamples(L.mt) - 2) * edata_stride(c);
     }
-    c->edata = malloc(sizeof(double) * (c->eoff[m->ne] ? c->eoff[m->ne] : 1));
-    q2n_status *st = calloc((size_t)m->ne + 1, sizeof *st);
+    c->edata = malloc(sizeof(double) * (c->eoff[n] ? c->eoff[n] : 1));
+    q2n_status *st = calloc((size_t)n + 1, sizeof *st);
     if (!c->edata || !st) { free(st); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory (edge samples)"); }
-    edata_arg arg = {c, st};
+    edata_arg arg = {c, e0, st};
     double t0 = fit_now();
-    fit_par_for(m->ne, c->o.threads, edata_one, &arg);
+    fit_par_for(n, c->o.threads, edata_one, &arg);
     c->rep->t_sample += fit_now() - t0;
     q2n_status r = Q2N_OK;
-    for (int e = 0; e < m->ne && !r; e++)
-        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d: evaluation %s", e,
-                                     st[e] == Q2N_ERR_GEOMETRY ? "not finite" : "failed");
+    for (int i = 0; i < n && !r; i++)
+        if (st[i]) r = q2n_error_set(c->err, st[i], "fit: edge %d: evaluation %s", e0 + i,
+                                     st[i] == Q2N_ERR_GEOMETRY ? "not finite" : "failed");
     free(st);
     return r;
 }
 
+
 static q2n_status stage_rows(ctx *c, int order)
 {
+    const q2n_mesh *m = c->m;
+    int block = m->ne;
     if (order == 1) {
-        q2n_status st = edge_samples(c);
-        if (st) return st;
+        size_t total = 0;
+        c->ed_order = c->o.continuity;
+        for (int e = 0; e < m->ne; e++) {
+            side L, R;
+            edge_sides(c, e, &L, &R);
+            total += (size_t)(fit_nsamples(L.mt) - 2) * (size_t)edata_stride(c);
+        }
+        c->ed_blocks = total > (size_t)c->o.edge_samples_once;
     }
-    for (int e = 0; e < c->m->ne; e++) {
+    if (c->ed_blocks) block = FIT_EDGE_BLOCK;
+    for (int e = 0; e < m->ne; e++) {
+        if (e % block == 0 && (c->ed_blocks || order == 1)) {
+            int e1 = e + block < m->ne ? e + block : m->ne;
+            q2n_status st = edge_samples(c, e, e1, c->ed_blocks ? order : c->o.continuity);
+            if (st) return st;
+        }
         side sd[2];
         int two = edge_sides(c, e, &sd[0], &sd[1]);
         if (fit_ls_item_begin(&c->ls)) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
@@ -648,7 +679,7 @@ static q2n_status stage_rows(ctx *c, int order)
         for (int x = 0; x < 1 + two; x++) fit_basis(FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
         for (int k = 1; k + 1 < N; k++) {
             double t = (double)k / (N - 1);
-            const double *Dk = c->edata + c->eoff[e] + (size_t)(k - 1) * edata_stride(c);
+            const double *Dk = c->edata + c->eoff[e % block] + (size_t)(k - 1) * edata_stride(c);
             row r;
             q2n_status st;
             for (int x = 0; x < 1 + two; x++) {
@@ -1041,9 +1072,7 @@ static q2n_status fit_round(ctx *c)
     snprintf(what, sizeof what, "round %d: G2 rows", r);
     if (c->o.continuity == 2) q2n_progress_emit(pr, "fit", what, 0, 0);
     if (c->o.continuity == 2 && ((st = stage_prefit(c)) || (st = stage_rows(c, 2)))) return st;
-    /* the edge samples serve the row stages only: freed before the interiors and the measurement,
-     * whose peak memory they would otherwise double */
-    free(c->edata);
+    free(c->edata); /* the last block of edge samples */
     c->edata = NULL;
     snprintf(what, sizeof what, "round %d: interiors", r);
     q2n_progress_emit(pr, "fit", what, 0, 0);

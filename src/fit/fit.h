@@ -38,6 +38,9 @@ typedef struct q2n_fit_options {
     double tol_abs;        /* > 0: deviation tolerance in model units, replaces tol (tol = tol_abs /
                               bounding-box diagonal) */
     const q2n_progress_sink *progress; /* NULL: no reports ("fit": one per round and stage) */
+    long edge_samples_once; /* edge samples (doubles) evaluated once per round and shared by the
+                               row stages [8 Mi = 64 MB]; above, per stage and block of edges:
+                               bounded memory, G2 mode samples twice; results are the same */
 } q2n_fit_options;
 
 /* Threads beyond this are not started (the fit's parallel loops deal items to at most this many). */
