@@ -9,7 +9,7 @@
  *   STEP: entity ids, every #reference defined, counts per type, each EDGE_CURVE used by two
  *         ORIENTED_EDGEs of opposite sense, surfaces' control points (u-outer lists) and weights
  *         equal to the model's, shell/solid form and units;
- *   both: determinism (two writes, identical bytes), atomic write (no PATH.tmp, no file on error),
+ *   both: determinism (two writes, identical bytes), atomic write (no temporary, no file on error),
  *         rejected inputs (gap between patches, bad extension, bad strings, missing directory). */
 #include "check.h"
 #include "iges/export.h"
