@@ -1,12 +1,33 @@
 /* test_api.c — the public API (include/quad2nurbs.h): open, evaluate, write, errors.  The
  * evaluation is compared with the mesh vertices it must interpolate (augmented surface) and with
- * finite differences of itself for the derivatives. */
+ * finite differences of itself for the derivatives; several outputs are all or nothing; the
+ * progress callback sees every stage in order; scale, units, targets and the memory limit. */
 #include "check.h"
 #include "quad2nurbs.h"
 
 /* data/demo_torus.obj: patch CORNER_PATCH has the file's first vertex at (u, v) = (0, 0) (its
  * face's first corner); FD_PATCH is any other patch, for the finite difference. */
 enum { CORNER_PATCH = 0, FD_PATCH = 5 };
+
+typedef struct progress_log {
+    int n, stages_ok, order_ok;
+    double last;
+    char seen[256];
+} progress_log;
+
+static void on_progress(void *user, const q2n_progress *p)
+{
+    progress_log *l = user;
+    if (!l->n) l->stages_ok = l->order_ok = 1;
+    l->n++;
+    if (!p->stage || !p->detail) l->stages_ok = 0;
+    if (p->total < 0 || p->done < 0 || (p->total > 0 && p->done > p->total) || p->elapsed_s < l->last) l->order_ok = 0;
+    l->last = p->elapsed_s;
+    if (p->stage && !strstr(l->seen, p->stage) && strlen(l->seen) + strlen(p->stage) + 2 < sizeof l->seen) {
+        strcat(l->seen, p->stage);
+        strcat(l->seen, " ");
+    }
+}
 
 int main(void)
 {
@@ -42,7 +63,60 @@ int main(void)
     CHECK(q2n_write(m, objp, err, sizeof err) == 0 && access(objp, R_OK) == 0, "write obj: %s", err);
     CHECK(q2n_write(m, chk_scratch("x.unknown"), err, sizeof err) != 0 && access(chk_scratch("x.unknown"), F_OK) != 0,
           "unknown extension refused, nothing written");
+    remove(objp);
+    /* several outputs: all or nothing; the same file twice is refused */
+    char stepp[4096], igsp[4096];
+    snprintf(stepp, sizeof stepp, "%s", chk_scratch("api.step"));
+    snprintf(igsp, sizeof igsp, "%s", chk_scratch("api.igs"));
+    const char *bad2[] = {stepp, "/nonexistent_dir/x.igs"};
+    CHECK(q2n_write_all(m, bad2, 2, err, sizeof err) != 0 && strstr(err, "/nonexistent_dir/x.igs") && access(stepp, F_OK) != 0,
+          "write_all with an unwritable second output leaves nothing: %s", err);
+    const char *twice[] = {stepp, stepp};
+    CHECK(q2n_write_all(m, twice, 2, err, sizeof err) != 0 && strstr(err, "twice"), "same output twice: %s", err);
+    const char *good[] = {stepp, igsp};
+    CHECK(q2n_write_all(m, good, 2, err, sizeof err) == 0 && access(stepp, R_OK) == 0 && access(igsp, R_OK) == 0,
+          "write_all: %s", err);
+    remove(stepp);
+    remove(igsp);
     q2n_close(m);
     q2n_close(NULL);
+
+    /* options of the public header: progress reports, scale, units, tolerances, memory limit */
+    progress_log log = {0};
+    q2n_options o = {0};
+    o.progress = on_progress;
+    o.progress_user = &log;
+    o.scale = 2;
+    o.units = "in";
+    o.angle_tol_deg = 0.5;
+    o.tol = 1e-4;
+    q2n_model *s = NULL;
+    CHECK(q2n_open("data/demo_torus.obj", &o, &s, err, sizeof err) == 0, "open with options: %s", err);
+    if (s) {
+        double a[9];
+        q2n_patch_eval(s, CORNER_PATCH, 0, 0, a);
+        CHECK(a[0] == 2 * v0[0] && a[1] == 2 * v0[1] && a[2] == 2 * v0[2], "scale 2 doubles the evaluation");
+        char jp[4096];
+        snprintf(jp, sizeof jp, "%s", chk_scratch("api_opts.json"));
+        CHECK(q2n_write(s, jp, err, sizeof err) == 0, "fit and report: %s", err);
+        FILE *jf = fopen(jp, "r");
+        char js[4096] = "";
+        if (jf) { size_t n = fread(js, 1, sizeof js - 1, jf); js[n] = 0; fclose(jf); }
+        CHECK(strstr(js, "\"units\": \"in\"") && strstr(js, "\"g1_tol_deg\": 0.5") && strstr(js, "\"tol\": 0.0001"),
+              "report shows units and targets: %.300s", js);
+        unlink(jp);
+        CHECK(log.n > 0 && log.stages_ok && log.order_ok, "progress: %d reports, stages %s, counts and times %s", log.n,
+              log.stages_ok ? "ok" : "missing", log.order_ok ? "ok" : "wrong");
+        CHECK(strstr(log.seen, "read") && strstr(log.seen, "build") && strstr(log.seen, "fit") && strstr(log.seen, "write"),
+              "stages reported: %s", log.seen);
+        q2n_close(s);
+    }
+    q2n_options bu = {0};
+    bu.units = "yd";
+    CHECK(q2n_open("data/demo_torus.obj", &bu, &s, err, sizeof err) != 0 && strstr(err, "yd"), "unknown unit: %s", err);
+    q2n_options mm = {0};
+    mm.max_memory = 1e5;
+    CHECK(q2n_open("data/demo_torus.obj", &mm, &s, err, sizeof err) != 0 && strstr(err, "needs at least"),
+          "memory limit: %s", err);
     CHECK_DONE("test_api");
 }

@@ -1,8 +1,15 @@
 /* test_cli.c — the quad2nurbs executable end to end: bad input gives one clear line on stderr
  * naming file:line (or the element), exit code 2 and no output file (not even a temporary one);
- * `sample` prints one line per patch and grid point; the tessellation has the expected size. */
+ * `sample` prints one line per patch and grid point; the tessellation has the expected size.
+ * Also (issues 13 and 16): GNU-style option errors; control bytes of the input escaped in
+ * messages; progress on a pseudo-terminal (script -qc), as plain lines with --progress, never with
+ * -q; OpenSubdiv tags warned about once; the tolerances --tol-abs, --angle-tol, --curvature-tol in
+ * the report and as the fit's acceptance targets; the summary's units; warnings for options the
+ * chosen path ignores; --threads above 64; the valence limit with a line; resource limits. */
 #define _GNU_SOURCE
 #include <dirent.h>
+#include <sys/statvfs.h>
+#include <time.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 
@@ -44,13 +51,13 @@ static int run(const char *args, char *errline, size_t cap, long *outlines)
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-static int leftovers(void) /* files named *.tmp.* or out.* in the scratch dir */
+static int leftovers(void) /* temporaries (.q2n-*) or out.* in the scratch dir */
 {
     DIR *d = opendir(dir);
     struct dirent *e;
     int n = 0;
     while (d && (e = readdir(d)))
-        n += strstr(e->d_name, ".tmp.") != NULL || strncmp(e->d_name, "out", 3) == 0;
+        n += strncmp(e->d_name, ".q2n-", 5) == 0 || strncmp(e->d_name, "out", 3) == 0;
     if (d) closedir(d);
     return n;
 }
@@ -65,6 +72,267 @@ static void expect_error(const char *label, const char *file, const char *text, 
     CHECK(rc == 2, "%s: exit code %d, expected 2 (%s)", label, rc, err);
     CHECK(strstr(err, needle) != NULL, "%s: message '%s' lacks '%s'", label, err, needle);
     CHECK(leftovers() == 0, "%s: an output or temporary file was left behind", label);
+}
+
+/* The whole of a file (caller frees), or NULL. */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = malloc((size_t)n + 1);
+    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) { free(b); b = NULL; }
+    if (b) b[n] = '\0';
+    fclose(f);
+    return b;
+}
+
+/* Run a shell command line in the scratch dir (the executable as $Q), all of stderr into err. */
+static int run_sh(const char *line, char *err, size_t cap)
+{
+    char cmd[4096], ep[512], exe[1024];
+    if (!realpath(EXE, exe)) snprintf(exe, sizeof exe, "%s", EXE);
+    snprintf(ep, sizeof ep, "%s/stderr.txt", dir);
+    snprintf(cmd, sizeof cmd, "cd %s && Q=%s && %s 2> stderr.txt", dir, exe, line);
+    int st = system(cmd);
+    char *e = slurp(ep);
+    snprintf(err, cap, "%s", e ? e : "");
+    free(e);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static double jnum(const char *js, const char *key)
+{
+    char k[64];
+    snprintf(k, sizeof k, "\"%s\": ", key);
+    const char *p = js ? strstr(js, k) : NULL;
+    return p ? strtod(p + strlen(k), NULL) : NAN;
+}
+
+static char *report(const char *name)
+{
+    char p[512];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    return slurp(p);
+}
+
+/* Issue 13 item 4: getopt errors name the program (not its path) and end with one hint line. */
+static void option_errors(void)
+{
+    char err[4096];
+    int rc = run_sh("$Q --frobnicate quad.obj -o x.obj", err, sizeof err);
+    CHECK(rc == 2 && !strcmp(err, "quad2nurbs: unrecognized option '--frobnicate'\n"
+                                  "Try 'quad2nurbs --help' for more information.\n"), "unknown option: %d '%s'", rc, err);
+    rc = run_sh("$Q -z quad.obj", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "quad2nurbs: invalid option -- 'z'\nTry 'quad2nurbs --help'") && !strstr(err, "usage:"),
+          "unknown short option: %d '%s'", rc, err);
+    rc = run_sh("$Q quad.obj --tol", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "quad2nurbs: option '--tol' requires an argument") && !strstr(err, "/quad2nurbs"),
+          "missing argument: %d '%s'", rc, err);
+    rc = run_sh("$Q quad.obj", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "no output given") && strstr(err, "Try 'quad2nurbs --help'"), "no output: '%s'", err);
+    rc = run_sh("$Q quad.obj -o x.step --tol 1e-4 --tol-abs 0.1", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "--tol and --tol-abs"), "--tol with --tol-abs: %d '%s'", rc, err);
+    rc = run_sh("$Q quad.obj -o x.step --max-memory lots", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "--max-memory"), "bad --max-memory: %d '%s'", rc, err);
+    rc = run_sh("$Q --help > help.txt", err, sizeof err);
+    char p[512];
+    snprintf(p, sizeof p, "%s/help.txt", dir);
+    char *h = slurp(p);
+    static const char *const opts[] = {"--output", "--format", "--surface", "--acc-strategy", "--class", "--ev-patch",
+                                       "--param", "--alpha", "--subdivide", "--scale", "--units", "--tess", "--tol ",
+                                       "--tol-abs", "--angle-tol", "--curvature-tol", "--continuity", "--threads",
+                                       "--solver", "--grid", "--max-memory", "--progress", "--quiet", "--help", "--version"};
+    for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++)
+        CHECK(rc == 0 && h && strstr(h, opts[i]), "--help lacks %s", opts[i]);
+    free(h);
+}
+
+/* Issue 16 item 6: escaped control bytes, messages without doubled prefixes or "1 vertices". */
+static void messages(void)
+{
+    char err[4096];
+    write_file("esc.obj", "v 0 0 0\n\x1b]0;pwned\x07 1 2\n");
+    int rc = run_sh("$Q esc.obj -o out.obj", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "esc.obj:2: unknown keyword '\\x1b]0;pwned\\x07'") && !strchr(err, 0x1b) && !strchr(err, 0x07),
+          "control bytes escaped: %d '%s'", rc, err);
+    rc = run_sh("$Q \"$(printf 'no\\033[31mfile.obj')\" -o out.obj", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "no\\x1b[31mfile.obj") && !strchr(err, 0x1b), "file name escaped: '%s'", err);
+    write_file("one.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1\n");
+    rc = run_sh("$Q one.obj -o out.obj", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "one.obj:5: face with only 1 vertex (a face needs at least 3)"), "1 vertex: '%s'", err);
+    /* a fit failure says "fit:" once (coordinates near the bottom of the double range) */
+    write_file("tiny.obj", "v 0 0 0\nv 1e-200 0 0\nv 1e-200 1e-200 0\nv 0 1e-200 0\nf 1 2 3 4\n");
+    rc = run_sh("$Q tiny.obj -o out.step", err, sizeof err);
+    CHECK(!strstr(err, "fit: fit:"), "doubled fit prefix: '%s'", err);
+    /* OpenSubdiv tags: one warning with the count, the first line and the names; then ignored */
+    write_file("tags.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.2\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n"
+                           "t crease 2/1/0 1 2 4.0\nt crease 2/1/0 2 3 4.0\nt corner 1/1/0 4 2.0\n");
+    rc = run_sh("$Q tags.obj -o tags.step", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "quad2nurbs: warning: tags.obj:9: 3 OpenSubdiv tag lines ignored (crease, corner): "
+                                 "sharp features are not supported yet\n") && strstr(err, "2 faces"),
+          "tags warned about once: %d '%s'", rc, err);
+    rc = run_sh("$Q sample quad.obj -o - --format obj", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "both write to standard output"), "sample with -o -: %d '%s'", rc, err);
+    /* valence above 64: refused with the line of a face at the vertex */
+    FILE *f;
+    char p[512];
+    snprintf(p, sizeof p, "%s/fan.obj", dir);
+    if ((f = fopen(p, "w"))) {
+        int n = 70;
+        fputs("v 0 0 0\n", f);
+        for (int k = 0; k < n; k++) fprintf(f, "v %.17g %.17g 0\n", cos(2 * M_PI * k / n), sin(2 * M_PI * k / n));
+        for (int k = 0; k < n; k++)
+            fprintf(f, "v %.17g %.17g 0.1\n", 1.6 * cos(2 * M_PI * (k + 0.5) / n), 1.6 * sin(2 * M_PI * (k + 0.5) / n));
+        for (int k = 0; k < n; k++) fprintf(f, "f 1 %d %d %d\n", 2 + k, 2 + n + k, 2 + (k + 1) % n);
+        fclose(f);
+    }
+    rc = run_sh("$Q fan.obj -o out.step", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "fan.obj:142: vertex 1 (of this face) has valence 70") && leftovers() == 0,
+          "valence 70: %d '%s'", rc, err);
+    rc = run_sh("$Q fan.obj -q --surface acc3 -o fan.step", err, sizeof err);
+    CHECK(rc == 0, "valence 70 with acc3: %d '%s'", rc, err);
+}
+
+/* Issue 16 item 6: options the chosen path ignores are named; --threads above the cap. */
+static void option_warnings(void)
+{
+    char err[4096];
+    int rc = run_sh("$Q quad.obj --surface acc3 --class D3C1P2S4 -o w.step", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "warning: --class is ignored with --surface acc3"), "--class with acc3: '%s'", err);
+    rc = run_sh("$Q quad.obj --param uniform --alpha 0.7 -o w.step", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "warning: --alpha is ignored with --param uniform"), "--alpha with uniform: '%s'", err);
+    rc = run_sh("$Q quad.obj --surface acc-g1 --ev-patch g1 -o w.step", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "warning: --ev-patch is ignored with --surface acc-g1"), "--ev-patch with acc-g1: '%s'", err);
+    rc = run_sh("$Q quad.obj --acc-strategy ncs-s -o w.step", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "warning: --acc-strategy is ignored with --surface augmented"), "--acc-strategy: '%s'", err);
+    rc = run_sh("$Q quad.obj --tol 1e-4 --tess 5 -o w.step", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "warning: --tess is ignored: no .obj output"), "--tess without .obj: '%s'", err);
+    rc = run_sh("$Q quad.obj --tol 1e-4 -o w.obj", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "--tol/--tol-abs: ignored, no output needs the fit"), "--tol without a fit: '%s'", err);
+    rc = run_sh("$Q -q quad.obj --surface acc3 --class D3C1P2S4 -o w.step", err, sizeof err);
+    CHECK(rc == 0 && err[0] == 0, "-q silences warnings: '%s'", err);
+    rc = run_sh("$Q quad.obj --threads 256 -o w.json", err, sizeof err);
+    char *js = report("w.json");
+    CHECK(rc == 0 && strstr(err, "warning: --threads 256: at most 64 threads are used") && jnum(js, "threads") == 64,
+          "--threads 256: report says %g (%s)", jnum(js, "threads"), err);
+    free(js);
+}
+
+/* Issue 13 item 5: tolerances in model units and the continuity targets, in the report and as
+ * what the fit accepts; the summary names its units. */
+static void tolerances(void)
+{
+    char err[4096];
+    write_file("cube.obj", "v -5 -5 -5\nv 5 -5 -5\nv -5 5 -5\nv 5 5 -5\nv -5 -5 5\nv 5 -5 5\nv -5 5 5\nv 5 5 5\n"
+                           "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 2 4 8 6\nf 4 3 7 8\nf 3 1 5 7\n");
+    double diag = 10 * sqrt(3.0);
+    int rc = run_sh("$Q cube.obj --tol 1e-3 -o t0.json", err, sizeof err);
+    char *d = report("t0.json");
+    CHECK(rc == 0 && strstr(err, "max dev ") && strstr(err, "diag = ") && (strstr(err, " nm") || strstr(err, " um") ||
+          strstr(err, " \xc2\xb5m") || strstr(err, " mm")) && (strstr(err, " deg") || strstr(err, "\xc2\xb0")) &&
+          strstr(err, " %"), "summary without units: '%s'", err);
+    CHECK(jnum(d, "g1_tol_deg") == 0.01 && jnum(d, "g2_tol_rel") == 0.01 && fabs(jnum(d, "tol_abs") - 1e-3 * diag) < 1e-9,
+          "default targets in the report: %g %g %g", jnum(d, "g1_tol_deg"), jnum(d, "g2_tol_rel"), jnum(d, "tol_abs"));
+    /* loose targets: accepted above the default 0.01 degrees, with fewer spans */
+    rc = run_sh("$Q cube.obj -q --tol 1e-3 --angle-tol 1 --curvature-tol 0.5 -o t1.json", err, sizeof err);
+    char *l = report("t1.json");
+    CHECK(rc == 0 && jnum(l, "g1_tol_deg") == 1 && jnum(l, "g2_tol_rel") == 0.5 && strstr(l, "\"g1_met\": true") &&
+          jnum(l, "g1_max_deg") > 0.01 && jnum(l, "g1_max_deg") <= 1 && jnum(l, "g2_max_rel") <= 0.5 &&
+          jnum(l, "edge_spans_max") < jnum(d, "edge_spans_max"),
+          "--angle-tol 1: G1 %g deg, %g spans per edge curve (default %g)", jnum(l, "g1_max_deg"), jnum(l, "edge_spans_max"),
+          jnum(d, "edge_spans_max"));
+    /* tight targets: met, with more spans */
+    rc = run_sh("$Q cube.obj -q --tol 1e-3 --angle-tol 0.001 --curvature-tol 0.001 -o t2.json", err, sizeof err);
+    char *t = report("t2.json");
+    CHECK(rc == 0 && strstr(t, "\"g1_met\": true") && strstr(t, "\"g2_met\": true") && jnum(t, "g1_max_deg") <= 0.001 &&
+          jnum(t, "g2_max_rel") <= 0.001 && jnum(t, "edge_spans_max") > jnum(d, "edge_spans_max"),
+          "--angle-tol 0.001: G1 %g, G2 %g, %g spans per edge curve", jnum(t, "g1_max_deg"), jnum(t, "g2_max_rel"),
+          jnum(t, "edge_spans_max"));
+    free(d);
+    free(l);
+    free(t);
+    /* --tol-abs in model units: 0.01 mm on the 17.3 mm diagonal */
+    rc = run_sh("$Q cube.obj -q --tol-abs 0.01 -o t3.json", err, sizeof err);
+    char *a = report("t3.json");
+    CHECK(rc == 0 && fabs(jnum(a, "tol") - 0.01 / diag) < 1e-15 && fabs(jnum(a, "tol_abs") - 0.01) < 1e-9 &&
+          jnum(a, "max_dev_rel") * diag <= 0.01, "--tol-abs 0.01: tol %.17g (want %.17g), deviation %g mm",
+          jnum(a, "tol"), 0.01 / diag, jnum(a, "max_dev_rel") * diag);
+    free(a);
+    rc = run_sh("$Q cube.obj --tol-abs 5 -o t4.json", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "--tol-abs 5 is 0.289 times the bounding-box diagonal"), "--tol-abs too large: '%s'", err);
+}
+
+/* A 60 x 40 torus: its fit takes about a second. */
+static void write_torus(void)
+{
+    char p[512];
+    snprintf(p, sizeof p, "%s/t2400.obj", dir);
+    FILE *f = fopen(p, "w");
+    for (int i = 0; f && i < 60; i++)
+        for (int j = 0; j < 40; j++) {
+            double a = 2 * M_PI * i / 60, b = 2 * M_PI * j / 40;
+            fprintf(f, "v %.17g %.17g %.17g\n", (3 + cos(b)) * cos(a), (3 + cos(b)) * sin(a), sin(b));
+        }
+    for (int i = 0; f && i < 60; i++)
+        for (int j = 0; j < 40; j++)
+            fprintf(f, "f %d %d %d %d\n", i * 40 + j + 1, (i + 1) % 60 * 40 + j + 1, (i + 1) % 60 * 40 + (j + 1) % 40 + 1,
+                    i * 40 + (j + 1) % 40 + 1);
+    if (f) fclose(f);
+}
+
+/* Issue 13 item 3: progress on a terminal, as lines with --progress, never with -q. */
+static void progress(void)
+{
+    if (access("/usr/bin/script", X_OK) != 0) { SKIP("script(1) absent: progress on a terminal not checked"); return; }
+    char p[512], err[4096];
+    int rc = run_sh("script -qc \"$Q t2400.obj -o p.json\" /dev/null > tty.txt", err, sizeof err);
+    snprintf(p, sizeof p, "%s/tty.txt", dir);
+    char *tty = slurp(p);
+    CHECK(rc == 0 && tty && strstr(tty, "\rquad2nurbs: fit round 1") && strstr(tty, "t2400.obj: 2400 faces"),
+          "progress on a pseudo-terminal: '%.300s'", tty ? tty : "");
+    free(tty);
+    rc = run_sh("script -qc \"$Q -q t2400.obj -o p.json\" /dev/null > tty.txt", err, sizeof err);
+    tty = slurp(p);
+    CHECK(rc == 0 && tty && tty[0] == 0, "-q on a terminal prints nothing: '%.200s'", tty ? tty : "");
+    free(tty);
+    rc = run_sh("$Q --progress t2400.obj -o p.json", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "quad2nurbs: fit round 1") && !strchr(err, '\r'), "--progress as lines: '%.300s'", err);
+    rc = run_sh("$Q t2400.obj -o p.json", err, sizeof err);
+    CHECK(rc == 0 && !strstr(err, "fit round") && strstr(err, "2400 faces"), "no progress in a pipe without --progress: "
+          "'%.300s'", err);
+}
+
+/* Issue 16 item 8: runs estimated above the memory limit, or above the free disk space, are
+ * refused before the work starts. */
+static void resources(void)
+{
+    char err[4096];
+    struct timespec a, b;
+    clock_gettime(CLOCK_MONOTONIC, &a);
+    int rc = run_sh("$Q quad.obj --tess 10000 --max-memory 1G -o out.obj", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "needs at least 7.21 GB of memory") && strstr(err, "more than the limit 1.07 GB") &&
+          leftovers() == 0, "--tess 10000 refused: %d '%s'", rc, err);
+    rc = run_sh("$Q t2400.obj --subdivide 6 --max-memory 4G -o out.step", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "9830400 faces after --subdivide 6") && leftovers() == 0, "--subdivide 6 refused: %d '%s'",
+          rc, err);
+    rc = run_sh("$Q quad.obj --max-memory 10K -o out.obj", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "more than the limit 10.2 kB (--max-memory)"), "--max-memory 10K: %d '%s'", rc, err);
+    rc = run_sh("$Q quad.obj -q --max-memory 0 -o nolimit.obj", err, sizeof err);
+    CHECK(rc == 0, "--max-memory 0 is no limit: %d '%s'", rc, err);
+    clock_gettime(CLOCK_MONOTONIC, &b);
+    CHECK(b.tv_sec - a.tv_sec < 20, "refusals took %ld s: the work started", (long)(b.tv_sec - a.tv_sec));
+    /* the tessellation file would not fit on the disk: 2400 patches of 10000 x 10000 points (30 TB) */
+    struct statvfs vf;
+    if (statvfs(dir, &vf) == 0 && (double)vf.f_bavail * vf.f_frsize < 3e13) {
+        rc = run_sh("$Q t2400.obj --tess 10000 --max-memory 0 -o out.obj", err, sizeof err);
+        CHECK(rc == 1 && strstr(err, "out.obj: the output needs at least") && strstr(err, " TB, only") && strstr(err, "free on its file system") &&
+              leftovers() == 0, "output larger than the free space refused: %d '%s'", rc, err);
+    } else {
+        SKIP("more than 30 TB free: the free-space refusal not checked");
+    }
 }
 
 int main(void)
@@ -113,6 +381,14 @@ int main(void)
         snprintf(args, sizeof args, "sample --grid 4 %s", torus);
         CHECK(run(args, err, sizeof err, &lines) == 0 && lines == 32 * 16, "torus sample lines %ld", lines);
     }
+    write_file("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.2\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n");
+    option_errors();
+    messages();
+    option_warnings();
+    tolerances();
+    write_torus();
+    progress();
+    resources();
     snprintf(args, sizeof args, "rm -rf %s", dir);
     if (system(args)) {}
     CHECK_DONE("test_cli");

@@ -9,14 +9,16 @@
  *   STEP: entity ids, every #reference defined, counts per type, each EDGE_CURVE used by two
  *         ORIENTED_EDGEs of opposite sense, surfaces' control points (u-outer lists) and weights
  *         equal to the model's, shell/solid form and units;
- *   both: determinism (two writes, identical bytes), atomic write (no PATH.tmp, no file on error),
+ *   both: determinism (two writes, identical bytes), atomic write (no temporary, no file on error),
  *         rejected inputs (gap between patches, bad extension, bad strings, missing directory). */
 #include "check.h"
 #include "iges/export.h"
 #include "test_export_models.h"
 
 #include <ctype.h>
+#include <dirent.h>
 #include <sys/stat.h>
+#include <time.h>
 
 /* ------------------------------------------------------------------ IGES parsing */
 
@@ -423,6 +425,17 @@ static char *slurp(const char *path, size_t *len)
 
 static int exists(const char *p) { struct stat st; return stat(p, &st) == 0; }
 
+/* Temporaries of the atomic writer (".q2n-XXXXXX", core/outfile.h) left in dir. */
+static int temporaries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    int n = 0;
+    while (d && (e = readdir(d))) n += strncmp(e->d_name, ".q2n-", 5) == 0;
+    if (d) closedir(d);
+    return n;
+}
+
 static void roundtrip(const char *what, const q2n_nurbs_model *m, int ncomp, int nclosed)
 {
     q2n_error err;
@@ -447,7 +460,16 @@ static void roundtrip(const char *what, const q2n_nurbs_model *m, int ncomp, int
     CHECK(q2n_export_file(m, &o, path, &err) == Q2N_OK, "%s: write %s: %s", what, path, err.message);
     t2 = slurp(path, &l2);
     CHECK(t2 && l1 == l2 && memcmp(t1, t2, l1) == 0, "%s: STEP file = text (deterministic)", what);
-    CHECK(!exists(chk_scratch("export_rt.step.tmp")), "%s: no temporary file left", what);
+    CHECK(!temporaries(chk_scratch_dir()), "%s: no temporary file left", what);
+    free(t1); free(t2);
+    remove(path);
+    /* IGES through a stream (the parameter section goes through a temporary file) = its text */
+    CHECK(q2n_export_iges_text(m, &o, &t1, &l1, &err) == Q2N_OK, "%s: IGES: %s", what, err.message);
+    path = chk_scratch("export_rt.igs");
+    CHECK(q2n_export_file(m, &o, path, &err) == Q2N_OK, "%s: write %s: %s", what, path, err.message);
+    t2 = slurp(path, &l2);
+    CHECK(t2 && l1 == l2 && memcmp(t1, t2, l1) == 0, "%s: IGES file = text", what);
+    CHECK(!temporaries(chk_scratch_dir()), "%s: no temporary file left (IGES)", what);
     free(t1); free(t2);
     remove(path);
 }
@@ -514,7 +536,8 @@ int main(void)
     }
     /* 4. options: inches, author, timestamp */
     {
-        q2n_export_options o = {Q2N_UNITS_IN, "A. Author", "Org, Inc.", "20260101.120000", "m", 0};
+        q2n_export_options o = {.units = Q2N_UNITS_IN, .author = "A. Author", .organization = "Org, Inc.",
+                                .timestamp = "20260101.120000", .name = "m"};
         char *t; size_t l;
         CHECK(q2n_export_iges_text(&gm, &o, &t, &l, &err) == Q2N_OK, "IGES inch: %s", err.message);
         char gl[600] = {0};
@@ -529,6 +552,45 @@ int main(void)
         o.author = "O'Brien";
         CHECK(q2n_export_step_text(&gm, &o, &t, &l, &err) == Q2N_ERR_ARG, "quote in author rejected");
     }
+    /* 4b. every unit: IGES global 14/15 (IGES 5.3 table 3) and the STEP unit entity; dates in both
+     * formats against the C library's gmtime_r, including a leap day and the epoch */
+    {
+        static const struct { q2n_units u; const char *iges, *step; } U[] = {
+            {Q2N_UNITS_MM, ",1.,2,2HMM,", "SI_UNIT(.MILLI.,.METRE.)"},
+            {Q2N_UNITS_CM, ",1.,10,2HCM,", "SI_UNIT(.CENTI.,.METRE.)"},
+            {Q2N_UNITS_M, ",1.,6,1HM,", "SI_UNIT($,.METRE.)"},
+            {Q2N_UNITS_IN, ",1.,1,4HINCH,", "CONVERSION_BASED_UNIT('INCH'"},
+            {Q2N_UNITS_FT, ",1.,4,2HFT,", "CONVERSION_BASED_UNIT('FOOT'"}};
+        static const long long dates[] = {0, 951782400, 1700000000, 4102444799LL};
+        for (size_t i = 0; i < sizeof U / sizeof U[0]; i++) {
+            long long d = dates[i % 4];
+            q2n_export_options o = {.units = U[i].u, .has_date = 1, .date = d};
+            char *t; size_t l;
+            time_t tt = (time_t)d;
+            struct tm tm;
+            gmtime_r(&tt, &tm);
+            char iges_date[32], step_date[32];
+            strftime(iges_date, sizeof iges_date, "15H%Y%m%d.%H%M%S", &tm);
+            strftime(step_date, sizeof step_date, "'%Y-%m-%dT%H:%M:%S'", &tm);
+            CHECK(q2n_export_iges_text(&gm, &o, &t, &l, &err) == Q2N_OK, "IGES %s: %s", q2n_units_name(U[i].u), err.message);
+            char gl[600] = {0};
+            for (const char *p = strchr(t, '\n') + 1; p[72] == 'G'; p += 81) strncat(gl, p, 72);
+            const char *first = strstr(gl, iges_date);
+            CHECK(strstr(gl, U[i].iges) && first && strstr(first + 1, iges_date), "IGES global units %s, dates 18/25 %s: %s",
+                  q2n_units_name(U[i].u), iges_date, gl);
+            free(t);
+            CHECK(q2n_export_step_text(&gm, &o, &t, &l, &err) == Q2N_OK, "STEP %s: %s", q2n_units_name(U[i].u), err.message);
+            CHECK(strstr(t, U[i].step) && strstr(t, step_date), "STEP unit %s and date %s", U[i].step, step_date);
+            if (U[i].u == Q2N_UNITS_FT) CHECK(strstr(t, "LENGTH_MEASURE(304.8)") != NULL, "STEP foot = 304.8 mm");
+            free(t);
+        }
+        q2n_units u;
+        CHECK(q2n_units_parse("inch", &u) == 0 && u == Q2N_UNITS_IN && q2n_units_parse("yd", &u) == -1 &&
+              q2n_units_in_mm(Q2N_UNITS_FT) == 304.8, "unit names");
+        q2n_export_options o = {.has_date = 1, .date = -5};
+        char *t; size_t l;
+        CHECK(q2n_export_step_text(&gm, &o, &t, &l, &err) == Q2N_ERR_ARG, "a date before 1970 is refused");
+    }
     /* 5. rejected inputs leave no file */
     {
         const char *p = chk_scratch("export_bad.igs");
@@ -539,7 +601,7 @@ int main(void)
         s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2] += 1e-3; /* corner (0,1) moves: a gap */
         CHECK(q2n_export_file(&gm, NULL, p, &err) == Q2N_ERR_GEOMETRY && strstr(err.message, "watertight"),
               "gap detected: %s", err.message);
-        CHECK(!exists(p) && !exists(chk_scratch("export_bad.igs.tmp")), "no file after an error");
+        CHECK(!exists(p) && !temporaries(chk_scratch_dir()), "no file (and no temporary) after an error");
         s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2] = keep;
         CHECK(q2n_export_file(&gm, NULL, chk_scratch("export_bad.obj"), &err) == Q2N_ERR_ARG, "unknown extension");
         CHECK(q2n_export_file(&gm, NULL, chk_scratch("no/such/dir/x.step"), &err) == Q2N_ERR_IO, "missing dir: %s", err.message);

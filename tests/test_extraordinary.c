@@ -487,7 +487,7 @@ static void test_contract(void)
     CHECK(m != NULL, "contract mesh");
     if (!m) return;
     q2n_augmented_options a = {NULL, {Q2N_PARAM_CENTRIPETAL, -1}};
-    q2n_extraordinary_options x = {NULL, a.param, Q2N_EV_PATCH_DEFAULT};
+    q2n_extraordinary_options x = {.cls = NULL, .param = a.param, .ev_patch = Q2N_EV_PATCH_DEFAULT};
     q2n_surface *S = NULL;
     q2n_augmented_build(m, &a, NULL, &S, &err);
     int nreg = q2n_surface_count(S, Q2N_PATCH_AUGMENTED);
@@ -505,7 +505,7 @@ static void test_contract(void)
         }
     CHECK(same, "regular patches unchanged");
     CHECK(q2n_ev_patch_order(&x) == 2, "default order for a C2 class");
-    q2n_extraordinary_options x1 = {q2n_spline_class_find("D3C1P2S4"), a.param, Q2N_EV_PATCH_DEFAULT};
+    q2n_extraordinary_options x1 = {.cls = q2n_spline_class_find("D3C1P2S4"), .param = a.param, .ev_patch = Q2N_EV_PATCH_DEFAULT};
     CHECK(q2n_ev_patch_order(&x1) == 1, "default order for a C1 class");
     q2n_ev_patch_kind kd;
     CHECK(q2n_ev_patch_parse("g1", &kd) == 0 && kd == Q2N_EV_PATCH_G1, "parse g1");
@@ -553,7 +553,7 @@ static void test_spikes(void)
         q2n_error err = {0, ""};
         if (q2n_mesh_read_obj(path, &m, &err)) { CHECK(0, "read %s: %s", meshes[i], err.message); continue; }
         q2n_augmented_options ao = {q2n_spline_class_find("D5C2P2S4"), {Q2N_PARAM_CENTRIPETAL, -1}};
-        q2n_extraordinary_options xo = {ao.cls, ao.param, Q2N_EV_PATCH_G2};
+        q2n_extraordinary_options xo = {.cls = ao.cls, .param = ao.param, .ev_patch = Q2N_EV_PATCH_G2};
         double *iv = NULL;
         q2n_surface *S = NULL;
         int ok = q2n_param_edge_intervals(m, &ao.param, &iv, &err) == Q2N_OK &&

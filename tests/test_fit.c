@@ -257,8 +257,8 @@ static void solver_agreement(void)
             o.threads = k == 0 ? 2 : 1;
             o.max_rounds = 1;      /* one round: all three solve identical problems */
             o.tol = 1.0;
-            o.g1_target_deg = 90;
-            o.g2_target_rel = 1e3;
+            o.g1_tol_deg = 180;
+            o.g2_tol_rel = 2e3;
             q2n_error err;
             q2n_nurbs_model *m = NULL;
             q2n_status st = q2n_fit_surface(s, mesh, &o, &m, NULL, &err);

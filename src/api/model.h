@@ -1,7 +1,8 @@
 /* model.h — the whole pipeline as one object (top of the library, used by src/cli/ and by the
  * public API in include/quad2nurbs.h): read the mesh, subdivide if asked, build the surface
  * (augmented interpolatory + Coons–Gregory, or the Catmull–Clark ACC path), fit it into
- * B-splines, and write outputs chosen by file extension. */
+ * B-splines, and write outputs chosen by file extension, all or nothing (outputs.c); check the
+ * options and estimate the resources a run needs before it starts (options.c). */
 #ifndef Q2N_API_MODEL_H
 #define Q2N_API_MODEL_H
 
@@ -9,6 +10,8 @@
 
 #include "acc/acc.h"
 #include "core/clock.h"
+#include "core/outfile.h"
+#include "core/progress.h"
 #include "fit/fit.h"
 #include "iges/export.h"
 #include "mesh/mesh.h"
@@ -22,7 +25,8 @@ typedef enum q2n_surface_method {
     Q2N_SURFACE_ACC_G1         /* seed 001: bicubic + biquintic, G1 everywhere */
 } q2n_surface_method;
 
-/* Zeroed = defaults (augmented, Q2N_SPLINE_CLASS_DEFAULT, centripetal α = 1/2, no subdivision). */
+/* Zeroed = defaults (augmented, Q2N_SPLINE_CLASS_DEFAULT, centripetal α = 1/2, fair EV construction,
+ * no subdivision, scale 1). */
 typedef struct q2n_model_options {
     q2n_surface_method method;
     const q2n_spline_class *cls;  /* augmented: NULL = Q2N_SPLINE_CLASS_DEFAULT */
@@ -32,6 +36,8 @@ typedef struct q2n_model_options {
     int threads;                  /* worker threads of the construction (0: 1; results do not depend on it) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */
+    double scale;                 /* multiplies the coordinates as they are read (0: 1) */
+    q2n_progress_sink progress;   /* reports of every stage (fn NULL: none) */
 } q2n_model_options;
 
 typedef struct q2n_model {
@@ -42,27 +48,128 @@ typedef struct q2n_model {
     int uncovered;             /* faces no construction covers */
     int continuity;            /* 1 or 2: what the construction guarantees across edges (G^k) */
     char note[256];            /* e.g. why Catmull–Clark steps were applied by the ACC path */
+    q2n_mesh_read_info read_info; /* format, ignored tags (for a warning) */
     q2n_fit_options fit_opt;   /* settings kept for later q2n_model_fit calls (public API) */
     q2n_export_options export_opt;
+    int tess;                  /* public API: tessellation points per patch side */
+    int format;                /* public API: a q2n_format for names without a known extension */
+    double max_memory;         /* public API: the resource limit (0 default, < 0 none) */
     q2n_nurbs_model *nurbs;    /* after q2n_model_fit */
     q2n_fit_report fit;        /* after q2n_model_fit */
     double t_read, t_build, t_fit, t_write; /* seconds */
 } q2n_model;
 
-q2n_status q2n_model_build(const char *obj_path, const q2n_model_options *opt, q2n_model **out,
+/* Read (any mesh format, q2n_mesh_read) and scale, then construct: q2n_model_read followed by
+ * q2n_model_construct. */
+q2n_status q2n_model_build(const char *mesh_path, const q2n_model_options *opt, q2n_model **out,
                            q2n_error *err);
+/* The two halves, so that a caller can check the work (q2n_model_estimate) before the slow one. */
+q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q2n_model **out, q2n_error *err);
+q2n_status q2n_model_construct(q2n_model *m, q2n_error *err);
 /* Fit (or convert exactly) into B-splines; continuity defaults to the construction's. */
 q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *err);
-/* Write by extension: .obj (tessellation, n points per patch side), .step/.stp, .igs/.iges
- * (need q2n_model_fit first), .json (the fit report). */
-q2n_status q2n_model_write(q2n_model *m, const char *path, int tess, const q2n_export_options *xopt,
-                           q2n_error *err);
-/* 1 if the extension is one q2n_model_write knows; *needs_fit set for CAD/report outputs. */
-int q2n_model_output_kind(const char *path, int *needs_fit);
 void q2n_model_free(q2n_model *m);
 
 q2n_status q2n_model_write_tessellation(const q2n_model *m, int n, const char *path, q2n_error *err);
+/* The tessellation into an open stream (write errors stay in the stream's error flag). */
+q2n_status q2n_model_write_tessellation_file(const q2n_model *m, int n, FILE *f, q2n_error *err);
 q2n_status q2n_model_write_samples(const q2n_model *m, int n, FILE *out, q2n_error *err);
 
+
+/* ---------------------------------------------------------------- outputs (outputs.c) */
+
+typedef enum q2n_format {
+    Q2N_FORMAT_NONE = 0, Q2N_FORMAT_OBJ, Q2N_FORMAT_STEP, Q2N_FORMAT_IGES, Q2N_FORMAT_JSON
+} q2n_format;
+
+/* By extension (.obj, .step/.stp, .igs/.iges, .json; any case), else NONE. */
+q2n_format q2n_format_of_path(const char *path);
+/* "obj", "step"/"stp", "iges"/"igs", "json", else NONE. */
+q2n_format q2n_format_parse(const char *name);
+const char *q2n_format_name(q2n_format f);
+/* STEP, IGES and the report come from the fitted B-splines. */
+static inline int q2n_format_needs_fit(q2n_format f) { return f == Q2N_FORMAT_STEP || f == Q2N_FORMAT_IGES || f == Q2N_FORMAT_JSON; }
+
+/* Several outputs as one transaction: q2n_outputs_open checks the whole set (known formats —
+ * names without a known extension, such as "-" for standard output, take `fallback`; no file
+ * twice; none is the input mesh) and creates every temporary (so an unwritable directory shows
+ * in milliseconds, before any slow work), the caller writes each (q2n_model_write_output), and
+ * q2n_outputs_commit makes all data durable before it replaces any file.  On any failure nothing
+ * is left behind: no output, no temporary.  Errors: Q2N_ERR_ARG for a set that makes no sense,
+ * Q2N_ERR_IO (message "PATH: REASON") for the file system. */
+typedef struct q2n_output {
+    const char *path;
+    q2n_format format;
+    q2n_outfile file;
+} q2n_output;
+
+typedef struct q2n_output_set {
+    int n;
+    q2n_output *out;
+} q2n_output_set;
+
+q2n_status q2n_outputs_open(q2n_output_set *s, int n, const char *const *paths, q2n_format fallback,
+                            const char *input, q2n_error *err);
+q2n_status q2n_model_write_output(q2n_model *m, q2n_output *o, int tess, const q2n_export_options *xopt,
+                                  q2n_error *err);
+q2n_status q2n_outputs_commit(q2n_output_set *s, q2n_error *err);
+void q2n_outputs_abort(q2n_output_set *s);
+
+/* One output by extension (a set of one): .obj (tessellation, tess points per patch side),
+ * .step/.stp, .igs/.iges, .json (the fit report; these three need q2n_model_fit first). */
+q2n_status q2n_model_write(q2n_model *m, const char *path, int tess, const q2n_export_options *xopt,
+                           q2n_error *err);
+
+/* ---------------------------------------------------------------- options, limits (options.c) */
+
+/* Options the caller set explicitly (for q2n_options_warnings). */
+enum {
+    Q2N_SET_CLASS = 1 << 0, Q2N_SET_PARAM = 1 << 1, Q2N_SET_ALPHA = 1 << 2, Q2N_SET_EVPATCH = 1 << 3,
+    Q2N_SET_STRATEGY = 1 << 4, Q2N_SET_CONTINUITY = 1 << 5, Q2N_SET_SOLVER = 1 << 6, Q2N_SET_TOL = 1 << 7,
+    Q2N_SET_ANGLE_TOL = 1 << 8, Q2N_SET_CURVATURE_TOL = 1 << 9, Q2N_SET_TESS = 1 << 10, Q2N_SET_GRID = 1 << 11,
+    Q2N_SET_THREADS = 1 << 12, Q2N_SET_UNITS = 1 << 13
+};
+
+/* What a run will do, for the warnings and the estimates. */
+typedef struct q2n_plan {
+    int fit;          /* some output needs the fit */
+    int obj;          /* some output is a tessellation */
+    int sample;       /* `sample` prints the construction */
+    int tess, grid;   /* points per patch side */
+    int continuity;   /* --continuity (0: the construction's) */
+    int nout;
+    const q2n_output *out;  /* the outputs (their formats and paths) */
+} q2n_plan;
+
+/* Options that the chosen path ignores or that contradict each other, as warning lines
+ * ("--alpha is ignored with --param uniform ..."), written into msgs[i] (at most max lines of 160
+ * bytes); returns how many. */
+int q2n_options_warnings(const q2n_model_options *mo, const q2n_fit_options *fo, unsigned set, const q2n_plan *plan,
+                         char (*msgs)[160], int max);
+
+/* Relative fit tolerance from an absolute one (model units), checked against the range the fit
+ * accepts ([1e-12, 0.1] x the bounding-box diagonal of m's mesh): Q2N_ERR_ARG with the numbers. */
+q2n_status q2n_model_resolve_tol(const q2n_model *m, q2n_fit_options *fo, q2n_error *err);
+
+/* The files' creation time: SOURCE_DATE_EPOCH when set (reproducible builds; a malformed value is
+ * Q2N_ERR_ARG), else now.  Sets x->has_date, x->date. */
+q2n_status q2n_export_date_from_env(q2n_export_options *x, q2n_error *err);
+
+/* Estimated peak memory (bytes) and output sizes of the planned run on the read mesh, from the
+ * faces the construction will have (after --subdivide) and measured bytes per face of each stage
+ * (docs/cli.md, "Resource limits"). */
+typedef struct q2n_estimate {
+    long long faces;          /* faces after subdivision */
+    double memory;            /* bytes, peak */
+    double output[16];        /* bytes per output (plan order) */
+    const char *peak_stage;   /* the stage that sets the peak */
+} q2n_estimate;
+void q2n_model_estimate(const q2n_model *m, const q2n_plan *plan, q2n_estimate *e);
+/* Refuse the run when the estimated memory is above max_memory (bytes; < 0 no limit, 0 the
+ * default: half the physical memory) — Q2N_ERR_ARG, message with both figures — or an output is
+ * estimated larger than the free space of its file system (Q2N_ERR_IO). */
+q2n_status q2n_model_check_resources(const q2n_model *m, const q2n_plan *plan, double max_memory, q2n_error *err);
+/* Half the physical memory (the default limit), bytes. */
+double q2n_default_max_memory(void);
 
 #endif

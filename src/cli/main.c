@@ -1,23 +1,37 @@
-/* main.c — `quad2nurbs` command line (getopt_long conventions; see usage()). */
+/* main.c — `quad2nurbs` command line (getopt_long, GNU conventions; see usage()).
+ *
+ * A run: options -> outputs opened (every temporary created: unwritable places fail in
+ * milliseconds) -> mesh read -> estimate checked against the limits -> surface built -> fit (when
+ * an output needs it) -> outputs written -> all committed at once.  Exit status: 0 success, 2 bad
+ * input or usage, 1 any other failure (writing included); a signal removes the temporaries. */
 #include <errno.h>
 #include <getopt.h>
+#include <langinfo.h>
+#include <locale.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
 #include "api/model.h"
+#include "api/policy.h"
+#include "cli.h"
 #include "patch/extraordinary.h"
 
 #define Q2N_VERSION_STRING "0.1.0"
 #define MAX_OUTPUTS 8
+#define PROG "quad2nurbs"
 
 /* Command-line settings (the library options plus what only the CLI has). */
 typedef struct cli_options {
     const char *input;
     const char *outputs[MAX_OUTPUTS];
-    int noutputs, sample, grid, tess, quiet;
+    int noutputs, sample, grid, tess, quiet, progress;
+    unsigned set;                 /* Q2N_SET_* of the options given */
+    q2n_format format;            /* --format */
+    double max_memory;            /* --max-memory (0: default) */
     q2n_model_options model;
     q2n_fit_options fit;
     q2n_export_options xopt;
@@ -25,17 +39,20 @@ typedef struct cli_options {
 
 static void usage(FILE *f)
 {
-    fputs("usage: quad2nurbs [options] MESH.obj -o OUT [-o OUT ...]\n"
-          "       quad2nurbs sample [options] MESH.obj [--grid N]\n"
+    fputs("usage: quad2nurbs [options] MESH -o OUT [-o OUT ...]\n"
+          "       quad2nurbs sample [options] MESH [--grid N]\n"
           "\n"
           "Builds a smooth surface on a quad mesh (patch k on face k, domain [0,1]^2, u along the\n"
           "face's first edge v0->v1, v along v0->v3) and writes it; the output format follows the\n"
           "extension: .obj tessellation (--tess N points per patch side); .step/.stp STEP AP214 and\n"
           "           .igs/.iges IGES 5.3 of the fitted B-spline patches; .json the fit report.\n"
+          "MESH: Wavefront .obj, .off (ASCII) or .ply (ASCII or binary).\n"
           "`sample` prints one line per patch k and grid point: k u v x y z xu yu zu xv yv zv.\n"
           "\n"
           "options:\n"
-          "  -o, --output FILE     output file (repeatable)\n"
+          "  -o, --output FILE     output file (repeatable; all are written or none); '-' is\n"
+          "                        standard output (needs --format)\n"
+          "      --format F        format of outputs without a known extension: obj, step, iges, json\n"
           "      --surface M       augmented (default: interpolates every vertex), acc3 or acc-g1\n"
           "                        (Catmull-Clark approximations, exact polynomial patches)\n"
           "      --acc-strategy S  acc-g1 masks: cs-s (default), ncs-s, cs-as, ncs-as\n"
@@ -50,24 +67,57 @@ static void usage(FILE *f)
           "                        uniform, mean (ribbon-averaged baseline of the paper)\n"
           "      --alpha A         exponent of |edge|^A for centripetal/mean (default 0.5)\n"
           "      --subdivide N     apply N Catmull-Clark steps first (needed for non-quad faces)\n"
+          "      --scale S         multiply the mesh coordinates by S (default 1)\n"
+          "      --units U         unit of the coordinates (after --scale) in the CAD files:\n"
+          "                        mm (default), cm, m, in, ft\n"
           "      --tess N          tessellation points per patch side (default 9)\n"
           "      --tol T           fit tolerance relative to the bounding-box diagonal (default 1e-5)\n"
+          "      --tol-abs D       fit tolerance in model units (after --scale), e.g. 0.001\n"
+          "      --angle-tol DEG   G1 target: normal-angle jump across edges (default 0.01)\n"
+          "      --curvature-tol R G2 target: curvature jump relative to the curvature (default 0.01)\n"
+          "      --continuity C    continuity the fit imposes: g1 or g2 (default: the construction's)\n"
           "      --max-spans N     at most N knot spans per patch direction (default 64)\n"
           "      --gluing G        G1/G2 across edges: exact (default: equality constraints wherever the\n"
           "                        construction's gluing allows, least squares elsewhere) or least-squares\n"
           "                        (everywhere: fewer spans on strongly non-uniform meshes)\n"
           "      --threads N       threads of the construction and the fit (default 1; results do not\n"
-          "                        depend on it)\n"
+          "                        depend on it; at most 64)\n"
           "      --solver S        fit solver: ceres (default) or direct (LAPACK QR, same result)\n"
-          "      --continuity C    continuity the fit imposes: g1 or g2 (default: the construction's)\n"
-          "      --units U         CAD file units: mm (default) or in\n"
           "      --grid N          sample points per patch side (default 5)\n"
-          "  -q, --quiet           no progress/summary on stderr\n"
+          "      --max-memory SIZE refuse runs estimated to need more (bytes, or with K, M, G, T;\n"
+          "                        default: half the physical memory; 0: no limit)\n"
+          "      --progress        show progress even when stderr is not a terminal\n"
+          "  -q, --quiet           no progress, warnings or summary on stderr (errors only)\n"
           "  -h, --help            this text\n"
           "  -V, --version         version\n"
           "\n"
-          "exit status: 0 success, 2 bad input or usage, 1 other failure.\n",
+          "Files get today's date, or SOURCE_DATE_EPOCH's when it is set (reproducible output).\n"
+          "exit status: 0 success, 2 bad input or usage, 1 other failure (writing included);\n"
+          "SIGINT/SIGTERM remove the temporaries and end the program by that signal.\n",
           f);
+}
+
+/* Print "quad2nurbs: MESSAGE" with control bytes escaped (messages quote input). */
+static void say(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+static void say(const char *fmt, ...)
+{
+    char raw[1024], safe[4096];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(raw, sizeof raw, fmt, ap);
+    va_end(ap);
+    q2n_escape(safe, sizeof safe, raw);
+    fprintf(stderr, PROG ": %s\n", safe);
+}
+
+static int usage_error(void)
+{
+    fputs("Try '" PROG " --help' for more information.\n", stderr);
+    return 2;
 }
 
 static int parse_int(const char *s, const char *opt, int lo, int hi, int *out)
@@ -76,197 +126,382 @@ static int parse_int(const char *s, const char *opt, int lo, int hi, int *out)
     errno = 0;
     long v = strtol(s, &end, 10);
     if (errno || *end || end == s || v < lo || v > hi) {
-        fprintf(stderr, "quad2nurbs: %s: expected an integer in [%d, %d], got '%s'\n", opt, lo, hi, s);
+        say("%s: expected an integer in [%d, %d], got '%s'", opt, lo, hi, s);
         return -1;
     }
     *out = (int)v;
     return 0;
 }
 
-static const char *extension(const char *path)
+/* A number in [lo, hi] (lo_open: excluded). */
+static int parse_real(const char *s, const char *opt, double lo, int lo_open, double hi, const char *hint, double *out)
 {
-    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
-    return (dot && (!slash || dot > slash)) ? dot : "";
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || *end || end == s || !isfinite(v) || v < lo || (lo_open && v == lo) || v > hi) {
+        say("%s: expected a number in %s%g, %g]%s, got '%s'", opt, lo_open ? "(" : "[", lo, hi, hint, s);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+/* SIZE: bytes, or a number with K, M, G, T (powers of 1024; an optional trailing B or iB). */
+static int parse_size(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    double mul = 1;
+    if (end != s && *end) {
+        const char *u = "KMGT", *k = strchr(u, *end >= 'a' ? *end - 32 : *end);
+        if (k && *end) {
+            for (const char *q = u; q <= k; q++) mul *= 1024;
+            end++;
+            if (*end == 'i' && end[1] == 'B') end += 2;
+            else if (*end == 'B' || *end == 'b') end++;
+        }
+    }
+    if (errno || end == s || *end || !isfinite(v) || v < 0) {
+        say("--max-memory: expected a size such as 8G, 500M or 0 (no limit), got '%s'", s);
+        return -1;
+    }
+    *out = v == 0 ? -1.0 : v * mul;
+    return 0;
+}
+
+enum {
+    OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT, OPT_TOL,
+    OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_FORMAT, OPT_SCALE, OPT_TOLABS, OPT_ANGLE,
+    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING
+};
+
+static const struct option LONGOPTS[] = {
+    {"output", required_argument, 0, 'o'},         {"tess", required_argument, 0, OPT_TESS},
+    {"grid", required_argument, 0, OPT_GRID},       {"class", required_argument, 0, OPT_CLASS},
+    {"param", required_argument, 0, OPT_PARAM},     {"alpha", required_argument, 0, OPT_ALPHA},
+    {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
+    {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
+    {"tol", required_argument, 0, OPT_TOL},         {"threads", required_argument, 0, OPT_THREADS},
+    {"units", required_argument, 0, OPT_UNITS},     {"ev-patch", required_argument, 0, OPT_EVPATCH},
+    {"solver", required_argument, 0, OPT_SOLVER},   {"continuity", required_argument, 0, OPT_CONT},
+    {"format", required_argument, 0, OPT_FORMAT},   {"scale", required_argument, 0, OPT_SCALE},
+    {"tol-abs", required_argument, 0, OPT_TOLABS},  {"angle-tol", required_argument, 0, OPT_ANGLE},
+    {"curvature-tol", required_argument, 0, OPT_CURV}, {"max-memory", required_argument, 0, OPT_MAXMEM},
+    {"ev-construction", required_argument, 0, OPT_EVMETHOD},
+    {"max-spans", required_argument, 0, OPT_MAXSPANS}, {"gluing", required_argument, 0, OPT_GLUING},
+    {"progress", no_argument, 0, OPT_PROGRESS},     {"help", no_argument, 0, 'h'},
+    {"version", no_argument, 0, 'V'},               {0, 0, 0, 0}};
+
+/* One option; 0, 2 (usage error, message printed) or -1 (done: --help, --version). */
+static int parse_option(int c, const char *arg, cli_options *o)
+{
+    switch (c) {
+    case 'o':
+        if (o->noutputs == MAX_OUTPUTS) { say("at most %d outputs", MAX_OUTPUTS); return 2; }
+        o->outputs[o->noutputs++] = arg;
+        return 0;
+    case OPT_FORMAT:
+        if ((o->format = q2n_format_parse(arg)) == Q2N_FORMAT_NONE) {
+            say("--format: expected obj, step, iges or json, got '%s'", arg);
+            return 2;
+        }
+        return 0;
+    case OPT_TESS: o->set |= Q2N_SET_TESS; return parse_int(arg, "--tess", 2, 10000, &o->tess) ? 2 : 0;
+    case OPT_GRID: o->set |= Q2N_SET_GRID; return parse_int(arg, "--grid", 1, 10000, &o->grid) ? 2 : 0;
+    case OPT_SUBDIV: return parse_int(arg, "--subdivide", 0, 6, &o->model.subdivide) ? 2 : 0;
+    case OPT_THREADS:
+        o->set |= Q2N_SET_THREADS;
+        if (parse_int(arg, "--threads", 1, 4096, &o->fit.threads)) return 2;
+        o->model.threads = o->fit.threads;
+        return 0;
+    case OPT_MAXSPANS: return parse_int(arg, "--max-spans", 1, 1024, &o->fit.max_spans) ? 2 : 0;
+    case OPT_GLUING:
+        if (strcmp(arg, "exact") == 0) o->fit.no_exact = 0;
+        else if (strcmp(arg, "least-squares") == 0) o->fit.no_exact = 1;
+        else { say("--gluing: expected exact or least-squares, got '%s'", arg); return 2; }
+        return 0;
+    case OPT_EVMETHOD: {
+        q2n_ev_method k;
+        if (q2n_ev_method_parse(arg, &k)) { say("--ev-construction: expected fair or paper, got '%s'", arg); return 2; }
+        o->model.ev_method = (int)k;
+        return 0;
+    }
+    case OPT_CLASS:
+        o->set |= Q2N_SET_CLASS;
+        if (!(o->model.cls = q2n_spline_class_find(arg))) {
+            char known[200] = "";
+            for (const q2n_spline_class *const *k = q2n_spline_classes(); *k; k++)
+                snprintf(known + strlen(known), sizeof known - strlen(known), " %s", (*k)->name);
+            say("--class: unknown class '%s' (known:%s)", arg, known);
+            return 2;
+        }
+        return 0;
+    case OPT_PARAM:
+        o->set |= Q2N_SET_PARAM;
+        if (q2n_param_method_parse(arg, &o->model.param.method)) {
+            say("--param: expected centripetal, chordal, uniform or mean, got '%s'", arg);
+            return 2;
+        }
+        return 0;
+    case OPT_ALPHA:
+        o->set |= Q2N_SET_ALPHA;
+        return parse_real(arg, "--alpha", 0, 1, 2, " (use --param uniform for alpha 0)", &o->model.param.alpha) ? 2 : 0;
+    case OPT_TOL: o->set |= Q2N_SET_TOL; return parse_real(arg, "--tol", Q2N_TOL_MIN, 0, Q2N_TOL_MAX, "", &o->fit.tol) ? 2 : 0;
+    case OPT_TOLABS:
+        o->set |= Q2N_SET_TOL;
+        return parse_real(arg, "--tol-abs", 0, 1, 1e300, " (model units)", &o->fit.tol_abs) ? 2 : 0;
+    case OPT_ANGLE:
+        o->set |= Q2N_SET_ANGLE_TOL;
+        return parse_real(arg, "--angle-tol", 0, 1, 90, " (degrees)", &o->fit.g1_tol_deg) ? 2 : 0;
+    case OPT_CURV:
+        o->set |= Q2N_SET_CURVATURE_TOL;
+        return parse_real(arg, "--curvature-tol", 0, 1, 10, " (relative)", &o->fit.g2_tol_rel) ? 2 : 0;
+    case OPT_SCALE: return parse_real(arg, "--scale", 1e-12, 0, 1e12, "", &o->model.scale) ? 2 : 0;
+    case OPT_MAXMEM: return parse_size(arg, &o->max_memory) ? 2 : 0;
+    case OPT_EVPATCH: {
+        q2n_ev_patch_kind k;
+        o->set |= Q2N_SET_EVPATCH;
+        if (q2n_ev_patch_parse(arg, &k)) { say("--ev-patch: expected g1 or g2, got '%s'", arg); return 2; }
+        o->model.ev_patch = (int)k;
+        return 0;
+    }
+    case OPT_SOLVER:
+        o->set |= Q2N_SET_SOLVER;
+        if (strcmp(arg, "ceres") == 0) o->fit.solver = Q2N_FIT_SOLVER_CERES;
+        else if (strcmp(arg, "direct") == 0) o->fit.solver = Q2N_FIT_SOLVER_DIRECT;
+        else { say("--solver: expected ceres or direct, got '%s'", arg); return 2; }
+        return 0;
+    case OPT_CONT:
+        o->set |= Q2N_SET_CONTINUITY;
+        if (strcmp(arg, "g1") == 0) o->fit.continuity = 1;
+        else if (strcmp(arg, "g2") == 0) o->fit.continuity = 2;
+        else { say("--continuity: expected g1 or g2, got '%s'", arg); return 2; }
+        return 0;
+    case OPT_UNITS:
+        o->set |= Q2N_SET_UNITS;
+        if (q2n_units_parse(arg, &o->xopt.units)) { say("--units: expected mm, cm, m, in or ft, got '%s'", arg); return 2; }
+        return 0;
+    case OPT_SURFACE:
+        if (strcmp(arg, "augmented") == 0) o->model.method = Q2N_SURFACE_AUGMENTED;
+        else if (strcmp(arg, "acc3") == 0) o->model.method = Q2N_SURFACE_ACC3;
+        else if (strcmp(arg, "acc-g1") == 0) o->model.method = Q2N_SURFACE_ACC_G1;
+        else { say("--surface: expected augmented, acc3 or acc-g1, got '%s'", arg); return 2; }
+        return 0;
+    case OPT_STRAT: {
+        q2n_error e;
+        o->set |= Q2N_SET_STRATEGY;
+        if (q2n_acc_parse_strategy(arg, &o->model.acc_strategy, &e)) { say("--acc-strategy: %s", e.message); return 2; }
+        return 0;
+    }
+    case OPT_PROGRESS: o->progress = 1; return 0;
+    case 'q': o->quiet = 1; return 0;
+    case 'h': usage(stdout); return -1;
+    case 'V': printf(PROG " %s\n", Q2N_VERSION_STRING); return -1;
+    default: return usage_error(); /* getopt printed what was wrong */
+    }
 }
 
 static int parse_args(int argc, char **argv, cli_options *o)
 {
-    enum { OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT,
-           OPT_TOL, OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING };
-    static const struct option longopts[] = {
-        {"output", required_argument, 0, 'o'},   {"tess", required_argument, 0, OPT_TESS},
-        {"grid", required_argument, 0, OPT_GRID}, {"class", required_argument, 0, OPT_CLASS},
-        {"param", required_argument, 0, OPT_PARAM}, {"alpha", required_argument, 0, OPT_ALPHA},
-        {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
-        {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
-        {"tol", required_argument, 0, OPT_TOL},  {"threads", required_argument, 0, OPT_THREADS},
-        {"max-spans", required_argument, 0, OPT_MAXSPANS}, {"gluing", required_argument, 0, OPT_GLUING},
-        {"units", required_argument, 0, OPT_UNITS}, {"ev-patch", required_argument, 0, OPT_EVPATCH},
-        {"ev-construction", required_argument, 0, OPT_EVMETHOD},
-        {"solver", required_argument, 0, OPT_SOLVER}, {"continuity", required_argument, 0, OPT_CONT},
-        {"help", no_argument, 0, 'h'},           {"version", no_argument, 0, 'V'},
-        {0, 0, 0, 0}};
     int c;
     if (argc > 1 && strcmp(argv[1], "sample") == 0) {
         o->sample = 1;
         argv[1] = argv[0];
         argv++, argc--;
     }
-    while ((c = getopt_long(argc, argv, "o:qhV", longopts, NULL)) != -1) {
-        switch (c) {
-        case 'o':
-            if (o->noutputs == MAX_OUTPUTS) {
-                fprintf(stderr, "quad2nurbs: at most %d outputs\n", MAX_OUTPUTS);
-                return 2;
-            }
-            o->outputs[o->noutputs++] = optarg;
-            break;
-        case OPT_TESS: if (parse_int(optarg, "--tess", 2, 10000, &o->tess)) return 2; break;
-        case OPT_GRID: if (parse_int(optarg, "--grid", 1, 10000, &o->grid)) return 2; break;
-        case OPT_SUBDIV: if (parse_int(optarg, "--subdivide", 0, 6, &o->model.subdivide)) return 2; break;
-        case OPT_THREADS:
-            if (parse_int(optarg, "--threads", 1, 256, &o->fit.threads)) return 2;
-            o->model.threads = o->fit.threads;
-            break;
-        case OPT_MAXSPANS: if (parse_int(optarg, "--max-spans", 1, 1024, &o->fit.max_spans)) return 2; break;
-        case OPT_GLUING:
-            if (strcmp(optarg, "exact") == 0) o->fit.no_exact = 0;
-            else if (strcmp(optarg, "least-squares") == 0) o->fit.no_exact = 1;
-            else {
-                fprintf(stderr, "quad2nurbs: --gluing: expected exact or least-squares, got '%s'\n", optarg);
-                return 2;
-            }
-            break;
-        case OPT_CLASS:
-            if (!(o->model.cls = q2n_spline_class_find(optarg))) {
-                fprintf(stderr, "quad2nurbs: --class: unknown class '%s' (known:", optarg);
-                for (const q2n_spline_class *const *k = q2n_spline_classes(); *k; k++)
-                    fprintf(stderr, " %s", (*k)->name);
-                fputs(")\n", stderr);
-                return 2;
-            }
-            break;
-        case OPT_PARAM:
-            if (q2n_param_method_parse(optarg, &o->model.param.method)) {
-                fprintf(stderr, "quad2nurbs: --param: expected centripetal, chordal, uniform or mean, got '%s'\n",
-                        optarg);
-                return 2;
-            }
-            break;
-        case OPT_ALPHA: {
-            char *end;
-            double a = strtod(optarg, &end);
-            if (*end || end == optarg || !(a > 0 && a <= 2)) {
-                fprintf(stderr, "quad2nurbs: --alpha: expected a number in (0, 2] (use --param uniform for "
-                                "alpha 0), got '%s'\n", optarg);
-                return 2;
-            }
-            o->model.param.alpha = a;
-            break;
-        }
-        case OPT_TOL: {
-            char *end;
-            double t = strtod(optarg, &end);
-            if (*end || end == optarg || !(t >= 1e-12 && t <= 0.1)) {
-                fprintf(stderr, "quad2nurbs: --tol: expected a number in [1e-12, 0.1], got '%s'\n", optarg);
-                return 2;
-            }
-            o->fit.tol = t;
-            break;
-        }
-        case OPT_EVPATCH: {
-            q2n_ev_patch_kind k;
-            if (q2n_ev_patch_parse(optarg, &k)) {
-                fprintf(stderr, "quad2nurbs: --ev-patch: expected g1 or g2, got '%s'\n", optarg);
-                return 2;
-            }
-            o->model.ev_patch = (int)k;
-            break;
-        }
-        case OPT_EVMETHOD: {
-            q2n_ev_method k;
-            if (q2n_ev_method_parse(optarg, &k)) {
-                fprintf(stderr, "quad2nurbs: --ev-construction: expected fair or paper, got '%s'\n", optarg);
-                return 2;
-            }
-            o->model.ev_method = (int)k;
-            break;
-        }
-        case OPT_SOLVER:
-            if (strcmp(optarg, "ceres") == 0) o->fit.solver = Q2N_FIT_SOLVER_CERES;
-            else if (strcmp(optarg, "direct") == 0) o->fit.solver = Q2N_FIT_SOLVER_DIRECT;
-            else {
-                fprintf(stderr, "quad2nurbs: --solver: expected ceres or direct, got '%s'\n", optarg);
-                return 2;
-            }
-            break;
-        case OPT_CONT:
-            if (strcmp(optarg, "g1") == 0) o->fit.continuity = 1;
-            else if (strcmp(optarg, "g2") == 0) o->fit.continuity = 2;
-            else {
-                fprintf(stderr, "quad2nurbs: --continuity: expected g1 or g2, got '%s'\n", optarg);
-                return 2;
-            }
-            break;
-        case OPT_UNITS:
-            if (strcmp(optarg, "mm") == 0) o->xopt.units = Q2N_UNITS_MM;
-            else if (strcmp(optarg, "in") == 0) o->xopt.units = Q2N_UNITS_IN;
-            else {
-                fprintf(stderr, "quad2nurbs: --units: expected mm or in, got '%s'\n", optarg);
-                return 2;
-            }
-            break;
-        case OPT_SURFACE:
-            if (strcmp(optarg, "augmented") == 0) o->model.method = Q2N_SURFACE_AUGMENTED;
-            else if (strcmp(optarg, "acc3") == 0) o->model.method = Q2N_SURFACE_ACC3;
-            else if (strcmp(optarg, "acc-g1") == 0) o->model.method = Q2N_SURFACE_ACC_G1;
-            else {
-                fprintf(stderr, "quad2nurbs: --surface: expected augmented, acc3 or acc-g1, got '%s'\n", optarg);
-                return 2;
-            }
-            break;
-        case OPT_STRAT: {
-            q2n_error e;
-            if (q2n_acc_parse_strategy(optarg, &o->model.acc_strategy, &e)) {
-                fprintf(stderr, "quad2nurbs: --acc-strategy: %s\n", e.message);
-                return 2;
-            }
-            break;
-        }
-        case 'q': o->quiet = 1; break;
-        case 'h': usage(stdout); return -1;
-        case 'V': printf("quad2nurbs %s\n", Q2N_VERSION_STRING); return -1;
-        default: usage(stderr); return 2;
-        }
+    argv[0] = (char *)PROG; /* getopt's messages name the program, not its path */
+    while ((c = getopt_long(argc, argv, "o:qhV", LONGOPTS, NULL)) != -1) {
+        int rc = parse_option(c, optarg, o);
+        if (rc) return rc;
     }
     if (optind != argc - 1) {
-        fprintf(stderr, "quad2nurbs: expected exactly one input mesh (try --help)\n");
-        return 2;
+        say(optind == argc ? "no input mesh given" : "expected exactly one input mesh, got %d", argc - optind);
+        return usage_error();
     }
     o->input = argv[optind];
     if (!o->sample && o->noutputs == 0) {
-        fprintf(stderr, "quad2nurbs: no output given (-o FILE.obj|.step|.igs|.json), or use `quad2nurbs sample`\n");
-        return 2;
+        say("no output given (-o FILE.obj|.step|.igs|.json), or use `quad2nurbs sample`");
+        return usage_error();
     }
-    for (int i = 0; i < o->noutputs; i++) {
-        int needs_fit;
-        if (!q2n_model_output_kind(o->outputs[i], &needs_fit)) {
-            fprintf(stderr,
-                    "quad2nurbs: %s: unsupported output format '%s' (supported: .obj .step .stp .igs .iges .json)\n",
-                    o->outputs[i], extension(o->outputs[i]));
-            return 2;
+    if (o->fit.tol > 0 && o->fit.tol_abs > 0) {
+        say("--tol and --tol-abs are alternatives: give one");
+        return usage_error();
+    }
+    for (int i = 0; i < o->noutputs; i++)
+        if (o->sample && !strcmp(o->outputs[i], "-")) {
+            say("-o - and `sample` would both write to standard output");
+            return usage_error();
         }
-    }
     return 0;
 }
 
-static int exit_code(q2n_status st)
+/* Exit code of a library status: input problems are the user's (2), the rest is 1. */
+static int input_exit(q2n_status st) { return st == Q2N_ERR_NOMEM || st == Q2N_ERR_IO ? (st == Q2N_ERR_IO ? 2 : 1) : 2; }
+
+/* "0.13 µm" in the model's unit (SI prefixes for metric units); ASCII without UTF-8. */
+static void fmt_length(double v, q2n_units u, int utf8, char *out, size_t n)
 {
-    switch (st) {
-    case Q2N_OK: return 0;
-    case Q2N_ERR_NOMEM: return 1;
-    default: return 2;
+    double mm = q2n_units_in_mm(u);
+    if (u == Q2N_UNITS_IN || u == Q2N_UNITS_FT) { snprintf(out, n, "%.2g %s", v, q2n_units_name(u)); return; }
+    double m = v * mm / 1000.0;
+    static const struct { double f; const char *s, *a; } P[] = {
+        {1, "m", "m"}, {1e-3, "mm", "mm"}, {1e-6, "\xc2\xb5m", "um"}, {1e-9, "nm", "nm"}};
+    int i = 0;
+    while (i < 3 && fabs(m) < P[i].f) i++;
+    snprintf(out, n, "%.2g %s", m / P[i].f, utf8 ? P[i].s : P[i].a);
+}
+
+static void summary(const cli_options *o, const q2n_model *m, int fit, int utf8)
+{
+    char line[1024];
+    int n = snprintf(line, sizeof line, "%s: %d faces, %d patches, read %.3f s, build %.3f s", o->input, m->mesh->nf,
+                     m->mesh->nf - m->uncovered, m->t_read, m->t_build);
+    if (fit) {
+        char abs[48];
+        const q2n_fit_report *r = &m->fit;
+        fmt_length(r->max_dev_rel * r->diag, o->xopt.units, utf8, abs, sizeof abs);
+        n += snprintf(line + n, sizeof line - (size_t)n, ", fit %.3f s (max dev %.2g %s diag = %s, G1 %.2g%s", m->t_fit,
+                      r->max_dev_rel, utf8 ? "\xc3\x97" : "x", abs, r->g1_max_deg, utf8 ? "\xc2\xb0" : " deg");
+        if (r->continuity == 2) n += snprintf(line + n, sizeof line - (size_t)n, ", G2 %.2g %%", 100 * r->g2_max_rel);
+        n += snprintf(line + n, sizeof line - (size_t)n, ", control points per face %d/%d/%d min/median/max",
+                      r->cp_min, r->cp_median, r->cp_max);
+        if (r->step_bytes)
+            n += snprintf(line + n, sizeof line - (size_t)n, ", STEP %.1f KB/face", r->step_bytes / 1024.0 / m->mesh->nf);
+        if (r->iges_bytes)
+            n += snprintf(line + n, sizeof line - (size_t)n, ", IGES %.1f KB/face", r->iges_bytes / 1024.0 / m->mesh->nf);
+        n += snprintf(line + n, sizeof line - (size_t)n, ")");
     }
+    snprintf(line + n, sizeof line - (size_t)n, ", write %.3f s", m->t_write);
+    fprintf(stderr, PROG ": ");
+    /* the input name is escaped; the rest is ours (UTF-8 symbols only in a UTF-8 locale) */
+    char name[1024];
+    q2n_escape(name, sizeof name, o->input);
+    fprintf(stderr, "%s%s\n", name, line + strlen(o->input));
+}
+
+typedef struct run_state {
+    cli_options *o;
+    cli_progress prog;
+    q2n_output_set outs;
+    q2n_model *m;
+    int utf8;
+} run_state;
+
+/* Remove the outputs' temporaries; signals are held off meanwhile, so that the handler never
+ * sees a name that is being freed. */
+static void discard_outputs(run_state *s)
+{
+    sigset_t old;
+    cli_signals_block(&old);
+    q2n_outputs_abort(&s->outs);
+    cli_signals_register(NULL);
+    cli_signals_unblock(&old);
+}
+
+/* Print an error (after clearing the progress line), clean up, return the exit code. */
+static int fail(run_state *s, int code, const char *msg)
+{
+    cli_progress_clear(&s->prog);
+    say("%s", msg);
+    discard_outputs(s);
+    q2n_model_free(s->m);
+    return code;
+}
+
+static void warning(run_state *s, const char *msg)
+{
+    if (s->o->quiet) return;
+    cli_progress_clear(&s->prog);
+    say("warning: %s", msg);
+}
+
+static int run(run_state *s)
+{
+    cli_options *o = s->o;
+    q2n_error err = {Q2N_OK, ""};
+    q2n_status st;
+    char msg[1200];
+    if ((st = q2n_export_date_from_env(&o->xopt, &err))) return fail(s, 2, err.message);
+    /* outputs first: a wrong name or an unwritable place shows before any work; the temporaries
+     * are registered for the signal handler before a signal can come in */
+    sigset_t old;
+    cli_signals_block(&old);
+    st = q2n_outputs_open(&s->outs, o->noutputs, o->outputs, o->format, o->input, &err);
+    if (!st) cli_signals_register(&s->outs);
+    cli_signals_unblock(&old);
+    if (st) return fail(s, st == Q2N_ERR_ARG ? 2 : 1, err.message);
+    o->model.progress = (q2n_progress_sink){cli_progress_report, &s->prog, q2n_progress_clock()};
+    if ((st = q2n_model_read(o->input, &o->model, &s->m, &err))) return fail(s, input_exit(st), err.message);
+    q2n_model *m = s->m;
+    if (m->read_info.tags) {
+        snprintf(msg, sizeof msg, "%s:%ld: %ld OpenSubdiv tag line%s ignored (%s): sharp features are not supported yet",
+                 o->input, m->read_info.tag_line, m->read_info.tags, m->read_info.tags == 1 ? "" : "s",
+                 m->read_info.tag_names[0] ? m->read_info.tag_names : "t");
+        warning(s, msg);
+    }
+    q2n_plan plan = {0};
+    plan.sample = o->sample;
+    plan.tess = o->tess;
+    plan.grid = o->grid;
+    plan.continuity = o->fit.continuity;
+    plan.nout = s->outs.n;
+    plan.out = s->outs.out;
+    for (int i = 0; i < s->outs.n; i++) {
+        plan.fit |= q2n_format_needs_fit(s->outs.out[i].format);
+        plan.obj |= s->outs.out[i].format == Q2N_FORMAT_OBJ;
+    }
+    char warn[16][160];
+    int nw = q2n_options_warnings(&o->model, &o->fit, o->set, &plan, warn, 16);
+    for (int i = 0; i < nw; i++) warning(s, warn[i]);
+    if ((st = q2n_model_check_resources(m, &plan, o->max_memory, &err)))
+        return fail(s, st == Q2N_ERR_ARG ? 2 : 1, err.message);
+    if ((st = q2n_model_construct(m, &err))) return fail(s, input_exit(st), err.message);
+    if (m->note[0] && !o->quiet) { /* what the ACC path did (information, not a warning) */
+        cli_progress_clear(&s->prog);
+        say("%s", m->note);
+    }
+    if (m->uncovered) {
+        snprintf(msg, sizeof msg, "%d of %d faces are in extraordinary regions that the regular construction does not "
+                 "cover; they are left out of the output", m->uncovered, m->mesh->nf);
+        warning(s, msg);
+    }
+    if ((st = q2n_model_resolve_tol(m, &o->fit, &err))) return fail(s, 2, err.message);
+    if (plan.fit && (st = q2n_model_fit(m, &o->fit, &err))) {
+        snprintf(msg, sizeof msg, "%s: %s", o->input, err.message);
+        return fail(s, st == Q2N_ERR_GEOMETRY || st == Q2N_ERR_NOMEM ? 1 : 2, msg);
+    }
+    if (plan.fit && (!m->fit.g1_met || !m->fit.g2_met)) {
+        snprintf(msg, sizeof msg, "continuity target not met: %s (max G1 %.3g deg, G2 %.3g)",
+                 m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
+        warning(s, msg);
+    }
+    if (o->sample && (st = q2n_model_write_samples(m, o->grid, stdout, &err))) {
+        if (errno == EPIPE) { /* `sample ... | head`: the reader has enough; end quietly, as filters do */
+            discard_outputs(s);
+            signal(SIGPIPE, SIG_DFL);
+            raise(SIGPIPE);
+        }
+        return fail(s, 1, err.message);
+    }
+    /* CAD files first, so the report written after them gives their sizes */
+    for (int pass = 0; pass < 2; pass++)
+        for (int i = 0; i < s->outs.n; i++)
+            if ((s->outs.out[i].format == Q2N_FORMAT_JSON) == pass &&
+                (st = q2n_model_write_output(m, &s->outs.out[i], o->tess, &o->xopt, &err)))
+                return fail(s, 1, err.message);
+    cli_signals_block(&old); /* the temporaries' names stay valid for the handler until they are gone */
+    st = q2n_outputs_commit(&s->outs, &err);
+    cli_signals_register(NULL);
+    cli_signals_unblock(&old);
+    if (st) return fail(s, 1, err.message);
+    if (o->sample && fflush(stdout) != 0) return fail(s, 1, "standard output: write failed");
+    cli_progress_clear(&s->prog);
+    if (!o->quiet && !o->sample) summary(o, m, plan.fit, s->utf8);
+    q2n_model_free(m);
+    s->m = NULL;
+    return 0;
 }
 
 int main(int argc, char **argv)
@@ -278,62 +513,20 @@ int main(int argc, char **argv)
     o.model.param.method = Q2N_PARAM_CENTRIPETAL;
     o.model.param.alpha = NAN;
     q2n_fit_options_default(&o.fit);
-    o.fit.continuity = 0; /* follow the construction */
+    o.fit.continuity = 0;    /* follow the construction */
+    o.fit.tol = 0;           /* the default unless --tol or --tol-abs */
+    o.fit.g1_tol_deg = o.fit.g2_tol_rel = 0;
     int rc = parse_args(argc, argv, &o);
     if (rc) return rc < 0 ? 0 : rc;
-
-    q2n_model *m = NULL;
-    q2n_error err = {Q2N_OK, ""};
-    q2n_status st = q2n_model_build(o.input, &o.model, &m, &err);
-    if (st) {
-        fprintf(stderr, "quad2nurbs: %s\n", err.message);
-        return exit_code(st);
-    }
-    if (m->note[0] && !o.quiet) fprintf(stderr, "quad2nurbs: %s\n", m->note);
-    if (m->uncovered && !o.quiet)
-        fprintf(stderr,
-                "quad2nurbs: warning: %d of %d faces are in extraordinary regions that the regular "
-                "construction does not cover; they are left out of the output\n",
-                m->uncovered, m->mesh->nf);
-    int fit = 0;
-    for (int i = 0; i < o.noutputs; i++) {
-        int needs_fit;
-        q2n_model_output_kind(o.outputs[i], &needs_fit);
-        fit |= needs_fit;
-    }
-    if (fit && (st = q2n_model_fit(m, &o.fit, &err))) {
-        fprintf(stderr, "quad2nurbs: %s: fit: %s\n", o.input, err.message);
-        q2n_model_free(m);
-        return st == Q2N_ERR_GEOMETRY ? 1 : exit_code(st);
-    }
-    if (fit && (!m->fit.g1_met || !m->fit.g2_met) && !o.quiet)
-        fprintf(stderr, "quad2nurbs: warning: continuity target not met: %s (max G1 %.3g deg, G2 %.3g)\n",
-                m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
-    if (o.sample) st = q2n_model_write_samples(m, o.grid, stdout, &err);
-    /* CAD files first, so the report written after them gives their sizes */
-    for (int pass = 0; pass < 2; pass++)
-        for (int i = 0; !st && i < o.noutputs; i++) {
-            const char *x = extension(o.outputs[i]);
-            if ((strcasecmp(x, ".json") == 0) == pass) st = q2n_model_write(m, o.outputs[i], o.tess, &o.xopt, &err);
-        }
-    if (st) {
-        fprintf(stderr, "quad2nurbs: %s\n", err.message);
-        q2n_model_free(m);
-        return exit_code(st);
-    }
-    if (!o.quiet && !o.sample) {
-        fprintf(stderr, "quad2nurbs: %s: %d faces, %d patches, read %.3f s, build %.3f s", o.input, m->mesh->nf,
-                m->mesh->nf - m->uncovered, m->t_read, m->t_build);
-        if (fit) {
-            fprintf(stderr, ", fit %.3f s (max dev %.2e, G1 %.2e deg, G2 %.2e, control points per face %d/%d/%d "
-                    "min/median/max", m->t_fit, m->fit.max_dev_rel, m->fit.g1_max_deg, m->fit.g2_max_rel, m->fit.cp_min,
-                    m->fit.cp_median, m->fit.cp_max);
-            if (m->fit.step_bytes) fprintf(stderr, ", STEP %.1f KB/face", m->fit.step_bytes / 1024.0 / m->mesh->nf);
-            if (m->fit.iges_bytes) fprintf(stderr, ", IGES %.1f KB/face", m->fit.iges_bytes / 1024.0 / m->mesh->nf);
-            fputc(')', stderr);
-        }
-        fprintf(stderr, ", write %.3f s\n", m->t_write);
-    }
-    q2n_model_free(m);
-    return 0;
+    /* UTF-8 symbols (°, ×, µ) in the summary only where the terminal's locale is UTF-8 */
+    int utf8 = 0;
+    if (setlocale(LC_CTYPE, "")) utf8 = strcmp(nl_langinfo(CODESET), "UTF-8") == 0;
+    setlocale(LC_CTYPE, "C");
+    run_state s;
+    memset(&s, 0, sizeof s);
+    s.o = &o;
+    s.utf8 = utf8;
+    cli_progress_init(&s.prog, o.quiet, o.progress, utf8);
+    cli_signals_install();
+    return run(&s);
 }

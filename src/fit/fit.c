@@ -30,8 +30,8 @@ void q2n_fit_options_default(q2n_fit_options *o)
     o->solver = Q2N_FIT_SOLVER_CERES;
     o->max_spans = Q2N_FIT_MAX_SPANS_DEFAULT;
     o->max_rounds = Q2N_FIT_MAX_ROUNDS_DEFAULT;
-    o->g1_target_deg = Q2N_FIT_G1_TARGET_DEFAULT;
-    o->g2_target_rel = Q2N_FIT_G2_TARGET_DEFAULT;
+    o->g1_tol_deg = Q2N_FIT_G1_TARGET_DEFAULT;
+    o->g2_tol_rel = Q2N_FIT_G2_TARGET_DEFAULT;
     o->g1_weight = Q2N_FIT_G1_WEIGHT_DEFAULT;
 }
 
@@ -43,10 +43,11 @@ static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
     if (o->tol <= 0) o->tol = d.tol;
     if (o->continuity != 2) o->continuity = 1;
     if (o->threads <= 0) o->threads = d.threads;
+    if (o->threads > Q2N_FIT_MAX_THREADS) o->threads = Q2N_FIT_MAX_THREADS;
     if (o->max_spans <= 0) o->max_spans = d.max_spans;
     if (o->max_rounds <= 0) o->max_rounds = d.max_rounds;
-    if (o->g1_target_deg <= 0) o->g1_target_deg = d.g1_target_deg;
-    if (o->g2_target_rel <= 0) o->g2_target_rel = d.g2_target_rel;
+    if (o->g1_tol_deg <= 0) o->g1_tol_deg = d.g1_tol_deg;
+    if (o->g2_tol_rel <= 0) o->g2_tol_rel = d.g2_tol_rel;
     if (o->g1_weight <= 0) o->g1_weight = d.g1_weight;
 }
 
@@ -207,6 +208,9 @@ static q2n_status measure_round(fit_ctx *c)
     long *ev = calloc((size_t)m->nf + 1, sizeof *ev);
     if (!st || !ev) { free(st); free(ev); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory"); }
     double t0 = q2n_now();
+    char what[64];
+    snprintf(what, sizeof what, "round %d: measuring", c->round + 1);
+    q2n_progress_emit(c->o.progress, "fit", what, 0, 0);
     meas_arg arg = {c, st, ev};
     q2n_fit_par_for(m->nf, c->o.threads, measure_patch, &arg);
     q2n_fit_par_for(m->ne, c->o.threads, measure_edge, &arg);
@@ -413,6 +417,7 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     c.s = s; c.m = m; c.err = err; c.rep = &rep;
     fill_defaults(&c.o, opt);
     c.diag = q2n_mesh_bbox_diag(m);
+    if (c.o.tol_abs > 0 && c.diag > 0) c.o.tol = c.o.tol_abs / c.diag;
     q2n_fit_ls_init(&c.ls);
     double t0 = q2n_now();
     q2n_status st = nbez == m->nf ? q2n_fit_convert_bezier(s, m, &c.o, out, &rep, err) : fit_all(&c, out);
@@ -422,8 +427,10 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     for (int e = 0; e < m->ne; e++) rep.interior_edges += m->he_twin[m->edge_he[e]] >= 0;
     rep.continuity = c.o.continuity;
     rep.tol = c.o.tol;
-    rep.g1_target_deg = c.o.g1_target_deg;
-    rep.g2_target_rel = c.o.g2_target_rel;
+    rep.diag = c.diag;
+    rep.tol_abs = c.o.tol * c.diag;
+    rep.g1_tol_deg = c.o.g1_tol_deg;
+    rep.g2_tol_rel = c.o.g2_tol_rel;
     rep.solver = c.o.solver;
     rep.threads = c.o.threads;
     if (rep_out) *rep_out = rep;

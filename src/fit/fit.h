@@ -9,7 +9,10 @@
 #ifndef Q2N_FIT_FIT_H
 #define Q2N_FIT_FIT_H
 
+#include <stdio.h>
+
 #include "core/error.h"
+#include "core/progress.h"
 #include "fit/bspline.h"
 #include "mesh/mesh.h"
 #include "patch/surface.h"
@@ -28,11 +31,19 @@ typedef struct q2n_fit_options {
     int solver;            /* q2n_fit_solver [Q2N_FIT_SOLVER_CERES] */
     int max_spans;         /* cap on knot spans per patch direction [64] (--max-spans) */
     int max_rounds;        /* refinement rounds [12] */
-    double g1_target_deg;  /* acceptance: normal-angle jump across edges [0.01 degrees]; refinement aims at half */
-    double g2_target_rel;  /* acceptance: relative normal-curvature jump, G2 mode [0.01]; refinement aims at half */
+    double g1_tol_deg;     /* G1 acceptance: normal-angle jump across edges [0.01 degrees];
+                              refinement aims at half of it */
+    double g2_tol_rel;     /* G2 acceptance: relative normal-curvature jump, G2 mode [0.01];
+                              refinement aims at half of it */
     double g1_weight;      /* weight of least-squares gluing rows against sample fidelity [100] */
     int no_exact;          /* 1: impose every gluing relation by least squares (no equality constraints) [0] */
+    double tol_abs;        /* > 0: deviation tolerance in model units, replaces tol (tol = tol_abs /
+                              bounding-box diagonal) */
+    const q2n_progress_sink *progress; /* NULL: no reports ("fit": one per round and stage) */
 } q2n_fit_options;
+
+/* Threads beyond this are not started (the fit's parallel loops deal items to at most this many). */
+#define Q2N_FIT_MAX_THREADS 64
 
 /* What q2n_fit_surface measured (all relative values are divided by the bounding-box diagonal,
  * except g2_max_rel which is relative to the local curvature; see docs/fit.md). */
@@ -41,7 +52,8 @@ typedef struct q2n_fit_report {
     int exact;                 /* 1: all patches were Bézier and converted exactly */
     int continuity;            /* 1 or 2 */
     double tol;                /* requested relative tolerance */
-    double g1_target_deg, g2_target_rel;      /* acceptance targets used */
+    double tol_abs, diag;      /* the same in model units, and the bounding-box diagonal */
+    double g1_tol_deg, g2_tol_rel; /* the continuity acceptance targets used */
     int tol_met;               /* dev_met && g1_met && g2_met */
     int dev_met;               /* max_dev_rel <= tol (else q2n_fit_surface fails) */
     int g1_met, g2_met;        /* continuity targets held on every edge where the construction
@@ -63,7 +75,7 @@ typedef struct q2n_fit_report {
     double g1_construction_deg, g2_construction_rel;  /* the same on the construction itself */
     double t_sample, t_build, t_solve, t_measure, t_total;  /* seconds per stage */
     long step_bytes, iges_bytes;   /* sizes of the CAD files written from this fit (0: none; set by the writer's caller) */
-    int solver, threads;
+    int solver, threads;        /* threads: the number used */
 } q2n_fit_report;
 
 void q2n_fit_options_default(q2n_fit_options *o);
@@ -84,7 +96,9 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
 q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, int threads,
                            q2n_fit_report *rep, q2n_error *err);
 
-/* Write the report as JSON (atomic: temp file + rename). */
+/* Write the report as JSON (atomic: temp file + rename), or into an open stream; units names the
+ * model's length unit in the report ("mm", ...; NULL: left out). */
 q2n_status q2n_fit_report_write_json(const q2n_fit_report *rep, const char *path, q2n_error *err);
+void q2n_fit_report_write_json_file(const q2n_fit_report *rep, const char *units, FILE *f);
 
 #endif

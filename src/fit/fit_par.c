@@ -5,7 +5,6 @@
 
 #include <pthread.h>
 
-#define Q2N_FIT_MAX_THREADS 64
 
 typedef struct par_job {
     void (*fn)(void *, int);

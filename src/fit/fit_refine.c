@@ -122,7 +122,7 @@ int q2n_fit_refine(fit_ctx *c)
         fit_edge *E = &c->e[e];
         if (!E->nchk) continue;
         int lsg1 = E->glue == FIT_GLUE_LS, lsg2 = c->o.continuity == 2 && E->glue2 == FIT_GLUE_LS;
-        double aim1 = Q2N_FIT_REFINE_AIM * c->o.g1_target_deg, aim2 = Q2N_FIT_REFINE_AIM * c->o.g2_target_rel;
+        double aim1 = Q2N_FIT_REFINE_AIM * c->o.g1_tol_deg, aim2 = Q2N_FIT_REFINE_AIM * c->o.g2_tol_rel;
         int c1 = lsg1 && E->g1c <= aim1 && !(E->stalled & 1), c2 = lsg2 && E->g2c <= aim2 && !(E->stalled & 2);
         /* stalling is judged only in the asymptotic range (a coarse edge's jumps may not fall
          * until its rows resolve the construction) */
@@ -203,15 +203,15 @@ void q2n_fit_accept(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
     q2n_fit_report *rep = c->rep;
-    double aim1 = Q2N_FIT_REFINE_AIM * c->o.g1_target_deg, aim2 = Q2N_FIT_REFINE_AIM * c->o.g2_target_rel;
+    double aim1 = Q2N_FIT_REFINE_AIM * c->o.g1_tol_deg, aim2 = Q2N_FIT_REFINE_AIM * c->o.g2_tol_rel;
     int worst_f = -1, worst_e1 = -1, worst_e2 = -1;
     for (int k = 0; k < m->nf; k++)
         if (c->p[k].dev > c->o.tol && (worst_f < 0 || c->p[k].dev > c->p[worst_f].dev)) worst_f = k;
     for (int e = 0; e < m->ne; e++) {
         const fit_edge *E = &c->e[e];
         if (E->glue == FIT_GLUE_BOUNDARY) continue;
-        if (E->g1 > c->o.g1_target_deg && E->g1c <= aim1 && (worst_e1 < 0 || E->g1 > c->e[worst_e1].g1)) worst_e1 = e;
-        if (c->o.continuity == 2 && E->g2 > c->o.g2_target_rel && E->g2c <= aim2 &&
+        if (E->g1 > c->o.g1_tol_deg && E->g1c <= aim1 && (worst_e1 < 0 || E->g1 > c->e[worst_e1].g1)) worst_e1 = e;
+        if (c->o.continuity == 2 && E->g2 > c->o.g2_tol_rel && E->g2c <= aim2 &&
             (worst_e2 < 0 || E->g2 > c->e[worst_e2].g2))
             worst_e2 = e;
     }
@@ -226,7 +226,7 @@ void q2n_fit_accept(fit_ctx *c)
         snprintf(rep->note, sizeof rep->note,
                  "edge %d (faces %d, %d): normal jump %.3g deg, curvature jump %.3g (targets %.3g deg, %.3g; "
                  "the construction's own: %.3g deg, %.3g) not reached", e, m->he_face[m->edge_he[e]],
-                 m->he_face[m->he_twin[m->edge_he[e]]], E->g1, E->g2, c->o.g1_target_deg, c->o.g2_target_rel, E->g1c,
+                 m->he_face[m->he_twin[m->edge_he[e]]], E->g1, E->g2, c->o.g1_tol_deg, c->o.g2_tol_rel, E->g1c,
                  E->g2c);
     }
 }

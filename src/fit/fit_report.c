@@ -1,22 +1,20 @@
 /* fit_report.c — the fit report as JSON (docs/fit.md lists every key). */
 #include "fit/fit.h"
+#include "core/outfile.h"
 
 #include <stdio.h>
 
-q2n_status q2n_fit_report_write_json(const q2n_fit_report *r, const char *path, q2n_error *err)
+void q2n_fit_report_write_json_file(const q2n_fit_report *r, const char *units, FILE *f)
 {
-    char tmp[4096];
-    if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
-        return q2n_error_set(err, Q2N_ERR_ARG, "%s: path too long", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) return q2n_error_set(err, Q2N_ERR_IO, "%s: cannot open for writing", tmp);
     static const char *solvers[] = {"ceres_dense_qr_per_block", "ceres_sparse_normal_cholesky", "lapack_qr_per_block"};
     fprintf(f, "{\n  \"stage\": \"fit\",\n  \"faces\": %d,\n  \"edges\": %d,\n  \"interior_edges\": %d,\n",
             r->faces, r->edges, r->interior_edges);
     fprintf(f, "  \"mode\": \"%s\",\n  \"continuity\": \"G%d\",\n  \"tol\": %.17g,\n  \"tol_met\": %s,\n",
             r->exact ? "exact_bezier_conversion" : "least_squares_fit", r->continuity, r->tol,
             r->tol_met ? "true" : "false");
-    fprintf(f, "  \"targets\": {\"g1_deg\": %.6g, \"g2_rel\": %.6g},\n", r->g1_target_deg, r->g2_target_rel);
+    if (units) fprintf(f, "  \"units\": \"%s\",\n", units);
+    fprintf(f, "  \"tol_abs\": %.17g,\n  \"bbox_diag\": %.17g,\n  \"g1_tol_deg\": %.6g,\n  \"g2_tol_rel\": %.6g,\n",
+            r->tol_abs, r->diag, r->g1_tol_deg, r->g2_tol_rel);
     fprintf(f, "  \"dev_met\": %s,\n  \"g1_met\": %s,\n  \"g2_met\": %s,\n  \"note\": \"%s\",\n",
             r->dev_met ? "true" : "false", r->g1_met ? "true" : "false", r->g2_met ? "true" : "false", r->note);
     fprintf(f, "  \"degree\": [5, 5],\n  \"rounds\": %d,\n", r->rounds);
@@ -37,7 +35,13 @@ q2n_status q2n_fit_report_write_json(const q2n_fit_report *r, const char *path, 
             solvers[r->solver >= 0 && r->solver <= 2 ? r->solver : 0], r->threads);
     fprintf(f, "  \"timings_s\": {\"sample\": %.6f, \"build\": %.6f, \"solve\": %.6f, \"measure\": %.6f, "
                "\"total\": %.6f}\n}\n", r->t_sample, r->t_build, r->t_solve, r->t_measure, r->t_total);
-    if (fclose(f) != 0) { remove(tmp); return q2n_error_set(err, Q2N_ERR_IO, "%s: write failed", tmp); }
-    if (rename(tmp, path) != 0) { remove(tmp); return q2n_error_set(err, Q2N_ERR_IO, "%s: cannot rename", path); }
-    return Q2N_OK;
+}
+
+q2n_status q2n_fit_report_write_json(const q2n_fit_report *r, const char *path, q2n_error *err)
+{
+    q2n_outfile of;
+    q2n_status st = q2n_outfile_open(&of, path, err);
+    if (st) return st;
+    q2n_fit_report_write_json_file(r, NULL, of.f);
+    return q2n_outfile_commit(&of, err);
 }

@@ -26,6 +26,7 @@
 #include "core/vec3.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -938,6 +939,11 @@ q2n_status q2n_fit_round(fit_ctx *c)
         if (ht >= 0) pdirty[m->he_face[ht]] = 1;
     }
     /* 2. edge curves */
+    char what[80];
+    int ndirty = 0;
+    for (int k = 0; k < nf; k++) ndirty += pdirty[k];
+    snprintf(what, sizeof what, "round %d: %d edge curves, %d patches", c->round + 1, ncurve, ndirty);
+    q2n_progress_emit(c->o.progress, "fit", what, 0, 0);
     if (ncurve && (st = stage_curves(c, elist, ncurve))) goto out;
     /* 3., 4. dirty patches: corners, boundaries, jets, rows of the sides that stay */
     for (int k = 0; k < nf; k++) {
@@ -958,9 +964,15 @@ q2n_status q2n_fit_round(fit_ctx *c)
     /* 5. cross rows of the dirty edges */
     for (int e = 0; e < ne; e++)
         if (edirty[e]) elist[nedge++] = e;
+    snprintf(what, sizeof what, "round %d: G1 rows", c->round + 1);
+    q2n_progress_emit(c->o.progress, "fit", what, 0, 0);
     if ((st = q2n_fit_rows_stage(c, elist, nedge, 1))) goto out;
+    snprintf(what, sizeof what, "round %d: G2 rows", c->round + 1);
+    if (order == 2) q2n_progress_emit(c->o.progress, "fit", what, 0, 0);
     if (order == 2 && (st = q2n_fit_rows_stage(c, elist, nedge, 2))) goto out;
     /* 6. interiors */
+    snprintf(what, sizeof what, "round %d: interiors", c->round + 1);
+    q2n_progress_emit(c->o.progress, "fit", what, 0, 0);
     if ((st = stage_interior(c, plist, npatch))) goto out;
 out:
     free(edirty); free(pdirty); free(elist); free(plist);

@@ -1,5 +1,5 @@
-/* export_common.c — shared by the IGES and STEP writers: text buffer, real formatting, atomic
- * output, model validation and the B-rep topology (see export_internal.h). */
+/* export_common.c — shared by the IGES and STEP writers: text buffer, real formatting, units and
+ * dates, atomic output, model validation and the B-rep topology (see export_internal.h). */
 #include "iges/export_internal.h"
 
 #include <locale.h>
@@ -29,6 +29,11 @@ static int strbuf_reserve(q2n_strbuf *b, size_t extra)
 
 void q2n_strbuf_putn(q2n_strbuf *b, const char *s, size_t n)
 {
+    if (b->fp) {
+        if (n && fwrite(s, 1, n, b->fp) != n) {} /* sticky in ferror(fp): the caller's close reports it */
+        b->len += n;
+        return;
+    }
     if (!strbuf_reserve(b, n)) return;
     memcpy(b->data + b->len, s, n);
     b->len += n;
@@ -42,6 +47,13 @@ void q2n_strbuf_printf(q2n_strbuf *b, const char *fmt, ...)
 {
     char small[256];
     va_list ap;
+    if (b->fp) {
+        va_start(ap, fmt);
+        int n = vfprintf(b->fp, fmt, ap);
+        va_end(ap);
+        if (n > 0) b->len += (size_t)n;
+        return;
+    }
     va_start(ap, fmt);
     int n = vsnprintf(small, sizeof small, fmt, ap);
     va_end(ap);
@@ -99,12 +111,69 @@ void q2n_export_locale_end(q2n_export_locale l)
     freelocale((locale_t)l.c);
 }
 
-/* ---------------------------------------------------------------- files and strings */
+/* ---------------------------------------------------------------- units and dates */
 
-q2n_status q2n_export_write_atomic(const char *path, const char *buf, size_t len, q2n_error *err)
+/* IGES 5.3 §2.2.4.3 (global 14, 15); STEP: ISO 10303-41 si_prefix, or a conversion-based unit
+ * defined in millimetres (AP214 recommended practice for inch and foot). */
+static const struct unit_row {
+    const char *name, *alias1, *alias2;
+    int iges_flag;
+    const char *iges_name;
+    double mm;
+} UNITS[Q2N_UNITS_COUNT] = {
+    [Q2N_UNITS_MM] = {"mm", "millimetre", "millimeter", 2, "MM", 1.0},
+    [Q2N_UNITS_IN] = {"in", "inch", "inches", 1, "INCH", 25.4},
+    [Q2N_UNITS_CM] = {"cm", "centimetre", "centimeter", 10, "CM", 10.0},
+    [Q2N_UNITS_M] = {"m", "metre", "meter", 6, "M", 1000.0},
+    [Q2N_UNITS_FT] = {"ft", "foot", "feet", 4, "FT", 304.8},
+};
+
+int q2n_units_parse(const char *s, q2n_units *u)
 {
-    return q2n_outfile_write_buffer(path, buf, len, err);
+    for (int i = 0; s && i < Q2N_UNITS_COUNT; i++)
+        if (!strcmp(s, UNITS[i].name) || !strcmp(s, UNITS[i].alias1) || !strcmp(s, UNITS[i].alias2)) {
+            *u = (q2n_units)i;
+            return 0;
+        }
+    return -1;
 }
+
+static int units_ok(q2n_units u) { return (int)u >= 0 && (int)u < Q2N_UNITS_COUNT; }
+const char *q2n_units_name(q2n_units u) { return units_ok(u) ? UNITS[u].name : "?"; }
+double q2n_units_in_mm(q2n_units u) { return units_ok(u) ? UNITS[u].mm : 0.0; }
+int q2n_units_iges_flag(q2n_units u) { return units_ok(u) ? UNITS[u].iges_flag : 2; }
+const char *q2n_units_iges_name(q2n_units u) { return units_ok(u) ? UNITS[u].iges_name : "MM"; }
+
+/* Civil date of a day count since 1970-01-01 (H. Hinnant, "chrono-compatible low-level date
+ * algorithms", days_from_civil inverse): no gmtime, so any 64-bit time works on any time_t. */
+static void civil_from_days(long long z, long long *y, int *m, int *d)
+{
+    z += 719468;
+    long long era = (z >= 0 ? z : z - 146096) / 146097;
+    long long doe = z - era * 146097;
+    long long yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+    long long doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    long long mp = (5 * doy + 2) / 153;
+    *d = (int)(doy - (153 * mp + 2) / 5 + 1);
+    *m = (int)(mp < 10 ? mp + 3 : mp - 9);
+    *y = yoe + era * 400 + (*m <= 2);
+}
+
+void q2n_export_date(const q2n_export_options *opt, int iges, char out[32])
+{
+    out[0] = '\0';
+    if (opt->timestamp) { snprintf(out, 32, "%s", opt->timestamp); return; }
+    if (!opt->has_date) return;
+    long long t = opt->date, days = t / 86400, sec = t % 86400, y;
+    if (sec < 0) { sec += 86400; days--; }
+    int mo, d;
+    civil_from_days(days, &y, &mo, &d);
+    int h = (int)(sec / 3600), mi = (int)(sec / 60 % 60), s = (int)(sec % 60);
+    if (iges) snprintf(out, 32, "%04lld%02d%02d.%02d%02d%02d", y, mo, d, h, mi, s);
+    else snprintf(out, 32, "%04lld-%02d-%02dT%02d:%02d:%02d", y, mo, d, h, mi, s);
+}
+
+/* ---------------------------------------------------------------- strings */
 
 q2n_status q2n_export_check_string(const char *s, const char *what, q2n_error *err)
 {
@@ -386,7 +455,14 @@ static int build_edges(const q2n_nurbs_model *m, q2n_export_topo *t)
     return 1;
 }
 
+static q2n_status topo_build(const q2n_nurbs_model *m, double mesh_scale, q2n_export_topo *t, q2n_error *err);
+
 q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q2n_error *err)
+{
+    return topo_build(m, 1.0, t, err);
+}
+
+static q2n_status topo_build(const q2n_nurbs_model *m, double mesh_scale, q2n_export_topo *t, q2n_error *err)
 {
     memset(t, 0, sizeof *t);
     q2n_status st = check_model(m, err);
@@ -410,7 +486,8 @@ q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q
         side_point(&m->patches[f], h - me->face_start[f], 0.0, t->vpos + 3 * v);
     }
     for (int v = 0; v < me->nv; v++) /* unused vertices (listed in IGES 502 only): the mesh position */
-        if (!t->vused[v]) memcpy(t->vpos + 3 * v, me->pos + 3 * v, 3 * sizeof(double));
+        if (!t->vused[v])
+            for (int c = 0; c < 3; c++) t->vpos[3 * v + c] = mesh_scale * me->pos[3 * v + c];
     if ((st = check_watertight(m, t, err)) != Q2N_OK) {
         q2n_export_topo_free(t);
         return st;
@@ -426,23 +503,26 @@ oom:
 /* Shared by the IGES and STEP writers: validate the options, build the edge topology, switch to
  * the C locale, run the format's builder. */
 static q2n_status export_run(const char *format, q2n_export_build_fn build, const q2n_nurbs_model *m,
-                             const q2n_export_options *opts, const char *path, q2n_strbuf *out, q2n_error *err)
+                             const q2n_export_options *opts, const char *path, FILE *fp, q2n_strbuf *out,
+                             q2n_error *err)
 {
     q2n_export_options def = {0};
     const q2n_export_options *opt = opts ? opts : &def;
     memset(out, 0, sizeof *out);
+    out->fp = fp;
     q2n_status st;
     if ((st = q2n_export_check_string(opt->author, "author", err)) != Q2N_OK) return st;
     if ((st = q2n_export_check_string(opt->organization, "organization", err)) != Q2N_OK) return st;
     if ((st = q2n_export_check_string(opt->timestamp, "timestamp", err)) != Q2N_OK) return st;
     if ((st = q2n_export_check_string(opt->name, "name", err)) != Q2N_OK) return st;
-    if (opt->units != Q2N_UNITS_MM && opt->units != Q2N_UNITS_IN)
-        return q2n_error_set(err, Q2N_ERR_ARG, "export: unknown units %d", (int)opt->units);
+    if (!units_ok(opt->units)) return q2n_error_set(err, Q2N_ERR_ARG, "export: unknown units %d", (int)opt->units);
+    if (opt->has_date && (opt->date < 0 || opt->date > 253402300799LL))
+        return q2n_error_set(err, Q2N_ERR_ARG, "export: date %lld is not between 1970 and 9999", opt->date);
     char name[72];
     if (opt->name) snprintf(name, sizeof name, "%s", opt->name);
     else q2n_export_basename(path ? path : "quad2nurbs", name, sizeof name);
     q2n_export_topo t;
-    if ((st = q2n_export_topo_build(m, &t, err)) != Q2N_OK) return st;
+    if ((st = topo_build(m, opt->mesh_scale > 0 ? opt->mesh_scale : 1.0, &t, err)) != Q2N_OK) return st;
     q2n_export_locale loc = q2n_export_locale_begin();
     st = build(m, &t, opt, name, out);
     q2n_export_locale_end(loc);
@@ -458,18 +538,31 @@ q2n_status q2n_export_text(const char *format, q2n_export_build_fn build, const 
                            const q2n_export_options *opts, char **text, size_t *len, q2n_error *err)
 {
     q2n_strbuf b;
-    q2n_status st = export_run(format, build, m, opts, NULL, &b, err);
+    q2n_status st = export_run(format, build, m, opts, NULL, NULL, &b, err);
     *text = st == Q2N_OK ? b.data : NULL;
     *len = st == Q2N_OK ? b.len : 0;
+    return st;
+}
+
+q2n_status q2n_export_to_stream(const char *format, q2n_export_build_fn build, const q2n_nurbs_model *m,
+                                const q2n_export_options *opts, const char *path, FILE *f, q2n_error *err)
+{
+    q2n_strbuf b;
+    if (!f) return q2n_error_set(err, Q2N_ERR_ARG, "export: no output stream");
+    q2n_status st = export_run(format, build, m, opts, path, f, &b, err);
+    q2n_strbuf_free(&b);
     return st;
 }
 
 q2n_status q2n_export_write(const char *format, q2n_export_build_fn build, const q2n_nurbs_model *m,
                             const q2n_export_options *opts, const char *path, q2n_error *err)
 {
-    q2n_strbuf b;
-    q2n_status st = export_run(format, build, m, opts, path, &b, err);
-    if (st == Q2N_OK) st = q2n_export_write_atomic(path, b.data, b.len, err);
-    q2n_strbuf_free(&b);
-    return st;
+    q2n_outfile of;
+    q2n_status st = q2n_outfile_open(&of, path, err);
+    if (st) return st;
+    if ((st = q2n_export_to_stream(format, build, m, opts, path, of.f, err))) {
+        q2n_outfile_abort(&of);
+        return st;
+    }
+    return q2n_outfile_commit(&of, err);
 }

@@ -6,14 +6,18 @@
 #define Q2N_IGES_EXPORT_INTERNAL_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "iges/export.h"
 
-/* ---- text buffer: appends never fail visibly; `oom` is checked once at the end ---- */
+/* ---- text buffer: appends never fail visibly; `oom` is checked once at the end.  With fp set
+ * the text goes straight to that stream instead (len still counts it; a write error stays in the
+ * stream's error flag) ---- */
 typedef struct q2n_strbuf {
     char *data;
     size_t len, cap;
     int oom;
+    FILE *fp;
 } q2n_strbuf;
 
 void q2n_strbuf_putn(q2n_strbuf *b, const char *s, size_t n);
@@ -37,13 +41,9 @@ typedef struct q2n_export_locale { void *c, *old; } q2n_export_locale;
 q2n_export_locale q2n_export_locale_begin(void);
 void q2n_export_locale_end(q2n_export_locale l);
 
-/* Write buf to path atomically (path.tmp, then rename); removes path.tmp on failure. */
-q2n_status q2n_export_write_atomic(const char *path, const char *buf, size_t len, q2n_error *err);
 
 /* Validate strings from the options (printable ASCII, <= 64 chars); NULL is fine. */
 q2n_status q2n_export_check_string(const char *s, const char *what, q2n_error *err);
-/* Base name of path without directory and extension into out (for product names). */
-void q2n_export_basename(const char *path, char *out, size_t cap);
 
 /* ---- B-rep topology shared by both writers ---- */
 typedef struct q2n_export_curve {
@@ -76,13 +76,26 @@ typedef struct q2n_export_topo {
 q2n_status q2n_export_topo_build(const q2n_nurbs_model *m, q2n_export_topo *t, q2n_error *err);
 
 /* A format's text builder, and the driver both writers share: option checks, topology, C locale,
- * then the text into *out (q2n_export_text) or atomically into path (q2n_export_write). */
+ * then the text into *out (q2n_export_text), into a stream (q2n_export_to_stream) or atomically
+ * into path (q2n_export_write).  A builder appends to *out, which arrives empty or with fp set. */
 typedef q2n_status (*q2n_export_build_fn)(const q2n_nurbs_model *m, const q2n_export_topo *t,
                                           const q2n_export_options *opt, const char *name, q2n_strbuf *out);
 q2n_status q2n_export_text(const char *format, q2n_export_build_fn build, const q2n_nurbs_model *m,
                            const q2n_export_options *opts, char **text, size_t *len, q2n_error *err);
+q2n_status q2n_export_to_stream(const char *format, q2n_export_build_fn build, const q2n_nurbs_model *m,
+                                const q2n_export_options *opts, const char *path, FILE *f, q2n_error *err);
 q2n_status q2n_export_write(const char *format, q2n_export_build_fn build, const q2n_nurbs_model *m,
                             const q2n_export_options *opts, const char *path, q2n_error *err);
+/* The builders' shared pieces: the file's creation time in IGES ("YYYYMMDD.HHNNSS") or ISO 8601
+ * form into out (empty when the options give none), the unit's IGES flag and name. */
+void q2n_export_date(const q2n_export_options *opt, int iges, char out[32]);
+int q2n_units_iges_flag(q2n_units u);
+const char *q2n_units_iges_name(q2n_units u);
+/* q2n_export_stream's STEP half (step_writer.c). */
+q2n_status q2n_export_step_stream(const q2n_nurbs_model *m, const q2n_export_options *opts, const char *path,
+                                  FILE *f, q2n_error *err);
+/* Progress every this many faces of a writer */
+#define Q2N_EXPORT_PROGRESS_EVERY 1024
 void q2n_export_topo_free(q2n_export_topo *t);
 
 /* Boundary curve of patch k along side i (0: v=0, 1: u=1, 2: v=1, 3: u=0), in the patch's own

@@ -151,19 +151,20 @@ static void write_global(q2n_strbuf *b, const q2n_export_options *opt, const cha
     snprintf(f[nf++], sizeof f[0], "15");
     hollerith(f[nf++], sizeof f[0], name);                      /* 12 product id (receiver) */
     snprintf(f[nf++], sizeof f[0], "1.");                       /* 13 model space scale */
-    snprintf(f[nf++], sizeof f[0], "%d", opt->units == Q2N_UNITS_IN ? 1 : 2); /* 14 units flag */
-    hollerith(f[nf++], sizeof f[0], opt->units == Q2N_UNITS_IN ? "INCH" : "MM"); /* 15 units name */
+    char date[32];
+    q2n_export_date(opt, 1, date);                              /* "" when none: deterministic output */
+    snprintf(f[nf++], sizeof f[0], "%d", q2n_units_iges_flag(opt->units));     /* 14 units flag */
+    hollerith(f[nf++], sizeof f[0], q2n_units_iges_name(opt->units));          /* 15 units name */
     snprintf(f[nf++], sizeof f[0], "1");                        /* 16 line weight gradations */
     q2n_export_fmt_real(f[nf++], 0.01);                         /* 17 width of the heaviest line (unused) */
-    if (opt->timestamp) hollerith(f[nf++], sizeof f[0], opt->timestamp); /* 18 date of generation */
-    else f[nf++][0] = '\0';                                     /*    omitted: deterministic output */
+    hollerith(f[nf++], sizeof f[0], date);                      /* 18 date of generation */
     q2n_export_fmt_real(f[nf++], t->resolution);                /* 19 minimum resolution */
     q2n_export_fmt_real(f[nf++], t->max_coord);                 /* 20 max coordinate value */
     hollerith(f[nf++], sizeof f[0], opt->author ? opt->author : "");          /* 21 author */
     hollerith(f[nf++], sizeof f[0], opt->organization ? opt->organization : ""); /* 22 organization */
     snprintf(f[nf++], sizeof f[0], "11");                       /* 23 version: 5.3 */
     snprintf(f[nf++], sizeof f[0], "0");                        /* 24 drafting standard: none */
-    f[nf++][0] = '\0';                                          /* 25 model date: omitted */
+    hollerith(f[nf++], sizeof f[0], date);                      /* 25 date the model was made */
     f[nf++][0] = '\0';                                          /* 26 protocol: none */
     /* a Hollerith "0H" is not valid: empty strings are written as defaulted (empty) fields */
     for (int i = 0; i < nf; i++)
@@ -318,10 +319,15 @@ static q2n_status iges_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
 {
     iges_layout L = layout(t, opt->iges_plain);
     iges_ent *ents = calloc((size_t)L.nent, sizeof(iges_ent));
-    q2n_strbuf pb = {0}, b = {0};
+    /* the parameter section comes last but must be written first (the directory before it points
+     * into it): when the file is a stream it goes to an anonymous temporary file and is copied
+     * after the directory, so no copy of the file is held in memory; else into memory */
+    q2n_strbuf pb = {0}, b = *out;
     if (!ents) return Q2N_ERR_NOMEM;
+    if (b.fp) pb.fp = tmpfile();
     iges_pw w = {&pb, 0, 0, 0, {0}, 0};
     for (int f = 0; f < t->nf; f++) {
+        if (f % Q2N_EXPORT_PROGRESS_EVERY == 0) q2n_progress_emit(opt->progress, "write", "IGES", f, t->nf);
         ents[f] = (iges_ent){128, 0, !opt->iges_plain, 0, 0, 0};
         pw_begin(&w, &ents[f], DE(f));
         write_128(&w, &m->patches[f]);
@@ -337,8 +343,20 @@ static q2n_status iges_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
     write_global(&b, opt, name, t);
     int gcount = (int)((b.len - g0) / 81);
     write_directory(&b, ents, L.nent);
-    q2n_strbuf_putn(&b, pb.data ? pb.data : "", pb.len);
+    int bad = 0;
+    if (pb.fp) { /* the parameter section back from its temporary file */
+        char chunk[1 << 16];
+        size_t n;
+        bad = fflush(pb.fp) != 0 || ferror(pb.fp) || fseek(pb.fp, 0, SEEK_SET) != 0;
+        while (!bad && (n = fread(chunk, 1, sizeof chunk, pb.fp)) > 0) q2n_strbuf_putn(&b, chunk, n);
+        bad |= ferror(pb.fp);
+        fclose(pb.fp);
+        pb.fp = NULL;
+    } else {
+        q2n_strbuf_putn(&b, pb.data ? pb.data : "", pb.len);
+    }
     q2n_strbuf_printf(&b, "S%7dG%7dD%7dP%7d%40sT%7d\n", 1, gcount, 2 * L.nent, w.pseq, "", 1);
+    if (bad && b.fp) b.oom = 1; /* a failed temporary: reported like a failed allocation */
     int oom = b.oom || pb.oom;
     q2n_strbuf_free(&pb);
     free(ents);
@@ -377,4 +395,11 @@ q2n_status q2n_export_file(const q2n_nurbs_model *m, const q2n_export_options *o
     if (ends_with_ci(path, ".igs") || ends_with_ci(path, ".iges")) return q2n_export_iges(m, opts, path, err);
     if (ends_with_ci(path, ".step") || ends_with_ci(path, ".stp")) return q2n_export_step(m, opts, path, err);
     return q2n_error_set(err, Q2N_ERR_ARG, "%s: unknown output format (use .igs, .iges, .step or .stp)", path);
+}
+
+q2n_status q2n_export_stream(const q2n_nurbs_model *m, const q2n_export_options *opts, int iges, const char *path,
+                             FILE *f, q2n_error *err)
+{
+    return iges ? q2n_export_to_stream("IGES", iges_build, m, opts, path, f, err)
+                : q2n_export_step_stream(m, opts, path, f, err);
 }

@@ -162,9 +162,10 @@ static void step_header(step_out *o, const q2n_export_options *opt, const char *
     q2n_strbuf *b = &o->b;
     q2n_strbuf_puts(b, "ISO-10303-21;\nHEADER;\n");
     q2n_strbuf_puts(b, "FILE_DESCRIPTION(('quad2nurbs NURBS surfaces, one face per mesh face'),'2;1');\n");
-    q2n_strbuf_printf(b, "FILE_NAME('%s','%s',('%s'),('%s'),'quad2nurbs','quad2nurbs','');\n", name,
-                      opt->timestamp ? opt->timestamp : "", opt->author ? opt->author : "",
-                      opt->organization ? opt->organization : "");
+    char date[32];
+    q2n_export_date(opt, 0, date);
+    q2n_strbuf_printf(b, "FILE_NAME('%s','%s',('%s'),('%s'),'quad2nurbs','quad2nurbs','');\n", name, date,
+                      opt->author ? opt->author : "", opt->organization ? opt->organization : "");
     q2n_strbuf_puts(b, "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\nDATA;\n");
 }
 
@@ -193,15 +194,23 @@ static int step_context(step_out *o, const q2n_export_options *opt, const char *
     *pds = step_begin(o);
     q2n_strbuf_printf(b, "PRODUCT_DEFINITION_SHAPE('','',#%d);\n", pd);
 
+    /* the length unit: metric ones are SI units with a prefix (ISO 10303-41 si_prefix); inch and
+     * foot are conversion-based units defined in millimetres */
+    static const char *const prefix[Q2N_UNITS_COUNT] = {
+        [Q2N_UNITS_MM] = ".MILLI.", [Q2N_UNITS_CM] = ".CENTI.", [Q2N_UNITS_M] = "$"};
+    static const char *const conv[Q2N_UNITS_COUNT] = {[Q2N_UNITS_IN] = "INCH", [Q2N_UNITS_FT] = "FOOT"};
+    static const char *const conv_mm[Q2N_UNITS_COUNT] = {[Q2N_UNITS_IN] = "25.4", [Q2N_UNITS_FT] = "304.8"};
     int len_unit = step_begin(o);
-    q2n_strbuf_puts(b, "(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n");
-    if (opt->units == Q2N_UNITS_IN) {
+    q2n_strbuf_printf(b, "(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(%s,.METRE.));\n",
+                      conv[opt->units] ? ".MILLI." : prefix[opt->units]);
+    if (conv[opt->units]) {
         int lmu = step_begin(o);
-        q2n_strbuf_printf(b, "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),#%d);\n", len_unit);
+        q2n_strbuf_printf(b, "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(%s),#%d);\n", conv_mm[opt->units], len_unit);
         int dim = step_begin(o);
         q2n_strbuf_puts(b, "DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n");
         len_unit = step_begin(o);
-        q2n_strbuf_printf(b, "(CONVERSION_BASED_UNIT('INCH',#%d)LENGTH_UNIT()NAMED_UNIT(#%d));\n", lmu, dim);
+        q2n_strbuf_printf(b, "(CONVERSION_BASED_UNIT('%s',#%d)LENGTH_UNIT()NAMED_UNIT(#%d));\n", conv[opt->units],
+                          lmu, dim);
     }
     int ang = step_begin(o);
     q2n_strbuf_puts(b, "(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));\n");
@@ -288,7 +297,7 @@ static void step_root(step_out *o, const q2n_export_topo *t, const int *fid, int
 static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t, const q2n_export_options *opt,
                              const char *name, q2n_strbuf *out)
 {
-    step_out o = {{NULL, 0, 0, 0}, 1};
+    step_out o = {*out, 1};
     int *vid = calloc((size_t)t->nv, sizeof(int));
     int *eid = malloc(sizeof(int) * (size_t)t->ne);
     int *fid = malloc(sizeof(int) * (size_t)t->nf);
@@ -310,7 +319,10 @@ static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
             q2n_strbuf_printf(&o.b, "EDGE_CURVE('',#%d,#%d,#%d,.T.);\n", vid[t->edge_v[2 * e]],
                               vid[t->edge_v[2 * e + 1]], c);
         }
-        for (int f = 0; f < t->nf && !o.b.oom; f++) fid[f] = step_face(&o, m, t, eid, f);
+        for (int f = 0; f < t->nf && !o.b.oom; f++) {
+            if (f % Q2N_EXPORT_PROGRESS_EVERY == 0) q2n_progress_emit(opt->progress, "write", "STEP", f, t->nf);
+            fid[f] = step_face(&o, m, t, eid, f);
+        }
         if (!o.b.oom) step_root(&o, t, fid, shell, list, name, ctx, pds);
         q2n_strbuf_puts(&o.b, "ENDSEC;\nEND-ISO-10303-21;\n");
     } else {
@@ -331,4 +343,10 @@ q2n_status q2n_export_step(const q2n_nurbs_model *m, const q2n_export_options *o
                            q2n_error *err)
 {
     return q2n_export_write("STEP", step_build, m, opts, path, err);
+}
+
+q2n_status q2n_export_step_stream(const q2n_nurbs_model *m, const q2n_export_options *opts, const char *path,
+                                  FILE *f, q2n_error *err)
+{
+    return q2n_export_to_stream("STEP", step_build, m, opts, path, f, err);
 }

@@ -51,6 +51,30 @@ q2n_status q2n_mesh_read_obj(const char *path, q2n_mesh **out, q2n_error *err);
 q2n_status q2n_mesh_parse_obj(const char *text, size_t len, const char *name, q2n_mesh **out,
                               q2n_error *err);
 
+/* What a reader saw besides the mesh, for the caller to report. */
+typedef struct q2n_mesh_read_info {
+    char format[8];       /* "obj", "off" or "ply" */
+    long tags;            /* OBJ `t` lines ignored (OpenSubdiv tags; sharp features are not supported) */
+    long tag_line;        /* the line of the first one */
+    char tag_names[80];   /* their distinct names, e.g. "crease, corner" */
+} q2n_mesh_read_info;
+
+/* Any supported format, by extension (.obj, .off, .ply, any case), else by the first line ("ply",
+ * "OFF", "COFF", ...), else OBJ; same validation and "file:line: reason" errors for all (binary
+ * PLY: "file: face K (byte B): reason").  info may be NULL. */
+q2n_status q2n_mesh_read(const char *path, q2n_mesh **out, q2n_mesh_read_info *info, q2n_error *err);
+/* The OBJ reader with its info (tags). */
+q2n_status q2n_mesh_read_obj_info(const char *path, q2n_mesh **out, q2n_mesh_read_info *info, q2n_error *err);
+q2n_status q2n_mesh_parse_obj_info(const char *text, size_t len, const char *name, q2n_mesh **out,
+                                   q2n_mesh_read_info *info, q2n_error *err);
+/* ASCII OFF: optional keyword line [ST][C][N]OFF, "NV NF NE", NV lines "x y z [more numbers:
+ * normal, colour, texture]", NF lines "n i_1 .. i_n [colour]" with 0-based indices; '#' comments. */
+q2n_status q2n_mesh_parse_off(const char *text, size_t len, const char *name, q2n_mesh **out, q2n_error *err);
+/* PLY 1.0, ascii / binary_little_endian / binary_big_endian: element vertex with x, y, z (any
+ * numeric type), element face with the list vertex_indices (or vertex_index); other elements and
+ * properties are skipped. */
+q2n_status q2n_mesh_parse_ply(const char *data, size_t len, const char *name, q2n_mesh **out, q2n_error *err);
+
 /* Build (and validate) a mesh from borrowed arrays: face k has vertices
  * face_vert[face_start[k] .. face_start[k+1]-1]. Arrays are copied. */
 q2n_status q2n_mesh_from_arrays(int nv, const double *pos, int nf, const int *face_start,

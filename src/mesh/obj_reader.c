@@ -2,7 +2,9 @@
  *
  * Lines have no length limit (getline / realloc growth); a trailing backslash joins the next
  * line; CRLF and a leading UTF-8 byte order mark are accepted; `#` starts a comment anywhere; vt vn vp g o s usemtl mtllib l are
- * ignored; any other keyword is an error.  `v x y z [w]` (or `v x y z r g b`, the common
+ * ignored; `t` lines (OpenSubdiv's tags: crease, corner, interpolateboundary, ...) are counted
+ * and ignored (the caller warns: sharp features are not supported); any other keyword is an
+ * error.  `v x y z [w]` (or `v x y z r g b`, the common
  * vertex-colour extension; w and colours are ignored), `f` with a, a/b, a//c, a/b/c and negative
  * (relative) indices; positive indices may refer to vertices defined later in the file.
  * Numbers are read in the "C" locale whatever the process locale is (thread-local uselocale).
@@ -232,9 +234,10 @@ static q2n_status parse_face(obj_data *d, char *cur, long line, const char *wher
             return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", where);
         d->fvert[d->nfv++] = idx;
     }
-    if (d->nfv - n0 < 3)
-        return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face with %zu vertices (< 3)", where,
-                             d->nfv - n0);
+    size_t n = d->nfv - n0;
+    if (n < 3)
+        return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face with %s%zu vert%s (a face needs at least 3)",
+                             where, n ? "only " : "", n, n == 1 ? "ex" : "ices");
     if (d->nf >= OBJ_MAX_COUNT)
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: more than 2^31-2 faces", where);
     if (!grow((void **)&d->fstart, &d->cap_fs, d->nf + 2, sizeof *d->fstart) ||
@@ -254,7 +257,21 @@ static int keyword_ignored(const char *k)
     return 0;
 }
 
-static q2n_status parse_all(obj_src *s, obj_data *d, const char *name, q2n_error *err)
+/* An OpenSubdiv tag line `t NAME ints/floats/strings ...`: counted, its name remembered. */
+static void note_tag(q2n_mesh_read_info *info, char *cur, long line)
+{
+    if (!info) return;
+    char *name = next_tok(&cur);
+    if (!info->tags++) info->tag_line = line;
+    if (!name) return;
+    size_t have = strlen(info->tag_names), n = strlen(name);
+    for (const char *p = info->tag_names; (p = strstr(p, name)); p += n)
+        if ((p == info->tag_names || p[-1] == ' ') && (p[n] == ',' || p[n] == '\0')) return; /* listed */
+    if (have + n + 3 < sizeof info->tag_names)
+        snprintf(info->tag_names + have, sizeof info->tag_names - have, "%s%s", have ? ", " : "", name);
+}
+
+static q2n_status parse_all(obj_src *s, obj_data *d, const char *name, q2n_mesh_read_info *info, q2n_error *err)
 {
     long line = 0;
     char where[320], q[48];
@@ -272,7 +289,8 @@ static q2n_status parse_all(obj_src *s, obj_data *d, const char *name, q2n_error
         char *cur = s->lb, *kw = next_tok(&cur);
         q2n_status st = Q2N_OK;
         if (!kw || keyword_ignored(kw)) continue;
-        if (!strcmp(kw, "v")) st = parse_vertex(d, cur, where, err);
+        if (!strcmp(kw, "t")) note_tag(info, cur, line);
+        else if (!strcmp(kw, "v")) st = parse_vertex(d, cur, where, err);
         else if (!strcmp(kw, "f")) st = parse_face(d, cur, line, where, err);
         else st = q2n_error_set(err, Q2N_ERR_PARSE, "%s: unknown keyword '%s'", where,
                                 quote(kw, q, sizeof q));
@@ -291,13 +309,14 @@ static q2n_status check_ranges(const obj_data *d, const char *name, q2n_error *e
     return Q2N_OK;
 }
 
-static q2n_status parse_source(obj_src *s, const char *name, q2n_mesh **out, q2n_error *err)
+static q2n_status parse_source(obj_src *s, const char *name, q2n_mesh **out, q2n_mesh_read_info *info,
+                               q2n_error *err)
 {
     obj_data d = {0};
     /* numbers in the "C" locale (thread-local switch; restored before returning) */
     locale_t cloc = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0), old = (locale_t)0;
     if (cloc) old = uselocale(cloc);
-    q2n_status st = parse_all(s, &d, name, err);
+    q2n_status st = parse_all(s, &d, name, info, err);
     if (cloc) {
         uselocale(old);
         freelocale(cloc);
@@ -316,8 +335,8 @@ static q2n_status parse_source(obj_src *s, const char *name, q2n_mesh **out, q2n
     return st;
 }
 
-q2n_status q2n_mesh_parse_obj(const char *text, size_t len, const char *name, q2n_mesh **out,
-                              q2n_error *err)
+q2n_status q2n_mesh_parse_obj_info(const char *text, size_t len, const char *name, q2n_mesh **out,
+                                   q2n_mesh_read_info *info, q2n_error *err)
 {
     if (!out) return q2n_error_set(err, Q2N_ERR_ARG, "parse_obj: no output pointer");
     *out = NULL;
@@ -325,10 +344,16 @@ q2n_status q2n_mesh_parse_obj(const char *text, size_t len, const char *name, q2
     obj_src s = {0};
     s.text = text;
     s.len = len;
-    return parse_source(&s, name && name[0] ? name : "<obj>", out, err);
+    return parse_source(&s, name && name[0] ? name : "<obj>", out, info, err);
 }
 
-q2n_status q2n_mesh_read_obj(const char *path, q2n_mesh **out, q2n_error *err)
+q2n_status q2n_mesh_parse_obj(const char *text, size_t len, const char *name, q2n_mesh **out,
+                              q2n_error *err)
+{
+    return q2n_mesh_parse_obj_info(text, len, name, out, NULL, err);
+}
+
+q2n_status q2n_mesh_read_obj_info(const char *path, q2n_mesh **out, q2n_mesh_read_info *info, q2n_error *err)
 {
     if (!out) return q2n_error_set(err, Q2N_ERR_ARG, "read_obj: no output pointer");
     *out = NULL;
@@ -336,7 +361,12 @@ q2n_status q2n_mesh_read_obj(const char *path, q2n_mesh **out, q2n_error *err)
     obj_src s = {0};
     s.fp = fopen(path, "rb");
     if (!s.fp) return q2n_error_set(err, Q2N_ERR_IO, "%s: %s", path, strerror(errno));
-    q2n_status st = parse_source(&s, path, out, err);
+    q2n_status st = parse_source(&s, path, out, info, err);
     fclose(s.fp);
     return st;
+}
+
+q2n_status q2n_mesh_read_obj(const char *path, q2n_mesh **out, q2n_error *err)
+{
+    return q2n_mesh_read_obj_info(path, out, NULL, err);
 }

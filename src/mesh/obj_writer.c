@@ -1,7 +1,7 @@
 /* obj_writer.c — writes a q2n_mesh as OBJ (`v` and `f` records only, coordinates as %.17g so
- * that reading the file back gives the same doubles).  Atomic: the data go to PATH.tmp.XXXXXX
- * (mkstemp, same directory) which is renamed over PATH only after a successful close, so a
- * reader never sees a half-written file.  Numbers are formatted in the "C" locale. */
+ * that reading the file back gives the same doubles).  Atomic and durable (core/outfile.h): a
+ * temporary in the same directory, synced, renamed over PATH, so a reader never sees a
+ * half-written file.  Numbers are formatted in the "C" locale. */
 #include "mesh/mesh.h"
 
 #include "core/outfile.h"

@@ -665,6 +665,7 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
 {
     const q2n_mesh *m = B->m;
     int n = B->nvar, nt = threads < 1 ? 1 : threads > nfaces ? (nfaces > 0 ? nfaces : 1) : threads;
+    if (nt > Q2N_EV_MAX_THREADS) nt = Q2N_EV_MAX_THREADS;
     q2n_status st = Q2N_OK;
     if (nfaces <= 0 || n <= 0) return Q2N_OK;
     fe_form *F = calloc((size_t)nfaces, sizeof *F);

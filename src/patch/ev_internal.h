@@ -16,7 +16,7 @@
 #include "patch/extraordinary.h"
 
 #define EV_MAXDEG 10   /* polynomial degree bound of the constructed edge data */
-#define EV_MAXVAL 64   /* largest vertex valence handled */
+#define EV_MAXVAL Q2N_EV_MAX_VALENCE /* largest vertex valence handled */
 
 /* Vector polynomial in the edge parameter t in [0,1] (power basis). */
 typedef struct ev_poly {

@@ -35,4 +35,8 @@
  * it the corner keeps a Gregory blend. */
 #define EV_FAIR_COMPAT_REL 1e-9
 
+/* Worker threads of the fair solve's per-face forms: more gain nothing on the machines we target
+ * and each costs a stack. */
+#define Q2N_EV_MAX_THREADS 64
+
 #endif

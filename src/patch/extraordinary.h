@@ -20,6 +20,9 @@
 #include "patch/surface.h"
 #include "spline/spline.h"
 
+/* The largest vertex valence the construction handles (callers refuse higher ones up front). */
+#define Q2N_EV_MAX_VALENCE 64
+
 typedef enum q2n_ev_patch_kind {
     Q2N_EV_PATCH_DEFAULT = 0, /* G2 for classes with k >= 2, G1 for C1 classes */
     Q2N_EV_PATCH_G1,          /* bicubically blended, Gregory r = 1 */

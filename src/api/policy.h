@@ -1,0 +1,28 @@
+/* policy.h — the api stage's thresholds: resource estimates and limits (options.c).  Each figure
+ * was measured with /usr/bin/time -v (maximum resident set) on generated tori of 2 500–90 000
+ * faces and the shared meshes; docs/cli.md ("Resource limits") has the table. */
+#ifndef Q2N_API_POLICY_H
+#define Q2N_API_POLICY_H
+
+/* Resident memory of the program before any mesh (libraries, Ceres, glog): the estimate's floor. */
+#define Q2N_MEM_BASE 8e6
+/* Bytes per face of the construction (mesh, half-edges, parameters, patch data): what `sample`
+ * and .obj runs peak at (1.36 KB on a 10 000-face torus). */
+#define Q2N_MEM_BUILD_PER_FACE 1400.0
+/* Bytes per face the fit adds at its peak with one knot span per patch (3.9 KB at 10 000 and
+ * 90 000 faces); refinement multiplies it roughly by the spans per patch, so the estimate is a
+ * lower bound for refined fits.  STEP and IGES are streamed into their files: no memory. */
+#define Q2N_MEM_FIT_PER_FACE 3900.0
+/* Output bytes per face at one span per patch (the fit may refine: again a lower bound). */
+#define Q2N_OUT_STEP_PER_FACE 5600.0
+#define Q2N_OUT_IGES_PER_FACE 6700.0
+#define Q2N_OUT_JSON 1000.0
+/* The default --max-memory: this fraction of the physical memory (or of a smaller cgroup limit),
+ * leaving the rest to the system and to other programs. */
+#define Q2N_MEM_DEFAULT_FRACTION 0.5
+/* Accepted relative fit tolerances (--tol, and --tol-abs / bounding-box diagonal): below 1e-12
+ * rounding dominates, above 0.1 the "fit" no longer resembles the surface. */
+#define Q2N_TOL_MIN 1e-12
+#define Q2N_TOL_MAX 0.1
+
+#endif
