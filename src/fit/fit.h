@@ -19,7 +19,7 @@
 
 typedef enum q2n_fit_solver {
     Q2N_FIT_SOLVER_CERES = 0,    /* Ceres DENSE_QR per independent block, blocks over threads (default) */
-    Q2N_FIT_SOLVER_CERES_SPARSE, /* Ceres SPARSE_NORMAL_CHOLESKY over all blocks of a stage at once */
+    Q2N_FIT_SOLVER_CERES_SPARSE, /* Ceres SPARSE_NORMAL_CHOLESKY over batches of blocks (normal equations) */
     Q2N_FIT_SOLVER_DIRECT        /* LAPACK rank-revealing QR per block: the reference path */
 } q2n_fit_solver;
 
