@@ -728,6 +728,54 @@ static void test_corner_compat(void)
     }
 }
 
+/* The surface depends continuously on the mesh: the exact cube (every vertex extraordinary, every
+ * edge a tie between its two faces) and the same cube with one coordinate moved by one ulp give
+ * the same patches to rounding, and so does the cube scaled by 2 (after rescaling).  A discrete
+ * choice decided by rounding (an edge's base face) moved it by 1.6e-2 before. */
+static void test_continuity(void)
+{
+    static const int F[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {1, 3, 7, 5}, {3, 2, 6, 7}, {2, 0, 4, 6}};
+    int fs[7], fv[24];
+    for (int f = 0; f < 6; f++) {
+        fs[f] = 4 * f;
+        for (int i = 0; i < 4; i++) fv[4 * f + i] = F[f][i];
+    }
+    fs[6] = 24;
+    double out[3][6][25][3];
+    for (int c = 0; c < 3; c++) {
+        double pos[24], sc = c == 2 ? 2.0 : 1.0;
+        for (int v = 0; v < 8; v++)
+            for (int d = 0; d < 3; d++) pos[3 * v + d] = sc * ((v >> d) & 1 ? 1.0 : -1.0);
+        if (c == 1) pos[21] = nextafter(1.0, 2.0); /* vertex 7's x */
+        q2n_mesh *m = NULL;
+        q2n_surface *S = NULL;
+        q2n_error err;
+        q2n_augmented_options a = {NULL, {Q2N_PARAM_CENTRIPETAL, -1}};
+        q2n_extraordinary_options x = {.cls = NULL, .param = a.param, .ev_patch = Q2N_EV_PATCH_DEFAULT};
+        int ok = q2n_mesh_from_arrays(8, pos, 6, fs, fv, "cube", &m, &err) == Q2N_OK &&
+                 q2n_augmented_build(m, &a, NULL, &S, &err) == Q2N_OK && q2n_extraordinary_build(m, &x, NULL, S, &err) == Q2N_OK;
+        CHECK(ok, "continuity cube %d: %s", c, err.message);
+        for (int f = 0; ok && f < 6; f++)
+            for (int q = 0; q < 25; q++) {
+                double e[Q2N_EVAL_MAX];
+                q2n_surface_eval(S, f, (q % 5) / 4.0, (q / 5) / 4.0, 0, e);
+                for (int d = 0; d < 3; d++) out[c][f][q][d] = e[d] / sc;
+            }
+        q2n_surface_free(S);
+        q2n_mesh_free(m);
+    }
+    double d1 = 0, d2 = 0;
+    for (int f = 0; f < 6; f++)
+        for (int q = 0; q < 25; q++)
+            for (int d = 0; d < 3; d++) {
+                d1 = fmax(d1, fabs(out[1][f][q][d] - out[0][f][q][d]));
+                d2 = fmax(d2, fabs(out[2][f][q][d] - out[0][f][q][d]));
+            }
+    printf("continuity: cube vs one ulp %.2e, vs scaled by 2 %.2e\n", d1, d2);
+    CHECK(d1 <= 1e-12, "cube moved by one ulp: surface moved by %.3g", d1);
+    CHECK(d2 <= 1e-12, "cube scaled by 2: surface (rescaled) moved by %.3g", d2);
+}
+
 int main(void)
 {
     mstats st;
@@ -735,6 +783,7 @@ int main(void)
     test_contract();
     test_spikes();
     test_corner_compat();
+    test_continuity();
     printf("| mesh | F | EV patches | interp | normal jump | curv. jump | FD | max kappa (face) | degenerate | build s |\n");
     /* the paper's construction (kept as --ev-construction paper): continuity on a selection */
     g_method = Q2N_EV_METHOD_PAPER;

@@ -793,7 +793,9 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
     }
 
     /* constructed edges and their base faces: the face whose cross direction is the more
-     * transversal to the edge at its worse end (α = ratio of the transversal parts stays moderate) */
+     * transversal to the edge at its worse end (α = ratio of the transversal parts stays moderate);
+     * within EV_FAIR_BASE_TIE of a tie the edge's owner face, so that rounding-level changes of a
+     * symmetric mesh do not flip the choice (docs/extraordinary.md, "Base faces") */
     for (int e = 0; e < m->ne; e++) {
         B.base[e] = -1;
         int h = m->edge_he[e], t = m->he_twin[h], f0 = m->he_face[h], f1 = t >= 0 ? m->he_face[t] : -1;
@@ -808,7 +810,7 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
             const double *wa = cross_dir(m, B.dir, f, e, va), *wb = cross_dir(m, B.dir, f, e, vb);
             q[k] = fmin(sine2(wa, edge_dir(m, B.dir, e, va)), sine2(wb, edge_dir(m, B.dir, e, vb)));
         }
-        B.base[e] = q[1] > q[0] ? f1 : f0;
+        B.base[e] = q[1] > q[0] * (1.0 + EV_FAIR_BASE_TIE) ? f1 : f0;
     }
     for (int i = 0; i < nf && !st; i++) st = setup_patch(&B, faces[i], &X[i], &CP[i], err);
     if (st) goto done;

@@ -39,4 +39,11 @@
  * and each costs a stack. */
 #define Q2N_EV_MAX_THREADS 64
 
+/* Relative difference of two faces' transversality below which an edge's base face is its owner
+ * face instead of the more transversal one: differences that small are rounding (a symmetric
+ * mesh computed in floating point), and without the margin one ulp of input flipped the choice
+ * and moved the surface by 0.45 % of the diagonal (exact cube).  Genuine differences are far
+ * larger. */
+#define EV_FAIR_BASE_TIE 1e-9
+
 #endif
