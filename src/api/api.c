@@ -63,7 +63,7 @@ int q2n_patch_covered(const q2n_model *m, int k)
 
 int q2n_patch_eval(const q2n_model *m, int k, double u, double v, double out[9])
 {
-    return (int)q2n_surface_eval(m->surface, k, u, v, 1, out);
+    return (int)q2n_model_eval(m, k, u, v, out, NULL);
 }
 
 int q2n_write(q2n_model *m, const char *path, char *errbuf, size_t errlen)

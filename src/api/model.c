@@ -1,11 +1,13 @@
 /* model.c — the pipeline object (see model.h). */
 #include "api/model.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <time.h>
 
+#include "api/api_policy.h"
 #include "core/outfile.h"
 #include "core/vec3.h"
 #include "patch/augmented.h"
@@ -61,35 +63,131 @@ static q2n_status build_acc(q2n_model *m, q2n_error *err)
     return Q2N_OK;
 }
 
+/* "NAME:LINE: face k" for messages (LINE of the face, or of the input face it was subdivided
+ * from), with a note when the mesh is the subdivided one. */
+static void face_where(const q2n_model *m, int k, char *buf, size_t n)
+{
+    const q2n_mesh *me = m->mesh;
+    int line = me->face_line ? me->face_line[k] : 0;
+    const char *sub = me->nf != m->input_faces ? " (of the subdivided mesh)" : "";
+    if (line > 0) snprintf(buf, n, "%s:%d: face %d%s", me->name, line, k, sub);
+    else snprintf(buf, n, "%s: face %d%s", me->name, k, sub);
+}
+
+static q2n_status not_finite(const q2n_model *m, int k, double u, double v, const char *what,
+                             q2n_error *err)
+{
+    char where[320];
+    face_where(m, k, where, sizeof where);
+    return q2n_error_set(err, Q2N_ERR_NUMERIC, "%s: %s is not finite (NaN or Inf) at u %.3g, v %.3g",
+                         where, what, u, v);
+}
+
+/* Every covered patch at the scan grid: finite values (else fail), and folds (counted; the first
+ * named in m->warning). */
+static q2n_status scan_patches(q2n_model *m, q2n_error *err)
+{
+    char where[320] = "";
+    double fu = 0, fv = 0;
+    m->folded = 0;
+    for (int k = 0; k < m->mesh->nf; k++) {
+        if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
+        double area[3], u = 0, v = 0;
+        int folded;
+        q2n_mesh_face_area(m->mesh, k, area);
+        q2n_status st = q2n_surface_scan(m->surface, k, Q2N_MODEL_SCAN_GRID, area, &folded, &u, &v);
+        if (st == Q2N_ERR_NUMERIC) return not_finite(m, k, u, v, "the surface", err);
+        if (st) {
+            face_where(m, k, where, sizeof where);
+            return q2n_error_set(err, st, "%s: the surface cannot be evaluated", where);
+        }
+        if (folded && m->folded++ == 0) face_where(m, k, where, sizeof where), fu = u, fv = v;
+    }
+    if (m->folded) {
+        int len = snprintf(m->warning, sizeof m->warning, "%s: the surface folds over (at u %.3g, "
+                           "v %.3g its normal points against the face's: a non-convex or strongly "
+                           "warped face?)", where, fu, fv);
+        if (m->folded > 1 && len > 0 && (size_t)len < sizeof m->warning)
+            snprintf(m->warning + len, sizeof m->warning - len, "; %d faces fold in all", m->folded);
+    }
+    return Q2N_OK;
+}
+
 q2n_status q2n_model_build(const char *obj_path, const q2n_model_options *opt, q2n_model **out,
                            q2n_error *err)
 {
+    q2n_mesh *mesh = NULL;
+    double t0 = q2n_now();
+    q2n_status st = q2n_mesh_read_obj(obj_path, &mesh, err);
+    if (st) return st;
+    double t_read = q2n_now() - t0;
+    st = q2n_model_build_mesh(mesh, opt, out, err);
+    if (!st) (*out)->t_read += t_read;
+    return st;
+}
+
+q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
+                                q2n_error *err)
+{
     q2n_model *m = calloc(1, sizeof *m);
-    if (!m) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory");
+    if (!m) {
+        q2n_mesh_free(mesh);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory");
+    }
     if (opt) m->opt = *opt;
     if (!m->opt.cls) m->opt.cls = q2n_spline_class_find("D5C2P2S4");
     double t0 = q2n_now();
-    q2n_status st = q2n_mesh_read_obj(obj_path, &m->mesh, err);
-    if (!st && m->opt.subdivide > 0) {
+    m->mesh = mesh;
+    m->input_faces = mesh->nf;
+    /* scale-free numerics: build in the mesh's frame, map results back on the way out */
+    q2n_mesh_normalize(m->mesh, m->origin, &m->scale_mant, &m->scale_exp);
+    q2n_status st = Q2N_OK;
+    if (m->opt.subdivide > 0) {
         q2n_mesh *sub = NULL;
         st = q2n_mesh_subdivide(m->mesh, m->opt.subdivide, &sub, err);
         if (!st) { q2n_mesh_free(m->mesh); m->mesh = sub; }
     }
+    /* an interpolating patch follows its quad's sides: a bow-tie's would cross (Catmull–Clark
+     * control faces may be bow-ties: the ACC path and --subdivide take them) */
+    if (!st && m->opt.method == Q2N_SURFACE_AUGMENTED) st = q2n_mesh_check_crossing(m->mesh, err);
     if (!st && !m->mesh->all_quads && m->opt.method == Q2N_SURFACE_AUGMENTED) {
         int f = 0;
         while (f < m->mesh->nf && q2n_face_size(m->mesh, f) == 4) f++;
         st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
                            "%s:%d: face %d has %d vertices; only quad meshes are supported "
                            "(use --subdivide 1 to apply one Catmull-Clark step first)",
-                           obj_path, m->mesh->face_line[f], f, q2n_face_size(m->mesh, f));
+                           m->mesh->name, m->mesh->face_line[f], f, q2n_face_size(m->mesh, f));
     }
     m->t_read = q2n_now() - t0;
     t0 = q2n_now();
     if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
+    if (!st) st = scan_patches(m, err);
     if (st) { q2n_model_free(m); return st; }
     m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
     m->t_build = q2n_now() - t0;
     *out = m;
+    return Q2N_OK;
+}
+
+/* The fitted model in input coordinates (control points and tolerance; weights and knots do not
+ * change under an affine map); fails naming the face when a value leaves the double range. */
+static q2n_status map_nurbs(q2n_model *m, q2n_error *err)
+{
+    q2n_nurbs_model *md = m->nurbs;
+    md->tol_abs = ldexp(md->tol_abs * m->scale_mant, m->scale_exp);
+    for (int k = 0; k < md->n; k++) {
+        q2n_bspline_surface *p = &md->patches[k];
+        size_t n = (size_t)p->ncp_u * p->ncp_v;
+        for (size_t i = 0; i < n; i++)
+            for (int c = 0; c < 3; c++) {
+                double *x = &p->cp[3 * i + c];
+                *x = m->origin[c] + ldexp(*x * m->scale_mant, m->scale_exp);
+                if (!isfinite(*x))
+                    return not_finite(m, k, (double)(i % (size_t)p->ncp_u) / (p->ncp_u - 1),
+                                      (double)(i / (size_t)p->ncp_u) / (p->ncp_v - 1),
+                                      "a fitted control point (near the position shown)", err);
+            }
+    }
     return Q2N_OK;
 }
 
@@ -107,6 +205,16 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     q2n_nurbs_model_free(m->nurbs);
     m->nurbs = NULL;
     q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &m->nurbs, &m->fit, err);
+    if (m->nurbs) {
+        q2n_error e2;
+        q2n_status st2 = map_nurbs(m, &e2);
+        if (st2) {
+            q2n_nurbs_model_free(m->nurbs);
+            m->nurbs = NULL;
+            if (err) *err = e2;
+            st = st2;
+        }
+    }
     m->t_fit = q2n_now() - t0;
     return st;
 }
@@ -148,6 +256,45 @@ static double *grid_params(int n)
     return t;
 }
 
+void q2n_model_map_points(const q2n_model *m, double *e, size_t n)
+{
+    for (size_t p = 0; p < n; p++, e += 9)
+        for (int c = 0; c < 3; c++) {
+            e[c] = m->origin[c] + ldexp(e[c] * m->scale_mant, m->scale_exp);
+            e[3 + c] = ldexp(e[3 + c] * m->scale_mant, m->scale_exp);
+            e[6 + c] = ldexp(e[6 + c] * m->scale_mant, m->scale_exp);
+        }
+}
+
+/* Patch k on the n x n grid t x t, in input coordinates, every value finite (else
+ * Q2N_ERR_NUMERIC naming the face, its line and the point). */
+static q2n_status eval_patch_grid(const q2n_model *m, int k, int n, const double *t, double *buf,
+                                  q2n_error *err)
+{
+    q2n_status st = q2n_surface_eval_grid(m->surface, k, n, t, n, t, buf);
+    if (!st) q2n_model_map_points(m, buf, (size_t)n * n);
+    int bad = st && st != Q2N_ERR_NUMERIC ? -1 : q2n_surface_first_nonfinite(buf, n * n);
+    if (bad >= 0) return not_finite(m, k, t[bad % n], t[bad / n], "the surface", err);
+    if (st) {
+        char where[320];
+        face_where(m, k, where, sizeof where);
+        return q2n_error_set(err, st, "%s: the surface cannot be evaluated", where);
+    }
+    return Q2N_OK;
+}
+
+q2n_status q2n_model_eval(const q2n_model *m, int k, double u, double v, double out[9], q2n_error *err)
+{
+    if (k < 0 || k >= m->mesh->nf || q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED)
+        return q2n_error_set(err, Q2N_ERR_ARG, "patch %d does not exist or is not covered", k);
+    q2n_status st = q2n_surface_eval(m->surface, k, u, v, 1, out);
+    if (!st) q2n_model_map_points(m, out, 1);
+    if (st == Q2N_ERR_NUMERIC || (!st && q2n_surface_first_nonfinite(out, 1) >= 0))
+        return not_finite(m, k, u, v, "the surface", err);
+    if (st) return q2n_error_set(err, st, "patch %d: evaluation failed at u %g, v %g", k, u, v);
+    return Q2N_OK;
+}
+
 q2n_status q2n_model_write_tessellation(const q2n_model *m, int n, const char *path, q2n_error *err)
 {
     q2n_outfile of;
@@ -162,10 +309,7 @@ q2n_status q2n_model_write_tessellation(const q2n_model *m, int n, const char *p
     long base = 1;
     for (int k = 0; k < m->mesh->nf; k++) {
         if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
-        if ((st = q2n_surface_eval_grid(m->surface, k, n, t, n, t, buf))) {
-            q2n_error_set(err, st, "patch %d: evaluation failed", k);
-            break;
-        }
+        if ((st = eval_patch_grid(m, k, n, t, buf, err))) break;
         fprintf(of.f, "g patch_%d\n", k);
         for (int p = 0; p < n * n; p++) {
             const double *e = buf + 9 * p;
@@ -198,10 +342,7 @@ q2n_status q2n_model_write_samples(const q2n_model *m, int n, FILE *out, q2n_err
     }
     for (int k = 0; k < m->mesh->nf && !st; k++) {
         if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
-        if ((st = q2n_surface_eval_grid(m->surface, k, n, t, n, t, buf))) {
-            q2n_error_set(err, st, "patch %d: evaluation failed", k);
-            break;
-        }
+        if ((st = eval_patch_grid(m, k, n, t, buf, err))) break;
         for (int j = 0; j < n; j++)
             for (int i = 0; i < n; i++) {
                 const double *e = buf + 9 * ((size_t)j * n + i);

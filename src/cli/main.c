@@ -234,6 +234,7 @@ static int exit_code(q2n_status st)
     switch (st) {
     case Q2N_OK: return 0;
     case Q2N_ERR_NOMEM: return 1;
+    case Q2N_ERR_NUMERIC: return 1; /* valid input, non-finite evaluation: not the user's fault */
     default: return 2;
     }
 }
@@ -259,6 +260,7 @@ int main(int argc, char **argv)
         return exit_code(st);
     }
     if (m->note[0] && !o.quiet) fprintf(stderr, "quad2nurbs: %s\n", m->note);
+    if (m->warning[0] && !o.quiet) fprintf(stderr, "quad2nurbs: warning: %s\n", m->warning);
     if (m->uncovered && !o.quiet)
         fprintf(stderr,
                 "quad2nurbs: warning: %d of %d faces are in extraordinary regions that the regular "

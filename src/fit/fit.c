@@ -166,7 +166,7 @@ static q2n_status frame_eval(const q2n_surface *surf, int k, int i, double t, do
     q2n_status st = q2n_surface_eval(surf, k, u, v, nder, e);
     if (st) return st;
     for (int q = 0; q < 3 * (nder == 0 ? 1 : nder == 1 ? 3 : 6); q++)
-        if (!isfinite(e[q])) return Q2N_ERR_GEOMETRY;
+        if (!isfinite(e[q])) return Q2N_ERR_NUMERIC;
     for (int q = 0; q < 3; q++) {
         D[0][q] = e[q];
         if (nder < 1) continue;
@@ -192,7 +192,7 @@ static q2n_status side_exact(ctx *c, const side *sd, double t, double s, int nde
     c->rep->t_sample += fit_now() - t0;
     if (st)
         return q2n_error_set(c->err, st, "fit: face %d: evaluation %s at side %d (t %g, s %g)", sd->k,
-                             st == Q2N_ERR_GEOMETRY ? "not finite" : "failed", sd->i, t, s);
+                             st == Q2N_ERR_NUMERIC ? "not finite" : "failed", sd->i, t, s);
     return Q2N_OK;
 }
 
@@ -482,7 +482,7 @@ static q2n_status compute_jets(ctx *c)
     q2n_status r = Q2N_OK;
     for (int k = 0; k < nf && !r; k++)
         if (st[k]) r = q2n_error_set(c->err, st[k], "fit: face %d: corner derivatives %s", k,
-                                     st[k] == Q2N_ERR_GEOMETRY ? "not finite" : "cannot be evaluated");
+                                     st[k] == Q2N_ERR_NUMERIC ? "not finite" : "cannot be evaluated");
     free(st);
     return r;
 }
@@ -609,8 +609,9 @@ static q2n_status edge_samples(ctx *c)
     c->rep->t_sample += fit_now() - t0;
     q2n_status r = Q2N_OK;
     for (int e = 0; e < m->ne && !r; e++)
-        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d: evaluation %s", e,
-                                     st[e] == Q2N_ERR_GEOMETRY ? "not finite" : "failed");
+        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d (face %d): evaluation %s", e,
+                                     m->he_face[m->edge_he[e]],
+                                     st[e] == Q2N_ERR_NUMERIC ? "not finite" : "failed");
     free(st);
     return r;
 }
@@ -696,7 +697,11 @@ static q2n_status stage_interior_general(ctx *c, const int *list, int nlist)
         double t0 = fit_now();
         q2n_status st = q2n_surface_eval_grid(c->s, k, Nu, us, Nv, vs, S);
         c->rep->t_sample += fit_now() - t0;
-        if (st) { free(S); return q2n_error_set(c->err, st, "fit: face %d: grid evaluation failed", k); }
+        if (st) {
+            free(S);
+            return q2n_error_set(c->err, st, "fit: face %d: grid evaluation %s", k,
+                                 st == Q2N_ERR_NUMERIC ? "not finite" : "failed");
+        }
         if ((st = fit_ls_item_begin(&c->ls))) { free(S); return q2n_error_set(c->err, st, "fit: out of memory"); }
         for (int j = 0; j < Nv; j++) {
             double Bv[3][FIT_DEG + 1], Bu[3][FIT_DEG + 1];
