@@ -9,4 +9,11 @@
  * of a build; a narrower fold is below the fit's own sampling too. */
 #define Q2N_MODEL_SCAN_GRID 8
 
+/* Largest bounding-box diagonal accepted, as a power of two: 2^1016 ~ 7e305.  Why: internally
+ * everything is normalised, but what is handed back lives in the input's scale, and the surface's
+ * first derivatives (up to a few diagonals on a wild mesh) and the sums and differences the CAD
+ * writers form from control points need headroom below the largest double (2^1024): 2^8 of it.
+ * A larger mesh is refused with a clear message instead of failing later with an overflow. */
+#define Q2N_MODEL_MAX_DIAG_LOG2 1016
+
 #endif

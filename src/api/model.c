@@ -142,7 +142,13 @@ q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2
     /* scale-free numerics: build in the mesh's frame, map results back on the way out */
     q2n_mesh_normalize(m->mesh, m->origin, &m->scale_mant, &m->scale_exp);
     q2n_status st = Q2N_OK;
-    if (m->opt.subdivide > 0) {
+    if (ldexp(m->scale_mant, m->scale_exp - Q2N_MODEL_MAX_DIAG_LOG2) >= 1.0)
+        st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: the bounding box is too large (diagonal "
+                           "%.3g, limit 2^%d = %.3g): derivatives and differences of the surface "
+                           "would overflow a double; scale the mesh down", m->mesh->name,
+                           ldexp(m->scale_mant, m->scale_exp), Q2N_MODEL_MAX_DIAG_LOG2,
+                           ldexp(1.0, Q2N_MODEL_MAX_DIAG_LOG2));
+    if (!st && m->opt.subdivide > 0) {
         q2n_mesh *sub = NULL;
         st = q2n_mesh_subdivide(m->mesh, m->opt.subdivide, &sub, err);
         if (!st) { q2n_mesh_free(m->mesh); m->mesh = sub; }
@@ -267,11 +273,18 @@ void q2n_model_map_points(const q2n_model *m, double *e, size_t n)
 }
 
 /* Patch k on the n x n grid t x t, in input coordinates, every value finite (else
- * Q2N_ERR_NUMERIC naming the face, its line and the point). */
+ * Q2N_ERR_NUMERIC naming the face, its line and the point); unit normals into nrm (3 a point)
+ * unless NULL, from the internal derivatives (the direction does not change under the map, and
+ * Su x Sv of a part of size 1e200 would overflow). */
 static q2n_status eval_patch_grid(const q2n_model *m, int k, int n, const double *t, double *buf,
-                                  q2n_error *err)
+                                  double *nrm, q2n_error *err)
 {
     q2n_status st = q2n_surface_eval_grid(m->surface, k, n, t, n, t, buf);
+    for (int p = 0; !st && nrm && p < n * n; p++) {
+        double *c = nrm + 3 * p, len;
+        q2n_v3_cross(c, buf + 9 * p + 3, buf + 9 * p + 6);
+        if ((len = q2n_v3_norm(c)) > 0) q2n_v3_scale(c, 1 / len, c);
+    }
     if (!st) q2n_model_map_points(m, buf, (size_t)n * n);
     int bad = st && st != Q2N_ERR_NUMERIC ? -1 : q2n_surface_first_nonfinite(buf, n * n);
     if (bad >= 0) return not_finite(m, k, t[bad % n], t[bad / n], "the surface", err);
@@ -300,24 +313,22 @@ q2n_status q2n_model_write_tessellation(const q2n_model *m, int n, const char *p
     q2n_outfile of;
     q2n_status st;
     double *t = grid_params(n), *buf = malloc(9 * (size_t)n * n * sizeof *buf);
-    if (!t || !buf) {
-        free(t); free(buf);
+    double *nrm = malloc(3 * (size_t)n * n * sizeof *nrm);
+    if (!t || !buf || !nrm) {
+        free(t); free(buf); free(nrm);
         return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (tessellation)");
     }
-    if ((st = q2n_outfile_open(&of, path, err))) { free(t); free(buf); return st; }
+    if ((st = q2n_outfile_open(&of, path, err))) { free(t); free(buf); free(nrm); return st; }
     fprintf(of.f, "# quad2nurbs tessellation of %s: %d x %d points per patch\n", m->mesh->name, n, n);
     long base = 1;
     for (int k = 0; k < m->mesh->nf; k++) {
         if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
-        if ((st = eval_patch_grid(m, k, n, t, buf, err))) break;
+        if ((st = eval_patch_grid(m, k, n, t, buf, nrm, err))) break;
         fprintf(of.f, "g patch_%d\n", k);
         for (int p = 0; p < n * n; p++) {
             const double *e = buf + 9 * p;
-            double nrm[3];
-            q2n_v3_cross(nrm, e + 3, e + 6);
-            double len = q2n_v3_norm(nrm);
-            if (len > 0) q2n_v3_scale(nrm, 1 / len, nrm);
-            fprintf(of.f, "v %.17g %.17g %.17g\nvn %.9g %.9g %.9g\n", e[0], e[1], e[2], nrm[0], nrm[1], nrm[2]);
+            const double *nv = nrm + 3 * p;
+            fprintf(of.f, "v %.17g %.17g %.17g\nvn %.9g %.9g %.9g\n", e[0], e[1], e[2], nv[0], nv[1], nv[2]);
         }
         for (int j = 0; j + 1 < n; j++)
             for (int i = 0; i + 1 < n; i++) {
@@ -328,6 +339,7 @@ q2n_status q2n_model_write_tessellation(const q2n_model *m, int n, const char *p
     }
     free(t);
     free(buf);
+    free(nrm);
     if (st) { q2n_outfile_abort(&of); return st; }
     return q2n_outfile_commit(&of, err);
 }
@@ -342,7 +354,7 @@ q2n_status q2n_model_write_samples(const q2n_model *m, int n, FILE *out, q2n_err
     }
     for (int k = 0; k < m->mesh->nf && !st; k++) {
         if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
-        if ((st = eval_patch_grid(m, k, n, t, buf, err))) break;
+        if ((st = eval_patch_grid(m, k, n, t, buf, NULL, err))) break;
         for (int j = 0; j < n; j++)
             for (int i = 0; i < n; i++) {
                 const double *e = buf + 9 * ((size_t)j * n + i);

@@ -137,9 +137,14 @@ static double dist3(const double *a, const double *b)
     return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
 }
 
-/* A length in input units relative to the frame's diagonal (for messages: exact where the frame
- * coordinates lost the difference). */
-static double rel_to(double len, int exp, double diag) { return ldexp(len, -exp) / diag; }
+/* Distance of input points a, b in units of 2^exp, without under- or overflow (for messages: not
+ * taken relative to the centre, so a short edge far from it keeps its length). */
+static double frame_dist(const double *a, const double *b, int exp)
+{
+    double d[3];
+    for (int c = 0; c < 3; c++) d[c] = ldexp(a[c], -exp) - ldexp(b[c], -exp);
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
 
 /* Corners of quad q[4] that are reflex when seen along its vector area `area` (the quad
  * projected on its mean plane): their signed sine is below -Q2N_MESH_REFLEX_SIN.  One reflex
@@ -202,7 +207,8 @@ static q2n_status check_face_vertices(const q2n_mesh *m, const char *name, q2n_e
             if (len < tiny) {
                 st = q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: face %d has a degenerate edge %d-%d: "
                                    "length %.3g, %.2g of the bounding-box diagonal (< %.0e)", loc, f, v,
-                                   w, dist3(pa, pb), rel_to(dist3(pa, pb), exp, diag), Q2N_MESH_MIN_LENGTH_REL);
+                                   w, ldexp(frame_dist(pa, pb, exp), exp), frame_dist(pa, pb, exp) / diag,
+                                   Q2N_MESH_MIN_LENGTH_REL);
                 break;
             }
             if (len > lmax) lmax = len;
@@ -221,10 +227,10 @@ static q2n_status check_face_vertices(const q2n_mesh *m, const char *name, q2n_e
                                    "at the same position (distance %.3g, %.2g of the bounding-box "
                                    "diagonal): a degenerate quad", loc, f, m->face_vert[s + i],
                                    m->face_vert[s + i + 2],
-                                   dist3(m->pos + 3 * (size_t)m->face_vert[s + i],
-                                         m->pos + 3 * (size_t)m->face_vert[s + i + 2]),
-                                   rel_to(dist3(m->pos + 3 * (size_t)m->face_vert[s + i],
-                                                m->pos + 3 * (size_t)m->face_vert[s + i + 2]), exp, diag));
+                                   ldexp(frame_dist(m->pos + 3 * (size_t)m->face_vert[s + i],
+                                                    m->pos + 3 * (size_t)m->face_vert[s + i + 2], exp), exp),
+                                   frame_dist(m->pos + 3 * (size_t)m->face_vert[s + i],
+                                              m->pos + 3 * (size_t)m->face_vert[s + i + 2], exp) / diag);
         }
         double alen = sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2]);
         double width = alen / lmax;
