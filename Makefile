@@ -120,9 +120,12 @@ $(FUZZ_DIR)/src/%.o: src/%.cpp
 	@mkdir -p $(@D)
 	$(FUZZ_CXX) $(CPPFLAGS) $(FUZZ_CXXFLAGS) -c $< -o $@
 
-$(FUZZ_DIR)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_common.h $(FUZZ_LIB_OBJ)
+$(FUZZ_DIR)/libquad2nurbs.a: $(FUZZ_LIB_OBJ)
+	rm -f $@ && ar rcs $@ $^
+
+$(FUZZ_DIR)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_common.h $(FUZZ_DIR)/libquad2nurbs.a
 	$(FUZZ_CC) $(CPPFLAGS) $(FUZZ_CFLAGS) -DQ2N_LIBFUZZER -c $< -o $@.o
-	$(FUZZ_CXX) -fsanitize=fuzzer $(FUZZ_SAN) -o $@ $@.o $(FUZZ_LIB_OBJ) $(DEPLIBS) -lm
+	$(FUZZ_CXX) -fsanitize=fuzzer $(FUZZ_SAN) -o $@ $@.o $(FUZZ_DIR)/libquad2nurbs.a $(DEPLIBS) -lm
 
 fuzz: $(FUZZ_BIN)
 

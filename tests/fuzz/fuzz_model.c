@@ -5,7 +5,8 @@
  * Catmull–Clark step or none); the rest is the OBJ text.  Every stage must succeed or fail with a
  * clean status; what succeeds must be finite: q2n_model_eval values, the printed samples, the
  * fitted control points, the STEP text.  Meshes are capped (faces, half-edges) so one input stays
- * well under a second; the fit runs on the smallest ones, with a loose tolerance.
+ * well under a second; the fit runs on the smallest ones, with a loose tolerance and few spans, and
+ * on Coons–Gregory patches only when Q2N_FUZZ_FIT_EV is set (they cost seconds under ASan).
  *   libFuzzer:  make fuzz && build/fuzz/fuzz_model -dict=tests/fuzz/obj.dict CORPUS
  *   replayed:   tests/test_fuzz_corpus.c (make check) over the seeds of make_corpus.sh */
 #define _GNU_SOURCE /* open_memstream */
@@ -14,7 +15,7 @@
 #include "patch/extraordinary.h"
 
 #define FZ_MODEL_MAX_HE 256   /* half-edges of the input (64 quads) */
-#define FZ_MODEL_MAX_FIT 12   /* faces of the built mesh the fit runs on */
+#define FZ_MODEL_MAX_FIT 4    /* faces of the built mesh the fit runs on */
 
 static int fz_eval_all(const q2n_model *m)
 {
@@ -55,6 +56,10 @@ static int fz_fit_export(q2n_model *m)
     o.continuity = 0;
     o.tol = 1e-3;
     o.solver = Q2N_FIT_SOLVER_DIRECT;
+    /* the invariants are about every code path, not about meeting targets: a few spans and rounds
+     * (a 12-face subdivided tetrahedron with G1 patches refines to 48 x 48 spans otherwise, 8 s) */
+    o.max_spans = 6;
+    o.max_rounds = 2;
     q2n_status st = q2n_model_fit(m, &o, &err);
     if (st) FZ_REQUIRE(fz_clean_status(st, &err), err.message);
     if (!m->nurbs) return 1;
@@ -62,8 +67,10 @@ static int fz_fit_export(q2n_model *m)
         const q2n_bspline_surface *p = &m->nurbs->patches[k];
         FZ_REQUIRE(fz_all_finite(p->cp, 3 * (size_t)p->ncp_u * p->ncp_v), "fitted control points finite");
     }
-    FZ_REQUIRE(fz_all_finite(&m->fit.max_dev_rel, 1) && fz_all_finite(&m->fit.g1_max_deg, 1),
-               "report figures finite");
+    const q2n_fit_report *r = &m->fit;
+    double fig[] = {r->max_dev_rel, r->rms_dev_rel, r->vertex_dev_max_rel, r->g0_max_rel, r->g1_max_deg,
+                    r->g2_max_rel, r->g1_construction_deg, r->g2_construction_rel};
+    FZ_REQUIRE(fz_all_finite(fig, sizeof fig / sizeof *fig), "report figures finite");
     char *text = NULL;
     size_t len = 0;
     st = q2n_export_step_text(m->nurbs, NULL, &text, &len, &err);
@@ -103,7 +110,13 @@ int q2n_fuzz_model(const uint8_t *data, size_t size)
         FZ_REQUIRE(fz_clean_error(st, &err) && !m, err.message);
         return 0;
     }
-    if (fz_eval_all(m) && fz_samples(m) && m->mesh->nf <= FZ_MODEL_MAX_FIT && !m->uncovered)
+    /* fitting Coons–Gregory patches costs ~9 s CPU per input under ASan (their evaluation):
+     * only when Q2N_FUZZ_FIT_EV is set (long runs); Bézier and regular patches always */
+    static int fit_ev = -1;
+    if (fit_ev < 0) fit_ev = getenv("Q2N_FUZZ_FIT_EV") != NULL;
+    int ev = q2n_surface_count(m->surface, Q2N_PATCH_COONS_GREGORY) > 0;
+    if (fz_eval_all(m) && fz_samples(m) && m->mesh->nf <= FZ_MODEL_MAX_FIT && !m->uncovered &&
+        (!ev || fit_ev))
         fz_fit_export(m);
     q2n_model_free(m);
     return 0;
