@@ -103,6 +103,9 @@ int main(void)
                  "v0v2.obj:5: face 0 has opposite corners");
     expect_error("bow-tie", "bowtie.obj", "v 0 0 0\nv 2 2 0\nv 2 0 0\nv 0 1 0\nf 1 2 3 4\n", "-o x.step",
                  "bowtie.obj:5: face 0 is self-crossing");
+    /* a non-quad mesh hears about --subdivide first, even with a bow-tie (a fine control face) */
+    expect_error("bow-tie + triangle", "bt3.obj", "v 0 0 0\nv 2 2 0\nv 2 0 0\nv 0 1 0\nv 3 1 0\nf 1 2 3 4\n"
+                 "f 3 2 5\n", NULL, "--subdivide 1");
     expect_error("too large", "huge.obj", "v 0 0 0\nv 1e308 0 0\nv 1e308 1e308 0\nv 0 1e308 0\nf 1 2 3 4\n",
                  NULL, "huge.obj: the bounding box is too large");
     write_file("quad.obj", quad);

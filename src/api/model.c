@@ -153,9 +153,6 @@ q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2
         st = q2n_mesh_subdivide(m->mesh, m->opt.subdivide, &sub, err);
         if (!st) { q2n_mesh_free(m->mesh); m->mesh = sub; }
     }
-    /* an interpolating patch follows its quad's sides: a bow-tie's would cross (Catmull–Clark
-     * control faces may be bow-ties: the ACC path and --subdivide take them) */
-    if (!st && m->opt.method == Q2N_SURFACE_AUGMENTED) st = q2n_mesh_check_crossing(m->mesh, err);
     if (!st && !m->mesh->all_quads && m->opt.method == Q2N_SURFACE_AUGMENTED) {
         int f = 0;
         while (f < m->mesh->nf && q2n_face_size(m->mesh, f) == 4) f++;
@@ -164,6 +161,9 @@ q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2
                            "(use --subdivide 1 to apply one Catmull-Clark step first)",
                            m->mesh->name, m->mesh->face_line[f], f, q2n_face_size(m->mesh, f));
     }
+    /* an interpolating patch follows its quad's sides: a bow-tie's would cross (Catmull–Clark
+     * control faces may be bow-ties: the ACC path and --subdivide take them) */
+    if (!st && m->opt.method == Q2N_SURFACE_AUGMENTED) st = q2n_mesh_check_crossing(m->mesh, err);
     m->t_read = q2n_now() - t0;
     t0 = q2n_now();
     if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
