@@ -7,6 +7,7 @@
 #   make            library + executable          make check       quick tests (long sweeps left out)
 #   make check-full all tests (what CI runs)      make demo        main job on the demo mesh
 #   make bench      benchmarks (not tests)        make install PREFIX=/usr/local
+#   make fuzz       libFuzzer harnesses (clang)   make fuzz-check  run each for FUZZ_SECONDS (60)
 #   make CONFIG=debug|asan                        (default: release)
 #   make check TESTS="test_cli test_mesh" JOBS=2  run some programs only / N at a time
 #
@@ -64,10 +65,24 @@ REFLIBS  := -losdCPU -lTKSTEP -lTKSTEPBase -lTKIGES -lTKXSBase -lTKGeomAlgo -lTK
             -lTKBRep -lTKG3d -lTKG2d -lTKMath -lTKernel
 OCCT_INC := -I/usr/include/opencascade
 
+# Fuzzing (not part of `make check`; needs Debian clang and libclang-rt-14-dev): the library
+# again with clang, ASan, UBSan and libFuzzer's coverage into $(FUZZ_DIR), the harnesses of
+# tests/fuzz/ linked against it.  `make fuzz-check` runs each for FUZZ_SECONDS (docs/fuzz.md).
+FUZZ_CC      ?= clang
+FUZZ_CXX     ?= clang++
+FUZZ_DIR     := $(BUILD)/fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_SAN     := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+FUZZ_CFLAGS  := -std=c11 -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link -D_POSIX_C_SOURCE=200809L -D_ISOC11_SOURCE
+FUZZ_CXXFLAGS:= -std=c++17 -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link -I/usr/include/eigen3
+FUZZ_LIB_OBJ := $(LIB_C:%.c=$(FUZZ_DIR)/%.o) $(LIB_CXX:%.cpp=$(FUZZ_DIR)/%.o)
+FUZZ_BIN     := $(FUZZ_DIR)/fuzz_obj $(FUZZ_DIR)/fuzz_model
+
+
 JOBS     ?= $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)
 TESTS    ?=
 
-.PHONY: all lib check check-full demo bench install clean deps
+.PHONY: all lib check check-full demo bench install clean deps fuzz fuzz-check
 all: $(EXE)
 lib: $(LIB)
 
@@ -121,6 +136,26 @@ bench: $(EXE) $(BENCH_BIN)
 deps:
 	@sh tools/install-deps.sh
 
+$(FUZZ_DIR)/src/%.o: src/%.c
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(CPPFLAGS) $(FUZZ_CFLAGS) -c $< -o $@
+
+$(FUZZ_DIR)/src/%.o: src/%.cpp
+	@mkdir -p $(@D)
+	$(FUZZ_CXX) $(CPPFLAGS) $(FUZZ_CXXFLAGS) -c $< -o $@
+
+$(FUZZ_DIR)/libquad2nurbs.a: $(FUZZ_LIB_OBJ)
+	rm -f $@ && ar rcs $@ $^
+
+$(FUZZ_DIR)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_common.h $(FUZZ_DIR)/libquad2nurbs.a
+	$(FUZZ_CC) $(CPPFLAGS) $(FUZZ_CFLAGS) -DQ2N_LIBFUZZER -c $< -o $@.o
+	$(FUZZ_CXX) -fsanitize=fuzzer $(FUZZ_SAN) -o $@ $@.o $(FUZZ_DIR)/libquad2nurbs.a $(Q2N_LDLIBS)
+
+fuzz: $(FUZZ_BIN)
+
+fuzz-check: $(FUZZ_BIN)
+	@sh tests/fuzz/run_fuzz.sh $(FUZZ_DIR) $(FUZZ_SECONDS)
+
 install: $(EXE) $(LIB)
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/include
 	install -m 755 $(EXE) $(DESTDIR)$(PREFIX)/bin/quad2nurbs
@@ -131,4 +166,4 @@ clean:
 	rm -rf $(BUILD)
 
 # Header dependencies of every object and program (-MMD writes them beside each output).
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_BIN:=.d) $(REF_BIN:=.d) $(BENCH_BIN:=.d)
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_BIN:=.d) $(REF_BIN:=.d) $(BENCH_BIN:=.d) $(FUZZ_LIB_OBJ:.o=.d)

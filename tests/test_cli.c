@@ -163,10 +163,11 @@ static void messages(void)
     write_file("one.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1\n");
     rc = run_sh("$Q one.obj -o out.obj", err, sizeof err);
     CHECK(rc == 2 && strstr(err, "one.obj:5: face with only 1 vertex (a face needs at least 3)"), "1 vertex: '%s'", err);
-    /* a fit failure says "fit:" once (coordinates near the bottom of the double range) */
+    /* coordinates near the bottom of the double range: built and fitted at diagonal 1, mapped back
+     * (and a fit message, if any, says "fit:" once) */
     write_file("tiny.obj", "v 0 0 0\nv 1e-200 0 0\nv 1e-200 1e-200 0\nv 0 1e-200 0\nf 1 2 3 4\n");
-    rc = run_sh("$Q tiny.obj -o out.step", err, sizeof err);
-    CHECK(!strstr(err, "fit: fit:"), "doubled fit prefix: '%s'", err);
+    rc = run_sh("$Q tiny.obj -q -o tiny.step", err, sizeof err);
+    CHECK(rc == 0 && !strstr(err, "fit: fit:"), "1e-200 quad: %d '%s'", rc, err);
     /* OpenSubdiv tags: one warning with the count, the first line and the names; then ignored */
     write_file("tags.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.2\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n"
                            "t crease 2/1/0 1 2 4.0\nt crease 2/1/0 2 3 4.0\nt corner 1/1/0 4 2.0\n");
@@ -362,6 +363,21 @@ int main(void)
     expect_error("empty mesh", "empty.obj", "# nothing\nv 0 0 0\n", NULL, "empty.obj");
     expect_error("triangle", "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", NULL, "--subdivide");
     expect_error("unknown keyword", "kw.obj", "v 0 0 0\nfoo 1 2\n", NULL, "kw.obj:2:");
+    /* issue 16: degenerate geometry relative to the bounding box (accepted before, NaN or a
+     * zero-area CAD face with exit 0) */
+    expect_error("near-zero edge", "tiny.obj", "v 0 0 0\nv 1 0 0\nv 1 1e-50 0\nv 0 1 0\nf 1 2 3 4\n", NULL,
+                 "tiny.obj:5: face 0 has a degenerate edge");
+    expect_error("collinear quad", "line.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3 4\n", NULL,
+                 "line.obj:5: face 0 has (near) zero area");
+    expect_error("v0 = v2", "v0v2.obj", "v 0 0 0\nv 1 0 0\nv 0 0 0\nv 0 1 0\nf 1 2 3 4\n", NULL,
+                 "v0v2.obj:5: face 0 has opposite corners");
+    expect_error("bow-tie", "bowtie.obj", "v 0 0 0\nv 2 2 0\nv 2 0 0\nv 0 1 0\nf 1 2 3 4\n", "-o x.step",
+                 "bowtie.obj:5: face 0 is self-crossing");
+    /* a non-quad mesh hears about --subdivide first, even with a bow-tie (a fine control face) */
+    expect_error("bow-tie + triangle", "bt3.obj", "v 0 0 0\nv 2 2 0\nv 2 0 0\nv 0 1 0\nv 3 1 0\nf 1 2 3 4\n"
+                 "f 3 2 5\n", NULL, "--subdivide 1");
+    expect_error("too large", "huge.obj", "v 0 0 0\nv 1e308 0 0\nv 1e308 1e308 0\nv 0 1e308 0\nf 1 2 3 4\n",
+                 NULL, "huge.obj: the bounding box is too large");
     write_file("quad.obj", quad);
     expect_error("bad --grid", "quad.obj", NULL, "--tess x", "--tess");
     expect_error("bad class", "quad.obj", NULL, "--class D9", "D9");
@@ -376,6 +392,30 @@ int main(void)
     CHECK(run(args, err, sizeof err, &lines) == 0 && lines == 9, "sample on a single quad: %ld lines (%s)", lines, err);
     snprintf(args, sizeof args, "--subdivide 1 -q %s/tri.obj -o %s/tri_out.obj", dir, dir);
     CHECK(run(args, err, sizeof err, NULL) == 0, "triangle with --subdivide 1: %s", err);
+    /* extreme scales: finite samples, exit 0 (NaN at 1e-200 / 5e307 before) */
+    write_file("small.obj", "v 0 0 0\nv 1e-200 0 0\nv 1e-200 1e-200 3e-201\nv 0 1e-200 0\nv 2e-200 0 1e-201\n"
+                            "v 2e-200 1e-200 0\nf 1 2 3 4\nf 2 5 6 3\n");
+    write_file("big.obj", "v 0 0 0\nv 5e300 0 0\nv 5e300 5e300 1.5e300\nv 0 5e300 0\nv 1e301 0 5e299\n"
+                          "v 1e301 5e300 0\nf 1 2 3 4\nf 2 5 6 3\n");
+    for (int i = 0; i < 2; i++) {
+        snprintf(args, sizeof args, "sample --grid 4 %s/%s > %s/s.txt", dir, i ? "big.obj" : "small.obj", dir);
+        char cmd[4096];
+        snprintf(cmd, sizeof cmd, "%s %s 2>/dev/null && ! grep -qi 'nan\\|inf' %s/s.txt && "
+                 "test $(wc -l < %s/s.txt) = 32", EXE, args, dir, dir);
+        CHECK(system(cmd) == 0, "%s: samples not finite or wrong count", i ? "big.obj" : "small.obj");
+        snprintf(args, sizeof args, "-q %s/%s -o %s/x%d.step", dir, i ? "big.obj" : "small.obj", dir, i);
+        CHECK(run(args, err, sizeof err, NULL) == 0, "%s: fit and export: %s", i ? "big" : "small", err);
+        snprintf(args, sizeof args, "%s/x%d.step", dir, i);
+        unlink(args);
+    }
+    /* a fold is reported, with the face's line */
+    write_file("dart.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 3 1 0\n"
+                           "v 0 2 0\nv 1 2 0\nv 1.3 1.3 0\nv 3 2 0\nv 0 3 0\nv 1 3 0\nv 2 3 0\nv 3 3 0\n"
+                           "f 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 5 6 10 9\nf 6 7 11 10\nf 7 8 12 11\n"
+                           "f 9 10 14 13\nf 10 11 15 14\nf 11 12 16 15\n");
+    snprintf(args, sizeof args, "sample --grid 2 %s/dart.obj", dir);
+    CHECK(run(args, err, sizeof err, NULL) == 0 && strstr(err, "warning: ") &&
+          strstr(err, "dart.obj:21: face 4: the surface folds over"), "dart: %s", err);
     const char *torus = chk_shared_mesh("osd_catmark_torus.obj");
     if (torus) {
         snprintf(args, sizeof args, "sample --grid 4 %s", torus);

@@ -113,6 +113,155 @@ static void test_bad_inputs(void)
     }
 }
 
+/* ------------------------------------------------- degenerate geometry (issue 16) */
+
+/* Parse text; 0 when accepted, else the status (message in err). */
+static q2n_status parse(const char *text, q2n_error *err)
+{
+    q2n_mesh *m = NULL;
+    q2n_status st = q2n_mesh_parse_obj(text, strlen(text), "t.obj", &m, err);
+    q2n_mesh_free(m);
+    return st;
+}
+
+/* A quad whose edge v1-v2 has length e relative to its diagonal (1.41) or, with thin set, a
+ * parallelogram of width e relative to its diagonal (3), at scale s: text in buf. */
+static const char *quad_text(char *buf, size_t n, double e, int thin, double s)
+{
+    if (thin) /* (0,0) (2,0) (3,3e) (1,3e): area 6e, longest edge 2, diagonal ~3 */
+        snprintf(buf, n, "v 0 0 0\nv %.17g 0 0\nv %.17g %.17g 0\nv %.17g %.17g 0\nf 1 2 3 4\n", 2 * s,
+                 3 * s, 3 * e * s, s, 3 * e * s);
+    else
+        snprintf(buf, n, "v 0 0 0\nv %.17g 0 0\nv %.17g %.17g 0\nv 0 %.17g 0\nf 1 2 3 4\n", s, s,
+                 e * s, s);
+    return buf;
+}
+
+static void test_degenerate_geometry(void)
+{
+    static const bad_case cases[] = {
+        /* issue 16: accepted before (exact-equality check only), NaN samples with exit 0 */
+        {"v 0 0 0\nv 1 0 0\nv 1 1e-50 0\nv 0 1 0\nf 1 2 3 4\n", Q2N_ERR_GEOMETRY, "t.obj:5: ",
+         "face 0 has a degenerate edge 1-2: length 1e-50, 7.1e-51 of the bounding-box diagonal"},
+        {"v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3 4\n", Q2N_ERR_GEOMETRY, "t.obj:5: ",
+         "face 0 has (near) zero area"},
+        {"v 0 0 0\nv 1 0 0\nv 0 0 0\nv 0 1 0\nf 1 2 3 4\n", Q2N_ERR_GEOMETRY, "t.obj:5: ",
+         "face 0 has opposite corners 0 and 2 at the same position"},
+        {"v 0 0 0\nv 1 1 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 4\n", Q2N_ERR_GEOMETRY, "t.obj:5: ",
+         "(near) zero area"}, /* symmetric bow-tie: the two lobes cancel */
+        {"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", Q2N_ERR_GEOMETRY, "t.obj:4: ", "zero area"},
+        /* the second face of a valid first one: its line */
+        {"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 4 0 1e-20\nf 1 2 3 4\nf 2 5 6\n",
+         Q2N_ERR_GEOMETRY, "t.obj:8: ", "face 1 has (near) zero area"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        q2n_error err = {0};
+        q2n_status st = parse(cases[i].text, &err);
+        CHECK(st == cases[i].code && !strncmp(err.message, cases[i].prefix, strlen(cases[i].prefix)) &&
+              strstr(err.message, cases[i].needle), "degenerate case %zu: %d '%s' lacks '%s'", i, st,
+              err.message, cases[i].needle);
+    }
+    /* the threshold sits where mesh_policy.h says (1e-12 of the diagonal), at every scale */
+    static const double scales[] = {1.0, 1e-300, 1e300, 3e-320, 1.7e308};
+    for (int c = 0; c < 5; c++) {
+        char buf[512];
+        q2n_error err = {0};
+        double s = scales[c] == 1.7e308 ? 5e307 : scales[c]; /* 3 s must stay in range */
+        int big = c == 3; /* 3e-320 is subnormal: its 1e-11 fraction is not representable */
+        if (!big) {
+            CHECK(parse(quad_text(buf, sizeof buf, 1.41e-13, 0, s), &err) == Q2N_ERR_GEOMETRY &&
+                  strstr(err.message, "degenerate edge"), "edge 1e-13 at scale %g: %s", s, err.message);
+            CHECK(parse(quad_text(buf, sizeof buf, 1.41e-11, 0, s), &err) == Q2N_OK, "edge 1e-11 at scale "
+                  "%g: %s", s, err.message);
+            CHECK(parse(quad_text(buf, sizeof buf, 1e-13, 1, s), &err) == Q2N_ERR_GEOMETRY &&
+                  strstr(err.message, "zero area"), "width 1e-13 at scale %g: %s", s, err.message);
+            CHECK(parse(quad_text(buf, sizeof buf, 1e-11, 1, s), &err) == Q2N_OK, "width 1e-11 at scale "
+                  "%g: %s", s, err.message);
+        }
+        CHECK(parse(quad_text(buf, sizeof buf, 0.5, 0, s), &err) == Q2N_OK, "plain quad at scale %g: %s",
+              s, err.message);
+    }
+    /* the arrays constructor names the mesh and the face */
+    {
+        const double pos[] = {0, 0, 0, 1, 0, 0, 1, 1e-14, 0, 0, 1, 0};
+        const int fs[] = {0, 4}, fv[] = {0, 1, 2, 3};
+        q2n_mesh *m = NULL;
+        q2n_error err = {0};
+        CHECK(q2n_mesh_from_arrays(4, pos, 1, fs, fv, "arr", &m, &err) == Q2N_ERR_GEOMETRY && !m &&
+              !strncmp(err.message, "arr: face 0 has a degenerate edge 1-2", 37), "arrays: %s", err.message);
+    }
+    /* accepted: a straight corner (vertex on its neighbours' segment, as in
+     * osd_catmark_gregory_test1), a dart, an asymmetric bow-tie (a valid Catmull–Clark control
+     * face); q2n_mesh_check_crossing then rejects only the bow-tie, naming its line */
+    static const struct { const char *text; int crossing; } ok[] = {
+        {"v 0 0 0\nv 2 0 0\nv 2 2 0\nv 1 1 0\nf 1 2 3 4\n", 0},
+        {"v 0 0 0\nv 2 0 0\nv 0.6 0.6 0\nv 0 2 0\nf 1 2 3 4\n", 0},
+        {"v 0 0 0\nv 2 2 0\nv 2 0 0\nv 0 1 0\n# bow-tie\nf 1 2 3 4\n", 1},
+        {"v 0 0 0\nv 1 0 0.9\nv 1 1 0\nv 0 1 0.9\nf 1 2 3 4\n", 0}, /* saddle: warped, not crossing */
+    };
+    for (int i = 0; i < 4; i++) {
+        q2n_mesh *m = NULL;
+        q2n_error err = {0};
+        CHECK(q2n_mesh_parse_obj(ok[i].text, strlen(ok[i].text), "t.obj", &m, &err) == Q2N_OK,
+              "accepted shape %d: %s", i, err.message);
+        if (!m) continue;
+        q2n_status st = q2n_mesh_check_crossing(m, &err);
+        CHECK(ok[i].crossing ? st == Q2N_ERR_GEOMETRY && !strncmp(err.message, "t.obj:6: face 0 is "
+              "self-crossing (a bow-tie)", 40) : st == Q2N_OK, "shape %d crossing: %d %s", i, st,
+              st ? err.message : "");
+        q2n_mesh_free(m);
+    }
+}
+
+/* q2n_mesh_normalize: diagonal 1, centre at the origin, power-of-two scales bit for bit,
+ * unreferenced vertices untouched, and the map back reproduces the input to rounding. */
+static void test_normalize(void)
+{
+    const char *text = "v 1e6 2e6 -3\nv 1000004 2e6 -3\nv 1000004 2000003 -2\nv 1e6 2000003 -3\n"
+                       "v 7 7 7\nf 1 2 3 4\n";
+    q2n_mesh *m = NULL, *h = NULL;
+    q2n_error err = {0};
+    if (q2n_mesh_parse_obj(text, strlen(text), "n.obj", &m, &err)) { CHECK(0, "%s", err.message); return; }
+    double in[15], c[3], mant, c2[3], mant2;
+    int exp, exp2;
+    memcpy(in, m->pos, sizeof in);
+    q2n_mesh_normalize(m, c, &mant, &exp);
+    CHECK_NEAR(q2n_mesh_bbox_diag(m), 1.0, 2e-16, "normalised diagonal");
+    CHECK(c[0] == 1000002 && c[1] == 2000001.5 && c[2] == -2.5, "centre %g %g %g", c[0], c[1], c[2]);
+    CHECK_NEAR(ldexp(mant, exp), sqrt(16 + 9 + 1), 1e-14, "diagonal as mant * 2^exp");
+    CHECK(m->pos[12] == 7 && m->pos[13] == 7 && m->pos[14] == 7, "unreferenced vertex untouched");
+    double worst = 0;
+    for (int i = 0; i < 12; i++) {
+        double back = c[i % 3] + ldexp(m->pos[i] * mant, exp);
+        if (fabs(back - in[i]) > worst) worst = fabs(back - in[i]);
+    }
+    CHECK(worst <= 4.7e-10, "map back differs by %g (rounding of 2e6 is 2.3e-10)", worst);
+    /* the same mesh halved 600 times normalises to the same bits */
+    char half[512];
+    snprintf(half, sizeof half, "v %a %a %a\nv %a %a %a\nv %a %a %a\nv %a %a %a\nf 1 2 3 4\n",
+             ldexp(in[0], -600), ldexp(in[1], -600), ldexp(in[2], -600), ldexp(in[3], -600),
+             ldexp(in[4], -600), ldexp(in[5], -600), ldexp(in[6], -600), ldexp(in[7], -600),
+             ldexp(in[8], -600), ldexp(in[9], -600), ldexp(in[10], -600), ldexp(in[11], -600));
+    if (q2n_mesh_parse_obj(half, strlen(half), "h.obj", &h, &err) == Q2N_OK) {
+        q2n_mesh_normalize(h, c2, &mant2, &exp2);
+        CHECK(memcmp(h->pos, m->pos, 12 * sizeof(double)) == 0 && mant2 == mant && exp2 == exp - 600,
+              "power-of-two scale: normalised coordinates differ");
+    } else CHECK(0, "halved mesh: %s", err.message);
+    q2n_mesh_free(h);
+    q2n_mesh_free(m);
+    /* coordinates near the ends of the double range: frame without overflow */
+    const char *big = "v -1.7e308 -1.7e308 0\nv 1.7e308 -1.7e308 0\nv 1.7e308 1.7e308 0\nf 1 2 3\n";
+    if (q2n_mesh_parse_obj(big, strlen(big), "b.obj", &m, &err) == Q2N_OK) {
+        q2n_mesh_frame(m, c, &mant, &exp);
+        CHECK(c[0] == 0 && c[1] == 0 && exp == 1024 && fabs(mant - 2 * sqrt(2) * ldexp(1.7e308, -1024)) < 1e-15,
+              "huge frame (diagonal 4.8e308 = mant * 2^1024): c %g %g, "
+              "mant %g exp %d", c[0], c[1], mant, exp);
+        q2n_mesh_normalize(m, c, &mant, &exp);
+        CHECK_NEAR(q2n_mesh_bbox_diag(m), 1.0, 2e-16, "huge mesh normalised");
+        q2n_mesh_free(m);
+    } else CHECK(0, "huge coordinates rejected: %s", err.message);
+}
+
 /* -------------------------------------------------------------- valid forms */
 
 static void test_valid_forms(void)
@@ -414,8 +563,10 @@ static void test_shared_meshes(void)
 static void test_writer(void)
 {
     /* awkward doubles survive the %.17g round trip bit for bit */
-    const double pos[] = {0.1, 1.0 / 3.0, -2.5e-300, 1e300, -0.7, 2.0 / 7.0, 0.3, 0.6, 0.9,
-                          -1.0 / 9.0, 5.0, 1e-17, 42.0, 42.0, 42.0};
+    /* (the extremes sit on the unreferenced vertex 4: a face through 1e300 and 0.3 would be
+     * degenerate relative to its bounding box) */
+    const double pos[] = {0.1, 1.0 / 3.0, -2.5e-300, 5.0, 1e-17, 0.3, 0.6, 0.9, -1.0 / 9.0,
+                          42.0, 42.0, 42.0, 1e300, -0.7, 2.0 / 7.0};
     const int fs[] = {0, 4}, fv[] = {0, 1, 2, 3};
     q2n_mesh *m = NULL, *r = NULL;
     q2n_error err = {0};
@@ -593,6 +744,8 @@ int main(void)
     test_bad_inputs();
     test_valid_forms();
     test_from_arrays_errors();
+    test_degenerate_geometry();
+    test_normalize();
     test_grid_topology();
     test_check_detects();
     test_shared_meshes();

@@ -121,9 +121,7 @@ int q2n_patch_covered(const q2n_model *m, int k)
 
 int q2n_patch_eval(const q2n_model *m, int k, double u, double v, double out[9])
 {
-    int st = (int)q2n_surface_eval(m->surface, k, u, v, 1, out);
-    for (int c = 0; c < 9; c++) out[c] *= m->opt.scale;
-    return st;
+    return (int)q2n_model_eval(m, k, u, v, out, NULL);
 }
 
 int q2n_write_all(q2n_model *m, const char *const *paths, int n, char *errbuf, size_t errlen)

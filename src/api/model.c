@@ -8,6 +8,7 @@
 #include <strings.h>
 #include <time.h>
 
+#include "api/api_policy.h"
 #include "core/outfile.h"
 #include "core/vec3.h"
 #include "patch/augmented.h"
@@ -57,26 +58,113 @@ static q2n_status build_acc(q2n_model *m, q2n_error *err)
     return Q2N_OK;
 }
 
-q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q2n_model **out, q2n_error *err)
+/* "NAME:LINE: face k" for messages (LINE of the face, or of the input face it was subdivided
+ * from), with a note when the mesh is the subdivided one. */
+static void face_where(const q2n_model *m, int k, char *buf, size_t n)
+{
+    const q2n_mesh *me = m->mesh;
+    int line = me->face_line ? me->face_line[k] : 0;
+    const char *sub = me->nf != m->input_faces ? " (of the subdivided mesh)" : "";
+    if (line > 0) snprintf(buf, n, "%s:%d: face %d%s", me->name, line, k, sub);
+    else snprintf(buf, n, "%s: face %d%s", me->name, k, sub);
+}
+
+static q2n_status not_finite(const q2n_model *m, int k, double u, double v, const char *what,
+                             q2n_error *err)
+{
+    char where[320];
+    face_where(m, k, where, sizeof where);
+    return q2n_error_set(err, Q2N_ERR_NUMERIC, "%s: %s is not finite (NaN or Inf) at u %.3g, v %.3g",
+                         where, what, u, v);
+}
+
+/* Every covered patch at the scan grid: finite values (else fail), and folds (counted; the first
+ * named in m->warning). */
+static q2n_status scan_patches(q2n_model *m, q2n_error *err)
+{
+    char where[320] = "";
+    double fu = 0, fv = 0;
+    m->folded = 0;
+    for (int k = 0; k < m->mesh->nf; k++) {
+        if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
+        double area[3], u = 0, v = 0;
+        int folded;
+        q2n_mesh_face_area(m->mesh, k, area);
+        q2n_status st = q2n_surface_scan(m->surface, k, Q2N_MODEL_SCAN_GRID, area, &folded, &u, &v);
+        if (st == Q2N_ERR_NUMERIC) return not_finite(m, k, u, v, "the surface", err);
+        if (st) {
+            face_where(m, k, where, sizeof where);
+            return q2n_error_set(err, st, "%s: the surface cannot be evaluated", where);
+        }
+        if (folded && m->folded++ == 0) face_where(m, k, where, sizeof where), fu = u, fv = v;
+    }
+    if (m->folded) {
+        int len = snprintf(m->warning, sizeof m->warning, "%s: the surface folds over (at u %.3g, "
+                           "v %.3g its normal points against the face's: a non-convex or strongly "
+                           "warped face?)", where, fu, fv);
+        if (m->folded > 1 && len > 0 && (size_t)len < sizeof m->warning)
+            snprintf(m->warning + len, sizeof m->warning - len, "; %d faces fold in all", m->folded);
+    }
+    return Q2N_OK;
+}
+
+/* A new model with its options (defaults filled in) and no mesh yet. */
+static q2n_status model_new(const q2n_model_options *opt, q2n_model **out, q2n_error *err)
 {
     q2n_model *m = calloc(1, sizeof *m);
     if (!m) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory");
     if (opt) m->opt = *opt;
     if (!m->opt.cls) m->opt.cls = q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT);
     if (m->opt.scale == 0.0) m->opt.scale = 1.0;
+    m->scale_mant = 1.0;
+    if (!(m->opt.scale > 0.0 && isfinite(m->opt.scale))) {
+        double sc = m->opt.scale;
+        free(m);
+        return q2n_error_set(err, Q2N_ERR_ARG, "scale %g is not a positive number", sc);
+    }
+    *out = m;
+    return Q2N_OK;
+}
+
+/* Take the mesh over and move it into its frame (scale-free numerics: everything is built at
+ * diagonal 1 and mapped back on the way out, times --scale); refuse a diagonal whose output
+ * would leave the double range. */
+static q2n_status model_take_mesh(q2n_model *m, q2n_mesh *mesh, q2n_error *err)
+{
+    m->mesh = mesh;
+    m->input_faces = mesh->nf;
+    q2n_mesh_normalize(m->mesh, m->origin, &m->scale_mant, &m->scale_exp);
+    double mant = m->scale_mant * m->opt.scale;
+    int e = m->scale_exp;
+    if (ldexp(mant, e - Q2N_MODEL_MAX_DIAG_LOG2) >= 1.0)
+        return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: the bounding box is too large (diagonal "
+                             "%.3g%s, limit 2^%d = %.3g): derivatives and differences of the surface "
+                             "would overflow a double; scale the mesh down", m->mesh->name, ldexp(mant, e),
+                             m->opt.scale != 1.0 ? " after --scale" : "", Q2N_MODEL_MAX_DIAG_LOG2,
+                             ldexp(1.0, Q2N_MODEL_MAX_DIAG_LOG2));
+    for (int c = 0; c < 3; c++)
+        if (!isfinite(m->origin[c] * m->opt.scale))
+            return q2n_error_set(err, Q2N_ERR_ARG, "%s: the mesh's centre %g times scale %g overflows", m->mesh->name,
+                                 m->origin[c], m->opt.scale);
+    return Q2N_OK;
+}
+
+double q2n_model_length_scale(const q2n_model *m)
+{
+    return ldexp(m->scale_mant * m->opt.scale, m->scale_exp);
+}
+
+q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q2n_model **out, q2n_error *err)
+{
+    q2n_model *m = NULL;
+    q2n_status st = model_new(opt, &m, err);
+    if (st) return st;
     double t0 = q2n_now();
     q2n_progress_emit(&m->opt.progress, "read", mesh_path, 0, 0);
-    q2n_status st = Q2N_OK;
-    if (!(m->opt.scale > 0.0 && isfinite(m->opt.scale)))
-        st = q2n_error_set(err, Q2N_ERR_ARG, "scale %g is not a positive number", m->opt.scale);
-    if (!st) st = q2n_mesh_read(mesh_path, &m->mesh, &m->read_info, err);
-    /* --scale multiplies what leaves the library (fitted control points, tessellation, samples,
-     * evaluations), not the mesh the construction sees: the output is then exactly the scaled
-     * surface, whether or not the construction is scale-free */
-    for (size_t i = 0; !st && i < 3 * (size_t)m->mesh->nv; i++)
-        if (!isfinite(m->mesh->pos[i] * m->opt.scale))
-            st = q2n_error_set(err, Q2N_ERR_ARG, "%s: vertex %zu: coordinate %g times scale %g overflows", mesh_path,
-                               i / 3 + 1, m->mesh->pos[i], m->opt.scale);
+    q2n_mesh *mesh = NULL;
+    st = q2n_mesh_read(mesh_path, &mesh, &m->read_info, err);
+    if (!st) st = model_take_mesh(m, mesh, err);
+    else q2n_mesh_free(mesh);
     m->t_read = q2n_now() - t0;
     if (st) { q2n_model_free(m); return st; }
     *out = m;
@@ -121,11 +209,15 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
                            "(use --subdivide 1 to apply one Catmull-Clark step first)",
                            path, m->mesh->face_line[f], f, q2n_face_size(m->mesh, f));
     }
+    /* an interpolating patch follows its quad's sides: a bow-tie's would cross (Catmull–Clark
+     * control faces may be bow-ties: the ACC path and --subdivide take them) */
+    if (!st && m->opt.method == Q2N_SURFACE_AUGMENTED) st = q2n_mesh_check_crossing(m->mesh, err);
     if (!st && m->opt.method == Q2N_SURFACE_AUGMENTED) st = check_valence(m, err);
     m->t_read += q2n_now() - t0;
     t0 = q2n_now();
     if (!st) q2n_progress_emit(&m->opt.progress, "build", NULL, 0, m->mesh->nf);
     if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
+    if (!st) st = scan_patches(m, err);
     if (st) return st;
     m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
     m->t_build = q2n_now() - t0;
@@ -143,12 +235,74 @@ q2n_status q2n_model_build(const char *mesh_path, const q2n_model_options *opt, 
     return st;
 }
 
+q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
+                                q2n_error *err)
+{
+    q2n_model *m = NULL;
+    q2n_status st = model_new(opt, &m, err);
+    if (st) { q2n_mesh_free(mesh); return st; }
+    if ((st = model_take_mesh(m, mesh, err)) || (st = q2n_model_construct(m, err))) {
+        q2n_model_free(m);
+        return st;
+    }
+    *out = m;
+    return Q2N_OK;
+}
+
+/* Output coordinates of an internal point x: scale * (origin + 2^exp * (mant * x)); of a
+ * derivative d: scale * 2^exp * (mant * d). */
+static double out_point(const q2n_model *m, int c, double x)
+{
+    return m->opt.scale * (m->origin[c] + ldexp(x * m->scale_mant, m->scale_exp));
+}
+static double out_vector(const q2n_model *m, double d)
+{
+    return ldexp(d * m->scale_mant * m->opt.scale, m->scale_exp);
+}
+
+void q2n_model_map_points(const q2n_model *m, double *e, size_t n)
+{
+    for (size_t p = 0; p < n; p++, e += 9)
+        for (int c = 0; c < 3; c++) {
+            e[c] = out_point(m, c, e[c]);
+            e[3 + c] = out_vector(m, e[3 + c]);
+            e[6 + c] = out_vector(m, e[6 + c]);
+        }
+}
+
+/* The fitted model in output coordinates (control points of the patches and of the shared edge
+ * curves, the tolerance; knots do not change under an affine map); fails naming the face when a
+ * value leaves the double range. */
+static q2n_status map_nurbs(q2n_model *m, q2n_error *err)
+{
+    q2n_nurbs_model *md = m->nurbs;
+    md->tol_abs = out_vector(m, md->tol_abs);
+    for (int k = 0; k < md->n; k++) {
+        q2n_bspline_surface *p = &md->patches[k];
+        size_t n = (size_t)p->ncp_u * p->ncp_v;
+        for (size_t i = 0; i < n; i++)
+            for (int c = 0; c < 3; c++) {
+                double *x = &p->cp[3 * i + c];
+                *x = out_point(m, c, *x);
+                if (!isfinite(*x))
+                    return not_finite(m, k, (double)(i % (size_t)p->ncp_u) / (p->ncp_u - 1),
+                                      (double)(i / (size_t)p->ncp_u) / (p->ncp_v - 1),
+                                      "a fitted control point (near the position shown)", err);
+            }
+    }
+    for (int e = 0; md->edges && e < m->mesh->ne; e++) {
+        q2n_bspline_curve *cv = &md->edges[e];
+        for (size_t i = 0; i < 3 * (size_t)cv->ncp; i++) cv->cp[i] = out_point(m, (int)(i % 3), cv->cp[i]);
+    }
+    return Q2N_OK;
+}
+
 q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *err)
 {
     q2n_fit_options o;
     if (fopt) o = *fopt;
     else q2n_fit_options_default(&o);
-    if (o.tol_abs > 0) o.tol_abs /= m->opt.scale; /* model units are output units: the mesh is unscaled */
+    if (o.tol_abs > 0) o.tol_abs /= q2n_model_length_scale(m); /* output units -> the internal frame */
     if (o.continuity == 0) o.continuity = m->continuity >= 2 ? 2 : 1;
     if (m->uncovered)
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
@@ -159,20 +313,18 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     q2n_nurbs_model_free(m->nurbs);
     m->nurbs = NULL;
     q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &m->nurbs, &m->fit, err);
-    double sc = m->opt.scale;
-    if (m->nurbs && sc != 1.0) { /* into output coordinates (--scale); relative figures stay */
-        for (int k = 0; k < m->nurbs->n; k++) {
-            q2n_bspline_surface *b = &m->nurbs->patches[k];
-            for (size_t i = 0; i < 3 * (size_t)b->ncp_u * b->ncp_v; i++) b->cp[i] *= sc;
+    if (m->nurbs) { /* into output coordinates; relative figures stay */
+        q2n_error e2;
+        q2n_status st2 = map_nurbs(m, &e2);
+        if (st2) {
+            q2n_nurbs_model_free(m->nurbs);
+            m->nurbs = NULL;
+            if (err) *err = e2;
+            st = st2;
         }
-        for (int e = 0; m->nurbs->edges && e < m->mesh->ne; e++) { /* the shared edge curves too */
-            q2n_bspline_curve *c = &m->nurbs->edges[e];
-            for (size_t i = 0; i < 3 * (size_t)c->ncp; i++) c->cp[i] *= sc;
-        }
-        m->nurbs->tol_abs *= sc;
-        m->fit.diag *= sc;
-        m->fit.tol_abs *= sc;
     }
+    m->fit.diag = out_vector(m, m->fit.diag);
+    m->fit.tol_abs = out_vector(m, m->fit.tol_abs);
     m->t_fit = q2n_now() - t0;
     if (st && err && strncmp(err->message, "fit: ", 5) != 0) { /* every fit message says where it comes from */
         char msg[sizeof err->message];
@@ -188,6 +340,42 @@ static double *grid_params(int n)
     if (t)
         for (int i = 0; i < n; i++) t[i] = n == 1 ? 0.5 : (double)i / (n - 1);
     return t;
+}
+
+/* Patch k on the n x n grid t x t, in output coordinates, every value finite (else
+ * Q2N_ERR_NUMERIC naming the face, its line and the point); unit normals into nrm (3 a point)
+ * unless NULL, from the internal derivatives (the direction does not change under the map, and
+ * Su x Sv of a part of size 1e200 would overflow). */
+static q2n_status eval_patch_grid(const q2n_model *m, int k, int n, const double *t, double *buf,
+                                  double *nrm, q2n_error *err)
+{
+    q2n_status st = q2n_surface_eval_grid(m->surface, k, n, t, n, t, buf);
+    for (int p = 0; !st && nrm && p < n * n; p++) {
+        double *c = nrm + 3 * p, len;
+        q2n_v3_cross(c, buf + 9 * p + 3, buf + 9 * p + 6);
+        if ((len = q2n_v3_norm(c)) > 0) q2n_v3_scale(c, 1 / len, c);
+    }
+    if (!st) q2n_model_map_points(m, buf, (size_t)n * n);
+    int bad = st && st != Q2N_ERR_NUMERIC ? -1 : q2n_surface_first_nonfinite(buf, n * n);
+    if (bad >= 0) return not_finite(m, k, t[bad % n], t[bad / n], "the surface", err);
+    if (st) {
+        char where[320];
+        face_where(m, k, where, sizeof where);
+        return q2n_error_set(err, st, "%s: the surface cannot be evaluated", where);
+    }
+    return Q2N_OK;
+}
+
+q2n_status q2n_model_eval(const q2n_model *m, int k, double u, double v, double out[9], q2n_error *err)
+{
+    if (k < 0 || k >= m->mesh->nf || q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED)
+        return q2n_error_set(err, Q2N_ERR_ARG, "patch %d does not exist or is not covered", k);
+    q2n_status st = q2n_surface_eval(m->surface, k, u, v, 1, out);
+    if (!st) q2n_model_map_points(m, out, 1);
+    if (st == Q2N_ERR_NUMERIC || (!st && q2n_surface_first_nonfinite(out, 1) >= 0))
+        return not_finite(m, k, u, v, "the surface", err);
+    if (st) return q2n_error_set(err, st, "patch %d: evaluation failed at u %g, v %g", k, u, v);
+    return Q2N_OK;
 }
 
 q2n_status q2n_model_write_tessellation(const q2n_model *m, int n, const char *path, q2n_error *err)
@@ -206,8 +394,9 @@ q2n_status q2n_model_write_tessellation_file(const q2n_model *m, int n, FILE *f,
 {
     q2n_status st = Q2N_OK;
     double *t = grid_params(n), *buf = malloc(9 * (size_t)n * n * sizeof *buf);
-    if (!t || !buf) {
-        free(t); free(buf);
+    double *nrm = malloc(3 * (size_t)n * n * sizeof *nrm);
+    if (!t || !buf || !nrm) {
+        free(t); free(buf); free(nrm);
         return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (tessellation)");
     }
     char name[sizeof m->mesh->name * 4];
@@ -217,19 +406,11 @@ q2n_status q2n_model_write_tessellation_file(const q2n_model *m, int n, FILE *f,
     for (int k = 0; k < m->mesh->nf; k++) {
         if (k % 256 == 0) q2n_progress_emit(&m->opt.progress, "write", "tessellation", k, m->mesh->nf);
         if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
-        if ((st = q2n_surface_eval_grid(m->surface, k, n, t, n, t, buf))) {
-            q2n_error_set(err, st, "patch %d: evaluation failed", k);
-            break;
-        }
+        if ((st = eval_patch_grid(m, k, n, t, buf, nrm, err))) break;
         fprintf(f, "g patch_%d\n", k);
         for (int p = 0; p < n * n; p++) {
-            double *e = buf + 9 * p;
-            for (int c = 0; c < 3; c++) e[c] *= m->opt.scale;
-            double nrm[3];
-            q2n_v3_cross(nrm, e + 3, e + 6);
-            double len = q2n_v3_norm(nrm);
-            if (len > 0) q2n_v3_scale(nrm, 1 / len, nrm);
-            fprintf(f, "v %.17g %.17g %.17g\nvn %.9g %.9g %.9g\n", e[0], e[1], e[2], nrm[0], nrm[1], nrm[2]);
+            const double *e = buf + 9 * p, *nv = nrm + 3 * p;
+            fprintf(f, "v %.17g %.17g %.17g\nvn %.9g %.9g %.9g\n", e[0], e[1], e[2], nv[0], nv[1], nv[2]);
         }
         for (int j = 0; j + 1 < n; j++)
             for (int i = 0; i + 1 < n; i++) {
@@ -240,6 +421,7 @@ q2n_status q2n_model_write_tessellation_file(const q2n_model *m, int n, FILE *f,
     }
     free(t);
     free(buf);
+    free(nrm);
     return st;
 }
 
@@ -253,14 +435,10 @@ q2n_status q2n_model_write_samples(const q2n_model *m, int n, FILE *out, q2n_err
     }
     for (int k = 0; k < m->mesh->nf && !st; k++) {
         if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
-        if ((st = q2n_surface_eval_grid(m->surface, k, n, t, n, t, buf))) {
-            q2n_error_set(err, st, "patch %d: evaluation failed", k);
-            break;
-        }
+        if ((st = eval_patch_grid(m, k, n, t, buf, NULL, err))) break;
         for (int j = 0; j < n; j++)
             for (int i = 0; i < n; i++) {
-                double *e = buf + 9 * ((size_t)j * n + i);
-                for (int c = 0; c < 9; c++) e[c] *= m->opt.scale;
+                const double *e = buf + 9 * ((size_t)j * n + i);
                 fprintf(out, "%d %.17g %.17g", k, t[i], t[j]);
                 for (int c = 0; c < 9; c++) fprintf(out, " %.17g", e[c]);
                 fputc('\n', out);

@@ -36,36 +36,58 @@ typedef struct q2n_model_options {
     int threads;                  /* worker threads of the construction (0: 1; results do not depend on it) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */
-    double scale;                 /* multiplies the coordinates as they are read (0: 1) */
+    double scale;                 /* multiplies every output coordinate (0: 1): --scale */
     q2n_progress_sink progress;   /* reports of every stage (fn NULL: none) */
 } q2n_model_options;
 
+/* Coordinates.  The mesh is moved into its frame right after reading (q2n_mesh_normalize):
+ * internal = (input - origin) / scale with scale = scale_mant * 2^scale_exp the bounding-box
+ * diagonal, so the construction and the fit always see a mesh of diagonal 1 whatever the input's
+ * scale (1e-300 or 1e300).  mesh, surface and edge_iv are internal; nurbs (after q2n_model_fit)
+ * and everything written or returned (files, samples, q2n_patch_eval) are mapped back, times the
+ * user's --scale (opt.scale): output = scale * (origin + 2^scale_exp * (scale_mant * internal)),
+ * derivatives scale * 2^scale_exp * (scale_mant * d): an affine map, exact up to rounding (the
+ * power of two keeps the scale itself in range). */
 typedef struct q2n_model {
     q2n_model_options opt;
-    q2n_mesh *mesh;            /* the mesh the patches are built on (after subdivision) */
-    q2n_surface *surface;      /* patch k on face k of mesh */
+    q2n_mesh *mesh;            /* the mesh the patches are built on (after subdivision), internal */
+    double origin[3];          /* input = origin + 2^scale_exp * (scale_mant * internal) */
+    double scale_mant;
+    int scale_exp;
+    q2n_surface *surface;      /* patch k on face k of mesh, internal coordinates */
     double *edge_iv;           /* augmented: per-edge intervals */
     int uncovered;             /* faces no construction covers */
     int continuity;            /* 1 or 2: what the construction guarantees across edges (G^k) */
     char note[256];            /* e.g. why Catmull–Clark steps were applied by the ACC path */
     q2n_mesh_read_info read_info; /* format, ignored tags (for a warning) */
+    int input_faces;           /* faces of the mesh as read (before any subdivision) */
+    char warning[320];         /* e.g. the first face whose surface folds over; "" when none */
+    int folded;                /* faces whose surface folds over (normal against the face's) */
     q2n_fit_options fit_opt;   /* settings kept for later q2n_model_fit calls (public API) */
     q2n_export_options export_opt;
     int tess;                  /* public API: tessellation points per patch side */
     int format;                /* public API: a q2n_format for names without a known extension */
     double max_memory;         /* public API: the resource limit (0 default, < 0 none) */
-    q2n_nurbs_model *nurbs;    /* after q2n_model_fit */
+    q2n_nurbs_model *nurbs;    /* after q2n_model_fit, output coordinates */
     q2n_fit_report fit;        /* after q2n_model_fit */
     double t_read, t_build, t_fit, t_write; /* seconds */
 } q2n_model;
 
-/* Read (any mesh format, q2n_mesh_read) and scale, then construct: q2n_model_read followed by
- * q2n_model_construct. */
+/* Read (any mesh format, q2n_mesh_read) and move into the internal frame, then construct:
+ * q2n_model_read followed by q2n_model_construct. */
 q2n_status q2n_model_build(const char *mesh_path, const q2n_model_options *opt, q2n_model **out,
                            q2n_error *err);
 /* The two halves, so that a caller can check the work (q2n_model_estimate) before the slow one. */
 q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q2n_model **out, q2n_error *err);
+/* Subdivide if asked, build the surface, then scan every patch (Q2N_MODEL_SCAN_GRID points a
+ * side): a non-finite value fails with Q2N_ERR_NUMERIC naming the face and its line; a patch
+ * whose normal turns against its face's is counted in folded and named in warning. */
 q2n_status q2n_model_construct(q2n_model *m, q2n_error *err);
+/* Build on a validated mesh, which the model takes over (freed on failure too). */
+q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
+                                q2n_error *err);
+/* Output units per internal unit: scale * 2^scale_exp * scale_mant. */
+double q2n_model_length_scale(const q2n_model *m);
 /* Fit (or convert exactly) into B-splines; continuity defaults to the construction's. */
 q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *err);
 void q2n_model_free(q2n_model *m);
@@ -75,6 +97,12 @@ q2n_status q2n_model_write_tessellation(const q2n_model *m, int n, const char *p
 q2n_status q2n_model_write_tessellation_file(const q2n_model *m, int n, FILE *f, q2n_error *err);
 q2n_status q2n_model_write_samples(const q2n_model *m, int n, FILE *out, q2n_error *err);
 
+/* Patch k at (u, v) in output coordinates (input times --scale): S, Su, Sv (9 doubles);
+ * Q2N_ERR_NUMERIC with a message naming the face when a value is not finite (also after mapping
+ * back, e.g. overflow). */
+q2n_status q2n_model_eval(const q2n_model *m, int k, double u, double v, double out[9], q2n_error *err);
+/* Map n grid points (9 doubles each: S, Su, Sv) from internal to output coordinates, in place. */
+void q2n_model_map_points(const q2n_model *m, double *e, size_t n);
 
 /* ---------------------------------------------------------------- outputs (outputs.c) */
 

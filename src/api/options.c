@@ -97,7 +97,7 @@ int q2n_options_warnings(const q2n_model_options *mo, const q2n_fit_options *fo,
 q2n_status q2n_model_resolve_tol(const q2n_model *m, q2n_fit_options *fo, q2n_error *err)
 {
     if (!(fo->tol_abs > 0)) return Q2N_OK;
-    double diag = q2n_mesh_bbox_diag(m->mesh) * m->opt.scale, rel = diag > 0 ? fo->tol_abs / diag : INFINITY;
+    double diag = q2n_mesh_bbox_diag(m->mesh) * q2n_model_length_scale(m), rel = diag > 0 ? fo->tol_abs / diag : INFINITY;
     if (!(rel >= Q2N_TOL_MIN && rel <= Q2N_TOL_MAX))
         return q2n_error_set(err, Q2N_ERR_ARG,
                              "--tol-abs %g is %.3g times the bounding-box diagonal (%.6g model units); it must lie "

@@ -338,7 +338,9 @@ static int parse_args(int argc, char **argv, cli_options *o)
 }
 
 /* Exit code of a library status: input problems are the user's (2), the rest is 1. */
-static int input_exit(q2n_status st) { return st == Q2N_ERR_NOMEM || st == Q2N_ERR_IO ? (st == Q2N_ERR_IO ? 2 : 1) : 2; }
+/* Exit code of a failed read or build: 1 for what is not the input's fault (memory; valid input
+ * whose evaluation gave a non-finite number), 2 for bad input (an unreadable file included). */
+static int input_exit(q2n_status st) { return st == Q2N_ERR_NOMEM || st == Q2N_ERR_NUMERIC ? 1 : 2; }
 
 /* "0.13 µm" in the model's unit (SI prefixes for metric units); ASCII without UTF-8. */
 static void fmt_length(double v, q2n_units u, int utf8, char *out, size_t n)
@@ -462,6 +464,7 @@ static int run(run_state *s)
         cli_progress_clear(&s->prog);
         say("%s", m->note);
     }
+    if (m->warning[0]) warning(s, m->warning);
     if (m->uncovered) {
         snprintf(msg, sizeof msg, "%d of %d faces are in extraordinary regions that the regular construction does not "
                  "cover; they are left out of the output", m->uncovered, m->mesh->nf);
@@ -470,7 +473,7 @@ static int run(run_state *s)
     if ((st = q2n_model_resolve_tol(m, &o->fit, &err))) return fail(s, 2, err.message);
     if (plan.fit && (st = q2n_model_fit(m, &o->fit, &err))) {
         snprintf(msg, sizeof msg, "%s: %s", o->input, err.message);
-        return fail(s, st == Q2N_ERR_GEOMETRY || st == Q2N_ERR_NOMEM ? 1 : 2, msg);
+        return fail(s, st == Q2N_ERR_GEOMETRY || st == Q2N_ERR_NOMEM || st == Q2N_ERR_NUMERIC ? 1 : 2, msg);
     }
     if (plan.fit && (!m->fit.g1_met || !m->fit.g2_met)) {
         snprintf(msg, sizeof msg, "continuity target not met: %s (max G1 %.3g deg, G2 %.3g)",

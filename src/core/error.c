@@ -69,7 +69,7 @@ const char *q2n_status_name(q2n_status code)
 {
     static const char *names[] = {"ok", "i/o error", "parse error", "topology error",
                                   "geometry error", "unsupported input", "out of memory",
-                                  "invalid argument"};
+                                  "invalid argument", "numeric failure"};
     if ((unsigned)code < sizeof names / sizeof names[0]) return names[code];
     return "unknown error";
 }

@@ -17,7 +17,8 @@ typedef enum q2n_status {
     Q2N_ERR_GEOMETRY,    /* degenerate face or edge */
     Q2N_ERR_UNSUPPORTED, /* valid input this construction does not handle (e.g. non-quads) */
     Q2N_ERR_NOMEM,
-    Q2N_ERR_ARG          /* invalid option or argument */
+    Q2N_ERR_ARG,         /* invalid option or argument */
+    Q2N_ERR_NUMERIC      /* valid input, but an evaluation gave a non-finite number (NaN/Inf) */
 } q2n_status;
 
 typedef struct q2n_error {

@@ -161,9 +161,10 @@ q2n_status q2n_fit_glue_measure(fit_ctx *c)
     q2n_fit_par_for(ne, c->o.threads, measure_one, &arg);
     c->rep->t_sample += q2n_now() - t0;
     q2n_status r = Q2N_OK;
+    char where[64];
     for (int e = 0; e < ne && !r; e++)
-        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d: construction evaluation %s", e,
-                                     st[e] == Q2N_ERR_GEOMETRY ? "not finite" : "failed");
+        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d (%s): construction evaluation %s", e, q2n_fit_edge_where(c, e, where, sizeof where),
+                                     st[e] == Q2N_ERR_NUMERIC ? "not finite" : "failed");
     free(st);
     return r;
 }
@@ -197,9 +198,10 @@ q2n_status q2n_fit_glue_classify(fit_ctx *c)
     q2n_fit_par_for(ne, c->o.threads, classify_one, &arg);
     c->rep->t_sample += q2n_now() - t0;
     q2n_status r = Q2N_OK;
+    char where[64];
     for (int e = 0; e < ne && !r; e++)
-        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d: construction evaluation %s", e,
-                                     st[e] == Q2N_ERR_GEOMETRY ? "not finite" : "failed");
+        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d (%s): construction evaluation %s", e, q2n_fit_edge_where(c, e, where, sizeof where),
+                                     st[e] == Q2N_ERR_NUMERIC ? "not finite" : "failed");
     free(st);
     return r;
 }

@@ -87,6 +87,14 @@ int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js)
     return b * c->p[sd->k].nu + a;
 }
 
+const char *q2n_fit_edge_where(const fit_ctx *c, int e, char *buf, size_t n)
+{
+    int h = c->m->edge_he[e], t = c->m->he_twin[h];
+    if (t < 0) snprintf(buf, n, "face %d", c->m->he_face[h]);
+    else snprintf(buf, n, "between face %d and face %d", c->m->he_face[h], c->m->he_face[t]);
+    return buf;
+}
+
 int q2n_fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R)
 {
     const q2n_mesh *m = c->m;
@@ -106,7 +114,7 @@ q2n_status q2n_fit_frame_eval(const q2n_surface *surf, int k, int i, double t, d
     q2n_status st = q2n_surface_eval(surf, k, u, v, nder, e);
     if (st) return st;
     for (int q = 0; q < 3 * (nder == 0 ? 1 : nder == 1 ? 3 : 6); q++)
-        if (!isfinite(e[q])) return Q2N_ERR_GEOMETRY;
+        if (!isfinite(e[q])) return Q2N_ERR_NUMERIC;
     for (int q = 0; q < 3; q++) {
         D[0][q] = e[q];
         if (nder < 1) continue;
@@ -253,7 +261,7 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
     for (int j = 0; !st && j < nv; j++)
         for (int i = 0; i < nu; i++) {
             const double *x = g->val + 3 * ((size_t)iv[j] * g->nu + iu[i]);
-            if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) st = Q2N_ERR_GEOMETRY;
+            if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) st = Q2N_ERR_NUMERIC;
             memcpy(out + 3 * ((size_t)j * nu + i), x, 3 * sizeof(double));
         }
     free(iu); free(iv); free(ru); free(buf);
@@ -362,14 +370,15 @@ q2n_status q2n_fit_prepare(fit_ctx *c)
     prep_arg arg = {c, st};
     q2n_fit_par_for(m->ne, c->o.threads, ends_one, &arg);
     q2n_status r = Q2N_OK;
+    char where[64];
     for (int e = 0; e < m->ne && !r; e++)
-        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d: evaluation at its ends %s", e,
-                                     st[e] == Q2N_ERR_GEOMETRY ? "not finite" : "failed");
+        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d (%s): evaluation at its ends %s", e, q2n_fit_edge_where(c, e, where, sizeof where),
+                                     st[e] == Q2N_ERR_NUMERIC ? "not finite" : "failed");
     memset(st, 0, sizeof *st * (size_t)nmax);
     if (!r) q2n_fit_par_for(m->nf, c->o.threads, jet_one, &arg);
     for (int k = 0; k < m->nf && !r; k++)
         if (st[k]) r = q2n_error_set(c->err, st[k], "fit: face %d: corner derivatives %s", k,
-                                     st[k] == Q2N_ERR_GEOMETRY ? "not finite" : "cannot be evaluated");
+                                     st[k] == Q2N_ERR_NUMERIC ? "not finite" : "cannot be evaluated");
     free(st);
     c->rep->t_sample += q2n_now() - t0;
     if (r) return r;

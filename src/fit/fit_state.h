@@ -120,6 +120,8 @@ int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js);   /* g
 /* The sides of edge e: L = owner half-edge's face (its t is the edge's t), R = the twin's
  * (t_R = 1 - t); returns 0 (R unset) on boundary edges. */
 int q2n_fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R);
+/* "face F" or "between face F and face G" for messages about edge e; returns buf. */
+const char *q2n_fit_edge_where(const fit_ctx *c, int e, char *buf, size_t n);
 /* Exact construction derivatives of patch k in the frame of its side i at (t, s) (see
  * fit_side_cache; nder 0..2). */
 q2n_status q2n_fit_frame_eval(const q2n_surface *s, int k, int i, double t, double s_, int nder, double D[6][3]);

@@ -374,9 +374,22 @@ static void mark_inward(const q2n_mesh *me, q2n_export_topo *t)
 {
     double *vol = calloc((size_t)t->ncomp, sizeof(double));
     if (!vol) return; /* orientation left as given */
+    /* in the vertices' frame (centre of their box, power-of-two scale): triple products of
+     * coordinates of 1e150 or 1e-150 would overflow or underflow, and far from the origin they
+     * would cancel */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, c0[3], h = 0;
+    for (int v = 0; v < me->nv; v++)
+        for (int c = 0; t->vused[v] && c < 3; c++) {
+            lo[c] = fmin(lo[c], t->vpos[3 * v + c]);
+            hi[c] = fmax(hi[c], t->vpos[3 * v + c]);
+        }
+    for (int c = 0; c < 3; c++) c0[c] = lo[c] / 2 + hi[c] / 2, h = fmax(h, hi[c] / 2 - lo[c] / 2);
+    int e = h > 0 ? ilogb(h) + 1 : 0;
     for (int f = 0; f < me->nf; f++) {
-        const double *p[4];
-        for (int i = 0; i < 4; i++) p[i] = t->vpos + 3 * me->face_vert[me->face_start[f] + i];
+        double p[4][3];
+        for (int i = 0; i < 4; i++)
+            for (int c = 0; c < 3; c++)
+                p[i][c] = ldexp(t->vpos[3 * me->face_vert[me->face_start[f] + i] + c], -e) - ldexp(c0[c], -e);
         for (int k = 1; k <= 2; k++) {
             double c[3];
             q2n_v3_cross(c, p[k], p[k + 1]);

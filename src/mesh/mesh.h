@@ -5,8 +5,9 @@
  * face_vert[face_start[f]+i] to face_vert[face_start[f]+(i+1)%n]; the
  * half-edge index equals that CSR position, so for an all-quad mesh h = 4f+i.
  * Every constructor validates: manifold edges and vertices, consistent
- * orientation, no repeated vertex in a face, no zero-length edge, finite
- * coordinates, at least one face.  Errors name the file and line (OBJ input)
+ * orientation, no repeated vertex in a face, finite coordinates, at least one
+ * face, and (relative to the bounding-box diagonal, mesh_policy.h) no degenerate
+ * edge, no quad with coincident opposite corners, no face of (near) zero area.  Errors name the file and line (OBJ input)
  * or the element index.  Everything downstream (param, patch, acc, fit,
  * export) reads meshes through this header only. */
 #ifndef Q2N_MESH_MESH_H
@@ -95,8 +96,31 @@ q2n_status q2n_mesh_check(const q2n_mesh *m, q2n_error *err);
 /* Write an OBJ (v and f records only), e.g. after subdivision. Atomic (temp file + rename). */
 q2n_status q2n_mesh_write_obj(const q2n_mesh *m, const char *path, q2n_error *err);
 
-/* Bounding-box diagonal length (the scale every relative tolerance uses). */
+/* Bounding-box diagonal length of the vertices that faces use (the scale every relative
+ * tolerance uses); no overflow inside the double range. */
 double q2n_mesh_bbox_diag(const q2n_mesh *m);
+
+/* Vector area of face f (Newell; its direction is the face's normal, its length the area of a
+ * planar face). */
+void q2n_mesh_face_area(const q2n_mesh *m, int f, double a[3]);
+
+/* The mesh's frame: centre of the bounding box of the vertices faces use, and its diagonal as
+ * mant * 2^exp with mant in [1, 2 sqrt 3) (no overflow even where the diagonal exceeds the double
+ * range; mant = 1, exp = 0 when all coincide). */
+void q2n_mesh_frame(const q2n_mesh *m, double centre[3], double *mant, int *exp);
+
+/* Move the mesh into its frame, in place: p <- (p - centre) / (mant * 2^exp) for every vertex a
+ * face uses, so the bounding-box diagonal is 1 (up to rounding) whatever the input's scale, and
+ * meshes that differ by a power-of-two scale give bit-identical coordinates.  Unreferenced
+ * vertices keep their coordinates.  Everything downstream is affine-equivariant, so results map
+ * back as centre + 2^exp * (mant * x) (derivatives: 2^exp * (mant * d)). */
+void q2n_mesh_normalize(q2n_mesh *m, double centre[3], double *mant, int *exp);
+
+/* Self-crossing (bow-tie) quads: seen along the quad's vector area, two of its corners turn
+ * against it (mesh_policy.h), so two opposite sides cross.  Fine as a Catmull–Clark control face,
+ * not as the face of an interpolating patch (its boundary curves would cross): the model checks
+ * the mesh the augmented surface is built on.  Q2N_ERR_GEOMETRY naming the face and line. */
+q2n_status q2n_mesh_check_crossing(const q2n_mesh *m, q2n_error *err);
 
 /* Catmull–Clark subdivision, `steps` times (n-gons allowed; boundary edges follow the cubic
  * B-spline boundary curve, valence-2 boundary vertices stay fixed as corners).  After one step

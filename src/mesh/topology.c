@@ -1,13 +1,16 @@
 /* topology.c — builds and validates the half-edge structure of a q2n_mesh (see mesh.h).
  *
- * Construction order: face sizes and indices, finite coordinates, repeated vertices within a
- * face, zero-length edges, then edge pairing by sorting (min,max) vertex pairs (deterministic:
+ * Construction order: face sizes and indices, finite coordinates, then per face (face order) a
+ * repeated vertex, degenerate edges, coincident opposite quad corners and (near) zero area, all
+ * relative to the bounding-box diagonal (mesh_policy.h), then edge pairing by sorting (min,max) vertex pairs (deterministic:
  * ties broken by half-edge index, so nothing depends on hash order), manifold and orientation
  * checks per edge, per-vertex fans (bow-tie detection), boundary loops.  Every error message is
  * one line "name:LINE: reason" (LINE = OBJ line of the offending face when known) or
  * "name: reason"; element indices in messages are 0-based.
- * Also here: the consistency checker, bounding box, section-polyline continuation and ribbons. */
+ * Also here: the consistency checker, bounding box and frame (normalisation), section-polyline
+ * continuation and ribbons. */
 #include "mesh/mesh.h"
+#include "mesh/mesh_policy.h"
 
 #include <limits.h>
 #include <math.h>
@@ -90,36 +93,155 @@ static q2n_status check_faces(int nv, int nf, const int *face_start, const int *
     return Q2N_OK;
 }
 
-/* Repeated vertex within a face (stamp array: O(total face size)) and zero-length edges. */
+/* ----------------------------------------------------- scale-free geometry */
+
+/* The frame of the referenced vertices (those some face uses): centre of their bounding box and
+ * a power of two 2^exp such that every referenced coordinate lies within 2^exp of the centre and
+ * the largest half-extent is at least 2^(exp-1); *mant = diagonal / 2^exp, in [1, 2 sqrt 3).
+ * Half-extents are taken as hi/2 - lo/2 and lengths in units of 2^exp, so nothing overflows even
+ * at the ends of the double range.  exp = 0, mant = 1 when all coincide. */
+static void frame_of(const double *pos, int nh, const int *face_vert, double centre[3], int *exp,
+                     double *mant)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double half[3], hmax = 0, d2 = 0;
+    for (int h = 0; h < nh; h++) {
+        const double *p = pos + 3 * (size_t)face_vert[h];
+        for (int c = 0; c < 3; c++) {
+            if (p[c] < lo[c]) lo[c] = p[c];
+            if (p[c] > hi[c]) hi[c] = p[c];
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        if (nh <= 0) lo[c] = hi[c] = 0;
+        centre[c] = lo[c] / 2 + hi[c] / 2;
+        half[c] = hi[c] / 2 - lo[c] / 2;
+        if (half[c] > hmax) hmax = half[c];
+    }
+    *exp = hmax > 0 ? ilogb(hmax) + 1 : 0;
+    for (int c = 0; c < 3; c++) d2 += ldexp(half[c], -*exp) * ldexp(half[c], -*exp);
+    *mant = hmax > 0 ? 2 * sqrt(d2) : 1.0;
+}
+
+/* Position of vertex v in the frame, in units of 2^exp: (p - centre) / 2^exp (exact scaling,
+ * one rounding). */
+static void frame_point(const double *pos, int v, const double centre[3], int exp, double q[3])
+{
+    for (int c = 0; c < 3; c++)
+        q[c] = ldexp(pos[3 * (size_t)v + c], -exp) - ldexp(centre[c], -exp);
+}
+
+static double dist3(const double *a, const double *b)
+{
+    double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+/* Distance of input points a, b in units of 2^exp, without under- or overflow (for messages: not
+ * taken relative to the centre, so a short edge far from it keeps its length). */
+static double frame_dist(const double *a, const double *b, int exp)
+{
+    double d[3];
+    for (int c = 0; c < 3; c++) d[c] = ldexp(a[c], -exp) - ldexp(b[c], -exp);
+    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+/* Corners of quad q[4] that are reflex when seen along its vector area `area` (the quad
+ * projected on its mean plane): their signed sine is below -Q2N_MESH_REFLEX_SIN.  One reflex
+ * corner is a dart (non-convex), two are a bow-tie (opposite sides cross); a convex or saddle-
+ * shaped quad has none.  Returns the count, the corners in r[]. */
+static int quad_reflex_corners(double q[4][3], const double area[3], int r[4])
+{
+    double alen = sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2]);
+    int nr = 0;
+    for (int i = 0; i < 4; i++) {
+        const double *p = q[i], *a = q[(i + 1) & 3], *b = q[(i + 3) & 3];
+        double x[3] = {a[0] - p[0], a[1] - p[1], a[2] - p[2]};
+        double y[3] = {b[0] - p[0], b[1] - p[1], b[2] - p[2]};
+        double c[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+        double sine = (c[0] * area[0] + c[1] * area[1] + c[2] * area[2]) /
+                      (alen * sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) *
+                       sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]));
+        if (sine < -Q2N_MESH_REFLEX_SIN) r[nr++] = i;
+    }
+    return nr;
+}
+
+/* Per face, in face order: a vertex used twice, edges, opposite quad corners and the face's
+ * width (|vector area| / longest edge) against Q2N_MESH_MIN_LENGTH_REL of the bounding-box
+ * diagonal, all measured in the normalised frame (so the verdict does not depend on the scale).
+ * Exactly coincident positions keep their own message. */
 static q2n_status check_face_vertices(const q2n_mesh *m, const char *name, q2n_error *err)
 {
     char loc[300];
+    double centre[3], diag, q[4][3];
+    int exp;
+    frame_of(m->pos, m->nh, m->face_vert, centre, &exp, &diag);
+    double tiny = Q2N_MESH_MIN_LENGTH_REL * diag;
+    q2n_status st = Q2N_OK;
     int *stamp = xmalloc((size_t)m->nv, sizeof *stamp);
     if (!stamp) return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", mesh_name(name));
     for (int v = 0; v < m->nv; v++) stamp[v] = -1;
-    for (int f = 0; f < m->nf; f++) {
+    for (int f = 0; f < m->nf && !st; f++) {
         int s = m->face_start[f], n = m->face_start[f + 1] - s;
-        for (int i = 0; i < n; i++) {
-            int v = m->face_vert[s + i], w = m->face_vert[s + (i + 1) % n];
-            if (stamp[v] == f) {
-                face_loc(loc, sizeof loc, name, m->face_line, f);
-                free(stamp);
-                return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face %d repeats vertex %d", loc,
-                                     f, v);
-            }
+        double area[3] = {0, 0, 0}, lmax = 0, a[3], b[3], first[3] = {0, 0, 0};
+        face_loc(loc, sizeof loc, name, m->face_line, f);
+        for (int i = 0; i < n && !st; i++) { /* topology before geometry: a repeat is not a short edge */
+            int v = m->face_vert[s + i];
+            if (stamp[v] == f) st = q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face %d repeats vertex %d", loc, f, v);
             stamp[v] = f;
-            const double *a = m->pos + 3 * (size_t)v, *b = m->pos + 3 * (size_t)w;
-            if (v != w && a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) {
-                face_loc(loc, sizeof loc, name, m->face_line, f);
-                free(stamp);
-                return q2n_error_set(err, Q2N_ERR_GEOMETRY,
-                                     "%s: face %d has a zero-length edge %d-%d (coincident "
-                                     "vertex positions)", loc, f, v, w);
-            }
         }
+        for (int i = 0; i < n && !st; i++) {
+            int v = m->face_vert[s + i], w = m->face_vert[s + (i + 1) % n];
+            const double *pa = m->pos + 3 * (size_t)v, *pb = m->pos + 3 * (size_t)w;
+            if (pa[0] == pb[0] && pa[1] == pb[1] && pa[2] == pb[2] && v != w) {
+                st = q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: face %d has a zero-length edge %d-%d "
+                                   "(coincident vertex positions)", loc, f, v, w);
+                break;
+            }
+            frame_point(m->pos, v, centre, exp, a);
+            frame_point(m->pos, w, centre, exp, b);
+            if (i < 4) memcpy(q[i], a, sizeof a);
+            if (i == 0) memcpy(first, a, sizeof a);
+            double len = dist3(a, b);
+            if (len < tiny) {
+                st = q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: face %d has a degenerate edge %d-%d: "
+                                   "length %.3g, %.2g of the bounding-box diagonal (< %.0e)", loc, f, v,
+                                   w, ldexp(frame_dist(pa, pb, exp), exp), frame_dist(pa, pb, exp) / diag,
+                                   Q2N_MESH_MIN_LENGTH_REL);
+                break;
+            }
+            if (len > lmax) lmax = len;
+            /* Newell's vector area, relative to the first corner */
+            double x[3] = {a[0] - first[0], a[1] - first[1], a[2] - first[2]};
+            double y[3] = {b[0] - first[0], b[1] - first[1], b[2] - first[2]};
+            area[0] += 0.5 * (x[1] * y[2] - x[2] * y[1]);
+            area[1] += 0.5 * (x[2] * y[0] - x[0] * y[2]);
+            area[2] += 0.5 * (x[0] * y[1] - x[1] * y[0]);
+        }
+        if (st) break;
+        for (int i = 0; n == 4 && i < 2; i++) { /* opposite corners of a quad: v0-v2, v1-v3 */
+            double d = dist3(q[i], q[i + 2]);
+            if (d < tiny)
+                st = q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: face %d has opposite corners %d and %d "
+                                   "at the same position (distance %.3g, %.2g of the bounding-box "
+                                   "diagonal): a degenerate quad", loc, f, m->face_vert[s + i],
+                                   m->face_vert[s + i + 2],
+                                   ldexp(frame_dist(m->pos + 3 * (size_t)m->face_vert[s + i],
+                                                    m->pos + 3 * (size_t)m->face_vert[s + i + 2], exp), exp),
+                                   frame_dist(m->pos + 3 * (size_t)m->face_vert[s + i],
+                                              m->pos + 3 * (size_t)m->face_vert[s + i + 2], exp) / diag);
+        }
+        double alen = sqrt(area[0] * area[0] + area[1] * area[1] + area[2] * area[2]);
+        double width = alen / lmax;
+        if (!st && !(width >= tiny))
+            st = q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: face %d has (near) zero area: width "
+                               "%.3g, %.2g of the bounding-box diagonal (< %.0e): collinear vertices "
+                               "or a symmetric bow-tie", loc, f, ldexp(width, exp), width / diag,
+                               Q2N_MESH_MIN_LENGTH_REL);
     }
     free(stamp);
-    return Q2N_OK;
+    return st;
 }
 
 static int he_min(const q2n_mesh *m, int h)
@@ -497,21 +619,60 @@ done:
 
 double q2n_mesh_bbox_diag(const q2n_mesh *m)
 {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    int any = 0;
+    double centre[3], mant;
+    int exp;
     if (!m) return 0.0;
-    for (int v = 0; v < m->nv; v++) {
-        if (m->vert_nfaces && m->vert_nfaces[v] == 0) continue; /* unreferenced: ignored */
-        const double *p = q2n_mesh_vpos(m, v);
-        for (int c = 0; c < 3; c++) {
-            if (p[c] < lo[c]) lo[c] = p[c];
-            if (p[c] > hi[c]) hi[c] = p[c];
-        }
-        any = 1;
+    q2n_mesh_frame(m, centre, &mant, &exp);
+    return ldexp(mant, exp);
+}
+
+void q2n_mesh_face_area(const q2n_mesh *m, int f, double a[3])
+{
+    int s = m->face_start[f], n = m->face_start[f + 1] - s;
+    const double *o = q2n_mesh_vpos(m, m->face_vert[s]);
+    a[0] = a[1] = a[2] = 0;
+    for (int i = 1; i + 1 < n; i++) { /* Newell: sum of the fan triangles from corner 0 */
+        const double *p = q2n_mesh_vpos(m, m->face_vert[s + i]), *q = q2n_mesh_vpos(m, m->face_vert[s + i + 1]);
+        double x[3] = {p[0] - o[0], p[1] - o[1], p[2] - o[2]}, y[3] = {q[0] - o[0], q[1] - o[1], q[2] - o[2]};
+        a[0] += 0.5 * (x[1] * y[2] - x[2] * y[1]);
+        a[1] += 0.5 * (x[2] * y[0] - x[0] * y[2]);
+        a[2] += 0.5 * (x[0] * y[1] - x[1] * y[0]);
     }
-    if (!any) return 0.0;
-    double d[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
-    return sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+void q2n_mesh_frame(const q2n_mesh *m, double centre[3], double *mant, int *exp)
+{
+    frame_of(m->pos, m->nh, m->face_vert, centre, exp, mant);
+}
+
+void q2n_mesh_normalize(q2n_mesh *m, double centre[3], double *mant, int *exp)
+{
+    double q[3];
+    frame_of(m->pos, m->nh, m->face_vert, centre, exp, mant);
+    for (int v = 0; v < m->nv; v++) {
+        if (m->vert_nfaces[v] == 0) continue; /* unreferenced: kept as read */
+        frame_point(m->pos, v, centre, *exp, q);
+        for (int c = 0; c < 3; c++) m->pos[3 * (size_t)v + c] = q[c] / *mant;
+    }
+}
+
+q2n_status q2n_mesh_check_crossing(const q2n_mesh *m, q2n_error *err)
+{
+    char loc[300];
+    double q[4][3], area[3];
+    int r[4];
+    for (int f = 0; f < m->nf; f++) {
+        if (q2n_face_size(m, f) != 4) continue;
+        for (int i = 0; i < 4; i++) memcpy(q[i], q2n_mesh_vpos(m, m->face_vert[m->face_start[f] + i]), sizeof q[i]);
+        q2n_mesh_face_area(m, f, area);
+        if (quad_reflex_corners(q, area, r) < 2) continue;
+        face_loc(loc, sizeof loc, m->name, m->face_line, f);
+        return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: face %d is self-crossing (a bow-tie): seen "
+                             "along its normal, its corners at vertices %d and %d turn the other way",
+                             loc, f, m->face_vert[m->face_start[f] + r[0]],
+                             m->face_vert[m->face_start[f] + r[1]]);
+    }
+    return Q2N_OK;
 }
 
 int q2n_mesh_continue(const q2n_mesh *m, int h_in)

@@ -1,5 +1,6 @@
 /* surface.c — the composite-surface container (see surface.h) and exact evaluation of
- * tensor-product Bézier patches.  Other patch kinds bring their own evaluator. */
+ * tensor-product Bézier patches.  Other patch kinds bring their own evaluator.  Every evaluation
+ * leaving the container is checked to be finite (Q2N_ERR_NUMERIC otherwise), whatever produced it. */
 #include "patch/surface.h"
 
 #include <stdlib.h>
@@ -113,15 +114,25 @@ static void bezier_eval(const patch *p, double u, double v, int nder, double *ou
     }
 }
 
+/* Q2N_ERR_NUMERIC unless all n values are finite (one pass, no branch per value). */
+static q2n_status all_finite(const double *x, size_t n)
+{
+    double acc = 0;
+    for (size_t i = 0; i < n; i++) acc += x[i] * 0.0; /* NaN iff some x[i] is NaN or Inf */
+    return acc == 0.0 ? Q2N_OK : Q2N_ERR_NUMERIC;
+}
+
 q2n_status q2n_surface_eval(const q2n_surface *s, int k, double u, double v, int nder, double *out)
 {
     if (k < 0 || k >= s->n || nder < 0 || nder > 2) return Q2N_ERR_ARG;
     const patch *p = &s->p[k];
+    q2n_status st;
     switch (p->kind) {
-    case Q2N_PATCH_BEZIER: bezier_eval(p, u, v, nder, out); return Q2N_OK;
+    case Q2N_PATCH_BEZIER: bezier_eval(p, u, v, nder, out); st = Q2N_OK; break;
     case Q2N_PATCH_UNCOVERED: return Q2N_ERR_ARG;
-    default: return p->eval(p->data, u, v, nder, out);
+    default: st = p->eval(p->data, u, v, nder, out);
     }
+    return st ? st : all_finite(out, nder == 0 ? 3 : nder == 1 ? 9 : 18);
 }
 
 q2n_status q2n_surface_eval_grid(const q2n_surface *s, int k, int nu, const double *us, int nv,
@@ -130,12 +141,47 @@ q2n_status q2n_surface_eval_grid(const q2n_surface *s, int k, int nu, const doub
     if (k < 0 || k >= s->n) return Q2N_ERR_ARG;
     const patch *p = &s->p[k];
     if (p->kind == Q2N_PATCH_UNCOVERED) return Q2N_ERR_ARG;
-    if (p->grid) return p->grid(p->data, nu, us, nv, vs, out);
+    if (p->grid) {
+        q2n_status st = p->grid(p->data, nu, us, nv, vs, out);
+        return st ? st : all_finite(out, 9 * (size_t)nu * nv);
+    }
     for (int j = 0; j < nv; j++)
         for (int i = 0; i < nu; i++) {
             q2n_status st = q2n_surface_eval(s, k, us[i], vs[j], 1, out + 9 * ((size_t)j * nu + i));
             if (st) return st;
         }
+    return Q2N_OK;
+}
+
+int q2n_surface_first_nonfinite(const double *out, int npoints)
+{
+    for (int p = 0; p < npoints; p++)
+        if (all_finite(out + 9 * (size_t)p, 9)) return p;
+    return -1;
+}
+
+q2n_status q2n_surface_scan(const q2n_surface *s, int k, int n, const double ref[3], int *folded,
+                            double *u, double *v)
+{
+    double t[Q2N_SCAN_MAX], buf[9 * Q2N_SCAN_MAX * Q2N_SCAN_MAX];
+    *folded = 0;
+    if (n < 1 || n > Q2N_SCAN_MAX) return Q2N_ERR_ARG;
+    for (int i = 0; i < n; i++) t[i] = (i + 0.5) / n;
+    q2n_status st = q2n_surface_eval_grid(s, k, n, t, n, t, buf);
+    if (st == Q2N_ERR_NUMERIC) {
+        int p = q2n_surface_first_nonfinite(buf, n * n);
+        if (p >= 0) *u = t[p % n], *v = t[p / n];
+    }
+    if (st) return st;
+    for (int p = 0; p < n * n && !*folded; p++) {
+        const double *a = buf + 9 * p + Q2N_EV_U, *b = buf + 9 * p + Q2N_EV_V;
+        double nrm[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        if (nrm[0] * ref[0] + nrm[1] * ref[1] + nrm[2] * ref[2] < 0) {
+            *folded = 1;
+            *u = t[p % n];
+            *v = t[p / n];
+        }
+    }
     return Q2N_OK;
 }
 

@@ -32,14 +32,27 @@ q2n_patch_kind q2n_surface_kind(const q2n_surface *s, int k);
 int q2n_surface_count(const q2n_surface *s, q2n_patch_kind kind);
 
 /* Evaluate patch k at (u,v) in [0,1]^2 with derivatives up to order nder (0, 1 or 2) into
- * out[0 .. 3*(1,3,6)[nder]-1] (layout above).  Q2N_ERR_ARG for an uncovered patch. */
+ * out[0 .. 3*(1,3,6)[nder]-1] (layout above).  Q2N_ERR_ARG for an uncovered patch,
+ * Q2N_ERR_NUMERIC when a value is not finite (NaN/Inf; out is filled anyway). */
 q2n_status q2n_surface_eval(const q2n_surface *s, int k, double u, double v, int nder, double *out);
 
 /* Evaluate patch k on the tensor grid us[0..nu-1] x vs[0..nv-1] with first derivatives:
  * out has 9 doubles (S, Su, Sv) per point, u fastest.  Shares per-row work, so it is the
- * fast path for tessellation, sampling and fitting. */
+ * fast path for tessellation, sampling and fitting.  Q2N_ERR_NUMERIC when a value is not
+ * finite (then q2n_surface_first_nonfinite finds the point). */
 q2n_status q2n_surface_eval_grid(const q2n_surface *s, int k, int nu, const double *us, int nv,
                                  const double *vs, double *out);
+
+/* Index of the first of npoints grid points (9 doubles each) with a non-finite value, or -1. */
+int q2n_surface_first_nonfinite(const double *out, int npoints);
+
+/* Scan patch k at the n x n cell centres ((i + 1/2) / n, 1 <= n <= Q2N_SCAN_MAX): Q2N_ERR_NUMERIC
+ * (with *u, *v at the first bad point) when a value is not finite; otherwise *folded = 1 (and
+ * *u, *v there) when the normal Su x Sv points against ref somewhere (ref: the face's vector
+ * area, so the patch runs backwards over part of its face: a fold), else 0. */
+#define Q2N_SCAN_MAX 16
+q2n_status q2n_surface_scan(const q2n_surface *s, int k, int n, const double ref[3], int *folded,
+                            double *u, double *v);
 
 /* Bézier patches: set / get degree and control points cp[3*(j*(du+1)+i)], i along u. */
 q2n_status q2n_surface_set_bezier(q2n_surface *s, int k, int du, int dv, const double *cp);

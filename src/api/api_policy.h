@@ -1,0 +1,19 @@
+/* api_policy.h — the thresholds and caps of the pipeline object (model.c), each with its why. */
+#ifndef Q2N_API_API_POLICY_H
+#define Q2N_API_API_POLICY_H
+
+/* Points per patch side of the scan every build ends with (cell centres of an n x n grid): every
+ * value must be finite, and a normal turning against the face's is reported as a fold.  Why 8:
+ * it finds folds that cover more than about 1/8 of a patch side (the bow-tie, dart and helmet
+ * folds of tests/test_robust.c cover a third or more), at 64 evaluations a face, a few per cent
+ * of a build; a narrower fold is below the fit's own sampling too. */
+#define Q2N_MODEL_SCAN_GRID 8
+
+/* Largest bounding-box diagonal accepted, as a power of two: 2^1016 ~ 7e305.  Why: internally
+ * everything is normalised, but what is handed back lives in the input's scale, and the surface's
+ * first derivatives (up to a few diagonals on a wild mesh) and the sums and differences the CAD
+ * writers form from control points need headroom below the largest double (2^1024): 2^8 of it.
+ * A larger mesh is refused with a clear message instead of failing later with an overflow. */
+#define Q2N_MODEL_MAX_DIAG_LOG2 1016
+
+#endif

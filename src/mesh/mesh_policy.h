@@ -1,0 +1,21 @@
+/* mesh_policy.h — the thresholds of the mesh stage, each with why it has this value. */
+#ifndef Q2N_MESH_MESH_POLICY_H
+#define Q2N_MESH_MESH_POLICY_H
+
+/* Shortest edge, closest pair of opposite quad corners and narrowest face width (vector area /
+ * longest edge) a mesh may have, as a fraction of its bounding-box diagonal.  Why 1e-12: it is
+ * the finest fit tolerance (--tol accepts 1e-12 and up), so no CAD file written from the mesh
+ * could state an uncertainty that keeps the two ends of a shorter edge (or the two sides of a
+ * narrower face) apart: the importer merges them and the face has zero area.  It is also where
+ * the input's own rounding (2.2e-16 of the coordinates) starts to decide an edge's direction
+ * (to 2e-4 rad).  Scale-free: the test runs in coordinates normalised by a power of two. */
+#define Q2N_MESH_MIN_LENGTH_REL 1e-12
+
+/* A quad corner counts as reflex (turning against the quad's vector area) when its signed sine,
+ * seen along that vector, is below minus this.  Why 1e-12: far above the rounding of a sine
+ * computed from normalised coordinates (~1e-15), so a straight corner (180 degrees, as where a
+ * vertex sits on the segment of its neighbours: osd_catmark_gregory_test1) never counts, and far
+ * below any corner that really turns back.  Two reflex corners make a bow-tie: rejected. */
+#define Q2N_MESH_REFLEX_SIN 1e-12
+
+#endif
