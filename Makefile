@@ -5,7 +5,7 @@
 # is one file: tests/test_NAME.c (or tests/ref_NAME.cpp) is built and run by make check; extra
 # libraries, if any, go in one line LDLIBS_test_NAME := ... below.
 #   make            library + executable          make check       quick tests (long sweeps left out)
-#   make check-full all tests (what CI runs)      make demo        main job on the demo mesh
+#   make check-full all tests + fuzz-check (CI)      make demo        main job on the demo mesh
 #   make bench      benchmarks (not tests)        make install PREFIX=/usr/local
 #   make fuzz       libFuzzer harnesses (clang)   make fuzz-check  run each for FUZZ_SECONDS (60)
 #   make CONFIG=debug|asan                        (default: release)
@@ -126,6 +126,10 @@ check: $(EXE) $(TEST_BIN) $(REF_BIN)
 
 check-full: $(EXE) $(TEST_BIN) $(REF_BIN)
 	@sh tests/run_tests.sh --full -j $(JOBS) --build $(BUILD) $(TESTS)
+	@if [ -n "$(TESTS)" ]; then :; elif command -v $(FUZZ_CC) >/dev/null 2>&1; then \
+	  $(MAKE) --no-print-directory fuzz-check; \
+	else echo "SKIP fuzz-check: $(FUZZ_CC) is not installed (apt-get install -y clang libclang-rt-14-dev)"; \
+	  [ -z "$$Q2N_REQUIRE_SHARED" ]; fi
 
 demo: $(EXE)
 	@sh tools/demo.sh $(EXE)

@@ -14,10 +14,11 @@
 #   python3-pil                PNG decoding in the report's test (matplotlib depends on it anyway)
 #   chromium                   headless browser: the report's test renders the page and screenshots it
 #   strace                     a test checks that outputs are fsync'ed before the rename (skipped without it)
+#   clang, libclang-rt-14-dev  libFuzzer with ASan/UBSan: make fuzz / fuzz-check (run by make check-full)
 set -e
 PKGS="gcc g++ make libceres-dev liblapack-dev libblas-dev libsuitesparse-dev libosd-dev libocct-foundation-dev \
 libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev freecad-python3 \
-python3-numpy python3-matplotlib python3-pil chromium strace"
+python3-numpy python3-matplotlib python3-pil chromium strace clang libclang-rt-14-dev"
 missing=""
 for p in $PKGS; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
