@@ -142,17 +142,17 @@ deps:
 
 $(FUZZ_DIR)/src/%.o: src/%.c
 	@mkdir -p $(@D)
-	$(FUZZ_CC) $(CPPFLAGS) $(FUZZ_CFLAGS) -c $< -o $@
+	$(FUZZ_CC) $(Q2N_CPPFLAGS) $(CPPFLAGS) $(FUZZ_CFLAGS) -c $< -o $@
 
 $(FUZZ_DIR)/src/%.o: src/%.cpp
 	@mkdir -p $(@D)
-	$(FUZZ_CXX) $(CPPFLAGS) $(FUZZ_CXXFLAGS) -c $< -o $@
+	$(FUZZ_CXX) $(Q2N_CPPFLAGS) $(CPPFLAGS) $(FUZZ_CXXFLAGS) -c $< -o $@
 
 $(FUZZ_DIR)/libquad2nurbs.a: $(FUZZ_LIB_OBJ)
 	rm -f $@ && ar rcs $@ $^
 
 $(FUZZ_DIR)/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_common.h $(FUZZ_DIR)/libquad2nurbs.a
-	$(FUZZ_CC) $(CPPFLAGS) $(FUZZ_CFLAGS) -DQ2N_LIBFUZZER -c $< -o $@.o
+	$(FUZZ_CC) $(Q2N_CPPFLAGS) -Itests $(CPPFLAGS) $(FUZZ_CFLAGS) -DQ2N_LIBFUZZER -c $< -o $@.o
 	$(FUZZ_CXX) -fsanitize=fuzzer $(FUZZ_SAN) -o $@ $@.o $(FUZZ_DIR)/libquad2nurbs.a $(Q2N_LDLIBS)
 
 fuzz: $(FUZZ_BIN)

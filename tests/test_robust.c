@@ -9,6 +9,7 @@
  *  - folds: the scan finds a patch whose normal turns against its face's (a dart quad), and
  *    none on a regular grid. */
 #include "api/model.h"
+#include "patch/extraordinary.h"
 #include "check.h"
 #include "meshgen.h"
 
@@ -337,8 +338,55 @@ static void test_folds(void)
     q2n_model_free(m);
 }
 
+/* A sliver (three corners within 5 units, the fourth 8.6e8 away), one Catmull-Clark step, G1
+ * patches at the extraordinary vertices: the subdivided patches have points without a tangent
+ * plane, where the curvature jump was 0/0 and the report's g2_max_rel NaN (found by fuzz_model;
+ * the JSON then said "-nan"). Every figure is finite and the JSON parses. */
+static void test_singular_points(void)
+{
+    const char *obj = "v 1e9 1e9 0\nv 1000000001 1e9 5\nv 1861769399 1000000001 0.5\nv 1e9 1000000001 0\nf 1 2 3 4\n";
+    q2n_mesh *mesh = NULL;
+    q2n_error err;
+    if (q2n_mesh_parse_obj(obj, strlen(obj), "sliver.obj", &mesh, &err)) { CHECK(0, "sliver: %s", err.message); return; }
+    q2n_model_options mo;
+    memset(&mo, 0, sizeof mo);
+    mo.param.alpha = NAN;
+    mo.subdivide = 1;
+    mo.cls = q2n_spline_class_find("D5C2P2S4");
+    mo.ev_patch = Q2N_EV_PATCH_G1;
+    q2n_model *m = NULL;
+    if (q2n_model_build_mesh(mesh, &mo, &m, &err)) { CHECK(0, "sliver build: %s", err.message); return; }
+    q2n_fit_options o;
+    q2n_fit_options_default(&o);
+    o.continuity = 0;
+    o.tol = 1e-3;
+    o.solver = Q2N_FIT_SOLVER_DIRECT;
+    q2n_status st = q2n_model_fit(m, &o, &err);
+    const q2n_fit_report *r = &m->fit;
+    double fig[] = {r->max_dev_rel, r->rms_dev_rel, r->g0_max_rel, r->g1_max_deg, r->g2_max_rel,
+                    r->g1_construction_deg, r->g2_construction_rel};
+    int finite = 1;
+    for (size_t i = 0; i < sizeof fig / sizeof *fig; i++) finite &= isfinite(fig[i]) != 0;
+    CHECK(st == Q2N_OK && finite, "sliver fit: %s; figures %g %g %g %g %g %g %g", st ? err.message : "ok", fig[0], fig[1],
+          fig[2], fig[3], fig[4], fig[5], fig[6]);
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    if (f) {
+        q2n_fit_report r2 = *r;
+        r2.g2_max_rel = NAN; /* the writer's last guard: never a token JSON does not have */
+        q2n_fit_report_write_json_file(&r2, "mm", f);
+        fclose(f);
+    }
+    CHECK(buf && !strstr(buf, "nan") && !strstr(buf, "inf") && strstr(buf, "\"g2_max_rel\": null"),
+          "report JSON with a non-finite figure: %.200s", buf ? strstr(buf, "g2_max") : "(none)");
+    free(buf);
+    q2n_model_free(m);
+}
+
 int main(void)
 {
+    test_singular_points();
     test_scale(0);
     test_scale(1);
     test_samples_extreme();

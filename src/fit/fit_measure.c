@@ -28,40 +28,54 @@ static void side_uv(int i, double t, double *u, double *v)
     *v = c0[1] + t * (c1[1] - c0[1]);
 }
 /* Normal-curvature of a surface (derivatives d[18], unit normal n) in the tangent direction
- * closest to w: w = a Su + b Sv in the least-squares sense, kappa = II(a,b) / I(a,b). */
-static double normal_curvature(const double *d, const double n[3], const double w[3])
+ * closest to w: w = a Su + b Sv in the least-squares sense, kappa = II(a,b) / I(a,b).  0 where the
+ * parametrization is singular (Su x Sv = 0: no tangent plane, no curvature to compare): returns
+ * 0 then, else 1. */
+static int normal_curvature(const double *d, const double n[3], const double w[3], double *kappa)
 {
     const double *Su = d + Q2N_EV_U, *Sv = d + Q2N_EV_V;
-    double E = q2n_v3_dot(Su, Su), F = q2n_v3_dot(Su, Sv), G = q2n_v3_dot(Sv, Sv);
-    double pu = q2n_v3_dot(w, Su), pv = q2n_v3_dot(w, Sv), det = E * G - F * F;
+    double E = q2n_v3_dot(Su, Su), F = q2n_v3_dot(Su, Sv), G = q2n_v3_dot(Sv, Sv), c[3];
+    q2n_v3_cross(c, Su, Sv);
+    double pu = q2n_v3_dot(w, Su), pv = q2n_v3_dot(w, Sv), det = q2n_v3_dot(c, c); /* = EG - F^2, without cancellation */
+    if (!(det > 0)) return 0;
     double a = (G * pu - F * pv) / det, b = (E * pv - F * pu) / det;
     double L = q2n_v3_dot(d + Q2N_EV_UU, n), M = q2n_v3_dot(d + Q2N_EV_UV, n), N = q2n_v3_dot(d + Q2N_EV_VV, n);
     double I = a * a * E + 2 * a * b * F + b * b * G;
-    return (a * a * L + 2 * a * b * M + b * b * N) / I;
+    *kappa = (a * a * L + 2 * a * b * M + b * b * N) / I;
+    return I > 0 && isfinite(*kappa);
 }
 
-static void unit_normal(const double *d, double n[3])
+/* Unit normal; 0 when Su x Sv vanishes (returns 0, else 1). */
+static int unit_normal(const double *d, double n[3])
 {
     q2n_v3_cross(n, d + Q2N_EV_U, d + Q2N_EV_V);
     double l = q2n_v3_norm(n);
+    if (!(l > 0) || !isfinite(l)) {
+        n[0] = n[1] = n[2] = 0.0;
+        return 0;
+    }
     q2n_v3_scale(n, 1.0 / l, n);
+    return 1;
 }
 
 void q2n_fit_jumps(const double *dL, const double *dR, const double T[3], double diag, double *g1, double *g2)
 {
-    double nL[3], nR[3], c[3];
-    unit_normal(dL, nL);
-    unit_normal(dR, nR);
+    double nL[3], nR[3], c[3], lt = q2n_v3_norm(T);
+    *g1 = *g2 = 0.0;
+    /* a singular point (no tangent plane on a side, or no tangent along the edge: a collapsed
+     * side of a degenerate face) has no normal or curvature to compare: it measures nothing */
+    if (!unit_normal(dL, nL) || !unit_normal(dR, nR) || !(lt > 0) || !isfinite(lt)) return;
     q2n_v3_cross(c, nL, nR);
     *g1 = atan2(q2n_v3_norm(c), q2n_v3_dot(nL, nR)) * (180.0 / FIT_PI);
     double t[3], x[3], w[3];
-    q2n_v3_scale(t, 1.0 / q2n_v3_norm(T), T);
+    q2n_v3_scale(t, 1.0 / lt, T);
     q2n_v3_cross(x, nL, t);
     double jmax = 0.0, kmax = 1.0 / diag;
     for (int k = 0; k < 3; k++) {
         for (int c3 = 0; c3 < 3; c3++)
             w[c3] = k == 0 ? t[c3] : k == 1 ? x[c3] : (t[c3] + x[c3]) * FIT_SQRT1_2;
-        double kl = normal_curvature(dL, nL, w), kr = normal_curvature(dR, nR, w);
+        double kl, kr;
+        if (!normal_curvature(dL, nL, w, &kl) || !normal_curvature(dR, nR, w, &kr)) return; /* singular: g2 stays 0 */
         if (fabs(kl - kr) > jmax) jmax = fabs(kl - kr);
         if (fabs(kl) > kmax) kmax = fabs(kl);
         if (fabs(kr) > kmax) kmax = fabs(kr);

@@ -3,8 +3,36 @@
 #include "core/outfile.h"
 
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
+static void write_json(const q2n_fit_report *r, const char *units, FILE *f);
+
+/* JSON has no NaN or Infinity: a non-finite figure (none is expected; this is the last guard) is
+ * written as null, so that every reader can still parse the report. */
 void q2n_fit_report_write_json_file(const q2n_fit_report *r, const char *units, FILE *f)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    if (!m) { write_json(r, units, f); return; }
+    write_json(r, units, m);
+    fclose(m);
+    for (size_t i = 0; i < len; i++) {
+        /* printf's non-finite numbers: nan, -nan, inf, -inf (always after ": " or ", " here) */
+        size_t k = i + (buf[i] == '-');
+        int nan = !strncmp(buf + k, "nan", 3), inf = !strncmp(buf + k, "inf", 3);
+        if ((nan || inf) && i > 0 && (buf[i - 1] == ' ' || buf[i - 1] == '[')) {
+            fputs("null", f);
+            i = k + 2;
+            continue;
+        }
+        fputc(buf[i], f);
+    }
+    free(buf);
+}
+
+static void write_json(const q2n_fit_report *r, const char *units, FILE *f)
 {
     static const char *solvers[] = {"ceres_dense_qr_per_block", "ceres_sparse_normal_cholesky", "lapack_qr_per_block"};
     fprintf(f, "{\n  \"stage\": \"fit\",\n  \"faces\": %d,\n  \"edges\": %d,\n  \"interior_edges\": %d,\n",

@@ -56,6 +56,9 @@ seed small_scale 'v 0 0 0\nv 1e-200 0 0\nv 1e-200 1e-200 3e-201\nv 0 1e-200 0\nv
 seed large_scale 'v 0 0 0\nv 5e300 0 0\nv 5e300 5e300 1.5e300\nv 0 5e300 0\nv 1e301 0 5e299\nv 1e301 5e300 0\nf 1 2 3 4\nf 2 5 6 3\n'
 seed far 'v 1e9 1e9 0\nv 1000000001 1e9 0\nv 1000000001 1000000001 0.5\nv 1e9 1000000001 0\nf 1 2 3 4\n'
 seed huge 'v 0 0 0\nv 1e308 0 0\nv 1e308 1e308 0\nv 0 1e308 0\nf 1 2 3 4\n'
+# found by fuzz_model (option byte 204): a sliver whose subdivided patches have singular points;
+# the fit report's curvature jump there was NaN (and the JSON invalid)
+seed sliver 'v 1e9 1e9 0\nv 1000000001 1e9 5\nv 1861769399 1000000001 0.5\nv 1e9 1000000001 0\nf 1 2 3 4\n'
 # the reader's syntax and topology errors
 seed syntax '# comment\r\nmtllib a.mtl\r\no obj\r\ng grp\r\nv 0 0 0 1\r\nv 0x1p0 0 0\r\nv 1 1 0 0.5 0.5 0.5\r\nv 0 1 \\\r\n 0\r\nvt 0 0\r\nvn 0 0 1\r\ns off\r\nusemtl m\r\nf 1/1/1 2/1/1 -2//1 +4\r\nl 1 2\r\n'
 seed nonmanifold 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n'
