@@ -27,16 +27,10 @@
 #define ROOK_BAD 0
 #include "meshgen.h"
 #include "core/vec3.h"
+#include "core/clock.h"
 #include "param/param.h"
 #include "patch/augmented.h"
 #include "patch/extraordinary.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* (u,v) of the point at fraction tau from the origin of the face's half-edge with index i */
 static void he_uv(int i, double tau, double *u, double *v)
@@ -99,13 +93,13 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
     q2n_error err = {0, ""};
     double *iv = NULL;
     q2n_surface *S = NULL;
-    double t0 = now();
+    double t0 = q2n_now();
     CHECK(q2n_param_edge_intervals(m, &aopt.param, &iv, &err) == Q2N_OK, "%s: intervals", label);
     CHECK(q2n_augmented_build(m, &aopt, iv, &S, &err) == Q2N_OK, "%s: regular build: %s", label, err.message);
     if (!S) { free(iv); return 0; }
     st->nev = q2n_surface_count(S, Q2N_PATCH_UNCOVERED);
     q2n_status rc = q2n_extraordinary_build(m, &xopt, iv, S, &err);
-    st->time_build = now() - t0;
+    st->time_build = q2n_now() - t0;
     CHECK(rc == Q2N_OK, "%s: extraordinary build: %s", label, err.message);
     st->covered = m->nf - q2n_surface_count(S, Q2N_PATCH_UNCOVERED);
     CHECK(st->covered == m->nf, "%s: %d of %d faces covered", label, st->covered, m->nf);

@@ -8,7 +8,7 @@
  *         regular patch these are the derivatives of the neighbouring regular section segment,
  *         so the section curve keeps its C1/C2 continuity through the vertex;
  *   n(t)  a cubic Hermite field between the unit normals of the two jets, its end derivatives
- *         the D-components of the jets' Weingarten maps along the edge (ev_jet_dn; the other
+ *         the D-components of the jets' Weingarten maps along the edge (q2n_ev_jet_dn; the other
  *         components do not reach D and D' at the ends, and would tilt n towards T inside);
  *   a ribbon frame T = γ_x/|γ_x|, D = n × T/|n × T| shared by the two faces (formulas.md §4.3,
  *         the "perpendicular ribbon" of Salvi–Várady), and for each face χ = a(t) D + b(t) T with
@@ -28,7 +28,7 @@
  * harmonize_vertex); they are zero as built here.
  * The derived quantities are rational in t; they are evaluated with derivative arrays up to order
  * 3 (Leibniz, Faà di Bruno), since the patch needs ξ_R and its two t-derivatives.
- * Sides shared with a regular patch are not built here: ev_side_eval samples that patch's
+ * Sides shared with a regular patch are not built here: q2n_ev_side_eval samples that patch's
  * boundary and cross fields and divides them by its local parametrization function (§4.1). */
 #include <math.h>
 #include <string.h>
@@ -38,7 +38,7 @@
 
 /* ------------------------------------------------------------ polynomials */
 
-void ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3])
+void q2n_ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3])
 {
     for (int q = 0; q <= nder; q++) {
         double r[3] = {0, 0, 0};
@@ -211,7 +211,7 @@ static void ribbon_at(const ev_edge *E, double t, ribbon *R)
 {
     double n[JO][3] = {{0}}, sq[JO], rd[JO], d = E->d;
     memset(R, 0, sizeof *R);
-    ev_poly_eval(&E->gamma, t, E->gamma.deg < 5 ? E->gamma.deg : 5, R->g);
+    q2n_ev_poly_eval(&E->gamma, t, E->gamma.deg < 5 ? E->gamma.deg : 5, R->g);
     for (int end = 0; end < 2; end++)
         for (int p = 3; p <= 4; p++) {
             double w = p == 3 ? E->g3[end] : E->g4[end], r[6];
@@ -219,7 +219,7 @@ static void ribbon_at(const ev_edge *E, double t, ribbon *R)
             bump_n(end, p, E->loc[end], t, 5, r);
             for (int k = 0; k < 6; k++) q2n_v3_axpy(R->g[k], w * r[k], E->nN[end]);
         }
-    ev_poly_eval(&E->nrm, t, 3, n);
+    q2n_ev_poly_eval(&E->nrm, t, 3, n);
     for (int end = 0; end < 2; end++)
         if (E->nb[end] != 0) {
             double r[JO];
@@ -267,7 +267,7 @@ static int decompose(const double D[3], const double G[3], const double r[3], do
 }
 
 
-q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
+q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
                          const double (*dir)[2], int order, int e, ev_edge *out, q2n_error *err)
 {
     int h = m->edge_he[e], p = q2n_he_origin(m, h), q = q2n_he_dest(m, h), tw = m->he_twin[h];
@@ -282,10 +282,10 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
     double g0[3][3], g1[3][3];
     memcpy(g0[0], q2n_mesh_vpos(m, p), sizeof g0[0]);
     memcpy(g1[0], q2n_mesh_vpos(m, q), sizeof g1[0]);
-    ev_jet_d1(Jp, up, g0[1]);
-    ev_jet_d1(Jq, uq, g1[1]);
-    ev_jet_d2(Jp, up, up, g0[2]);
-    ev_jet_d2(Jq, uq, uq, g1[2]);
+    q2n_ev_jet_d1(Jp, up, g0[1]);
+    q2n_ev_jet_d1(Jq, uq, g1[1]);
+    q2n_ev_jet_d2(Jp, up, up, g0[2]);
+    q2n_ev_jet_d2(Jq, uq, uq, g1[2]);
     for (int c = 0; c < 3; c++) {
         g0[1][c] *= d; g1[1][c] *= -d; /* towards q: the jet at q looks back along -x */
         g0[2][c] *= d * d; g1[2][c] *= d * d;
@@ -294,10 +294,10 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
     /* normal field: the jets' normals, with their Weingarten derivatives along the edge (this
      * makes the normal twist of the fields equal to the jets' II(u, w), which G2 needs) */
     double n0[3][3], n1[3][3];
-    if (!ev_jet_normal(Jp, n0[0]) || !ev_jet_normal(Jq, n1[0]))
+    if (!q2n_ev_jet_normal(Jp, n0[0]) || !q2n_ev_jet_normal(Jq, n1[0]))
         return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d: degenerate tangent plane at a vertex", m->name, e);
-    ev_jet_dn(Jp, up, n0[1]);
-    ev_jet_dn(Jq, uq, n1[1]);
+    q2n_ev_jet_dn(Jp, up, n0[1]);
+    q2n_ev_jet_dn(Jq, uq, n1[1]);
     for (int c = 0; c < 3; c++) { n0[1][c] *= d; n1[1][c] *= -d; n0[2][c] = n1[2][c] = 0; }
     poly_hermite(1, n0, n1, &out->nrm);
     out->face[0] = m->he_face[h];
@@ -334,8 +334,8 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
             int ep, eq;
             other_edges(m, hs[x], p, &ep, &eq);
             double c0[3], c1[3], a0 = 0, b0 = 0, a1 = 0, b1 = 0;
-            ev_jet_d1(Jp, edge_dir(m, dir, ep, p), c0);
-            ev_jet_d1(Jq, edge_dir(m, dir, eq, q), c1);
+            q2n_ev_jet_d1(Jp, edge_dir(m, dir, ep, p), c0);
+            q2n_ev_jet_d1(Jq, edge_dir(m, dir, eq, q), c1);
             decompose(D0, G0, c0, &a0, &b0);
             decompose(D1, G1, c1, &a1, &b1);
             sn[x] = fmin(fabs(a0) / (q2n_v3_norm(c0) + 1e-300), fabs(a1) / (q2n_v3_norm(c1) + 1e-300));
@@ -353,10 +353,10 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
         other_edges(m, hs[side], p, &ep, &eq);
         const double *wb = edge_dir(m, dir, ep, p), *wc = edge_dir(m, dir, eq, q);
         double c0[3], c1[3], x0[3], x1[3], t0[3], t1[3];
-        ev_jet_d1(Jp, wb, c0);
-        ev_jet_d1(Jq, wc, c1);
-        ev_jet_d2(Jp, wb, wb, x0);
-        ev_jet_d2(Jq, wc, wc, x1);
+        q2n_ev_jet_d1(Jp, wb, c0);
+        q2n_ev_jet_d1(Jq, wc, c1);
+        q2n_ev_jet_d2(Jp, wb, wb, x0);
+        q2n_ev_jet_d2(Jq, wc, wc, x1);
         if (!decompose(D0, G0, c0, &out->a[side][0], &out->b[side][0]) ||
             !decompose(D1, G1, c1, &out->a[side][1], &out->b[side][1]))
             return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d (%d-%d): degenerate ribbon", m->name, e, p, q);
@@ -364,8 +364,8 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
          * (its normal part holds by the choice of n'; the slopes fix the tangential part), so
          * that the two sides of a patch corner that both come from one jet have compatible
          * twists and the Gregory correction is not needed there */
-        ev_jet_d2(Jp, up, wb, t0);
-        ev_jet_d2(Jq, uq, wc, t1);
+        q2n_ev_jet_d2(Jp, up, wb, t0);
+        q2n_ev_jet_d2(Jq, uq, wc, t1);
         for (int end = 0; end < 2; end++) {
             const ribbon *R = end ? &R1 : &R0;
             double want[3], rest[3];
@@ -430,7 +430,7 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double aL[JO], bL[JO], CL[JO][3], tmp[JO][3];
     side_chi(E, 0, t, D, Tu, aL, bL, CL);
     double xl[JO][3] = {{0}};
-    ev_poly_eval(&E->xi, t, 2, xl);
+    q2n_ev_poly_eval(&E->xi, t, 2, xl);
     for (int end = 0; end < 2; end++) {
         double r1[JO], r2[JO];
         bump(E, end, 1, t, r1);
@@ -498,7 +498,7 @@ static void regular_lambda(const q2n_augmented_patch *R, int sR, double t, doubl
     else q2n_spline_blend_derivs(R->cls->k, R->drow[0][c], R->drow[1][c], t, out);
 }
 
-void ev_side_eval(const ev_side *sd, double s, double out[3][3][3])
+void q2n_ev_side_eval(const ev_side *sd, double s, double out[3][3][3])
 {
     double t = sd->rev ? 1 - s : s;
     if (sd->kind == 0) {

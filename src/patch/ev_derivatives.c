@@ -129,18 +129,18 @@ static double fan_span(const q2n_mesh *m, int v, int n)
 
 /* ------------------------------------------------------------ jets */
 
-void ev_jet_d1(const ev_vjet *J, const double u[2], double out[3])
+void q2n_ev_jet_d1(const ev_vjet *J, const double u[2], double out[3])
 {
     for (int c = 0; c < 3; c++) out[c] = J->J1[c][0] * u[0] + J->J1[c][1] * u[1];
 }
 
-void ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3])
+void q2n_ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3])
 {
     for (int c = 0; c < 3; c++)
         out[c] = J->J2[c][0] * a[0] * b[0] + J->J2[c][1] * (a[0] * b[1] + a[1] * b[0]) + J->J2[c][2] * a[1] * b[1];
 }
 
-int ev_jet_normal(const ev_vjet *J, double n[3])
+int q2n_ev_jet_normal(const ev_vjet *J, double n[3])
 {
     double a1[3] = {J->J1[0][0], J->J1[1][0], J->J1[2][0]}, a2[3] = {J->J1[0][1], J->J1[1][1], J->J1[2][1]};
     q2n_v3_cross(n, a1, a2);
@@ -150,11 +150,11 @@ int ev_jet_normal(const ev_vjet *J, double n[3])
     return 1;
 }
 
-void ev_jet_dn(const ev_vjet *J, const double a[2], double out[3])
+void q2n_ev_jet_dn(const ev_vjet *J, const double a[2], double out[3])
 {
     double n[3];
     out[0] = out[1] = out[2] = 0;
-    if (!ev_jet_normal(J, n)) return;
+    if (!q2n_ev_jet_normal(J, n)) return;
     double I[2][2] = {{0, 0}, {0, 0}}, II[3];
     for (int c = 0; c < 3; c++) {
         I[0][0] += J->J1[c][0] * J->J1[c][0];
@@ -404,7 +404,7 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
     double M[9][9] = {{0}}, R[9][3] = {{0}};
     for (int k = 0; k < F->n; k++) {
         double x = F->X[k][0], y = F->X[k][1], t[3], r[3], g[2];
-        ev_jet_d1(J, F->X[k], t);
+        q2n_ev_jet_d1(J, F->X[k], t);
         q2n_v3_sub(r, F->f[k], t);
         double tl = q2n_v3_norm(t);
         if (!(tl > 0)) continue;
@@ -433,7 +433,7 @@ static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, 
 {
     fan F;
     double nj[3];
-    if (!fan_gather(m, iv, v, &F) || !fit_first(&F, J) || !ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
+    if (!fan_gather(m, iv, v, &F) || !fit_first(&F, J) || !q2n_ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
         return 0;
     fit_tangential_second(&F, J);
     for (int k = 0; k < F.n; k++) {
@@ -447,7 +447,7 @@ static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, 
          * speed at most EV_SPEED_MAX times the chord (a lower bound as well changed nothing on
          * righthanded and raised the curvature extreme of osd_catmark_helmet 5-fold). */
         double g[3], sp, ch = q2n_v3_norm(F.f[k]), sc = 1;
-        ev_jet_d1(J, F.X[k], g);
+        q2n_ev_jet_d1(J, F.X[k], g);
         sp = q2n_v3_norm(g);
         if (sp > EV_SPEED_MAX * ch) sc = EV_SPEED_MAX * ch / sp;
         set_dir(m, dir, F.edges[k], v, sc * F.X[k][0] / iv[F.edges[k]], sc * F.X[k][1] / iv[F.edges[k]]);
@@ -538,7 +538,7 @@ static int jet_from_sections(const q2n_mesh *m, const double *iv, const q2n_spli
     return 1;
 }
 
-q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
+q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
                           const q2n_spline_class *cls, ev_vjet *jets, double (*dir)[2], q2n_error *err)
 {
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];

@@ -3,7 +3,7 @@
  *
  * Every vertex that is a corner of an extraordinary face gets ONE jet P_v of order 2K (4 in G2
  * mode, 2 in G1 mode) in its chart (ev_jet4.h; the charts are the edge directions of
- * ev_vertex_jets).  Every datum of the curve network is a contraction of the jets at the two ends
+ * q2n_ev_vertex_jets).  Every datum of the curve network is a contraction of the jets at the two ends
  * of its edge, parametric in the edge's t in [0,1] (d: the edge's interval, u: its direction in
  * an end's chart, w: the face's other edge there, e_w that edge's interval):
  *   γ(t)    boundary curve: Hermite interpolant of order 2K (degree 4K+1) of d^j T_j[u^j];
@@ -17,7 +17,7 @@
  * derivative a side delivers is the jet's (α, β are flat at the ends, the corner maps linear):
  * the two sides of every corner agree and the patch (coons_patch.c) is the plain Boolean-sum Coons
  * patch with polynomial corner terms — no rational Gregory blend, no corrective bumps.  Sides
- * shared with a regular augmented patch take that patch's data (ev_side_eval, §4.1); at their
+ * shared with a regular augmented patch take that patch's data (q2n_ev_side_eval, §4.1); at their
  * vertices the jet's terms with both exponents <= 2 are the regular patch's (Lemma 1), so those
  * corners agree too (checked; a corner where they do not keeps a Gregory blend, counted).
  *
@@ -30,7 +30,7 @@
  * dimensionless; ω_F lowers the variation term on faces where a first, bending-only solve leaves
  * far more variation than on the typical face (thin features whose curvature must change fast:
  * they would otherwise dictate the shape everywhere).  A small ridge towards the local estimates
- * of ev_vertex_jets keeps the problem definite.  One sparse SPD solve (CHOLMOD) per pass, shared
+ * of q2n_ev_vertex_jets keeps the problem definite.  One sparse SPD solve (CHOLMOD) per pass, shared
  * by x, y and z. */
 #include <math.h>
 #include <stdlib.h>
@@ -175,21 +175,21 @@ static void constructed(const fe_ctx *X, const fe_side *S, const fe_ends *E, int
         }
 }
 
-/* Regular side: local data of the neighbour (ev_side_eval, along derivatives <= 2; the third by
+/* Regular side: local data of the neighbour (q2n_ev_side_eval, along derivatives <= 2; the third by
  * central differences of the second, only the energy asks for it) times the local
  * parametrization function across the side (seed 003 §4, eq. 22–23). */
 static void regular(const fe_ctx *X, int sd, double s, int na, double F[3][CP_NA][CP_MAXW])
 {
     const fe_side *S = &X->side[sd];
     double loc[3][4][3], r[3][3][3], L[4];
-    ev_side_eval(&S->reg, s, r);
+    q2n_ev_side_eval(&S->reg, s, r);
     for (int b = 0; b < 3; b++)
         for (int a = 0; a < 3; a++) memcpy(loc[b][a], r[b][a], sizeof r[b][a]);
     if (na > 3) {
         const double h = 1e-4;
         double rp[3][3][3], rm[3][3][3];
-        ev_side_eval(&S->reg, s + h, rp);
-        ev_side_eval(&S->reg, s - h, rm);
+        q2n_ev_side_eval(&S->reg, s + h, rp);
+        q2n_ev_side_eval(&S->reg, s - h, rm);
         for (int b = 0; b < 3; b++)
             for (int c = 0; c < 3; c++) loc[b][3][c] = (rp[b][2][c] - rm[b][2][c]) / (2 * h);
     }
@@ -267,7 +267,7 @@ static void fe_eval_free(void *d) { free(d); }
 
 /* ------------------------------------------------------------ the driver */
 
-/* Direction of edge e in the chart of its end vertex v (dir of ev_vertex_jets). */
+/* Direction of edge e in the chart of its end vertex v (dir of q2n_ev_vertex_jets). */
 static const double *edge_dir(const q2n_mesh *m, const double (*dir)[2], int e, int v)
 {
     return dir[2 * e + (q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1)];
@@ -533,11 +533,11 @@ static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P,
     double *endv = malloc(sizeof(double) * 4 * FE_END_SIZE(W));
     if (!endv) { st = Q2N_ERR_NOMEM; goto done; }
     fill_lanes(P->ctx, J, W, &L, ends, endv);
-    cp_corner_terms(P, &L, W, &C);
-    for (int a = 0; a < ng; a++) cp_line_u(P, &L, W, gx[a], 4, &Lu[a]);
-    for (int b = 0; b < ng; b++) cp_line_v(P, &L, W, gx[b], 4, &Lv[b]);
+    q2n_cp_corner_terms(P, &L, W, &C);
+    for (int a = 0; a < ng; a++) q2n_cp_line_u(P, &L, W, gx[a], 4, &Lu[a]);
+    for (int b = 0; b < ng; b++) q2n_cp_line_v(P, &L, W, gx[b], 4, &Lv[b]);
     free(endv);
-    cp_grid(P, &C, bl, W, ng, gx, Lu, ng, gx, Lv, 3, 9, G);
+    q2n_cp_grid(P, &C, bl, W, ng, gx, Lu, ng, gx, Lv, 3, 9, G);
     for (int t = 0; t < 2 && !st; t++) {
         int r0 = t ? 3 : 0, nr = t ? 4 : 3, nrow = 0;
         F->K[t] = calloc((size_t)(nl ? nl : 1) * (nl ? nl : 1), sizeof(double));
@@ -728,7 +728,7 @@ done:
     return st;
 }
 
-q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int threads, ev_fair_stats *stats, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
@@ -760,7 +760,7 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
     B.unc = unc;
     for (int f = 0; f < m->nf; f++)
         if ((unc[f] = q2n_surface_kind(s, f) == Q2N_PATCH_UNCOVERED)) faces[nf++] = f;
-    if ((st = ev_vertex_jets(m, s, iv, cls, vj, dir, err))) goto done;
+    if ((st = q2n_ev_vertex_jets(m, s, iv, cls, vj, dir, err))) goto done;
 
     /* jets: initial values (the local estimates; orders 3, 4 zero) and unknowns */
     for (int i = 0; i < m->nv * EV_JS; i++) B.var[i] = -1;
@@ -824,10 +824,10 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
         const double *J[4];
         fe_lanes L = {{NULL, NULL, NULL, NULL}, NULL};
         for (int c = 0; c < 4; c++) L.J[c] = J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
-        cp_corner_terms(&CP[i], &L, 3, &C);
+        q2n_cp_corner_terms(&CP[i], &L, 3, &C);
         for (int ci = 0; ci < 2; ci++)
             for (int cj = 0; cj < 2; cj++) {
-                double mis = cp_corner_mismatch(&CP[i], &C, ci, cj);
+                double mis = q2n_cp_corner_mismatch(&CP[i], &C, ci, cj);
                 if (mis > EV_FAIR_COMPAT_REL) {
                     CP[i].greg[corner_of[ci][cj]] = 1;
                     if (stats) stats->gregory_corners++;
@@ -857,14 +857,14 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
         fill_lanes(&E->X, Jc, 3, &E->lanes, E->ends, &E->endv[0][0]);
         E->E.lanes = &E->lanes;
         memcpy(E->E.bub, B.bub[i], sizeof E->E.bub);
-        cp_eval_init(&E->E);
-        if ((st = q2n_surface_set_patch(s, f, Q2N_PATCH_COONS_GREGORY, E, cp_eval_point, fe_eval_free))) {
+        q2n_cp_eval_init(&E->E);
+        if ((st = q2n_surface_set_patch(s, f, Q2N_PATCH_COONS_GREGORY, E, q2n_cp_eval_point, fe_eval_free))) {
             free(E);
             q2n_error_set(err, st, "%s: face %d: cannot attach the patch", m->name, f);
             goto done;
         }
-        q2n_surface_set_patch_grid(s, f, cp_eval_grid);
-        q2n_surface_set_patch_corner(s, f, cp_eval_corner);
+        q2n_surface_set_patch_grid(s, f, q2n_cp_eval_grid);
+        q2n_surface_set_patch_corner(s, f, q2n_cp_eval_corner);
     }
 done:
     free(vj);

@@ -78,7 +78,7 @@ static q2n_status hz_residuals(hz_vertex *V, int only_e, const double *r0, doubl
             memcpy(r + HZ_RC * q, r0 + HZ_RC * q, HZ_RC * sizeof(double));
             continue;
         }
-        q2n_status st = ev_paper_patch_setup(V->P, m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, c->f, V->err);
+        q2n_status st = q2n_ev_paper_patch_setup(V->P, m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, c->f, V->err);
         if (st) return st;
         for (int o = 0; o < 4; o++)
             for (int x = 0; x < 3; x++) {
@@ -171,7 +171,7 @@ static int hz_edge_sample(const ev_edge *E, double *out)
         S.derived = sd;
         for (int q = 1; q <= 9; q++) {
             double F[3][3][3];
-            ev_side_eval(&S, q / 10.0, F);
+            q2n_ev_side_eval(&S, q / 10.0, F);
             for (int c = 0; c < 3; c++) {
                 out[n++] = F[0][2][c];
                 out[n++] = F[1][1][c];
@@ -209,13 +209,13 @@ static q2n_status hz_surface_sample(hz_vertex *V, int k, const double *base, dou
 {
     (void)k, (void)base;
     for (int q = 0; q < V->nc; q++) {
-        q2n_status st = ev_paper_patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, V->cs[q].f, V->err);
+        q2n_status st = q2n_ev_paper_patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, V->cs[q].f, V->err);
         if (st) return st;
         double sc = 1.0 / V->gb[q][0];
         for (int a = 0; a <= 8; a++)
             for (int b = 0; b <= 8; b++) {
                 double D[9];
-                cp_eval_point(V->P, a / 8.0, b / 8.0, 1, D);
+                q2n_cp_eval_point(V->P, a / 8.0, b / 8.0, 1, D);
                 for (int x = 0; x < 6; x++) out[(size_t)HZ_NS * q + 6 * (9 * a + b) + x] = sc * D[3 + x];
             }
     }
@@ -334,13 +334,13 @@ static int hz_min_change(hz_vertex *V, const double *J, const double *rc, const 
  * degrees or more (a fold, a flip or a spike). */
 static q2n_status hz_shape(hz_vertex *V, int f, const double *ref, int *ok, double *out)
 {
-    q2n_status st = ev_paper_patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, f, V->err);
+    q2n_status st = q2n_ev_paper_patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, f, V->err);
     if (st) return st;
     double big = 0, sn = 1, *nr = out ? out + 2 : NULL;
     for (int a = 0; a <= 8; a++)
         for (int b = 0; b <= 8; b++) {
             double D[9], c[3];
-            cp_eval_point(V->P, a / 8.0, b / 8.0, 1, D);
+            q2n_cp_eval_point(V->P, a / 8.0, b / 8.0, 1, D);
             double nu = q2n_v3_norm(D + 3), nv = q2n_v3_norm(D + 6);
             q2n_v3_cross(c, D + 3, D + 6);
             big = fmax(big, fmax(nu, nv));
@@ -431,7 +431,7 @@ static q2n_status hz_attempt(hz_vertex *V, const int *grp, int *ok)
  * The mismatches are affine in every unknown but the slopes of a, b (unknowns only where a twist
  * disagrees); there Gauss-Newton steps follow (hz_attempt), each the same least-change problem
  * for the linear model at the current point. */
-q2n_status ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
+q2n_status q2n_ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
                                    ev_edge **edges, int K, int kb, const int *vc_start, const int *vc_list, int v,
                                    q2n_error *err)
 {
@@ -515,7 +515,7 @@ q2n_status ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const do
     }
     if (!(V->rmax > 0)) goto out;
     /* the slopes of a, b (first[] == 2) are unknowns only where a twist disagrees (where the
-     * sign guard of ev_build_edge changed a slope); elsewhere the twists stay as they are */
+     * sign guard of q2n_ev_build_edge changed a slope); elsewhere the twists stay as they are */
     if (!(V->r11 > 1e-9 * V->rmax)) {
         int w = 0;
         for (int k = 0; k < nu; k++)
