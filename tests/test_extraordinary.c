@@ -32,17 +32,6 @@
 #include "patch/augmented.h"
 #include "patch/extraordinary.h"
 
-/* (u,v) of the point at fraction tau from the origin of the face's half-edge with index i */
-static void he_uv(int i, double tau, double *u, double *v)
-{
-    switch (i) {
-    case 0: *u = tau, *v = 0; break;
-    case 1: *u = 1, *v = tau; break;
-    case 2: *u = 1 - tau, *v = 1; break;
-    default: *u = 0, *v = 1 - tau; break;
-    }
-}
-
 /* Normal curvature in direction w (3D tangent vector) from first/second partials e. */
 static double normal_curv(const double *e, const double n[3], const double w[3])
 {
@@ -106,11 +95,10 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
     if (rc || st->covered != m->nf) { q2n_surface_free(S); free(iv); return 0; }
     double diag = q2n_mesh_bbox_diag(m);
     /* interpolation of every vertex, from every incident patch */
-    static const double cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
     for (int f = 0; f < m->nf; f++)
         for (int c = 0; c < 4; c++) {
             double e[Q2N_EVAL_MAX];
-            q2n_surface_eval(S, f, cu[c], cv[c], 0, e);
+            q2n_surface_eval(S, f, q2n_corner_uv[c][0], q2n_corner_uv[c][1], 0, e);
             st->interp = fmax(st->interp, q2n_v3_dist(e, q2n_mesh_vpos(m, m->face_vert[4 * f + c])) / diag);
         }
     /* edges */
@@ -120,8 +108,8 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
         int f = m->he_face[h], g = m->he_face[t];
         for (int k = 1; k <= 9; k++) {
             double tau = k / 10.0, uf, vf, ug, vg, ef[Q2N_EVAL_MAX], eg[Q2N_EVAL_MAX];
-            he_uv(h - 4 * f, tau, &uf, &vf);
-            he_uv(t - 4 * g, 1 - tau, &ug, &vg);
+            q2n_side_uv(h - 4 * f, tau, 0, &uf, &vf);
+            q2n_side_uv(t - 4 * g, 1 - tau, 0, &ug, &vg);
             q2n_surface_eval(S, f, uf, vf, 2, ef);
             q2n_surface_eval(S, g, ug, vg, 2, eg);
             double nf[3], ng[3], x[3];
@@ -447,7 +435,7 @@ static void test_regular_partials(void)
                 q2n_augmented_eval(&P, u + (s ? -h : h), v, 2, eu[s]);
                 q2n_augmented_eval(&P, u, v + (s ? -h : h), 2, ev[s]);
             }
-            static const int map[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+            const int(*map)[2] = q2n_eval_order;
             for (int o = 0; o < 6; o++)
                 for (int k = 0; k < 3; k++)
                     worst_low = fmax(worst_low, fabs(D[3 * (map[o][0] * 3 + map[o][1]) + k] - e[3 * o + k]));

@@ -6,7 +6,7 @@
  *   - stages include only earlier stages (folders of src/, in pipeline order), and src/cli/ uses
  *     only the public header include/quad2nurbs.h;
  *   - the face parametrization is declared once (src/patch/surface.h): no copy of its corner or
- *     side tables elsewhere in src/ or tests/.
+ *     side tables elsewhere in src/ or tests/ (test_augmented.c writes it out as its reference).
  * Each rule's checker is also run on a made-up violation, so that the test can fail. */
 #include <ctype.h>
 #include <dirent.h>
@@ -261,10 +261,60 @@ static void test_stages(void)
     CHECK(all.bad == 0, "%d include-rule violations, the first: %s", all.bad, all.first);
 }
 
+/* ------------------------------------------------------------------ conventions */
+
+/* The face parametrization's tables as they are written out (spacing normalised). */
+static const char *const TABLES[] = {"{0,0},{1,0},{1,1},{0,1}", "{1,-1,-1,1}", "{0,1,1,0}",
+                                     "{1,0},{0,1},{-1,0},{0,-1}", "{0,1},{-1,0},{0,-1},{1,0}",
+                                     "{0,0},{1,0},{0,1},{2,0},{1,1},{0,2}", NULL};
+/* Their one home, the test that writes the table out as its reference, and this file. */
+static const char *const TABLE_HOMES[] = {"src/patch/surface.c", "tests/test_augmented.c", "tests/test_layout.c", NULL};
+
+static void check_tables(const char *path, const char *text, void *arg)
+{
+    header_report *r = arg;
+    r->files++;
+    for (const char *const *h = TABLE_HOMES; *h; h++)
+        if (strlen(path) >= strlen(*h) && !strcmp(path + strlen(path) - strlen(*h), *h)) return;
+    char *t = strdup(text), *w = t;
+    int *lines = malloc(sizeof(int) * (strlen(text) + 1)), line = 1;
+    if (!t || !lines) { free(t); free(lines); return; }
+    strip_comments(t);
+    for (const char *s = t; *s; s++) { /* drop blanks and newlines, remember the lines */
+        if (!isspace((unsigned char)*s)) lines[w - t] = line, *w++ = *s;
+        line += *s == '\n';
+    }
+    *w = 0;
+    for (const char *const *p = TABLES; *p; p++) {
+        const char *hit = strstr(t, *p);
+        if (hit) {
+            int line = lines[hit - t];
+            char what[128];
+            snprintf(what, sizeof what, "a copy of the face parametrization's table %s (use patch/surface.h)", *p);
+            report(r, path, line, what);
+        }
+    }
+    free(t);
+    free(lines);
+}
+
+static void test_conventions(void)
+{
+    header_report r = {0};
+    check_tables("src/fit/x.c", "static const int cuv[4][2] = {{0, 0}, {1, 0},\n {1, 1}, {0, 1}};\n", &r);
+    CHECK(r.bad == 1, "a copied corner table is found");
+    header_report all = {0};
+    static const char *const sfx[] = {".h", ".c", ".cpp", NULL};
+    each_file("src", sfx, check_tables, &all);
+    each_file("tests", sfx, check_tables, &all);
+    CHECK(all.bad == 0, "%d copies of convention tables, the first: %s", all.bad, all.first);
+}
+
 int main(void)
 {
     test_symbols();
     test_headers();
     test_stages();
+    test_conventions();
     CHECK_DONE("test_layout");
 }

@@ -217,9 +217,6 @@ void q2n_acc_limit_samples_free(q2n_acc_limit_samples *ls)
     memset(ls, 0, sizeof *ls);
 }
 
-/* Corner c of the unit square, counter-clockwise from (0,0). */
-static const double SQ[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
-
 /* Affine maps (origin, image of the unit u step, of the unit v step: 6 doubles) of the faces of
  * an all-quad mesh with nf0 faces subdivided `levels` times onto their base faces.  Sub-quad c
  * of a quad p is face 4p + c, (v_c, e_c, f, e_{c-1}) (mesh.h): it covers the quarter of p at
@@ -234,9 +231,11 @@ static void face_maps(int nf0, int levels, double *map, double *tmp)
     for (int l = 0, cur = nf0; l < levels; l++, cur *= 4) {
         for (int p = 0; p < cur; p++)
             for (int c = 0; c < 4; c++) {
-                const double *a = map + 6 * (size_t)p, *P0 = SQ[c], *P1 = SQ[(c + 1) & 3], *P3 = SQ[(c + 3) & 3];
+                /* the quarter at corner c: u along side c, v along its inward direction (patch/surface.h) */
+                const double *a = map + 6 * (size_t)p;
+                const int *P0 = q2n_corner_uv[c], *al = q2n_side_along[c], *in = q2n_side_inward[c];
                 double *b = tmp + 6 * ((size_t)4 * p + c);
-                double lu[2] = { (P1[0] - P0[0]) / 2, (P1[1] - P0[1]) / 2 }, lv[2] = { (P3[0] - P0[0]) / 2, (P3[1] - P0[1]) / 2 };
+                double lu[2] = { al[0] / 2.0, al[1] / 2.0 }, lv[2] = { in[0] / 2.0, in[1] / 2.0 };
                 for (int t = 0; t < 2; t++) { /* x -> a(P0 + s lu + t lv), a(y) = o + y0 U + y1 V */
                     b[t] = a[t] + P0[0] * a[2 + t] + P0[1] * a[4 + t];
                     b[2 + t] = lu[0] * a[2 + t] + lu[1] * a[4 + t];
@@ -275,8 +274,8 @@ q2n_status q2n_acc_limit_samples_make(const q2n_mesh *m, int levels, q2n_acc_lim
                 if (out->face[v] >= 0) continue;
                 const double *a = map + 6 * (size_t)F;
                 out->face[v] = F >> (2 * levels); /* face F descends from base face F / 4^levels */
-                out->uv[2 * v] = a[0] + SQ[c][0] * a[2] + SQ[c][1] * a[4];
-                out->uv[2 * v + 1] = a[1] + SQ[c][0] * a[3] + SQ[c][1] * a[5];
+                out->uv[2 * v] = a[0] + q2n_corner_uv[c][0] * a[2] + q2n_corner_uv[c][1] * a[4];
+                out->uv[2 * v + 1] = a[1] + q2n_corner_uv[c][0] * a[3] + q2n_corner_uv[c][1] * a[5];
             }
         st = q2n_acc_limit_points(f, out->p, out->nrm, err);
     }

@@ -42,8 +42,8 @@ static void elevate(int du, int dv, const double *cp, double *out)
 /* Grid index of the it-th control point along side i of a 6 x 6 patch. */
 static int side_index(int i, int it)
 {
-    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3];
-    int a = c0[0] * 5 + it * (c1[0] - c0[0]), b = c0[1] * 5 + it * (c1[1] - c0[1]);
+    const int *c0 = q2n_corner_uv[i], *d = q2n_side_along[i];
+    int a = c0[0] * 5 + it * d[0], b = c0[1] * 5 + it * d[1];
     return b * 6 + a;
 }
 

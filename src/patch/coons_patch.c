@@ -16,8 +16,8 @@
 #include <string.h>
 
 #include "core/vec3.h"
+#include "patch/surface.h"
 
-static const int corner_of[2][2] = {{0, 3}, {1, 2}};
 
 static void line_fill(const cp_patch *P, const void *lanes, int W, int s0, int s1, double t, int na, cp_line *L)
 {
@@ -118,7 +118,7 @@ void q2n_cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
             r[d] *= sc;
         }
     }
-    static const int ord[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    const int(*ord)[2] = q2n_eval_order;
     for (int b = 0; b < CP_NBUB; b++) {
         double U[4], V[4];
         for (int d = 0; d < 4; d++) { /* times the monomial 2t-1 (value, slope 2) where selected */
@@ -133,13 +133,13 @@ void q2n_cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W,
             const cp_line *Lu, const cp_line *Lv, double *out)
 {
     int K = P->K;
-    static const int ord[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    const int(*ord)[2] = q2n_eval_order;
     static const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
     double Wg[2][2][3][3];
     int anyg = 0;
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 2; j++)
-            if (P->greg[corner_of[i][j]]) {
+            if (P->greg[q2n_corner_at(i, j)]) {
                 gregory_weight(K, i, j, u, v, Wg[i][j]);
                 anyg = 1;
             }
@@ -156,7 +156,7 @@ void q2n_cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W,
             }
         for (int i = 0; i < 2; i++)
             for (int j = 0; j < 2; j++) {
-                int greg = anyg && P->greg[corner_of[i][j]] && al + be <= 2;
+                int greg = anyg && P->greg[q2n_corner_at(i, j)] && al + be <= 2;
                 for (int a = 0; a <= K; a++)
                     for (int b = 0; b <= K; b++) {
                         if (!(greg && a >= 1 && b >= 1)) {
@@ -196,7 +196,7 @@ void q2n_cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W,
 void q2n_cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, int nu, const double *us,
              const cp_line *Lu, int nv, const double *vs, const cp_line *Lv, int omin, int omax, double *out)
 {
-    static const int ord[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    const int(*ord)[2] = q2n_eval_order;
     int K = P->K, no = omax - omin + 1;
     double Dv[2][3][CP_NA][CP_MAXW]; /* per v-line: u-side data minus the corner tensor contracted in v */
     for (int b = 0; b < nv; b++) {

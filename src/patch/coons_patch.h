@@ -3,7 +3,7 @@
  * (ev_fair.c, ev_paper.c).  Internal to src/patch/.
  *
  * A construction supplies, for each of the four sides (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0;
- * the side parameter s is u on sides 0, 2 and v on sides 1, 3), the uv fields
+ * the side parameter s is u on sides 0, 2 and v on sides 1, 3: patch/surface.h), the uv fields
  *     F[b][a] = ∂s^a ∂n^b S  on the side   (n = v on sides 0, 2, u on sides 1, 3; b <= K, a < na)
  * and the patch is  S = P_u + P_v - P_uv + Σ_b φ_b bub_b  with blending functions of degree 2K+1.
  * The mixed corner terms a, b >= 1 are the constant corner values where the two sides agree;
@@ -28,7 +28,7 @@ typedef void (*cp_side_fn)(const void *ctx, const void *lanes, int W, int sd, do
 
 typedef struct cp_patch {
     int K;             /* 1: bicubic blend (G1 data), 2: biquintic (G2 data) */
-    int greg[4];       /* corner c (0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)) keeps a Gregory blend */
+    int greg[4];       /* corner c (q2n_corner_uv, patch/surface.h) keeps a Gregory blend */
     cp_side_fn side;
     const void *ctx;
 } cp_patch;

@@ -494,7 +494,7 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
 static void regular_lambda(const q2n_augmented_patch *R, int sR, double t, double out[4])
 {
     int c = R->w / 2 - 1;
-    if (sR == 0 || sR == 2) q2n_spline_blend_derivs(R->cls->k, R->ecol[0][c], R->ecol[1][c], t, out);
+    if (q2n_side_along_u(sR)) q2n_spline_blend_derivs(R->cls->k, R->ecol[0][c], R->ecol[1][c], t, out);
     else q2n_spline_blend_derivs(R->cls->k, R->drow[0][c], R->drow[1][c], t, out);
 }
 
@@ -505,16 +505,15 @@ void q2n_ev_side_eval(const ev_side *sd, double s, double out[3][3][3])
         constructed_eval(&sd->E, sd->derived, t, out);
     } else {
         /* regular neighbour: its side sR in its own coordinate (u on sides 0/2, v on 1/3) */
-        static const int iota[4] = {1, -1, -1, 1}; /* inward sign of the transverse coordinate */
         const q2n_augmented_patch *R = &sd->R;
-        int sR = sd->sR;
-        double uR = sR == 0 || sR == 2 ? t : sR == 1 ? 1 : 0;
-        double vR = sR == 1 || sR == 3 ? t : sR == 2 ? 1 : 0;
+        int sR = sd->sR, along_u = q2n_side_along_u(sR);
+        double uR = along_u ? t : q2n_side_level[sR];
+        double vR = along_u ? q2n_side_level[sR] : t;
         double D[27], f[3][3][3], L[4];
         q2n_ev_regular_partials(R, uR, vR, D);
         for (int b = 0; b < 3; b++)     /* transverse order */
             for (int a = 0; a < 3; a++) /* along-side order */
-                memcpy(f[b][a], D + 3 * ((sR == 0 || sR == 2) ? a * 3 + b : b * 3 + a), 3 * sizeof(double));
+                memcpy(f[b][a], D + 3 * (along_u ? a * 3 + b : b * 3 + a), 3 * sizeof(double));
         regular_lambda(R, sR, t, L);
         double L2[3] = {L[0] * L[0], 2 * L[0] * L[1], 2 * L[1] * L[1] + 2 * L[0] * L[2]};
         for (int c = 0; c < 3; c++) {
@@ -525,7 +524,7 @@ void q2n_ev_side_eval(const ev_side *sd, double s, double out[3][3][3])
             double q0 = f[1][0][c] / L[0];
             double q1 = (f[1][1][c] - q0 * L[1]) / L[0];
             double q2 = (f[1][2][c] - 2 * q1 * L[1] - q0 * L[2]) / L[0];
-            double sg = -iota[sR];
+            double sg = -q2n_side_iota[sR];
             out[1][0][c] = sg * q0;
             out[1][1][c] = sg * q1;
             out[1][2][c] = sg * q2;

@@ -192,28 +192,28 @@ static int jet_from_regular(const q2n_mesh *m, const q2n_surface *s, const doubl
     for (int i = 0; i < 4; i++)
         if (m->face_vert[m->face_start[f] + i] == v) c = i;
     if (c < 0) return 0;
-    static const double cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
-    /* in R's (u,v): the face edge leaving corner c runs along axA with sign sA, the other face
-     * edge at the corner along axB with sign sB (axis 0: u, 1: v) */
-    static const int axA[4] = {0, 1, 0, 1}, sA[4] = {1, 1, -1, -1};
-    static const int axB[4] = {1, 0, 1, 0}, sB[4] = {1, -1, -1, 1};
+    /* in R's (u,v): the face edge leaving corner c (side c) runs along u (A_u) or v with sign sA,
+     * the other face edge at the corner (side c's inward direction) along the other axis with
+     * sign sB (patch/surface.h) */
+    int A_u = q2n_side_along_u(c);
+    int sA = q2n_side_along[c][0] + q2n_side_along[c][1], sB = q2n_side_inward[c][0] + q2n_side_inward[c][1];
     double D[27];
-    q2n_ev_regular_partials(R, cu[c], cv[c], D);
+    q2n_ev_regular_partials(R, q2n_corner_uv[c][0], q2n_corner_uv[c][1], D);
     int ha = q2n_face_he(m, f, c), hb = q2n_he_prev(m, ha);
     double Ia = iv[m->he_edge[ha]], Ib = iv[m->he_edge[hb]];
     /* D index (a*3+b): first derivative along u = (1,0), along v = (0,1) */
-    int da = axA[c] == 0 ? 3 : 1, db = axB[c] == 0 ? 3 : 1;
-    int daa = axA[c] == 0 ? 6 : 2, dbb = axB[c] == 0 ? 6 : 2;
+    int da = A_u ? 3 : 1, db = A_u ? 1 : 3;
+    int daa = A_u ? 6 : 2, dbb = A_u ? 2 : 6;
     for (int k = 0; k < 3; k++) {
-        J->J1[k][0] = sA[c] * D[3 * da + k] / Ia;
-        J->J1[k][1] = sB[c] * D[3 * db + k] / Ib;
+        J->J1[k][0] = sA * D[3 * da + k] / Ia;
+        J->J1[k][1] = sB * D[3 * db + k] / Ib;
         J->J2[k][0] = D[3 * daa + k] / (Ia * Ia);
-        J->J2[k][1] = sA[c] * sB[c] * D[3 * 4 + k] / (Ia * Ib);
+        J->J2[k][1] = sA * sB * D[3 * 4 + k] / (Ia * Ib);
         J->J2[k][2] = D[3 * dbb + k] / (Ib * Ib);
         /* ∂A^p ∂B^q R at D index (p*3+q) when A is u, (q*3+p) when A is v */
-        int i21 = axA[c] == 0 ? 7 : 5, i12 = axA[c] == 0 ? 5 : 7;
-        J->Jm[k][0] = sB[c] * D[3 * i21 + k] / (Ia * Ia * Ib);
-        J->Jm[k][1] = sA[c] * D[3 * i12 + k] / (Ia * Ib * Ib);
+        int i21 = A_u ? 7 : 5, i12 = A_u ? 5 : 7;
+        J->Jm[k][0] = sB * D[3 * i21 + k] / (Ia * Ia * Ib);
+        J->Jm[k][1] = sA * D[3 * i12 + k] / (Ia * Ib * Ib);
         J->Jm[k][2] = D[3 * 8 + k] / (Ia * Ia * Ib * Ib);
     }
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
@@ -221,10 +221,9 @@ static int jet_from_regular(const q2n_mesh *m, const q2n_surface *s, const doubl
     for (int k = 0; k < n; k++)
         if (edges[k] == m->he_edge[ha]) ka = k;
     if (ka < 0) return 0;
-    static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-    for (int k = 0; k < n; k++) {
+    for (int k = 0; k < n; k++) { /* edge ka along +x, each next one a quarter turn further */
         int q = ((k - ka) % 4 + 4) % 4;
-        set_dir(m, dir, edges[k], v, ax[q][0], ax[q][1]);
+        set_dir(m, dir, edges[k], v, q2n_side_along[q][0], q2n_side_along[q][1]);
     }
     J->source = 1;
     return 1;
@@ -333,10 +332,9 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, fan *F)
     } else {
         fan_angles(m, v, F, g, nrm, eta);
     }
-    static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-    for (int k = 0; k < F->n; k++) {
-        F->X[k][0] = len[k] * (regular ? ax[k % 4][0] : cos(eta[k]));
-        F->X[k][1] = len[k] * (regular ? ax[k % 4][1] : sin(eta[k]));
+    for (int k = 0; k < F->n; k++) { /* regular: k quarter turns (patch/surface.h) */
+        F->X[k][0] = len[k] * (regular ? q2n_side_along[k % 4][0] : cos(eta[k]));
+        F->X[k][1] = len[k] * (regular ? q2n_side_along[k % 4][1] : sin(eta[k]));
     }
     for (int k = 0; k < F->nfan; k++) {
         int fc = F->faces[k], c = 0;
@@ -508,7 +506,7 @@ static int jet_from_sections(const q2n_mesh *m, const double *iv, const q2n_spli
     double d1[2][3], d2[2][3];
     for (int l = 0; l < 2; l++)
         if (!section_derivs(m, iv, cls, v, hout[l], hout[l + 2], d1[l], d2[l])) return 0;
-    static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    const int(*ax)[2] = q2n_side_along; /* edge k: k quarter turns from +x (patch/surface.h) */
     for (int c = 0; c < 3; c++) {
         J->J1[c][0] = d1[0][c];
         J->J1[c][1] = d1[1][c];

@@ -70,8 +70,6 @@ typedef struct fe_ctx {
     fe_side side[4];
 } fe_ctx;
 
-static const int side_iota[4] = {1, -1, -1, 1};
-static const int corner_of[2][2] = {{0, 3}, {1, 2}};
 static const double bn4[6][6] = {{1, 0, 0, 0, 0, 0}, {1, 1, 0, 0, 0, 0}, {1, 2, 1, 0, 0, 0},
                                  {1, 3, 3, 1, 0, 0}, {1, 4, 6, 4, 1, 0}, {1, 5, 10, 10, 5, 1}};
 
@@ -193,10 +191,10 @@ static void regular(const fe_ctx *X, int sd, double s, int na, double F[3][CP_NA
         for (int b = 0; b < 3; b++)
             for (int c = 0; c < 3; c++) loc[b][3][c] = (rp[b][2][c] - rm[b][2][c]) / (2 * h);
     }
-    if (sd == 0 || sd == 2) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
+    if (q2n_side_along_u(sd)) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
     else q2n_spline_blend_derivs(X->kb, X->d0, X->d1, s, L);                   /* δ(v) */
     double L2[4] = {L[0] * L[0], 2 * L[0] * L[1], 2 * L[1] * L[1] + 2 * L[0] * L[2], 6 * L[1] * L[2] + 2 * L[0] * L[3]};
-    double io = side_iota[sd];
+    double io = q2n_side_iota[sd];
     for (int a = 0; a < na; a++)
         for (int c = 0; c < 3; c++) {
             double f1 = 0, f2 = 0;
@@ -231,7 +229,7 @@ static void fe_side_fn(const void *ctx, const void *lanes, int W, int sd, double
         side_ends(X->K, S, L->J[S->c0], L->J[S->c1], &E);
         constructed(X, S, &E, W, s, na, loc);
     }
-    double io = side_iota[sd]; /* inward -> axis direction */
+    double io = q2n_side_iota[sd]; /* inward -> axis direction */
     for (int a = 0; a < na; a++)
         for (int l = 0; l < W; l++) {
             F[0][a][l] = loc[0][a][l];
@@ -348,12 +346,10 @@ static q2n_status setup_patch(const fe_build *B, int f, fe_ctx *X, cp_patch *P, 
     P->K = B->K;
     P->side = fe_side_fn;
     P->ctx = X;
-    /* side sd runs from corner c0 to c1 (side 0: p0 -> p1, 1: p1 -> p2, 2: p3 -> p2, 3: p0 -> p3) */
-    static const int sc0[4] = {0, 1, 3, 0}, sc1[4] = {1, 2, 2, 3};
     for (int sd = 0; sd < 4; sd++) {
         int h = q2n_face_he(m, f, sd), t = m->he_twin[h], e = m->he_edge[h];
         fe_side *S = &X->side[sd];
-        int along_h = sd < 2;
+        int along_h = q2n_side_forward(sd); /* side sd's parameter runs along h (patch/surface.h) */
         if (t >= 0 && !B->unc[m->he_face[t]]) {
             int g = m->he_face[t], sR = t - m->face_start[g];
             const q2n_augmented_patch *R = q2n_surface_patch_data(B->s, g);
@@ -362,12 +358,12 @@ static q2n_status setup_patch(const fe_build *B, int f, fe_ctx *X, cp_patch *P, 
             S->reg.kind = 1;
             S->reg.R = *R;
             S->reg.sR = sR;
-            S->reg.rev = (sR >= 2) != along_h; /* R runs along t (= against h) on its sides 0, 1 */
+            S->reg.rev = (!q2n_side_forward(sR)) != along_h; /* R runs along t (= against h) on its sides 0, 1 */
             continue;
         }
         S->kind = 0;
-        S->c0 = sc0[sd];
-        S->c1 = sc1[sd];
+        S->c0 = q2n_side_first(sd);
+        S->c1 = q2n_side_last(sd);
         S->d = B->iv[e];
         int v0 = m->face_vert[m->face_start[f] + S->c0], v1 = m->face_vert[m->face_start[f] + S->c1];
         memcpy(S->u0, edge_dir(m, B->dir, e, v0), sizeof S->u0);
@@ -829,7 +825,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
             for (int cj = 0; cj < 2; cj++) {
                 double mis = q2n_cp_corner_mismatch(&CP[i], &C, ci, cj);
                 if (mis > EV_FAIR_COMPAT_REL) {
-                    CP[i].greg[corner_of[ci][cj]] = 1;
+                    CP[i].greg[q2n_corner_at(ci, cj)] = 1;
                     if (stats) stats->gregory_corners++;
                 }
                 if (stats) stats->corner_mismatch_max = fmax(stats->corner_mismatch_max, mis);

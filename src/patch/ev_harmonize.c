@@ -479,8 +479,7 @@ q2n_status q2n_ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
         }
         if (!any) continue;
         if (nc == HZ_MAXC) { free(V); return Q2N_OK; }
-        static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-        V->cs[nc] = (hz_corner){f, cuv[k][0], cuv[k][1]};
+        V->cs[nc] = (hz_corner){f, q2n_corner_uv[k][0], q2n_corner_uv[k][1]};
         nc++;
     }
     if (!nc || !nu) { free(V); return Q2N_OK; }

@@ -23,8 +23,6 @@
  * blends at all four corners (r = K). */
 
 
-static const int side_iota[4] = {1, -1, -1, 1};
-
 /* uv fields of side sd at s: the local data (γ, inward χ, ξ) times the local parametrization
  * function across the side: ∂n S = ε χ, ∂n² S = ε² ξ (eq. 22–23; signs for the inward -u, -v of
  * sides 1, 2).  Along derivatives up to 2 (W = 3 lanes only). */
@@ -35,10 +33,10 @@ static void pp_side(const void *ctx, const void *lanes, int W, int sd, double s,
     (void)lanes;
     (void)W;
     q2n_ev_side_eval(&X->side[sd], s, loc);
-    if (sd == 0 || sd == 2) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
+    if (q2n_side_along_u(sd)) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
     else q2n_spline_blend_derivs(X->kb, X->d0, X->d1, s, L);                   /* δ(v) */
     double L2[3] = {L[0] * L[0], 2 * L[0] * L[1], 2 * L[1] * L[1] + 2 * L[0] * L[2]};
-    double io = side_iota[sd];
+    double io = q2n_side_iota[sd];
     for (int b = 0; b < 3; b++)
         for (int a = 0; a < na; a++) memset(F[b][a], 0, 3 * sizeof(double));
     for (int c = 0; c < 3; c++) {
@@ -69,7 +67,7 @@ q2n_status q2n_ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_su
         int h = q2n_face_he(m, f, sd), t = m->he_twin[h], e = m->he_edge[h];
         ev_side *S = &X->side[sd];
         /* the side parameter runs along h on sides 0, 1 and against it on sides 2, 3 */
-        int along_h = sd < 2;
+        int along_h = q2n_side_forward(sd);
         if (t >= 0 && !unc[m->he_face[t]]) {
             int g = m->he_face[t], sR = t - m->face_start[g];
             const q2n_augmented_patch *R = q2n_surface_patch_data(s, g);
@@ -79,7 +77,7 @@ q2n_status q2n_ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_su
             S->sR = sR;
             /* R's coordinate runs along t on its sides 0, 1 and against t on 2, 3; t is
              * opposite to h */
-            int R_along_t = sR < 2;
+            int R_along_t = q2n_side_forward(sR);
             int R_along_h = !R_along_t;
             S->rev = R_along_h != along_h;
         } else {
