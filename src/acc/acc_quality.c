@@ -8,42 +8,10 @@
 #include <string.h>
 
 #include "acc/acc_masks.h"
+#include "core/poly.h"
 #include "core/vec3.h"
 
-#define ACC_PI 3.14159265358979323846
 
-/* Gauss–Legendre nodes and weights on [0,1] (Newton on P_n; n <= 16). */
-static void gauss_legendre01(int n, double *x, double *w)
-{
-    for (int i = 0; i < n; i++) {
-        double z = cos(ACC_PI * (i + 0.75) / (n + 0.5)), pp = 1;
-        for (int it = 0; it < 100; it++) {
-            double p1 = 1, p2 = 0;
-            for (int j = 1; j <= n; j++) {
-                double p3 = p2;
-                p2 = p1;
-                p1 = ((2.0 * j - 1) * z * p2 - (j - 1.0) * p3) / j;
-            }
-            pp = n * (z * p1 - p2) / (z * z - 1);
-            double dz = p1 / pp;
-            z -= dz;
-            if (fabs(dz) < 1e-16) break;
-        }
-        x[i] = 0.5 * (1 - z);
-        w[i] = 1.0 / ((1 - z * z) * pp * pp); /* = (2/((1-z^2)p'^2)) / 2 */
-    }
-}
-
-/* Face parameters of the point at edge parameter t on the edge of corner c (v_c -> v_{c+1}). */
-static void edge_uv(int c, double t, double *u, double *v)
-{
-    switch (c & 3) {
-    case 0: *u = t; *v = 0; break;
-    case 1: *u = 1; *v = t; break;
-    case 2: *u = 1 - t; *v = 1; break;
-    default: *u = 0; *v = 1 - t; break;
-    }
-}
 
 typedef struct diffgeo {
     double n[3];   /* unit normal */
@@ -80,7 +48,7 @@ q2n_status q2n_acc_quality_measure(const q2n_surface *s, const q2n_mesh *m, int 
     memset(q, 0, sizeof *q);
     q->n_points = npts;
     double x[16], w[16], sum = 0;
-    gauss_legendre01(npts, x, w);
+    q2n_gauss_legendre01(npts, x, w);
     for (int e = 0; e < m->ne; e++) {
         int h = m->edge_he[e], t = m->he_twin[h];
         if (t < 0) continue;
@@ -89,8 +57,8 @@ q2n_status q2n_acc_quality_measure(const q2n_surface *s, const q2n_mesh *m, int 
         q->n_edges++;
         for (int i = 0; i < npts; i++) {
             double u1, v1, u2, v2;
-            edge_uv(c, x[i], &u1, &v1);
-            edge_uv(cg, 1 - x[i], &u2, &v2);
+            q2n_side_uv(c & 3, x[i], 0, &u1, &v1);
+            q2n_side_uv(cg & 3, 1 - x[i], 0, &u2, &v2);
             diffgeo a, b;
             q2n_status st = eval_geo(s, f, u1, v1, &a);
             if (st == Q2N_OK) st = eval_geo(s, g, u2, v2, &b);

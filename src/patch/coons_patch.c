@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/surface.h"
 
@@ -101,7 +102,7 @@ void q2n_cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
     double bu[4], bv[4];
     int p = K + 1;
     double sc = p == 2 ? 16 : 64; /* 4^p */
-    static const double bn[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    const double(*bn)[Q2N_BINOM_MAX + 1] = q2n_binom;
     for (int k = 0; k < 2; k++) {
         double t = k ? v : u, *r = k ? bv : bu, pa[4], pb[4], ta[4], tb[4]; /* t^p, (1-t)^p and derivatives */
         ta[0] = tb[0] = 1;
@@ -134,7 +135,7 @@ void q2n_cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W,
 {
     int K = P->K;
     const int(*ord)[2] = q2n_eval_order;
-    static const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    const double(*binom)[Q2N_BINOM_MAX + 1] = q2n_binom;
     double Wg[2][2][3][3];
     int anyg = 0;
     for (int i = 0; i < 2; i++)

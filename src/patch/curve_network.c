@@ -33,6 +33,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
 
@@ -40,15 +41,7 @@
 
 void q2n_ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3])
 {
-    for (int q = 0; q <= nder; q++) {
-        double r[3] = {0, 0, 0};
-        for (int i = p->deg; i >= q; i--) {
-            double f = 1;
-            for (int j = 0; j < q; j++) f *= (double)(i - j);
-            for (int c = 0; c < 3; c++) r[c] = r[c] * t + f * p->c[i][c];
-        }
-        memcpy(out[q], r, sizeof r);
-    }
+    q2n_poly_derivs_n(&p->c[0][0], 3, p->deg, t, nder, &out[0][0]);
 }
 
 static void poly_zero(ev_poly *p) { memset(p, 0, sizeof *p); }
@@ -57,17 +50,11 @@ static void poly_zero(ev_poly *p) { memset(p, 0, sizeof *p); }
  * 2: quintic).  v0[a], v1[a] = a-th t-derivative. */
 static void poly_hermite(int K, const double v0[3][3], const double v1[3][3], ev_poly *out)
 {
-    /* power coefficients of H_{a,0} and H_{a,1} (formulas.md §4.1) */
-    static const double H3[2][2][6] = {{{1, 0, -3, 2, 0, 0}, {0, 0, 3, -2, 0, 0}},
-                                       {{0, 1, -2, 1, 0, 0}, {0, 0, -1, 1, 0, 0}}};
-    static const double H5[3][2][6] = {{{1, 0, 0, -10, 15, -6}, {0, 0, 0, 10, -15, 6}},
-                                       {{0, 1, 0, -6, 8, -3}, {0, 0, 0, -4, 7, -3}},
-                                       {{0, 0, 0.5, -1.5, 1.5, -0.5}, {0, 0, 0, 0.5, -1, 0.5}}};
     poly_zero(out);
-    out->deg = K == 1 ? 3 : 5;
+    out->deg = 2 * K + 1;
     for (int a = 0; a <= K; a++)
         for (int i = 0; i < 6; i++) {
-            double h0 = K == 1 ? H3[a][0][i] : H5[a][0][i], h1 = K == 1 ? H3[a][1][i] : H5[a][1][i];
+            double h0 = q2n_hermite_coef[K - 1][a][0][i], h1 = q2n_hermite_coef[K - 1][a][1][i];
             for (int c = 0; c < 3; c++) out->c[i][c] += h0 * v0[a][c] + h1 * v1[a][c];
         }
 }
@@ -75,7 +62,7 @@ static void poly_hermite(int K, const double v0[3][3], const double v1[3][3], ev
 /* ------------------------------------------------------------ derivative arrays
  * f[k] = k-th t-derivative, k = 0..3; products by Leibniz' rule. */
 #define JO 4
-static const double binom4[JO][JO] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+#define binom4 q2n_binom
 
 static void sj_mul(const double *a, const double *b, double *r)
 {
@@ -155,12 +142,9 @@ static void lin(double v0, double v1, double t, double *r)
 /* Cubic Hermite scalar: values v[0], v[1] and t-slopes s[0], s[1] at t = 0, 1. */
 static void herm(const double v[2], const double s[2], double t, double *r)
 {
-    double t2 = t * t, t3 = t2 * t;
-    double h[4][4] = {{1 - 3 * t2 + 2 * t3, -6 * t + 6 * t2, -6 + 12 * t, 12},
-                      {3 * t2 - 2 * t3, 6 * t - 6 * t2, 6 - 12 * t, -12},
-                      {t - 2 * t2 + t3, 1 - 4 * t + 3 * t2, -4 + 6 * t, 6},
-                      {t3 - t2, 3 * t2 - 2 * t, 6 * t - 2, 6}};
-    for (int k = 0; k < JO; k++) r[k] = h[0][k] * v[0] + h[1][k] * v[1] + h[2][k] * s[0] + h[3][k] * s[1];
+    double H[2][2][Q2N_HERMITE_MAXD + 1];
+    q2n_hermite_eval(1, t, JO - 1, H);
+    for (int k = 0; k < JO; k++) r[k] = H[0][0][k] * v[0] + H[0][1][k] * v[1] + H[1][0][k] * s[0] + H[1][1][k] * s[1];
 }
 
 /* Corner-compatibility bumps (ev_edge): E_p = t^p (1-t)^q / p! at end 0 (p = 1: C, 2: B, 3, 4
@@ -170,23 +154,13 @@ static void herm(const double v[2], const double s[2], double t, double *r)
  * γ_xx''), which must not change there. */
 static void bump_n(int end, int p, int loc, double t, int nder, double *r)
 {
-    static const double fact[5] = {1, 1, 2, 6, 24};
     int q = (p >= 3 ? 5 : 4) + loc;
-    double c[20] = {0}, bin = 1;
-    for (int i = 0; i <= q; i++) {
-        c[p + i] = (i & 1 ? -bin : bin) / fact[p];
-        bin = bin * (q - i) / (i + 1);
-    }
+    double c[20] = {0}, v[6];
+    for (int i = 0; i <= q; i++) /* t^p (1 - t)^q / p! in the power basis */
+        c[p + i] = (i & 1 ? -q2n_binom[q][i] : q2n_binom[q][i]) / q2n_factorial[p];
     double x = end ? 1 - t : t, sg = end && (p & 1) ? -1 : 1;
-    for (int k = 0; k <= nder; k++) {
-        double v = 0;
-        for (int i = 19; i >= k; i--) {
-            double f = 1;
-            for (int j = 0; j < k; j++) f *= (double)(i - j);
-            v = v * x + f * c[i];
-        }
-        r[k] = sg * (end && (k & 1) ? -v : v); /* d/dt = -d/dx at end 1 */
-    }
+    q2n_poly_derivs(c, 19, x, nder, v);
+    for (int k = 0; k <= nder; k++) r[k] = sg * (end && (k & 1) ? -v[k] : v[k]); /* d/dt = -d/dx at end 1 */
 }
 
 static void bump(const ev_edge *E, int end, int kind, double t, double *r) { bump_n(end, kind, E->loc[end], t, JO - 1, r); }

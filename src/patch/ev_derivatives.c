@@ -31,6 +31,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dense.h"
+#include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
 
@@ -71,7 +73,7 @@ void q2n_ev_regular_partials(const q2n_augmented_patch *p, double u, double v, d
                 A[a][b][i] = sa;
                 Bf[a][b][i] = sb;
             }
-    static const double binom[3][3] = {{1, 0, 0}, {1, 1, 0}, {1, 2, 1}};
+    const double(*binom)[Q2N_BINOM_MAX + 1] = q2n_binom;
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++) {
             double r[3] = {0, 0, 0};
@@ -229,33 +231,14 @@ static int jet_from_regular(const q2n_mesh *m, const q2n_surface *s, const doubl
     return 1;
 }
 
-/* Solve the symmetric positive (definite after the ridge) system N x = r for 3 right-hand
- * sides by Gaussian elimination with partial pivoting; n <= 9. */
-static int solve_sys(int n, double N[9][9], double r[9][3])
+/* Solve the symmetric positive (definite after the ridge) system N x = r, n <= 9, one right-hand
+ * side (LAPACK's LU with partial pivoting, core/dense.h); 0 when N is singular. */
+static int solve_sys(int n, const double N[9][9], double r[9])
 {
-    for (int c = 0; c < n; c++) {
-        int piv = c;
-        for (int i = c + 1; i < n; i++)
-            if (fabs(N[i][c]) > fabs(N[piv][c])) piv = i;
-        if (N[piv][c] == 0) return 0;
-        if (piv != c) {
-            for (int j = 0; j < n; j++) { double t = N[c][j]; N[c][j] = N[piv][j]; N[piv][j] = t; }
-            for (int j = 0; j < 3; j++) { double t = r[c][j]; r[c][j] = r[piv][j]; r[piv][j] = t; }
-        }
-        for (int i = c + 1; i < n; i++) {
-            double f = N[i][c] / N[c][c];
-            for (int j = c; j < n; j++) N[i][j] -= f * N[c][j];
-            for (int j = 0; j < 3; j++) r[i][j] -= f * r[c][j];
-        }
-    }
-    for (int c = n - 1; c >= 0; c--) {
-        for (int j = 0; j < 3; j++) {
-            double acc = r[c][j];
-            for (int i = c + 1; i < n; i++) acc -= N[c][i] * r[i][j];
-            r[c][j] = acc / N[c][c];
-        }
-    }
-    return 1;
+    double A[81];
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) A[j * n + i] = N[i][j];
+    return q2n_dense_solve(n, 1, A, n, r, n) == 0;
 }
 
 /* Least-squares local polynomial at v (Appendix B, adapted; see the file comment). */
@@ -374,21 +357,21 @@ static int fit_first(const fan *F, ev_vjet *J)
  * normal part carries shape; G2 compatibility concerns it alone. */
 static int fit_normal_second(const fan *F, const double nj[3], ev_vjet *J)
 {
-    double N[9][9] = {{0}}, R[9][3] = {{0}};
+    double N[9][9] = {{0}}, R[9] = {0};
     for (int k = 0; k < F->n + F->nfan; k++) {
         const double *X = k < F->n ? F->X[k] : F->Xq[k - F->n], *q = k < F->n ? F->f[k] : F->q[k - F->n];
         double x = X[0], y = X[1], r2 = x * x + y * y, w = 1 / (r2 * r2), h = q2n_v3_dot(q, nj);
         double mono[3] = {0.5 * x * x, x * y, 0.5 * y * y};
         for (int i = 0; i < 3; i++) {
             for (int j = 0; j < 3; j++) N[i][j] += w * mono[i] * mono[j];
-            R[i][0] += w * mono[i] * h;
+            R[i] += w * mono[i] * h;
         }
     }
     double tr = N[0][0] + N[1][1] + N[2][2];
     for (int i = 0; i < 3; i++) N[i][i] += 1e-9 * tr; /* fans on two lines leave xy free */
     if (!solve_sys(3, N, R)) return 0;
     for (int q = 0; q < 3; q++)
-        for (int c = 0; c < 3; c++) J->J2[c][q] = R[q][0] * nj[c];
+        for (int c = 0; c < 3; c++) J->J2[c][q] = R[q] * nj[c];
     return 1;
 }
 
@@ -399,7 +382,7 @@ static int fit_normal_second(const fan *F, const double nj[3], ev_vjet *J)
  * ridge (minimum norm: fans do not determine all six numbers). */
 static void fit_tangential_second(const fan *F, ev_vjet *J)
 {
-    double M[9][9] = {{0}}, R[9][3] = {{0}};
+    double M[9][9] = {{0}}, R[9] = {0};
     for (int k = 0; k < F->n; k++) {
         double x = F->X[k][0], y = F->X[k][1], t[3], r[3], g[2];
         q2n_ev_jet_d1(J, F->X[k], t);
@@ -414,7 +397,7 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
         double r2 = x * x + y * y, w = 1 / (r2 * r2);
         for (int i = 0; i < 6; i++) {
             for (int j = 0; j < 6; j++) M[i][j] += w * row[i] * row[j];
-            R[i][0] += w * row[i] * a;
+            R[i] += w * row[i] * a;
         }
     }
     double tr = 0;
@@ -423,7 +406,7 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
     for (int i = 0; i < 6; i++) M[i][i] += 1e-3 * tr / 6;
     if (!solve_sys(6, M, R)) return;
     for (int q = 0; q < 3; q++)
-        for (int c = 0; c < 3; c++) J->J2[c][q] += J->J1[c][0] * R[q][0] + J->J1[c][1] * R[3 + q][0];
+        for (int c = 0; c < 3; c++) J->J2[c][q] += J->J1[c][0] * R[q] + J->J1[c][1] * R[3 + q];
 }
 
 /* Least-squares local polynomial at v (Appendix B, adapted; see the file comment). */

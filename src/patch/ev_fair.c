@@ -40,6 +40,7 @@
 #include <pthread.h>
 
 #include "core/sparse.h"
+#include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/coons_patch.h"
 #include "patch/ev_fair.h"
@@ -70,8 +71,6 @@ typedef struct fe_ctx {
     fe_side side[4];
 } fe_ctx;
 
-static const double bn4[6][6] = {{1, 0, 0, 0, 0, 0}, {1, 1, 0, 0, 0, 0}, {1, 2, 1, 0, 0, 0},
-                                 {1, 3, 3, 1, 0, 0}, {1, 4, 6, 4, 1, 0}, {1, 5, 10, 10, 5, 1}};
 
 /* ------------------------------------------------------------ side data (W lanes) */
 
@@ -153,7 +152,7 @@ static void constructed(const fe_ctx *X, const fe_side *S, const fe_ends *E, int
     }
     for (int a = 0; a < na; a++)
         for (int i = 0; i <= a; i++) {
-            double fa = bn4[a][i] * al[i], fb = bn4[a][i] * be[i];
+            double fa = q2n_binom[a][i] * al[i], fb = q2n_binom[a][i] * be[i];
             for (int l = 0; l < W; l++) out[1][a][l] += fa * c[a - i][l] + fb * g[a - i + 1][l];
         }
     if (K < 2) return;
@@ -161,14 +160,14 @@ static void constructed(const fe_ctx *X, const fe_side *S, const fe_ends *E, int
     for (int q = 0; q < 4; q++) {
         a2[q] = ab[q] = b2[q] = 0;
         for (int i = 0; i <= q; i++) {
-            a2[q] += bn4[q][i] * al[i] * al[q - i];
-            ab[q] += 2 * bn4[q][i] * al[i] * be[q - i];
-            b2[q] += bn4[q][i] * be[i] * be[q - i];
+            a2[q] += q2n_binom[q][i] * al[i] * al[q - i];
+            ab[q] += 2 * q2n_binom[q][i] * al[i] * be[q - i];
+            b2[q] += q2n_binom[q][i] * be[i] * be[q - i];
         }
     }
     for (int a = 0; a < na; a++)
         for (int i = 0; i <= a; i++) {
-            double f1 = bn4[a][i] * a2[i], f2 = bn4[a][i] * ab[i], f3 = bn4[a][i] * b2[i];
+            double f1 = q2n_binom[a][i] * a2[i], f2 = q2n_binom[a][i] * ab[i], f3 = q2n_binom[a][i] * b2[i];
             for (int l = 0; l < W; l++) out[2][a][l] += f1 * x[a - i][l] + f2 * c[a - i + 1][l] + f3 * g[a - i + 2][l];
         }
 }
@@ -199,8 +198,8 @@ static void regular(const fe_ctx *X, int sd, double s, int na, double F[3][CP_NA
         for (int c = 0; c < 3; c++) {
             double f1 = 0, f2 = 0;
             for (int i = 0; i <= a; i++) {
-                f1 += bn4[a][i] * L[i] * loc[1][a - i][c];
-                f2 += bn4[a][i] * L2[i] * loc[2][a - i][c];
+                f1 += q2n_binom[a][i] * L[i] * loc[1][a - i][c];
+                f2 += q2n_binom[a][i] * L2[i] * loc[2][a - i][c];
             }
             F[0][a][c] = loc[0][a][c];
             F[1][a][c] = io * f1;
@@ -432,24 +431,6 @@ static void face_scale(const q2n_mesh *m, int f, double *Lu, double *Lv)
     *Lv = 0.5 * (q2n_v3_dist(p[0], p[3]) + q2n_v3_dist(p[1], p[2]));
 }
 
-/* Gauss–Legendre nodes and weights on [0,1]. */
-static void gauss01(int n, double *x, double *w)
-{
-    for (int i = 0; i < n; i++) {
-        double z = cos(M_PI * (i + 0.75) / (n + 0.5)), pp = 1;
-        for (int it = 0; it < 100; it++) {
-            double p0 = 1, p1 = 0;
-            for (int j = 0; j < n; j++) { double p2 = p1; p1 = p0; p0 = ((2 * j + 1) * z * p1 - j * p2) / (j + 1); }
-            pp = n * (z * p0 - p1) / (z * z - 1);
-            double z1 = z;
-            z = z1 - p0 / pp;
-            if (fabs(z - z1) < 1e-15) break;
-        }
-        x[i] = 0.5 * (1 - z);
-        w[i] = 1 / ((1 - z * z) * pp * pp);
-    }
-}
-
 /* Growable triplet list of the upper triangle of the normal matrix. */
 typedef struct fe_trip {
     size_t n, cap;
@@ -582,7 +563,7 @@ static void *form_worker(void *arg)
 {
     fe_job *J = arg;
     double gx[EV_FAIR_GAUSS], gw[EV_FAIR_GAUSS];
-    gauss01(EV_FAIR_GAUSS, gx, gw);
+    q2n_gauss_legendre01(EV_FAIR_GAUSS, gx, gw);
     for (int fi = J->t; fi < J->nfaces && !J->st; fi += J->nt)
         J->st = face_form(J->B, fi, J->faces[fi], &J->P[fi], gx, gw, EV_FAIR_GAUSS, &J->F[fi]);
     return NULL;

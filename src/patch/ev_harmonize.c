@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dense.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
 
@@ -89,35 +90,11 @@ static q2n_status hz_residuals(hz_vertex *V, int only_e, const double *r0, doubl
     return Q2N_OK;
 }
 
-/* Cholesky factorisation G = L L^T in place (lower triangle); 0 if not positive definite. */
-static int chol_factor(double *G, int n)
-{
-    for (int j = 0; j < n; j++) {
-        double d = G[j * n + j];
-        for (int k = 0; k < j; k++) d -= G[j * n + k] * G[j * n + k];
-        if (!(d > 0)) return 0;
-        d = sqrt(d);
-        G[j * n + j] = d;
-        for (int i = j + 1; i < n; i++) {
-            double x = G[i * n + j];
-            for (int k = 0; k < j; k++) x -= G[i * n + k] * G[j * n + k];
-            G[i * n + j] = x / d;
-        }
-    }
-    return 1;
-}
+/* Cholesky factorisation of the symmetric n x n matrix G in place (core/dense.h, LAPACK; G is
+ * stored whole, so row- and column-major read the same); 0 if not positive definite. */
+static int chol_factor(double *G, int n) { return q2n_dense_cholesky(n, G, n) == 0; }
 
-static void chol_solve(const double *G, double *y, int n)
-{
-    for (int i = 0; i < n; i++) {
-        for (int k = 0; k < i; k++) y[i] -= G[i * n + k] * y[k];
-        y[i] /= G[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; i--) {
-        for (int k = i + 1; k < n; k++) y[i] -= G[k * n + i] * y[k];
-        y[i] /= G[i * n + i];
-    }
-}
+static void chol_solve(const double *G, double *y, int n) { q2n_dense_cholesky_solve(n, 1, G, n, y, n); }
 
 /* Probe step of unknown k: a unit step where the mismatches are affine in it (exact), a small
  * forward step for the slopes of a, b (first == 2), which enter the derived side through

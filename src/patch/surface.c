@@ -3,6 +3,8 @@
  * leaving the container is checked to be finite (Q2N_ERR_NUMERIC otherwise), whatever produced it. */
 #include "patch/surface.h"
 
+#include "core/poly.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -115,12 +117,10 @@ static void bernstein(int n, double t, int nder, double *b)
         for (int i = 0; i <= n; i++) {
             double acc = 0;
             if (d <= n) {
-                int binom = 1;
                 for (int j = 0; j <= d; j++) {
                     int idx = i - j, m = n - d;
                     double bb = (idx >= 0 && idx <= m) ? tmp[m][idx] : 0.0;
-                    acc += (((d - j) & 1) ? -1.0 : 1.0) * binom * bb;
-                    binom = binom * (d - j) / (j + 1);
+                    acc += (((d - j) & 1) ? -1.0 : 1.0) * q2n_binom[d][j] * bb;
                 }
             }
             b[d * (n + 1) + i] = fall * acc;
