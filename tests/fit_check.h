@@ -10,13 +10,19 @@
 #include "fit/bspline.h"
 #include "patch/surface.h"
 
-static const int fck_cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-
-/* Point of patch p on side i at parameter t along the side (corner i -> i+1). */
+/* Point of patch p on side i at parameter t along the side (corner i -> i+1; patch/surface.h). */
 static inline void fck_side_point(const q2n_bspline_surface *p, int i, double t, double out[3])
 {
-    const int *c0 = fck_cuv[i], *c1 = fck_cuv[(i + 1) & 3];
-    q2n_bspline_eval(p, c0[0] + t * (c1[0] - c0[0]), c0[1] + t * (c1[1] - c0[1]), out, NULL, NULL);
+    double u, v;
+    q2n_side_uv(i, t, 0, &u, &v);
+    q2n_bspline_eval(p, u, v, out, NULL, NULL);
+}
+
+/* Index of the it-th control point along side i (from corner i) of an nu x nv grid. */
+static inline int fck_side_cp(int i, int nu, int nv, int it)
+{
+    const int *c0 = q2n_corner_uv[i], *d = q2n_side_along[i];
+    return (c0[1] * (nv - 1) + it * d[1]) * nu + c0[0] * (nu - 1) + it * d[0];
 }
 
 static inline double fck_dist(const double *a, const double *b)
@@ -69,9 +75,7 @@ static inline double fit_boundary_gap(const q2n_nurbs_model *md, int *nsame, int
                 own = (double *)malloc(3 * sizeof(double) * (size_t)rn);
                 if (!own) continue;
                 for (int it = 0; it < rn; it++) {
-                    const int *c0 = fck_cuv[i0], *c1 = fck_cuv[(i0 + 1) & 3];
-                    int a = c0[0] * (P0->ncp_u - 1) + it * (c1[0] - c0[0]), b = c0[1] * (P0->ncp_v - 1) + it * (c1[1] - c0[1]);
-                    memcpy(own + 3 * it, P0->cp + 3 * (b * P0->ncp_u + a), 3 * sizeof(double));
+                    memcpy(own + 3 * it, P0->cp + 3 * fck_side_cp(i0, P0->ncp_u, P0->ncp_v, it), 3 * sizeof(double));
                 }
                 ref = own;
             }
@@ -79,9 +83,7 @@ static inline double fit_boundary_gap(const q2n_nurbs_model *md, int *nsame, int
             (*nsides)++;
             int same = 1;
             for (int it = 0; it < n && same; it++) {
-                const int *c0 = fck_cuv[i], *c1 = fck_cuv[(i + 1) & 3];
-                int a = c0[0] * (P->ncp_u - 1) + it * (c1[0] - c0[0]), b = c0[1] * (P->ncp_v - 1) + it * (c1[1] - c0[1]);
-                const double *pc = P->cp + 3 * (b * P->ncp_u + a), *rc = ref + 3 * (rev ? n - 1 - it : it);
+                const double *pc = P->cp + 3 * fck_side_cp(i, P->ncp_u, P->ncp_v, it), *rc = ref + 3 * (rev ? n - 1 - it : it);
                 same = !memcmp(pc, rc, 3 * sizeof(double));
             }
             *nsame += same;
@@ -150,9 +152,9 @@ static inline double fit_random_angle(const q2n_nurbs_model *md, int n)
             seed = seed * 1664525u + 1013904223u;
             double t = (seed >> 8) / 16777216.0, nrm[2][3];
             for (int x = 0; x < 2; x++) {
-                double tt = x ? 1 - t : t, p[3], du[3], dv[3];
-                const int *c0 = fck_cuv[sd[x]], *c1 = fck_cuv[(sd[x] + 1) & 3];
-                q2n_bspline_eval(&md->patches[f[x]], c0[0] + tt * (c1[0] - c0[0]), c0[1] + tt * (c1[1] - c0[1]), p, du, dv);
+                double tt = x ? 1 - t : t, p[3], du[3], dv[3], u, v;
+                q2n_side_uv(sd[x], tt, 0, &u, &v);
+                q2n_bspline_eval(&md->patches[f[x]], u, v, p, du, dv);
                 nrm[x][0] = du[1] * dv[2] - du[2] * dv[1];
                 nrm[x][1] = du[2] * dv[0] - du[0] * dv[2];
                 nrm[x][2] = du[0] * dv[1] - du[1] * dv[0];

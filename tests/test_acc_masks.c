@@ -158,7 +158,7 @@ static double g1_vs_acc5(const q2n_mesh *m, const double *g1, const double *a3, 
 {
     int nv = m->nv, h = m->vert_he[0], f = m->he_face[h], c = h - m->face_start[f];
     double *e5 = malloc(36 * (size_t)nv * sizeof *e5), d = 0;
-    q2n_acc_elevate_3_to_5(a3 + (size_t)f * 36 * nv, nv, e5);
+    q2n_bezier_elevate(3, 3, 5, 5, nv, a3 + (size_t)f * 36 * nv, e5);
     int q = q2n_acc_local_index(c, 5, i, j);
     for (int w = 0; w < nv; w++) d = fmax(d, fabs(e5[(size_t)q * nv + w] - g1[(size_t)f * 36 * nv + (size_t)q * nv + w]));
     free(e5);
@@ -557,7 +557,7 @@ static void test_api(void)
         quint++;
         double e5[36 * 64];
         if (c->nv > 64) continue;
-        q2n_acc_elevate_3_to_5(m3 + f * blk, c->nv, e5);
+        q2n_bezier_elevate(3, 3, 5, 5, c->nv, m3 + f * blk, e5);
         int cv = -1;
         for (int k = 0; k < 4; k++) if (c->face_vert[c->face_start[f] + k] == 0) cv = k;
         for (int j = 0; j < 6; j++)

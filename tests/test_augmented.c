@@ -5,37 +5,92 @@
  *    the polyline found by walking the mesh (q2n_mesh_continue), not by the patch's stencil;
  *  - Proposition 2: cross-boundary derivatives of neighbours satisfy eq. (13)-(14) for r <= k,
  *    with the scaling Δ built from the mesh's edge intervals (eq. 7, 14);
- *  - the mean parametrization gives rectangles (tensor-product patches: δ constant). */
+ *  - the mean parametrization gives rectangles (tensor-product patches: δ constant);
+ *  - the face parametrization of patch/surface.h (corner and side tables, side frames and their
+ *    chain rule) against the table written out and finite differences. */
 #include "check.h"
 #include "meshgen.h"
 #include "core/vec3.h"
 #include "param/param.h"
 #include "patch/augmented.h"
 
-static const int side_corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-
-/* Map (t along side c in the half-edge direction, s inward) to (u,v). */
-static void side_uv(int c, double t, double s, double *u, double *v)
+/* The face parametrization of patch/surface.h, checked against the table written out here
+ * (corners (0,0), (1,0), (1,1), (0,1); side i from corner i to i+1; inward = towards corner i+3)
+ * and its chain rule against finite differences of a polynomial in (u, v). */
+static void poly_uv(double u, double v, double e[Q2N_EVAL_MAX])
 {
-    switch (c) {
-    case 0: *u = t, *v = s; break;
-    case 1: *u = 1 - s, *v = t; break;
-    case 2: *u = 1 - t, *v = 1 - s; break;
-    default: *u = s, *v = 1 - t; break;
+    for (int c = 0; c < 3; c++) { /* S = (u^3 v + 2 u^2, u v^2 - v^3 + u, 3 u v + v^2), component c */
+        double P[3] = {u * u * u * v + 2 * u * u, u * v * v - v * v * v + u, 3 * u * v + v * v};
+        double Pu[3] = {3 * u * u * v + 4 * u, v * v + 1, 3 * v}, Pv[3] = {u * u * u, 2 * u * v - 3 * v * v, 3 * u + 2 * v};
+        double Puu[3] = {6 * u * v + 4, 0, 0}, Puv[3] = {3 * u * u, 2 * v, 3}, Pvv[3] = {0, 2 * u - 6 * v, 2};
+        e[c] = P[c], e[Q2N_EV_U + c] = Pu[c], e[Q2N_EV_V + c] = Pv[c];
+        e[Q2N_EV_UU + c] = Puu[c], e[Q2N_EV_UV + c] = Puv[c], e[Q2N_EV_VV + c] = Pvv[c];
     }
+}
+
+static void test_conventions(void)
+{
+    static const int corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    int ok_table = 1, ok_fd = 1;
+    double worst = 0;
+    for (int i = 0; i < 4; i++) {
+        const int *c0 = corner[i], *c1 = corner[(i + 1) % 4], *c3 = corner[(i + 3) % 4];
+        double u, v;
+        ok_table &= q2n_corner_uv[i][0] == c0[0] && q2n_corner_uv[i][1] == c0[1];
+        ok_table &= q2n_side_along[i][0] == c1[0] - c0[0] && q2n_side_along[i][1] == c1[1] - c0[1];
+        ok_table &= q2n_side_inward[i][0] == c3[0] - c0[0] && q2n_side_inward[i][1] == c3[1] - c0[1];
+        q2n_side_uv(i, 0, 0, &u, &v);
+        ok_table &= u == c0[0] && v == c0[1];
+        q2n_side_uv(i, 1, 0, &u, &v);
+        ok_table &= u == c1[0] && v == c1[1];
+        q2n_side_uv(i, 0.5, 0.25, &u, &v); /* a quarter of the way towards the opposite side */
+        ok_table &= u == 0.5 * (c0[0] + c1[0]) + 0.25 * (c3[0] - c0[0]) && v == 0.5 * (c0[1] + c1[1]) + 0.25 * (c3[1] - c0[1]);
+        int au = c1[1] == c0[1]; /* the side runs along u */
+        ok_table &= q2n_side_along_u(i) == au;
+        /* the cross coordinate: its value on the side and the sign of the inward direction on it */
+        int cross = au ? 1 : 0;
+        ok_table &= q2n_side_level[i] == c0[cross] && q2n_side_iota[i] == c3[cross] - c0[cross];
+        /* the patch-coordinate parameter runs from the corner with the smaller coordinate */
+        int first = c0[1 - cross] < c1[1 - cross] ? i : (i + 1) % 4;
+        ok_table &= q2n_side_first(i) == first && q2n_side_last(i) == (first == i ? (i + 1) % 4 : i);
+        ok_table &= q2n_side_forward(i) == (first == i);
+        ok_table &= q2n_corner_at(c0[0], c0[1]) == i;
+        /* chain rule: frame derivatives against differences of the polynomial along t and s */
+        double t = 0.3, s = 0.2, h = 1e-4, e[Q2N_EVAL_MAX], D[6][3], pp[4][Q2N_EVAL_MAX];
+        q2n_side_uv(i, t, s, &u, &v);
+        poly_uv(u, v, e);
+        q2n_side_derivs(i, 2, e, D);
+        static const double st[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+        for (int q = 0; q < 4; q++) {
+            q2n_side_uv(i, t + h * st[q][0], s + h * st[q][1], &u, &v);
+            poly_uv(u, v, pp[q]);
+        }
+        for (int c = 0; c < 3; c++) {
+            double Dt = (pp[0][Q2N_EV_S + c] - pp[1][Q2N_EV_S + c]) / (2 * h);
+            double Ds = (pp[2][Q2N_EV_S + c] - pp[3][Q2N_EV_S + c]) / (2 * h);
+            double Dtt = (pp[0][Q2N_EV_S + c] - 2 * e[c] + pp[1][Q2N_EV_S + c]) / (h * h);
+            double Dss = (pp[2][Q2N_EV_S + c] - 2 * e[c] + pp[3][Q2N_EV_S + c]) / (h * h);
+            /* ∂ts from the t-differences of ∂s */
+            double Dts = ((pp[0][Q2N_EV_U + c] - pp[1][Q2N_EV_U + c]) * q2n_side_inward[i][0] +
+                          (pp[0][Q2N_EV_V + c] - pp[1][Q2N_EV_V + c]) * q2n_side_inward[i][1]) / (2 * h);
+            double err[5] = {fabs(D[1][c] - Dt), fabs(D[2][c] - Ds), fabs(D[3][c] - Dtt), fabs(D[4][c] - Dts),
+                             fabs(D[5][c] - Dss)};
+            ok_fd &= D[0][c] == e[c];
+            for (int k = 0; k < 5; k++) worst = fmax(worst, err[k]);
+        }
+    }
+    CHECK(ok_table, "surface.h conventions match the table (corners, sides, inward, iota, level, first/last)");
+    CHECK(ok_fd && worst < 1e-6, "side-frame chain rule vs finite differences: %.3g", worst);
 }
 
 /* r-th inward cross derivative (r = 0..2) on side c at t. */
 static void cross_deriv(const q2n_surface *S, int f, int c, double t, int r, double out[3])
 {
-    double u, v, e[Q2N_EVAL_MAX];
-    side_uv(c, t, 0, &u, &v);
+    double u, v, e[Q2N_EVAL_MAX], D[6][3];
+    q2n_side_uv(c, t, 0, &u, &v);
     q2n_surface_eval(S, f, u, v, 2, e);
-    int across_v = (c % 2) == 0, sign = (c == 1 || c == 2) ? -1 : 1;
-    const double *src = r == 0 ? e : r == 1 ? e + (across_v ? Q2N_EV_V : Q2N_EV_U)
-                                            : e + (across_v ? Q2N_EV_VV : Q2N_EV_UU);
-    double sg = r == 1 ? sign : 1;
-    q2n_v3_scale(out, sg, src);
+    q2n_side_derivs(c, 2, e, D);
+    memcpy(out, D[r == 0 ? 0 : r == 1 ? 2 : 5], sizeof D[0]);
 }
 
 /* Local parametrization function across side c of face f at t: blend of the intervals of
@@ -71,7 +126,7 @@ static void check_mesh(const char *label, const q2n_mesh *m, const char *clsname
         if (q2n_surface_kind(S, f) != Q2N_PATCH_AUGMENTED) continue;
         for (int c = 0; c < 4; c++) { /* interpolation of the corners */
             double e[Q2N_EVAL_MAX];
-            q2n_surface_eval(S, f, side_corner[c][0], side_corner[c][1], 0, e);
+            q2n_surface_eval(S, f, q2n_corner_uv[c][0], q2n_corner_uv[c][1], 0, e);
             const double *p = q2n_mesh_vpos(m, m->face_vert[m->face_start[f] + c]);
             st->interp = fmax(st->interp, q2n_v3_dist(e, p) / diag);
         }
@@ -195,6 +250,7 @@ static void check_mean_rectangles(const q2n_mesh *m)
 
 int main(void)
 {
+    test_conventions();
     stats st;
     /* zeroed options are the defaults: centripetal, alpha 1/2 (eq. 6) */
     q2n_param_options zero;

@@ -14,6 +14,7 @@
  * Skips (with a message) when FreeCAD's Python modules are not installed. */
 #include "check.h"
 #include "iges/export.h"
+#include "patch/surface.h"
 #include "test_export_models.h"
 
 #define AUDIT "/usr/bin/python3 tools/q2n_audit.py"
@@ -97,8 +98,8 @@ static double bilinear_g1_reference(const q2n_mesh *m, int N)
             for (int s = 0; s < 2; s++) {
                 int e = s ? g : h, f = e / 4, side = e % 4;
                 double tt = s ? 1.0 - t : t;
-                static const double o[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, d[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-                double u = o[side][0] + tt * d[side][0], v = o[side][1] + tt * d[side][1];
+                double u, v;
+                q2n_side_uv(side, tt, 0, &u, &v);
                 const double *c0 = m->pos + 3 * m->face_vert[4 * f], *c1 = m->pos + 3 * m->face_vert[4 * f + 1];
                 const double *c2 = m->pos + 3 * m->face_vert[4 * f + 2], *c3 = m->pos + 3 * m->face_vert[4 * f + 3];
                 double su[3], sv[3];

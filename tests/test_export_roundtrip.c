@@ -13,6 +13,7 @@
  *         rejected inputs (gap between patches, bad extension, bad strings, missing directory). */
 #include "check.h"
 #include "iges/export.h"
+#include "patch/surface.h"
 #include "test_export_models.h"
 
 #include <ctype.h>
@@ -229,7 +230,7 @@ static void check_iges(const char *what, const char *text, const q2n_nurbs_model
             face_no++;
         } else if (F.ent_type[k] == 508) {
             /* per edge: TYPE 0, EDGE (504), NDX, OF, K = 1, ISOP = 1, CURV (110 from corner i to i+1) */
-            static const double corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            const int(*corner)[2] = q2n_corner_uv;
             ok &= (int)par[1] == 4 && n == 2 + 4 * 7;
             for (int i = 0; i < 4 && n == 30; i++) {
                 const double *q = par + 2 + 7 * i;

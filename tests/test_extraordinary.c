@@ -27,27 +27,10 @@
 #define ROOK_BAD 0
 #include "meshgen.h"
 #include "core/vec3.h"
+#include "core/clock.h"
 #include "param/param.h"
 #include "patch/augmented.h"
 #include "patch/extraordinary.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-/* (u,v) of the point at fraction tau from the origin of the face's half-edge with index i */
-static void he_uv(int i, double tau, double *u, double *v)
-{
-    switch (i) {
-    case 0: *u = tau, *v = 0; break;
-    case 1: *u = 1, *v = tau; break;
-    case 2: *u = 1 - tau, *v = 1; break;
-    default: *u = 0, *v = 1 - tau; break;
-    }
-}
 
 /* Normal curvature in direction w (3D tangent vector) from first/second partials e. */
 static double normal_curv(const double *e, const double n[3], const double w[3])
@@ -99,24 +82,23 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
     q2n_error err = {0, ""};
     double *iv = NULL;
     q2n_surface *S = NULL;
-    double t0 = now();
+    double t0 = q2n_now();
     CHECK(q2n_param_edge_intervals(m, &aopt.param, &iv, &err) == Q2N_OK, "%s: intervals", label);
     CHECK(q2n_augmented_build(m, &aopt, iv, &S, &err) == Q2N_OK, "%s: regular build: %s", label, err.message);
     if (!S) { free(iv); return 0; }
     st->nev = q2n_surface_count(S, Q2N_PATCH_UNCOVERED);
     q2n_status rc = q2n_extraordinary_build(m, &xopt, iv, S, &err);
-    st->time_build = now() - t0;
+    st->time_build = q2n_now() - t0;
     CHECK(rc == Q2N_OK, "%s: extraordinary build: %s", label, err.message);
     st->covered = m->nf - q2n_surface_count(S, Q2N_PATCH_UNCOVERED);
     CHECK(st->covered == m->nf, "%s: %d of %d faces covered", label, st->covered, m->nf);
     if (rc || st->covered != m->nf) { q2n_surface_free(S); free(iv); return 0; }
     double diag = q2n_mesh_bbox_diag(m);
     /* interpolation of every vertex, from every incident patch */
-    static const double cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
     for (int f = 0; f < m->nf; f++)
         for (int c = 0; c < 4; c++) {
             double e[Q2N_EVAL_MAX];
-            q2n_surface_eval(S, f, cu[c], cv[c], 0, e);
+            q2n_surface_eval(S, f, q2n_corner_uv[c][0], q2n_corner_uv[c][1], 0, e);
             st->interp = fmax(st->interp, q2n_v3_dist(e, q2n_mesh_vpos(m, m->face_vert[4 * f + c])) / diag);
         }
     /* edges */
@@ -126,8 +108,8 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
         int f = m->he_face[h], g = m->he_face[t];
         for (int k = 1; k <= 9; k++) {
             double tau = k / 10.0, uf, vf, ug, vg, ef[Q2N_EVAL_MAX], eg[Q2N_EVAL_MAX];
-            he_uv(h - 4 * f, tau, &uf, &vf);
-            he_uv(t - 4 * g, 1 - tau, &ug, &vg);
+            q2n_side_uv(h - 4 * f, tau, 0, &uf, &vf);
+            q2n_side_uv(t - 4 * g, 1 - tau, 0, &ug, &vg);
             q2n_surface_eval(S, f, uf, vf, 2, ef);
             q2n_surface_eval(S, g, ug, vg, 2, eg);
             double nf[3], ng[3], x[3];
@@ -453,7 +435,7 @@ static void test_regular_partials(void)
                 q2n_augmented_eval(&P, u + (s ? -h : h), v, 2, eu[s]);
                 q2n_augmented_eval(&P, u, v + (s ? -h : h), 2, ev[s]);
             }
-            static const int map[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+            const int(*map)[2] = q2n_eval_order;
             for (int o = 0; o < 6; o++)
                 for (int k = 0; k < 3; k++)
                     worst_low = fmax(worst_low, fabs(D[3 * (map[o][0] * 3 + map[o][1]) + k] - e[3 * o + k]));

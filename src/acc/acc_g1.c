@@ -23,6 +23,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dense.h"
+
 #define ACC_PI 3.14159265358979323846
 
 typedef struct g1ctx {
@@ -256,31 +258,21 @@ q2n_status q2n_acc_g1_boundary(int K, int dim, q2n_acc_strategy st, double **P, 
     }
     if (g.cs) {
         /* eq. (34): z_i + z_{i-1} = g_i (i = 1..K-1); z = zACC5 + R^T ρ, R R^T ρ = g - R zACC5,
-         * R R^T = tridiag(1, 2, 1) of size K-1 (Thomas algorithm). */
+         * R R^T = tridiag(1, 2, 1) of size K-1 (LAPACK's L D L^T, core/dense.h). */
         int m = K - 1;
-        double *rho = malloc((size_t)m * (dim + 2) * sizeof *rho);
+        double *rho = malloc((size_t)m * (2 * dim + 2) * sizeof *rho);
         if (!rho) { free(g.A); return q2n_error_set(err, Q2N_ERR_NOMEM, "acc-g1: out of memory"); }
-        double *cprime = rho + (size_t)m * dim, *diag = cprime + m;
+        double *B = rho + (size_t)m * dim, *diag = B + (size_t)m * dim, *off = diag + m; /* B: column-major m x dim */
         double *gi = g.w; /* scratch */
         for (int i = 1; i < K; i++) {
-            double *row = rho + (size_t)(i - 1) * dim;
             rhs17(&g, SEQ(g.x, &g, i), SEQ(g.y, &g, i), SEQ(gi, &g, i));
             for (int t = 0; t < dim; t++)
-                row[t] = SEQ(gi, &g, i)[t] - AP(&g, i, 1, 1)[t] - AP(&g, i - 1, 1, 1)[t];
+                B[(size_t)t * m + i - 1] = SEQ(gi, &g, i)[t] - AP(&g, i, 1, 1)[t] - AP(&g, i - 1, 1, 1)[t];
         }
-        /* forward sweep */
-        diag[0] = 2.0;
-        for (int i = 1; i < m; i++) {
-            cprime[i] = 1.0 / diag[i - 1];
-            diag[i] = 2.0 - cprime[i];
-            for (int t = 0; t < dim; t++) rho[(size_t)i * dim + t] -= cprime[i] * rho[(size_t)(i - 1) * dim + t];
-        }
-        for (int i = m - 1; i >= 0; i--)
-            for (int t = 0; t < dim; t++) {
-                double v = rho[(size_t)i * dim + t];
-                if (i + 1 < m) v -= rho[(size_t)(i + 1) * dim + t];
-                rho[(size_t)i * dim + t] = v / diag[i];
-            }
+        for (int i = 0; i < m; i++) diag[i] = 2.0, off[i] = 1.0;
+        q2n_dense_tridiag_spd(m, dim, diag, off, B, m); /* positive definite: eigenvalues 2 + 2 cos(k pi / K) > 0 */
+        for (int i = 0; i < m; i++)
+            for (int t = 0; t < dim; t++) rho[(size_t)i * dim + t] = B[(size_t)t * m + i];
         /* z_k = zACC5_k + ρ_k (k = 1..m, equation index k) + ρ_{k+1} (equation k+1 <= m) */
         for (int k = 0; k < K; k++) {
             double *z = LP(P[k], dim, 1, 1);

@@ -302,28 +302,6 @@ void q2n_acc_bicubic(const q2n_mesh *m, const q2n_acc_rings *r, int f, const dou
     }
 }
 
-/* Degree elevation 3 -> 5 of a Bézier curve: b5_i = Σ_j C(3,j) C(2,i-j) / C(5,i) b3_j. */
-static const double ELEV35[6][4] = {
-    { 1, 0, 0, 0 },
-    { 2.0 / 5, 3.0 / 5, 0, 0 },
-    { 1.0 / 10, 6.0 / 10, 3.0 / 10, 0 },
-    { 0, 3.0 / 10, 6.0 / 10, 1.0 / 10 },
-    { 0, 0, 3.0 / 5, 2.0 / 5 },
-    { 0, 0, 0, 1 },
-};
-
-void q2n_acc_elevate_3_to_5(const double *cp3, int dim, double *cp5)
-{
-    memset(cp5, 0, 36 * (size_t)dim * sizeof *cp5);
-    for (int J = 0; J < 6; J++)
-        for (int I = 0; I < 6; I++)
-            for (int b = 0; b < 4; b++)
-                for (int a = 0; a < 4; a++) {
-                    double w = ELEV35[I][a] * ELEV35[J][b];
-                    if (w != 0.0) axpy(cp5 + (size_t)(J * 6 + I) * dim, w, cp3 + (size_t)(b * 4 + a) * dim, dim);
-                }
-}
-
 /* Copy between a face's biquintic points and the EV-local sector layout of corner c. */
 static void to_local(const double *face, int c, int dim, double *loc)
 {
@@ -390,7 +368,7 @@ q2n_status q2n_acc_control_points(const q2n_mesh *m, const q2n_acc_rings *r, q2n
             for (int i = 0; i < 4; i++) quintic |= r->ev[m->face_vert[m->face_start[f] + i]];
         q2n_acc_bicubic(m, r, f, val, dim, c3);
         if (quintic) {
-            q2n_acc_elevate_3_to_5(c3, dim, out);
+            q2n_bezier_elevate(3, 3, 5, 5, dim, c3, out);
             deg[f] = 5;
         } else {
             memcpy(out, c3, 16 * (size_t)dim * sizeof *c3);

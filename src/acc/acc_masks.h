@@ -13,6 +13,7 @@
 #define Q2N_ACC_ACC_MASKS_H
 
 #include "acc/acc.h"
+#include "core/poly.h"
 
 typedef struct q2n_acc_rings {
     int nv;
@@ -58,9 +59,7 @@ void q2n_acc_limit_frame(const q2n_mesh *m, const q2n_acc_rings *r, int v, doubl
 /* Bicubic ACC3 patch of quad face f (16 points, face layout cp[(J*4+I)*dim]). */
 void q2n_acc_bicubic(const q2n_mesh *m, const q2n_acc_rings *r, int f, const double *val, int dim,
                      double *cp);
-
-/* Tensor degree elevation 3 -> 5 (ACC5, seed 001 §3): cp5 has 36 points. */
-void q2n_acc_elevate_3_to_5(const double *cp3, int dim, double *cp5);
+/* (Degree elevation 3 -> 5 of a patch, ACC5 of seed 001 §3: q2n_bezier_elevate, core/poly.h.) */
 
 /* G1 masks around one EV, in place on its sector patches (biquintic, EV-local layout
  * P[k][(j*6+i)*dim], k = ring position; on entry ACC5, on exit G1).  Interior EV of valence

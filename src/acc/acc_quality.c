@@ -8,42 +8,10 @@
 #include <string.h>
 
 #include "acc/acc_masks.h"
+#include "core/poly.h"
 #include "core/vec3.h"
 
-#define ACC_PI 3.14159265358979323846
 
-/* Gauss–Legendre nodes and weights on [0,1] (Newton on P_n; n <= 16). */
-static void gauss_legendre01(int n, double *x, double *w)
-{
-    for (int i = 0; i < n; i++) {
-        double z = cos(ACC_PI * (i + 0.75) / (n + 0.5)), pp = 1;
-        for (int it = 0; it < 100; it++) {
-            double p1 = 1, p2 = 0;
-            for (int j = 1; j <= n; j++) {
-                double p3 = p2;
-                p2 = p1;
-                p1 = ((2.0 * j - 1) * z * p2 - (j - 1.0) * p3) / j;
-            }
-            pp = n * (z * p1 - p2) / (z * z - 1);
-            double dz = p1 / pp;
-            z -= dz;
-            if (fabs(dz) < 1e-16) break;
-        }
-        x[i] = 0.5 * (1 - z);
-        w[i] = 1.0 / ((1 - z * z) * pp * pp); /* = (2/((1-z^2)p'^2)) / 2 */
-    }
-}
-
-/* Face parameters of the point at edge parameter t on the edge of corner c (v_c -> v_{c+1}). */
-static void edge_uv(int c, double t, double *u, double *v)
-{
-    switch (c & 3) {
-    case 0: *u = t; *v = 0; break;
-    case 1: *u = 1; *v = t; break;
-    case 2: *u = 1 - t; *v = 1; break;
-    default: *u = 0; *v = 1 - t; break;
-    }
-}
 
 typedef struct diffgeo {
     double n[3];   /* unit normal */
@@ -80,7 +48,7 @@ q2n_status q2n_acc_quality_measure(const q2n_surface *s, const q2n_mesh *m, int 
     memset(q, 0, sizeof *q);
     q->n_points = npts;
     double x[16], w[16], sum = 0;
-    gauss_legendre01(npts, x, w);
+    q2n_gauss_legendre01(npts, x, w);
     for (int e = 0; e < m->ne; e++) {
         int h = m->edge_he[e], t = m->he_twin[h];
         if (t < 0) continue;
@@ -89,8 +57,8 @@ q2n_status q2n_acc_quality_measure(const q2n_surface *s, const q2n_mesh *m, int 
         q->n_edges++;
         for (int i = 0; i < npts; i++) {
             double u1, v1, u2, v2;
-            edge_uv(c, x[i], &u1, &v1);
-            edge_uv(cg, 1 - x[i], &u2, &v2);
+            q2n_side_uv(c & 3, x[i], 0, &u1, &v1);
+            q2n_side_uv(cg & 3, 1 - x[i], 0, &u2, &v2);
             diffgeo a, b;
             q2n_status st = eval_geo(s, f, u1, v1, &a);
             if (st == Q2N_OK) st = eval_geo(s, g, u2, v2, &b);
@@ -217,9 +185,6 @@ void q2n_acc_limit_samples_free(q2n_acc_limit_samples *ls)
     memset(ls, 0, sizeof *ls);
 }
 
-/* Corner c of the unit square, counter-clockwise from (0,0). */
-static const double SQ[4][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
-
 /* Affine maps (origin, image of the unit u step, of the unit v step: 6 doubles) of the faces of
  * an all-quad mesh with nf0 faces subdivided `levels` times onto their base faces.  Sub-quad c
  * of a quad p is face 4p + c, (v_c, e_c, f, e_{c-1}) (mesh.h): it covers the quarter of p at
@@ -234,9 +199,11 @@ static void face_maps(int nf0, int levels, double *map, double *tmp)
     for (int l = 0, cur = nf0; l < levels; l++, cur *= 4) {
         for (int p = 0; p < cur; p++)
             for (int c = 0; c < 4; c++) {
-                const double *a = map + 6 * (size_t)p, *P0 = SQ[c], *P1 = SQ[(c + 1) & 3], *P3 = SQ[(c + 3) & 3];
+                /* the quarter at corner c: u along side c, v along its inward direction (patch/surface.h) */
+                const double *a = map + 6 * (size_t)p;
+                const int *P0 = q2n_corner_uv[c], *al = q2n_side_along[c], *in = q2n_side_inward[c];
                 double *b = tmp + 6 * ((size_t)4 * p + c);
-                double lu[2] = { (P1[0] - P0[0]) / 2, (P1[1] - P0[1]) / 2 }, lv[2] = { (P3[0] - P0[0]) / 2, (P3[1] - P0[1]) / 2 };
+                double lu[2] = { al[0] / 2.0, al[1] / 2.0 }, lv[2] = { in[0] / 2.0, in[1] / 2.0 };
                 for (int t = 0; t < 2; t++) { /* x -> a(P0 + s lu + t lv), a(y) = o + y0 U + y1 V */
                     b[t] = a[t] + P0[0] * a[2 + t] + P0[1] * a[4 + t];
                     b[2 + t] = lu[0] * a[2 + t] + lu[1] * a[4 + t];
@@ -275,8 +242,8 @@ q2n_status q2n_acc_limit_samples_make(const q2n_mesh *m, int levels, q2n_acc_lim
                 if (out->face[v] >= 0) continue;
                 const double *a = map + 6 * (size_t)F;
                 out->face[v] = F >> (2 * levels); /* face F descends from base face F / 4^levels */
-                out->uv[2 * v] = a[0] + SQ[c][0] * a[2] + SQ[c][1] * a[4];
-                out->uv[2 * v + 1] = a[1] + SQ[c][0] * a[3] + SQ[c][1] * a[5];
+                out->uv[2 * v] = a[0] + q2n_corner_uv[c][0] * a[2] + q2n_corner_uv[c][1] * a[4];
+                out->uv[2 * v + 1] = a[1] + q2n_corner_uv[c][0] * a[3] + q2n_corner_uv[c][1] * a[5];
             }
         st = q2n_acc_limit_points(f, out->p, out->nrm, err);
     }

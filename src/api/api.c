@@ -54,7 +54,7 @@ static int model_options(const q2n_options *o, q2n_model_options *mo, char *errb
         return fail(Q2N_ERR_ARG, &e, errbuf, errlen);
     mo->progress.fn = o->progress;
     mo->progress.user = o->progress_user;
-    mo->progress.t0 = q2n_progress_clock();
+    mo->progress.t0 = q2n_now();
     return 0;
 }
 

@@ -434,7 +434,7 @@ static int run(run_state *s)
     if (!st) cli_signals_register(&s->outs);
     cli_signals_unblock(&old);
     if (st) return fail(s, st == Q2N_ERR_ARG ? 2 : 1, err.message);
-    o->model.progress = (q2n_progress_sink){cli_progress_report, &s->prog, q2n_progress_clock()};
+    o->model.progress = (q2n_progress_sink){cli_progress_report, &s->prog, q2n_now()};
     if ((st = q2n_model_read(o->input, &o->model, &s->m, &err))) return fail(s, input_exit(st), err.message);
     q2n_model *m = s->m;
     if (m->read_info.tags) {

@@ -262,11 +262,13 @@ static int solve_block(BlockWorker &w, int r0, int r1, int v0, int v1, const int
  * J^T J block by block and CHOLMOD factors the n x n blocks.  Ceres' per-Solve cost (problem
  * preprocessing, summary) is paid once per batch instead of three times per block.  Blocks whose
  * rows do not gather (solve_block's fallback) are solved on their own. */
+namespace {
 struct BatchItem {
     int it, m, n;
     std::vector<double> A, b[3], p[3];
     BlockCost cost[3];
 };
+}  // namespace
 
 static int solve_batch(std::deque<BatchItem> &items, double *x, const int *item_var, const ceres::Solver::Options &o,
                        char *msg, int msglen)

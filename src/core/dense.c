@@ -13,6 +13,53 @@ extern void dgelsy_(const int *m, const int *n, const int *nrhs, double *a, cons
 extern void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n, double *a, const int *lda,
                     double *s, double *u, const int *ldu, double *vt, const int *ldvt, double *work, const int *lwork,
                     int *info, size_t ljobu, size_t ljobvt);
+extern void dgesv_(const int *n, const int *nrhs, double *a, const int *lda, int *ipiv, double *b, const int *ldb,
+                   int *info);
+extern void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info, size_t luplo);
+extern void dpotrs_(const char *uplo, const int *n, const int *nrhs, const double *a, const int *lda, double *b,
+                    const int *ldb, int *info, size_t luplo);
+extern void dptsv_(const int *n, const int *nrhs, double *d, double *e, double *b, const int *ldb, int *info);
+
+/* LAPACK's info: 0 success, < 0 a bad argument (-1 here), > 0 the matrix (1 here). */
+static int info_code(int info) { return info < 0 ? -1 : info > 0 ? 1 : 0; }
+
+int q2n_dense_solve(int n, int nrhs, double *A, int lda, double *B, int ldb)
+{
+    if (n < 0 || nrhs < 0 || lda < (n > 1 ? n : 1) || ldb < (n > 1 ? n : 1)) return -1;
+    if (n == 0 || nrhs == 0) return 0;
+    int *ipiv = malloc(sizeof(int) * (size_t)n), info = 0;
+    if (!ipiv) return 1;
+    dgesv_(&n, &nrhs, A, &lda, ipiv, B, &ldb, &info);
+    free(ipiv);
+    return info_code(info);
+}
+
+int q2n_dense_cholesky(int n, double *A, int lda)
+{
+    if (n < 0 || lda < (n > 1 ? n : 1)) return -1;
+    if (n == 0) return 0;
+    int info = 0;
+    dpotrf_("L", &n, A, &lda, &info, 1);
+    return info_code(info);
+}
+
+int q2n_dense_cholesky_solve(int n, int nrhs, const double *L, int lda, double *B, int ldb)
+{
+    if (n < 0 || nrhs < 0 || lda < (n > 1 ? n : 1) || ldb < (n > 1 ? n : 1)) return -1;
+    if (n == 0 || nrhs == 0) return 0;
+    int info = 0;
+    dpotrs_("L", &n, &nrhs, L, &lda, B, &ldb, &info, 1);
+    return info_code(info);
+}
+
+int q2n_dense_tridiag_spd(int n, int nrhs, double *d, double *e, double *B, int ldb)
+{
+    if (n < 0 || nrhs < 0 || ldb < (n > 1 ? n : 1)) return -1;
+    if (n == 0 || nrhs == 0) return 0;
+    int info = 0;
+    dptsv_(&n, &nrhs, d, e, B, &ldb, &info);
+    return info_code(info);
+}
 
 int q2n_dense_lstsq(int m, int n, int nrhs, double *A, int lda, double *B, int ldb, double rcond, int *rank)
 {

@@ -1,5 +1,6 @@
-/* dense.h — the project's one home for dense linear algebra: small least-squares and constraint
- * problems solved by LAPACK (Debian liblapack-dev; the Fortran routines dgelsy_ and dgesvd_ called
+/* dense.h — the project's one home for dense linear algebra: small least-squares, constraint,
+ * square, symmetric positive definite and tridiagonal problems solved by LAPACK (Debian
+ * liblapack-dev; the Fortran routines dgelsy_, dgesvd_, dgesv_, dpotrf_, dpotrs_, dptsv_ called
  * from C).  Matrices are column-major (Fortran order) with a leading dimension, as LAPACK takes
  * them.  Functions return 0 on success, a negative value for a bad argument and a positive value
  * when out of memory or when LAPACK reports a failure. */
@@ -22,6 +23,23 @@ int q2n_dense_lstsq(int m, int n, int nrhs, double *A, int lda, double *B, int l
  * constraints up to rounding).  C and D are not modified.  Z needs room for n x n doubles. */
 int q2n_dense_nullspace(int c, int n, const double *C, int ldc, int nrhs, const double *D, int ldd, double rcond,
                         double *Z, int *k, double *Xp, double *resid);
+
+/* A X = B for a square A (n x n), by LU factorisation with partial pivoting (LAPACK dgesv;
+ * Golub & Van Loan §3.4).  A is overwritten by its factors, B (ldb >= n, nrhs columns) by X.
+ * Returns 0, 1 when A is exactly singular (a zero pivot) or out of memory, -1 for a bad argument. */
+int q2n_dense_solve(int n, int nrhs, double *A, int lda, double *B, int ldb);
+
+/* Cholesky factorisation A = L L^T of a symmetric positive definite n x n matrix (LAPACK dpotrf;
+ * Golub & Van Loan §4.2): the lower triangle is read and overwritten by L.  Returns 0, 1 when A
+ * is not positive definite, -1 for a bad argument. */
+int q2n_dense_cholesky(int n, double *A, int lda);
+/* X = A^-1 B from the factor L of q2n_dense_cholesky (LAPACK dpotrs); B (ldb >= n) becomes X. */
+int q2n_dense_cholesky_solve(int n, int nrhs, const double *L, int lda, double *B, int ldb);
+
+/* A X = B for a symmetric positive definite tridiagonal A: diagonal d[0..n-1], off-diagonal
+ * e[0..n-2] (LAPACK dptsv: L D L^T; Golub & Van Loan §4.3.6); d and e are overwritten, B (ldb >=
+ * n) becomes X.  Returns 0, 1 when A is not positive definite, -1 for a bad argument. */
+int q2n_dense_tridiag_spd(int n, int nrhs, double *d, double *e, double *B, int ldb);
 
 /* R = A B for A m x p, B p x n (column-major, leading dimensions lda, ldb, ldr). */
 void q2n_dense_mul(int m, int p, int n, const double *A, int lda, const double *B, int ldb, double *R, int ldr);

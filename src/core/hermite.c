@@ -24,19 +24,6 @@ const double q2n_hermite_coef[Q2N_HERMITE_MAXK][Q2N_HERMITE_MAXK + 1][2][10] = {
         {{0, 0, 0, 0, 1.0 / 24, -5.0 / 24, 5.0 / 12, -5.0 / 12, 5.0 / 24, -1.0 / 24}, {0, 0, 0, 0, 0, 1.0 / 24, -1.0 / 6, 1.0 / 4, -1.0 / 6, 1.0 / 24}}}
 };
 
-void q2n_poly_derivs(const double *c, int deg, double t, int nder, double *out)
-{
-    for (int q = 0; q <= nder; q++) {
-        double r = 0;
-        for (int i = deg; i >= q; i--) {
-            double f = 1;
-            for (int j = 0; j < q; j++) f *= (double)(i - j);
-            r = r * t + f * c[i];
-        }
-        out[q] = r;
-    }
-}
-
 /* Derivative tables: D[K-1][a][e][q][i] = coefficient of t^i in the q-th derivative of H_{a,e}
  * (order K), filled once. */
 static double D[Q2N_HERMITE_MAXK][Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1][10];

@@ -7,6 +7,8 @@
 #ifndef Q2N_CORE_HERMITE_H
 #define Q2N_CORE_HERMITE_H
 
+#include "core/poly.h"
+
 #define Q2N_HERMITE_MAXK 4
 #define Q2N_HERMITE_MAXD 8 /* derivatives that q2n_hermite_eval returns at most */
 
@@ -14,8 +16,5 @@ extern const double q2n_hermite_coef[Q2N_HERMITE_MAXK][Q2N_HERMITE_MAXK + 1][2][
 
 /* H[a][e][q] = q-th derivative of H_{a,e} (order K) at t, a <= K, q <= nder (<= Q2N_HERMITE_MAXD). */
 void q2n_hermite_eval(int K, double t, int nder, double H[][2][Q2N_HERMITE_MAXD + 1]);
-
-/* q-th derivatives (q <= nder) of the power-basis polynomial c[0..deg] at t. */
-void q2n_poly_derivs(const double *c, int deg, double t, int nder, double *out);
 
 #endif

@@ -11,11 +11,9 @@
 typedef struct q2n_progress_sink {
     q2n_progress_fn fn;   /* NULL: no reports */
     void *user;
-    double t0;            /* q2n_progress_clock() when the run started */
+    double t0;            /* q2n_now() (core/clock.h) when the run started */
 } q2n_progress_sink;
 
-/* Monotonic seconds. */
-double q2n_progress_clock(void);
 /* Report (stage, detail, done of total) to s->fn; s or s->fn NULL: nothing.  detail may be NULL. */
 void q2n_progress_emit(const q2n_progress_sink *s, const char *stage, const char *detail, long done, long total);
 

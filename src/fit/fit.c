@@ -164,18 +164,16 @@ static void measure_edge(void *arg, int e)
     for (int q = 0; !st && q < n; q++) {
         double f[2][Q2N_EVAL_MAX], row = 0.0;
         for (int x = 0; x < 1 + two; x++) {
-            const int *c0 = q2n_fit_corner_uv[sd[x].i], *c1 = q2n_fit_corner_uv[(sd[x].i + 1) & 3];
-            const int *c3 = q2n_fit_corner_uv[(sd[x].i + 3) & 3];
-            double tx = x ? 1.0 - t[q] : t[q], u = c0[0] + tx * (c1[0] - c0[0]), v = c0[1] + tx * (c1[1] - c0[1]);
+            double tx = x ? 1.0 - t[q] : t[q], u, v, F[6][3];
+            q2n_side_uv(sd[x].i, tx, 0.0, &u, &v);
             q2n_bspline_surface b = patch_view(&c->p[sd[x].k]);
             q2n_fit_surface_eval(&b, u, v, 2, f[x]);
             const double *D = x ? DR + 18 * (size_t)(n - 1 - q) : DL + 18 * (size_t)q;
-            int ax = c3[0] - c0[0], ay = c3[1] - c0[1];
+            q2n_side_derivs(sd[x].i, 2, f[x], F); /* F[2] = ∂s, F[5] = ∂ss of the fitted side */
             double ds[3], dss[3];
             for (int r = 0; r < 3; r++) {
-                ds[r] = ax * f[x][Q2N_EV_U + r] + ay * f[x][Q2N_EV_V + r] - D[6 + r];
-                dss[r] = ax * ax * f[x][Q2N_EV_UU + r] + 2 * ax * ay * f[x][Q2N_EV_UV + r] + ay * ay * f[x][Q2N_EV_VV + r] -
-                         D[15 + r];
+                ds[r] = F[2][r] - D[6 + r];
+                dss[r] = F[5][r] - D[15 + r];
             }
             double r1 = 0.41 * q2n_v3_norm(ds) / fabs(Ns[x][1][1]);
             double r2 = c->o.continuity == 2 ? 0.41 * q2n_v3_norm(dss) / fabs(Ns[x][2][2]) : 0.0;
@@ -187,10 +185,9 @@ static void measure_edge(void *arg, int e)
         ck[2] = row / c->diag;
         ck[3] = ck[4] = 0.0;
         if (two) {   /* the tangent of the fitted side, as q2n_fit_measure and the audit use */
-            double T[3];
-            const int *c0 = q2n_fit_corner_uv[sd[0].i], *c1 = q2n_fit_corner_uv[(sd[0].i + 1) & 3];
-            for (int r = 0; r < 3; r++) T[r] = (c1[0] - c0[0]) * f[0][Q2N_EV_U + r] + (c1[1] - c0[1]) * f[0][Q2N_EV_V + r];
-            q2n_fit_jumps(f[0], f[1], T, c->diag, &ck[3], &ck[4]);
+            double F[6][3];
+            q2n_side_derivs(sd[0].i, 1, f[0], F);
+            q2n_fit_jumps(f[0], f[1], F[1], c->diag, &ck[3], &ck[4]);
             double gap = q2n_v3_dist(f[0], f[1]) / c->diag;
             if (gap > E->g0) E->g0 = gap;
             if (!(ck[3] <= E->g1)) E->g1 = ck[3];
@@ -291,7 +288,7 @@ static void report_totals(fit_ctx *c, const q2n_nurbs_model *md)
         ncell += (long)p->ncu * p->ncv;
         for (int i = 0; i < 4; i++) {   /* construction corners vs mesh vertices */
             double S[Q2N_EVAL_MAX];
-            if (q2n_surface_eval(c->s, k, q2n_fit_corner_uv[i][0], q2n_fit_corner_uv[i][1], 0, S)) continue;
+            if (q2n_surface_eval(c->s, k, q2n_corner_uv[i][0], q2n_corner_uv[i][1], 0, S)) continue;
             double d = q2n_v3_dist(S, q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + i])) / c->diag;
             if (d > vd) vd = d;
         }

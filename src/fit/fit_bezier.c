@@ -1,49 +1,23 @@
 /* fit_bezier.c — exact conversion of Bézier patches (the Catmull–Clark ACC path) into the fit's
- * output: every patch is degree-elevated to 5 x 5 with one span (Farin, Curves and Surfaces for
- * CAGD, §5.1: b_i' = i/(n+1) b_{i-1} + (1 - i/(n+1)) b_i), which is exact.  Why quintic and not
+ * output: every patch is degree-elevated to 5 x 5 with one span (q2n_bezier_elevate, core/poly.h),
+ * which is exact.  Why quintic and not
  * cubic: every patch of every model then has one degree, so the edge curves of neighbours (cubic
  * ACC faces next to quintic G1 faces near extraordinary vertices) have identical control points and
  * knots, which the one-edge-curve-per-mesh-edge STEP/IGES writers need. */
 #include "fit/fit_internal.h"
 #include "fit/fit_policy.h"
 #include "core/clock.h"
+#include "core/poly.h"
 #include "core/vec3.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-/* Elevate a Bézier patch of degree (du, dv) to (5, 5) into the grid out[3*36]. */
-static void elevate(int du, int dv, const double *cp, double *out)
-{
-    double a[3 * 36], b[3 * 36];
-    int nu = du + 1, nv = dv + 1;
-    memcpy(a, cp, 3 * (size_t)nu * nv * sizeof(double));
-    for (; nu < Q2N_FIT_DEG + 1; nu++) {   /* u: b_i = i/n a_{i-1} + (1 - i/n) a_i, n = new degree */
-        for (int j = 0; j < nv; j++)
-            for (int i = 0; i <= nu; i++)
-                for (int q = 0; q < 3; q++) {
-                    double l = i > 0 ? a[3 * (j * nu + i - 1) + q] : 0.0, r = i < nu ? a[3 * (j * nu + i) + q] : 0.0;
-                    b[3 * (j * (nu + 1) + i) + q] = (double)i / nu * l + (1.0 - (double)i / nu) * r;
-                }
-        memcpy(a, b, 3 * (size_t)(nu + 1) * nv * sizeof(double));
-    }
-    for (; nv < Q2N_FIT_DEG + 1; nv++) {
-        for (int j = 0; j <= nv; j++)
-            for (int i = 0; i < nu; i++)
-                for (int q = 0; q < 3; q++) {
-                    double l = j > 0 ? a[3 * ((j - 1) * nu + i) + q] : 0.0, r = j < nv ? a[3 * (j * nu + i) + q] : 0.0;
-                    b[3 * (j * nu + i) + q] = (double)j / nv * l + (1.0 - (double)j / nv) * r;
-                }
-        memcpy(a, b, 3 * (size_t)nu * (nv + 1) * sizeof(double));
-    }
-    memcpy(out, a, 3 * 36 * sizeof(double));
-}
-
 /* Grid index of the it-th control point along side i of a 6 x 6 patch. */
 static int side_index(int i, int it)
 {
-    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3];
-    int a = c0[0] * 5 + it * (c1[0] - c0[0]), b = c0[1] * 5 + it * (c1[1] - c0[1]);
+    const int *c0 = q2n_corner_uv[i], *d = q2n_side_along[i];
+    int a = c0[0] * 5 + it * d[0], b = c0[1] * 5 + it * d[1];
     return b * 6 + a;
 }
 
@@ -78,7 +52,7 @@ q2n_status q2n_fit_convert_bezier(const q2n_surface *s, const q2n_mesh *m, const
         }
         q2n_fit_knots_uniform(1, b->knots_u);
         q2n_fit_knots_uniform(1, b->knots_v);
-        elevate(du, dv, cp, b->cp);
+        q2n_bezier_elevate(du, dv, Q2N_FIT_DEG, Q2N_FIT_DEG, 3, cp, b->cp);
     }
     /* shared edges: identical control points on both sides (copy the owner's row) */
     for (int e = 0; e < m->ne; e++) {

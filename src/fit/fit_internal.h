@@ -81,9 +81,6 @@ void q2n_fit_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg
 
 /* ---- measurement (fit_measure.c) ---- */
 
-/* Corner (u, v) of corner i of a patch (0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)). */
-extern const int q2n_fit_corner_uv[4][2];
-
 /* Per-patch and per-edge results of a measurement (arrays may be NULL).  Deviation is measured at
  * the cell centres of each patch's check grid (q2n_fit_check_params in u and v), continuity at the
  * check points of each interior edge's owner side. */

@@ -18,15 +18,6 @@
 #define FIT_PI 3.14159265358979323846
 #define FIT_SQRT1_2 0.70710678118654752440
 
-const int q2n_fit_corner_uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-
-/* (u,v) of parameter t along side i of a patch (t runs from corner i to corner i+1). */
-static void side_uv(int i, double t, double *u, double *v)
-{
-    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3];
-    *u = c0[0] + t * (c1[0] - c0[0]);
-    *v = c0[1] + t * (c1[1] - c0[1]);
-}
 /* Normal-curvature of a surface (derivatives d[18], unit normal n) in the tangent direction
  * closest to w: w = a Su + b Sv in the least-squares sense, kappa = II(a,b) / I(a,b).  0 where the
  * parametrization is singular (Su x Sv = 0: no tangent plane, no curvature to compare): returns
@@ -120,8 +111,8 @@ static q2n_status edge_measure(const q2n_nurbs_model *model, const q2n_surface *
     q2n_status st = Q2N_OK;
     for (int k = 0; k < N && !st; k++) {
         double t = ts[k], uL, vL, uR, vR, dL[Q2N_EVAL_MAX], dR[Q2N_EVAL_MAX];
-        side_uv(iL, t, &uL, &vL);
-        side_uv(iR, 1.0 - t, &uR, &vR);
+        q2n_side_uv(iL, t, 0.0, &uL, &vL);
+        q2n_side_uv(iR, 1.0 - t, 0.0, &uR, &vR);
         if (fit) {
             q2n_fit_surface_eval(&model->patches[fL], uL, vL, 2, dL);
             q2n_fit_surface_eval(&model->patches[fR], uR, vR, 2, dR);
@@ -130,12 +121,10 @@ static q2n_status edge_measure(const q2n_nurbs_model *model, const q2n_surface *
             if (!st) st = q2n_surface_eval(s, fR, uR, vR, 2, dR);
             if (st) break;
         }
-        double T[3];
-        const int *c0 = q2n_fit_corner_uv[iL], *c1 = q2n_fit_corner_uv[(iL + 1) & 3];
-        for (int c = 0; c < 3; c++)
-            T[c] = (c1[0] - c0[0]) * dL[Q2N_EV_U + c] + (c1[1] - c0[1]) * dL[Q2N_EV_V + c];
+        double F[6][3]; /* F[1]: the tangent along the edge */
+        q2n_side_derivs(iL, 1, dL, F);
         double a, b, gap = q2n_v3_dist(dL, dR) / diag;
-        q2n_fit_jumps(dL, dR, T, diag, &a, &b);
+        q2n_fit_jumps(dL, dR, F[1], diag, &a, &b);
         if (gap > *g0) *g0 = gap;
         if (!(a <= *g1)) *g1 = a;
         if (!(b <= *g2)) *g2 = b;
@@ -211,7 +200,7 @@ static void measure_patch(void *arg, int k)
     free(buf); free(us); free(vs);
     for (int c = 0; !st && c < 4; c++) {   /* construction corners vs mesh vertices */
         double S[3];
-        if ((st = q2n_surface_eval(j->s, k, q2n_fit_corner_uv[c][0], q2n_fit_corner_uv[c][1], 0, S))) break;
+        if ((st = q2n_surface_eval(j->s, k, q2n_corner_uv[c][0], q2n_corner_uv[c][1], 0, S))) break;
         double d = q2n_v3_dist(S, q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + c])) / j->diag;
         if (d > vd) vd = d;
     }

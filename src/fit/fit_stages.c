@@ -65,19 +65,19 @@ void q2n_fit_breaks_free(fit_breaks *b)
 fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i)
 {
     const fit_patch *p = &c->p[k];
-    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3], *c3 = q2n_fit_corner_uv[(i + 3) & 3];
+    const int *c0 = q2n_corner_uv[i], *a = q2n_side_along[i], *n = q2n_side_inward[i];
     fit_side sd;
     sd.k = k; sd.i = i;
     sd.ox = c0[0] * (p->nu - 1); sd.oy = c0[1] * (p->nv - 1);
-    sd.tx = c1[0] - c0[0]; sd.ty = c1[1] - c0[1];
-    sd.sx = c3[0] - c0[0]; sd.sy = c3[1] - c0[1];
-    int along_u = sd.tx != 0;
+    sd.tx = a[0]; sd.ty = a[1];
+    sd.sx = n[0]; sd.sy = n[1];
+    int along_u = q2n_side_along_u(i);
     sd.nt = along_u ? p->nu : p->nv; sd.ns = along_u ? p->nv : p->nu;
     sd.mt = along_u ? p->mu : p->mv; sd.ms = along_u ? p->mv : p->mu;
-    /* t runs along +u on side 0, +v on side 1, -u on side 2, -v on side 3; s into the patch */
-    static const int rev_t[4] = {0, 0, 1, 1}, rev_s[4] = {0, 1, 1, 0};
-    sd.kt = along_u ? (rev_t[i] ? p->kur : p->ku) : (rev_t[i] ? p->kvr : p->kv);
-    sd.ks = along_u ? (rev_s[i] ? p->kvr : p->kv) : (rev_s[i] ? p->kur : p->ku);
+    /* t and s run against the knot vector's direction where along / inward is negative */
+    int rev_t = a[0] + a[1] < 0, rev_s = n[0] + n[1] < 0;
+    sd.kt = along_u ? (rev_t ? p->kur : p->ku) : (rev_t ? p->kvr : p->kv);
+    sd.ks = along_u ? (rev_s ? p->kvr : p->kv) : (rev_s ? p->kur : p->ku);
     return sd;
 }
 
@@ -107,27 +107,13 @@ int q2n_fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R)
 
 q2n_status q2n_fit_frame_eval(const q2n_surface *surf, int k, int i, double t, double s, int nder, double D[6][3])
 {
-    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3], *c3 = q2n_fit_corner_uv[(i + 3) & 3];
-    int ax[2] = {c1[0] - c0[0], c3[0] - c0[0]}, ay[2] = {c1[1] - c0[1], c3[1] - c0[1]};
-    double u = c0[0] + t * ax[0] + s * ax[1], v = c0[1] + t * ay[0] + s * ay[1];
-    double e[Q2N_EVAL_MAX];
+    double u, v, e[Q2N_EVAL_MAX];
+    q2n_side_uv(i, t, s, &u, &v);
     q2n_status st = q2n_surface_eval(surf, k, u, v, nder, e);
     if (st) return st;
     for (int q = 0; q < 3 * (nder == 0 ? 1 : nder == 1 ? 3 : 6); q++)
         if (!isfinite(e[q])) return Q2N_ERR_NUMERIC;
-    for (int q = 0; q < 3; q++) {
-        D[0][q] = e[q];
-        if (nder < 1) continue;
-        D[1][q] = ax[0] * e[Q2N_EV_U + q] + ay[0] * e[Q2N_EV_V + q];
-        D[2][q] = ax[1] * e[Q2N_EV_U + q] + ay[1] * e[Q2N_EV_V + q];
-        if (nder < 2) continue;
-        static const int pr[3][2] = {{0, 0}, {0, 1}, {1, 1}};
-        for (int r = 0; r < 3; r++) {
-            int a = pr[r][0], b = pr[r][1];
-            D[3 + r][q] = ax[a] * ax[b] * e[Q2N_EV_UU + q] + (ax[a] * ay[b] + ay[a] * ax[b]) * e[Q2N_EV_UV + q] +
-                          ay[a] * ay[b] * e[Q2N_EV_VV + q];
-        }
-    }
+    q2n_side_derivs(i, nder, e, D);
     return Q2N_OK;
 }
 
@@ -293,10 +279,10 @@ static q2n_status corner_mixed(const q2n_surface *surf, int k, int i, double J[4
 {
     static const int ord[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
     double X[2][2][2][3];
-    const int *c0 = q2n_fit_corner_uv[i], *c1 = q2n_fit_corner_uv[(i + 1) & 3], *c3 = q2n_fit_corner_uv[(i + 3) & 3];
+    const int *c0 = q2n_corner_uv[i];
     if (q2n_surface_corner_mixed(surf, k, c0[0], c0[1], X) == Q2N_OK) {
-        int tu = c1[0] != c0[0];
-        double st = tu ? c1[0] - c0[0] : c1[1] - c0[1], ss = tu ? c3[1] - c0[1] : c3[0] - c0[0];
+        int tu = q2n_side_along_u(i); /* t is ±u, s is ±v (or the other way round) */
+        double st = q2n_side_along[i][0] + q2n_side_along[i][1], ss = q2n_side_inward[i][0] + q2n_side_inward[i][1];
         for (int o = 0; o < 4; o++) {
             int a = ord[o][0], b = ord[o][1], au = tu ? a : b, bv = tu ? b : a;
             double sg = (a & 1 ? st : 1) * (b & 1 ? ss : 1);

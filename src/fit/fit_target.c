@@ -35,36 +35,21 @@
  * Patches whose sides all have speed 1 and constant gluing keep φ = id (and the grid fast path). */
 #include "fit/fit_policy.h"
 #include "fit/fit_state.h"
+#include "core/hermite.h"
 #include "core/vec3.h"
+#include "spline/spline.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Quintic Hermite functions on [0,1] (formulas.md §4.1): h[0] = H00 (value at 0), h[1] = H01 (value
- * at 1), h[2] = H10 (slope at 0), h[3] = H11 (slope at 1), and their first derivatives in dh. */
-static void hermite5(double x, double h[4], double dh[4])
-{
-    double x2 = x * x, x3 = x2 * x, x4 = x3 * x, x5 = x4 * x;
-    h[1] = 10 * x3 - 15 * x4 + 6 * x5;
-    h[0] = 1 - h[1];
-    h[2] = x - 6 * x3 + 8 * x4 - 3 * x5;
-    h[3] = -4 * x3 + 7 * x4 - 3 * x5;
-    if (!dh) return;
-    dh[1] = 30 * x2 - 60 * x3 + 30 * x4;
-    dh[0] = -dh[1];
-    dh[2] = 1 - 18 * x2 + 32 * x3 - 15 * x4;
-    dh[3] = -12 * x2 + 28 * x3 - 15 * x4;
-}
-
-/* tau(t) and its first two derivatives for end speeds s0, s1 (value 0 -> 1, curvature 0 at both). */
+/* tau(t) and its first two derivatives for end speeds s0, s1 (value 0 -> 1, curvature 0 at both):
+ * H01 + s0 H10 + s1 H11 in the quintic Hermite basis (core/hermite.h). */
 static void tau_eval(double s0, double s1, double t, double d[3])
 {
-    double x = t, x2 = x * x, x3 = x2 * x, x4 = x3 * x, x5 = x4 * x;
-    /* H01 + s0 H10 + s1 H11 and derivatives */
-    d[0] = (10 * x3 - 15 * x4 + 6 * x5) + s0 * (x - 6 * x3 + 8 * x4 - 3 * x5) + s1 * (-4 * x3 + 7 * x4 - 3 * x5);
-    d[1] = (30 * x2 - 60 * x3 + 30 * x4) + s0 * (1 - 18 * x2 + 32 * x3 - 15 * x4) + s1 * (-12 * x2 + 28 * x3 - 15 * x4);
-    d[2] = (60 * x - 180 * x2 + 120 * x3) + s0 * (-36 * x + 96 * x2 - 60 * x3) + s1 * (-24 * x + 84 * x2 - 60 * x3);
+    double H[3][2][Q2N_HERMITE_MAXD + 1];
+    q2n_hermite_eval(2, t, 2, H);
+    for (int k = 0; k < 3; k++) d[k] = H[0][1][k] + s0 * H[1][0][k] + s1 * H[1][1][k];
 }
 
 /* Edge e and whether side (k, i) runs along its owner orientation. */
@@ -94,10 +79,10 @@ static void side_lin(const fit_ctx *c, int k, int i, double t, double *l, double
 {
     int own;
     double a = speed(c, side_edge(c, k, (i + 3) & 3, &own)), b = speed(c, side_edge(c, k, (i + 1) & 3, &own));
-    double h[4], dh[4];
-    hermite5(t, h, dh);
-    *l = a + (b - a) * h[1];
-    *dl = (b - a) * dh[1];
+    double o[4];
+    q2n_spline_blend_derivs(2, a, b, t, o); /* a + (b - a) H01(t), the quintic smoothstep */
+    *l = o[0];
+    *dl = o[1];
 }
 
 /* alpha(x) and alpha'(x) of edge e at owner parameter x from the construction's frame derivatives
@@ -169,9 +154,13 @@ q2n_status q2n_fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][
 static void coons_phi(double u, double v, double tu0, double tu2, double tv1, double tv3, double l0, double l1, double l2,
                       double l3, const double cs[4][2], double out[2])
 {
-    double hu[4], hv[4];
-    hermite5(u, hu, NULL);
-    hermite5(v, hv, NULL);
+    /* quintic Hermite functions: h[0] = H00 (value at 0), h[1] = H01 (value at 1), h[2] = H10
+     * (slope at 0), h[3] = H11 (slope at 1) */
+    double Hu[3][2][Q2N_HERMITE_MAXD + 1], Hv[3][2][Q2N_HERMITE_MAXD + 1];
+    q2n_hermite_eval(2, u, 0, Hu);
+    q2n_hermite_eval(2, v, 0, Hv);
+    double hu[4] = {Hu[0][0][0], Hu[0][1][0], Hu[1][0][0], Hu[1][1][0]};
+    double hv[4] = {Hv[0][0][0], Hv[0][1][0], Hv[1][0][0], Hv[1][1][0]};
     /* phi^u: u = 0: 0, d_u = l3; u = 1: 1, d_u = l1; v = 0: tau_0(u), v = 1: 1 - tau_2(1 - u) */
     double Pu = hu[1] + hu[2] * l3 + hu[3] * l1;
     double Pv = hv[0] * tu0 + hv[1] * (1.0 - tu2);

@@ -225,8 +225,9 @@ void q2n_export_curve_free(q2n_export_curve *c)
 
 q2n_status q2n_export_side_curve(const q2n_bspline_surface *s, int side, q2n_export_curve *c)
 {
-    /* side 0: row j = 0; 2: row j = ncp_v-1 (along u); 1: column i = ncp_u-1; 3: column i = 0 (along v) */
-    int along_u = side == 0 || side == 2;
+    /* side 0: row j = 0; 2: row j = ncp_v-1 (along u); 1: column i = ncp_u-1; 3: column i = 0 (along v);
+     * in the direction of increasing u or v (patch/surface.h) */
+    int along_u = q2n_side_along_u(side);
     int n = along_u ? s->ncp_u : s->ncp_v, deg = along_u ? s->deg_u : s->deg_v;
     const double *kn = along_u ? s->knots_u : s->knots_v;
     c->deg = deg;
@@ -241,8 +242,8 @@ q2n_status q2n_export_side_curve(const q2n_bspline_surface *s, int side, q2n_exp
     memcpy(c->knots, kn, sizeof(double) * (size_t)(n + deg + 1));
     for (int a = 0; a < n; a++) {
         int i, j;
-        if (along_u) { i = a; j = side == 0 ? 0 : s->ncp_v - 1; }
-        else { j = a; i = side == 1 ? s->ncp_u - 1 : 0; }
+        if (along_u) { i = a; j = q2n_side_level[side] * (s->ncp_v - 1); }
+        else { j = a; i = q2n_side_level[side] * (s->ncp_u - 1); }
         size_t k = (size_t)j * (size_t)s->ncp_u + (size_t)i;
         memcpy(c->cp + 3 * a, s->cp + 3 * k, 3 * sizeof(double));
         if (c->weights) c->weights[a] = s->weights[k];
@@ -254,9 +255,9 @@ q2n_status q2n_export_side_curve(const q2n_bspline_surface *s, int side, q2n_exp
  * side 0: (t,0), 1: (1,t), 2: (1-t,1), 3: (0,1-t). */
 static void side_point(const q2n_bspline_surface *s, int side, double t, double p[3])
 {
-    static const double o[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    static const double d[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-    q2n_bspline_eval(s, o[side][0] + t * d[side][0], o[side][1] + t * d[side][1], p, NULL, NULL);
+    double u, v;
+    q2n_side_uv(side, t, 0.0, &u, &v);
+    q2n_bspline_eval(s, u, v, p, NULL, NULL);
 }
 
 /* ---------------------------------------------------------------- topology */

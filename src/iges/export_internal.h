@@ -9,6 +9,7 @@
 #include <stdio.h>
 
 #include "iges/export.h"
+#include "patch/surface.h"
 
 /* ---- text buffer: appends never fail visibly; `oom` is checked once at the end.  With fp set
  * the text goes straight to that stream instead (len still counts it; a write error stays in the

@@ -258,7 +258,7 @@ static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q
     pw_end(w, el);
     /* 110 parameter-space lines (2D parametric use, §4.13): side i of face f runs from corner i
      * to corner i+1 of [0,1]^2 in (u,v,0), the loop's direction (as OCCT's own B-rep writer does) */
-    static const double corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const int(*corner)[2] = q2n_corner_uv;
     for (int f = 0; f < t->nf; f++)
         for (int i = 0; i < 4; i++) {
             int k = L->c110 + 4 * f + i;

@@ -30,7 +30,7 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem)
 
 #define RD_MAX_COUNT ((size_t)INT_MAX - 1) /* every count must fit an int */
 
-int rd_add_vertex(rd_mesh *d, const double x[3])
+int q2n_rd_add_vertex(rd_mesh *d, const double x[3])
 {
     if (d->nv >= RD_MAX_COUNT) return -2;
     if (!grow((void **)&d->pos, &d->cap_v, 3 * (d->nv + 1), sizeof *d->pos)) return -1;
@@ -38,7 +38,7 @@ int rd_add_vertex(rd_mesh *d, const double x[3])
     return 0;
 }
 
-int rd_add_face(rd_mesh *d, const int *idx, int n, long line)
+int q2n_rd_add_face(rd_mesh *d, const int *idx, int n, long line)
 {
     if (d->nf >= RD_MAX_COUNT || d->nfv + (size_t)n >= RD_MAX_COUNT) return -2;
     if (!grow((void **)&d->fvert, &d->cap_fv, d->nfv + (size_t)n, sizeof *d->fvert)) return -1;
@@ -55,7 +55,7 @@ int rd_add_face(rd_mesh *d, const int *idx, int n, long line)
     return 0;
 }
 
-void rd_free(rd_mesh *d)
+void q2n_rd_free(rd_mesh *d)
 {
     free(d->pos);
     free(d->fstart);
@@ -64,7 +64,7 @@ void rd_free(rd_mesh *d)
     memset(d, 0, sizeof *d);
 }
 
-q2n_status rd_finish(rd_mesh *d, const char *name, q2n_mesh **out, q2n_error *err)
+q2n_status q2n_rd_finish(rd_mesh *d, const char *name, q2n_mesh **out, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
     if (d->nf == 0) st = q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: empty mesh (no faces)", name);
@@ -81,13 +81,13 @@ q2n_status rd_finish(rd_mesh *d, const char *name, q2n_mesh **out, q2n_error *er
             }
     if (!st)
         st = q2n_mesh_from_arrays_lines((int)d->nv, d->pos, (int)d->nf, d->fstart, d->fvert, d->fline, name, out, err);
-    rd_free(d);
+    q2n_rd_free(d);
     return st;
 }
 
 /* ------------------------------------------------------------------ lines, tokens, numbers */
 
-int rd_next_line(rd_lines *l, char **s)
+int q2n_rd_next_line(rd_lines *l, char **s)
 {
     if (l->p >= l->end) return 0;
     const char *b = l->p, *e = memchr(b, '\n', (size_t)(l->end - b));
@@ -115,7 +115,7 @@ int rd_next_line(rd_lines *l, char **s)
     return 1;
 }
 
-void rd_lines_free(rd_lines *l)
+void q2n_rd_lines_free(rd_lines *l)
 {
     free(l->buf);
     l->buf = NULL;
@@ -124,7 +124,7 @@ void rd_lines_free(rd_lines *l)
 
 static int is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
-char *rd_tok(char **cur)
+char *q2n_rd_tok(char **cur)
 {
     char *p = *cur;
     while (is_space(*p)) p++;
@@ -136,7 +136,7 @@ char *rd_tok(char **cur)
     return t;
 }
 
-int rd_double(const char *t, double *x)
+int q2n_rd_double(const char *t, double *x)
 {
     char *end;
     errno = 0;
@@ -147,7 +147,7 @@ int rd_double(const char *t, double *x)
     return 0;
 }
 
-int rd_int(const char *t, long long *v)
+int q2n_rd_int(const char *t, long long *v)
 {
     const char *s = t;
     int neg = 0;
@@ -162,21 +162,21 @@ int rd_int(const char *t, long long *v)
     return big ? -2 : 0;
 }
 
-const char *rd_quote(const char *t, char *buf, size_t n)
+const char *q2n_rd_quote(const char *t, char *buf, size_t n)
 {
     snprintf(buf, n, "%s", t);
     if (strlen(t) >= n) memcpy(buf + n - 4, "...", 4);
     return buf;
 }
 
-void *rd_locale_begin(void **old)
+void *q2n_rd_locale_begin(void **old)
 {
     locale_t c = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
     *old = c ? (void *)uselocale(c) : NULL;
     return c;
 }
 
-void rd_locale_end(void *c, void *old)
+void q2n_rd_locale_end(void *c, void *old)
 {
     if (!c) return;
     uselocale((locale_t)old);

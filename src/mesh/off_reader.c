@@ -24,7 +24,7 @@ static int next_data_line(off_ctx *c, char **cur, q2n_status *st)
 {
     char *s;
     for (;;) {
-        int r = rd_next_line(&c->l, &s);
+        int r = q2n_rd_next_line(&c->l, &s);
         if (r == 0) return 0;
         if (r == -1) { *st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "%s:%ld: out of memory", c->name, c->l.line); return 0; }
         if (r == -2) { *st = q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: NUL byte in line", c->name, c->l.line); return 0; }
@@ -39,10 +39,10 @@ static q2n_status count(off_ctx *c, const char *t, const char *what, long long *
     char q[48];
     if (!t) return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: missing %s count (expected \"NV NF NE\")", c->name,
                                  c->l.line, what);
-    int r = rd_int(t, v);
+    int r = q2n_rd_int(t, v);
     if (r || *v < 0)
         return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: bad %s count '%s' (a number 0 .. 2^31-2)", c->name,
-                             c->l.line, what, rd_quote(t, q, sizeof q));
+                             c->l.line, what, q2n_rd_quote(t, q, sizeof q));
     return Q2N_OK;
 }
 
@@ -51,19 +51,19 @@ static q2n_status read_vertex(off_ctx *c, rd_mesh *d, char *cur, long k, long nv
     double x[3], extra;
     int n = 0;
     char q[48];
-    for (char *t; (t = rd_tok(&cur)); n++) {
-        int r = rd_double(t, n < 3 ? &x[n] : &extra);
+    for (char *t; (t = q2n_rd_tok(&cur)); n++) {
+        int r = q2n_rd_double(t, n < 3 ? &x[n] : &extra);
         if (r == -1)
             return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: bad number '%s'", c->name, c->l.line,
-                                 rd_quote(t, q, sizeof q));
+                                 q2n_rd_quote(t, q, sizeof q));
         if (r == -2)
             return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: non-finite coordinate '%s' (NaN/Inf or out of "
-                                 "double range)", c->name, c->l.line, rd_quote(t, q, sizeof q));
+                                 "double range)", c->name, c->l.line, q2n_rd_quote(t, q, sizeof q));
     }
     if (n < 3)
         return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: vertex %ld of %ld has %d number%s (need x y z)", c->name,
                              c->l.line, k, nv, n, n == 1 ? "" : "s");
-    int r = rd_add_vertex(d, x);
+    int r = q2n_rd_add_vertex(d, x);
     if (r) return q2n_error_set(c->err, r == -1 ? Q2N_ERR_NOMEM : Q2N_ERR_UNSUPPORTED, "%s:%ld: %s", c->name, c->l.line,
                                 r == -1 ? "out of memory" : "more than 2^31-2 vertices");
     return Q2N_OK;
@@ -71,25 +71,25 @@ static q2n_status read_vertex(off_ctx *c, rd_mesh *d, char *cur, long k, long nv
 
 static q2n_status read_face(off_ctx *c, rd_mesh *d, char *cur, int **idx, int *cap)
 {
-    char q[48], *t = rd_tok(&cur);
+    char q[48], *t = q2n_rd_tok(&cur);
     long long n, v;
-    if (rd_int(t, &n) || n < 0)
+    if (q2n_rd_int(t, &n) || n < 0)
         return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: bad vertex count '%s' of a face", c->name, c->l.line,
-                             rd_quote(t, q, sizeof q));
+                             q2n_rd_quote(t, q, sizeof q));
     if (n < 3)
         return q2n_error_set(c->err, Q2N_ERR_TOPOLOGY, "%s:%ld: face with %s%lld vert%s (a face needs at least 3)",
                              c->name, c->l.line, n ? "only " : "", n, n == 1 ? "ex" : "ices");
     for (long long i = 0; i < n; i++) {
-        if (!(t = rd_tok(&cur)))
+        if (!(t = q2n_rd_tok(&cur)))
             return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: face with %lld vertices lists only %lld", c->name,
                                  c->l.line, n, i);
-        int r = rd_int(t, &v);
+        int r = q2n_rd_int(t, &v);
         if (r == -1)
             return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: bad face vertex '%s'", c->name, c->l.line,
-                                 rd_quote(t, q, sizeof q));
+                                 q2n_rd_quote(t, q, sizeof q));
         if (r == -2 || v < 0 || v > 0x7ffffffe)
             return q2n_error_set(c->err, Q2N_ERR_TOPOLOGY, "%s:%ld: face index '%s' out of range (indices start at 0)",
-                                 c->name, c->l.line, rd_quote(t, q, sizeof q));
+                                 c->name, c->l.line, q2n_rd_quote(t, q, sizeof q));
         if (i >= *cap) {
             int nc = *cap ? 2 * *cap : 16;
             int *p = realloc(*idx, sizeof(int) * (size_t)nc);
@@ -101,14 +101,14 @@ static q2n_status read_face(off_ctx *c, rd_mesh *d, char *cur, int **idx, int *c
     }
     int extra = 0;
     double x;
-    for (; (t = rd_tok(&cur)); extra++)
-        if (rd_double(t, &x))
+    for (; (t = q2n_rd_tok(&cur)); extra++)
+        if (q2n_rd_double(t, &x))
             return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: bad colour value '%s' after the face's vertices",
-                                 c->name, c->l.line, rd_quote(t, q, sizeof q));
+                                 c->name, c->l.line, q2n_rd_quote(t, q, sizeof q));
     if (extra > 4)
         return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: %d numbers after the face's %lld vertices (a colour has at "
                              "most 4)", c->name, c->l.line, extra, n);
-    int r = rd_add_face(d, *idx, (int)n, c->l.line);
+    int r = q2n_rd_add_face(d, *idx, (int)n, c->l.line);
     if (r) return q2n_error_set(c->err, r == -1 ? Q2N_ERR_NOMEM : Q2N_ERR_UNSUPPORTED, "%s:%ld: %s", c->name, c->l.line,
                                 r == -1 ? "out of memory" : "more than 2^31-2 faces");
     return Q2N_OK;
@@ -135,11 +135,11 @@ static q2n_status parse(off_ctx *c, rd_mesh *d)
             return st ? st : q2n_error_set(c->err, Q2N_ERR_PARSE, "%s: no counts line after '%s'", c->name, kw);
     }
     long long nv, nf, ne;
-    if ((st = count(c, rd_tok(&cur), "vertex", &nv)) || (st = count(c, rd_tok(&cur), "face", &nf))) return st;
-    if ((t = rd_tok(&cur)) && (st = count(c, t, "edge", &ne))) return st;
-    if ((t = rd_tok(&cur)))
+    if ((st = count(c, q2n_rd_tok(&cur), "vertex", &nv)) || (st = count(c, q2n_rd_tok(&cur), "face", &nf))) return st;
+    if ((t = q2n_rd_tok(&cur)) && (st = count(c, t, "edge", &ne))) return st;
+    if ((t = q2n_rd_tok(&cur)))
         return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:%ld: unexpected '%s' after the counts \"NV NF NE\"", c->name,
-                             c->l.line, rd_quote(t, q, sizeof q));
+                             c->l.line, q2n_rd_quote(t, q, sizeof q));
     for (long long k = 0; k < nv; k++) {
         if (!next_data_line(c, &cur, &st))
             return st ? st : q2n_error_set(c->err, Q2N_ERR_PARSE, "%s: the file ends after %lld of %lld vertices",
@@ -167,10 +167,10 @@ q2n_status q2n_mesh_parse_off(const char *text, size_t len, const char *name, q2
     if (!text && len) return q2n_error_set(err, Q2N_ERR_ARG, "parse_off: NULL text");
     off_ctx c = {{text, text + len, 0, NULL, 0, 1}, name && *name ? name : "<off>", err};
     rd_mesh d = {0};
-    void *old, *loc = rd_locale_begin(&old);
+    void *old, *loc = q2n_rd_locale_begin(&old);
     q2n_status st = parse(&c, &d);
-    rd_locale_end(loc, old);
-    rd_lines_free(&c.l);
-    if (st) { rd_free(&d); return st; }
-    return rd_finish(&d, c.name, out, err);
+    q2n_rd_locale_end(loc, old);
+    q2n_rd_lines_free(&c.l);
+    if (st) { q2n_rd_free(&d); return st; }
+    return q2n_rd_finish(&d, c.name, out, err);
 }

@@ -75,11 +75,11 @@ static q2n_status header_error(ply_ctx *c, const char *what)
 
 static q2n_status add_elem(ply_ctx *c, char *cur)
 {
-    char *name = rd_tok(&cur), *cnt = rd_tok(&cur), q[48], msg[160];
+    char *name = q2n_rd_tok(&cur), *cnt = q2n_rd_tok(&cur), q[48], msg[160];
     long long n;
-    if (!name || !cnt || rd_tok(&cur)) return header_error(c, "expected \"element NAME COUNT\"");
-    if (rd_int(cnt, &n) || n < 0) {
-        snprintf(msg, sizeof msg, "bad element count '%s'", rd_quote(cnt, q, sizeof q));
+    if (!name || !cnt || q2n_rd_tok(&cur)) return header_error(c, "expected \"element NAME COUNT\"");
+    if (q2n_rd_int(cnt, &n) || n < 0) {
+        snprintf(msg, sizeof msg, "bad element count '%s'", q2n_rd_quote(cnt, q, sizeof q));
         return header_error(c, msg);
     }
     if (c->nel == c->capel) {
@@ -100,23 +100,23 @@ static q2n_status add_elem(ply_ctx *c, char *cur)
 
 static q2n_status add_prop(ply_ctx *c, char *cur)
 {
-    char *t = rd_tok(&cur), *name, q[48], msg[160];
+    char *t = q2n_rd_tok(&cur), *name, q[48], msg[160];
     ply_prop p = {"", T_NONE, T_NONE};
     if (!c->nel) return header_error(c, "property before any element");
     if (t && !strcmp(t, "list")) {
-        char *ct = rd_tok(&cur), *it = rd_tok(&cur);
+        char *ct = q2n_rd_tok(&cur), *it = q2n_rd_tok(&cur);
         p.count_type = type_parse(ct);
         p.type = type_parse(it);
         if (p.count_type == T_NONE || p.type == T_NONE || p.count_type >= T_F32) {
-            snprintf(msg, sizeof msg, "bad list types '%s %s' (count: an integer type)", rd_quote(ct ? ct : "", q, sizeof q),
+            snprintf(msg, sizeof msg, "bad list types '%s %s' (count: an integer type)", q2n_rd_quote(ct ? ct : "", q, sizeof q),
                      it ? it : "");
             return header_error(c, msg);
         }
     } else if ((p.type = type_parse(t)) == T_NONE) {
-        snprintf(msg, sizeof msg, "unknown property type '%s'", rd_quote(t ? t : "", q, sizeof q));
+        snprintf(msg, sizeof msg, "unknown property type '%s'", q2n_rd_quote(t ? t : "", q, sizeof q));
         return header_error(c, msg);
     }
-    if (!(name = rd_tok(&cur)) || rd_tok(&cur)) return header_error(c, "expected \"property [list CT IT] TYPE NAME\"");
+    if (!(name = q2n_rd_tok(&cur)) || q2n_rd_tok(&cur)) return header_error(c, "expected \"property [list CT IT] TYPE NAME\"");
     snprintf(p.name, sizeof p.name, "%s", name);
     ply_elem *e = &c->el[c->nel - 1];
     if (e->nprops == e->cap) {
@@ -137,21 +137,21 @@ static q2n_status add_prop(ply_ctx *c, char *cur)
 static q2n_status parse_header(ply_ctx *c)
 {
     char *s, *cur, *kw;
-    int r = rd_next_line(&c->l, &s);
-    if (r <= 0 || (cur = s, kw = rd_tok(&cur), !kw || strcmp(kw, "ply") || rd_tok(&cur)))
+    int r = q2n_rd_next_line(&c->l, &s);
+    if (r <= 0 || (cur = s, kw = q2n_rd_tok(&cur), !kw || strcmp(kw, "ply") || q2n_rd_tok(&cur)))
         return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s:1: not a PLY file (the first line must be \"ply\")", c->name);
     for (;;) {
-        if ((r = rd_next_line(&c->l, &s)) <= 0)
+        if ((r = q2n_rd_next_line(&c->l, &s)) <= 0)
             return r == -1 ? q2n_error_set(c->err, Q2N_ERR_NOMEM, "%s: out of memory", c->name)
                            : r == -2 ? header_error(c, "NUL byte in the header")
                                      : q2n_error_set(c->err, Q2N_ERR_PARSE, "%s: no \"end_header\" line", c->name);
         cur = s;
-        if (!(kw = rd_tok(&cur))) continue;
+        if (!(kw = q2n_rd_tok(&cur))) continue;
         q2n_status st = Q2N_OK;
         if (!strcmp(kw, "comment") || !strcmp(kw, "obj_info")) continue;
         if (!strcmp(kw, "end_header")) break;
         if (!strcmp(kw, "format")) {
-            char *f = rd_tok(&cur), *v = rd_tok(&cur);
+            char *f = q2n_rd_tok(&cur), *v = q2n_rd_tok(&cur);
             c->format = !f ? 0 : !strcmp(f, "ascii") ? FMT_ASCII : !strcmp(f, "binary_little_endian") ? FMT_LE
                       : !strcmp(f, "binary_big_endian") ? FMT_BE : 0;
             if (!c->format || !v || strcmp(v, "1.0"))
@@ -162,7 +162,7 @@ static q2n_status parse_header(ply_ctx *c)
             st = add_prop(c, cur);
         } else {
             char msg[96], q[48];
-            snprintf(msg, sizeof msg, "unknown header keyword '%s'", rd_quote(kw, q, sizeof q));
+            snprintf(msg, sizeof msg, "unknown header keyword '%s'", q2n_rd_quote(kw, q, sizeof q));
             st = header_error(c, msg);
         }
         if (st) return st;
@@ -192,9 +192,9 @@ static void where(const ply_ctx *c, const ply_elem *e, long long k, char *buf, s
 static char *next_token(ply_ctx *c, q2n_status *st)
 {
     for (;;) {
-        char *t = c->cur ? rd_tok(&c->cur) : NULL, *s;
+        char *t = c->cur ? q2n_rd_tok(&c->cur) : NULL, *s;
         if (t) { c->tok_line = c->l.line; return t; }
-        int r = rd_next_line(&c->l, &s);
+        int r = q2n_rd_next_line(&c->l, &s);
         if (r == 0) return NULL;
         if (r < 0) {
             *st = r == -1 ? q2n_error_set(c->err, Q2N_ERR_NOMEM, "%s: out of memory", c->name)
@@ -226,15 +226,15 @@ static q2n_status read_value(ply_ctx *c, const ply_elem *e, long long k, ply_typ
         }
         where(c, e, k, w, sizeof w);
         if (t >= T_F32) {
-            int r = rd_double(tok, x);
-            if (r == -1) return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s: bad number '%s'", w, rd_quote(tok, q, sizeof q));
+            int r = q2n_rd_double(tok, x);
+            if (r == -1) return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s: bad number '%s'", w, q2n_rd_quote(tok, q, sizeof q));
             if (r == -2)
                 return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s: non-finite value '%s' (NaN/Inf or out of double range)",
-                                     w, rd_quote(tok, q, sizeof q));
+                                     w, q2n_rd_quote(tok, q, sizeof q));
         } else {
             long long v;
-            if (rd_int(tok, &v) == -1)
-                return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s: bad integer '%s'", w, rd_quote(tok, q, sizeof q));
+            if (q2n_rd_int(tok, &v) == -1)
+                return q2n_error_set(c->err, Q2N_ERR_PARSE, "%s: bad integer '%s'", w, q2n_rd_quote(tok, q, sizeof q));
             *x = (double)v;
         }
         return Q2N_OK;
@@ -315,12 +315,12 @@ static q2n_status read_elem(ply_ctx *c, ply_elem *e, rd_mesh *d, int **idx, long
                 return q2n_error_set(c->err, Q2N_ERR_TOPOLOGY, "%s: face with %s%lld vert%s (a face needs at least 3)",
                                      w, n ? "only " : "", n, n == 1 ? "ex" : "ices");
             }
-            int r = rd_add_face(d, *idx, (int)n, line);
+            int r = q2n_rd_add_face(d, *idx, (int)n, line);
             if (r) return q2n_error_set(c->err, r == -1 ? Q2N_ERR_NOMEM : Q2N_ERR_UNSUPPORTED, "%s: %s", c->name,
                                         r == -1 ? "out of memory" : "more than 2^31-2 faces");
         }
         if (e->role == 1) {
-            int r = rd_add_vertex(d, xyz);
+            int r = q2n_rd_add_vertex(d, xyz);
             if (r) return q2n_error_set(c->err, r == -1 ? Q2N_ERR_NOMEM : Q2N_ERR_UNSUPPORTED, "%s: %s", c->name,
                                         r == -1 ? "out of memory" : "more than 2^31-2 vertices");
         }
@@ -361,13 +361,13 @@ q2n_status q2n_mesh_parse_ply(const char *data, size_t len, const char *name, q2
     c.l.p = data;
     c.l.end = data + len;
     rd_mesh d = {0};
-    void *old, *loc = rd_locale_begin(&old);
+    void *old, *loc = q2n_rd_locale_begin(&old);
     q2n_status st = parse_header(&c);
     if (!st) st = parse_body(&c, &d);
-    rd_locale_end(loc, old);
-    rd_lines_free(&c.l);
+    q2n_rd_locale_end(loc, old);
+    q2n_rd_lines_free(&c.l);
     for (int i = 0; i < c.nel; i++) free(c.el[i].props);
     free(c.el);
-    if (st) { rd_free(&d); return st; }
-    return rd_finish(&d, c.name, out, err);
+    if (st) { q2n_rd_free(&d); return st; }
+    return q2n_rd_finish(&d, c.name, out, err);
 }

@@ -95,7 +95,6 @@ static int gather_cells(const q2n_mesh *m, int f, grid *G)
 static int assign_points(const q2n_mesh *m, grid *G)
 {
     int n = G->w - 1;
-    static const int qx[4] = {0, 1, 1, 0}, qy[4] = {0, 0, 1, 1};
     for (int j = 0; j < G->w; j++)
         for (int i = 0; i < G->w; i++) {
             G->vid[j][i] = -1;
@@ -107,7 +106,7 @@ static int assign_points(const q2n_mesh *m, grid *G)
             cell c = G->c[cj][ci];
             if (c.f < 0) continue;
             for (int q = 0; q < 4; q++) {
-                int v = corner_vertex(m, c, q), *slot = &G->vid[cj + qy[q]][ci + qx[q]];
+                int v = corner_vertex(m, c, q), *slot = &G->vid[cj + q2n_corner_uv[q][1]][ci + q2n_corner_uv[q][0]];
                 if (*slot >= 0 && *slot != v) return 0;
                 *slot = v;
             }

@@ -15,9 +15,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/poly.h"
 #include "core/vec3.h"
+#include "patch/surface.h"
 
-static const int corner_of[2][2] = {{0, 3}, {1, 2}};
 
 static void line_fill(const cp_patch *P, const void *lanes, int W, int s0, int s1, double t, int na, cp_line *L)
 {
@@ -31,17 +32,17 @@ static void line_fill(const cp_patch *P, const void *lanes, int W, int s0, int s
     q2n_hermite_eval(P->K, t, na - 1, L->H);
 }
 
-void cp_line_u(const cp_patch *P, const void *lanes, int W, double u, int na, cp_line *L)
+void q2n_cp_line_u(const cp_patch *P, const void *lanes, int W, double u, int na, cp_line *L)
 {
     line_fill(P, lanes, W, 0, 2, u, na, L);
 }
 
-void cp_line_v(const cp_patch *P, const void *lanes, int W, double v, int na, cp_line *L)
+void q2n_cp_line_v(const cp_patch *P, const void *lanes, int W, double v, int na, cp_line *L)
 {
     line_fill(P, lanes, W, 3, 1, v, na, L);
 }
 
-void cp_corner_terms(const cp_patch *P, const void *lanes, int W, cp_corner *C)
+void q2n_cp_corner_terms(const cp_patch *P, const void *lanes, int W, cp_corner *C)
 {
     double lfv[3][CP_NA][CP_MAXW], lgu[3][CP_NA][CP_MAXW];
     C->W = W;
@@ -62,7 +63,7 @@ void cp_corner_terms(const cp_patch *P, const void *lanes, int W, cp_corner *C)
         }
 }
 
-double cp_corner_mismatch(const cp_patch *P, const cp_corner *C, int i, int j)
+double q2n_cp_corner_mismatch(const cp_patch *P, const cp_corner *C, int i, int j)
 {
     double dev = 0, sc = 0;
     for (int a = 1; a <= P->K; a++)
@@ -96,12 +97,12 @@ static void gregory_weight(int r, int i, int j, double u, double v, double W[3][
 /* Bubbles φ_b = 4^(2K+2) B(u) B(v) m_b, B(t) = t^(K+1) (1-t)^(K+1), m_b = 1, 2u-1, 2v-1,
  * (2u-1)(2v-1): they vanish with K derivatives on all four sides, so adding them changes no side
  * datum (continuity and interpolation are untouched). */
-void cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
+void q2n_cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
 {
     double bu[4], bv[4];
     int p = K + 1;
     double sc = p == 2 ? 16 : 64; /* 4^p */
-    static const double bn[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    const double(*bn)[Q2N_BINOM_MAX + 1] = q2n_binom;
     for (int k = 0; k < 2; k++) {
         double t = k ? v : u, *r = k ? bv : bu, pa[4], pb[4], ta[4], tb[4]; /* t^p, (1-t)^p and derivatives */
         ta[0] = tb[0] = 1;
@@ -118,7 +119,7 @@ void cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
             r[d] *= sc;
         }
     }
-    static const int ord[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    const int(*ord)[2] = q2n_eval_order;
     for (int b = 0; b < CP_NBUB; b++) {
         double U[4], V[4];
         for (int d = 0; d < 4; d++) { /* times the monomial 2t-1 (value, slope 2) where selected */
@@ -129,17 +130,17 @@ void cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
     }
 }
 
-void cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, double u, double v, int nder,
+void q2n_cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, double u, double v, int nder,
             const cp_line *Lu, const cp_line *Lv, double *out)
 {
     int K = P->K;
-    static const int ord[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
-    static const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    const int(*ord)[2] = q2n_eval_order;
+    const double(*binom)[Q2N_BINOM_MAX + 1] = q2n_binom;
     double Wg[2][2][3][3];
     int anyg = 0;
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 2; j++)
-            if (P->greg[corner_of[i][j]]) {
+            if (P->greg[q2n_corner_at(i, j)]) {
                 gregory_weight(K, i, j, u, v, Wg[i][j]);
                 anyg = 1;
             }
@@ -156,7 +157,7 @@ void cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, dou
             }
         for (int i = 0; i < 2; i++)
             for (int j = 0; j < 2; j++) {
-                int greg = anyg && P->greg[corner_of[i][j]] && al + be <= 2;
+                int greg = anyg && P->greg[q2n_corner_at(i, j)] && al + be <= 2;
                 for (int a = 0; a <= K; a++)
                     for (int b = 0; b <= K; b++) {
                         if (!(greg && a >= 1 && b >= 1)) {
@@ -183,7 +184,7 @@ void cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, dou
     }
     if (bub) {
         double ph[CP_NBUB][10];
-        cp_bubbles(K, u, v, ph);
+        q2n_cp_bubbles(K, u, v, ph);
         for (int o = 0; o < nout; o++)
             for (int b = 0; b < CP_NBUB; b++) {
                 double f = ph[b][o];
@@ -193,10 +194,10 @@ void cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, dou
     }
 }
 
-void cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, int nu, const double *us,
+void q2n_cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, int nu, const double *us,
              const cp_line *Lu, int nv, const double *vs, const cp_line *Lv, int omin, int omax, double *out)
 {
-    static const int ord[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    const int(*ord)[2] = q2n_eval_order;
     int K = P->K, no = omax - omin + 1;
     double Dv[2][3][CP_NA][CP_MAXW]; /* per v-line: u-side data minus the corner tensor contracted in v */
     for (int b = 0; b < nv; b++) {
@@ -217,7 +218,7 @@ void cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, in
         for (int a = 0; a < nu; a++) {
             const cp_line *U = &Lu[a];
             double ph[CP_NBUB][10];
-            if (bub) cp_bubbles(K, us[a], vs[b], ph);
+            if (bub) q2n_cp_bubbles(K, us[a], vs[b], ph);
             for (int o = omin; o <= omax; o++) {
                 int p = ord[o][0], q = ord[o][1];
                 double *r = out + ((size_t)(b * nu + a) * no + (o - omin)) * W;
@@ -240,26 +241,26 @@ void cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, in
 
 /* ------------------------------------------------------------ production evaluators (W = 3) */
 
-void cp_eval_init(cp_eval *E)
+void q2n_cp_eval_init(cp_eval *E)
 {
     E->C.W = 3;
     E->C.v = E->ct;
-    cp_corner_terms(&E->P, E->lanes, 3, &E->C);
+    q2n_cp_corner_terms(&E->P, E->lanes, 3, &E->C);
 }
 
-q2n_status cp_eval_point(const void *data, double u, double v, int nder, double *out)
+q2n_status q2n_cp_eval_point(const void *data, double u, double v, int nder, double *out)
 {
     const cp_eval *E = data;
     double su[CP_LINE_SIZE(3)], sv[CP_LINE_SIZE(3)];
     cp_line Lu = {3, su, {{{0}}}}, Lv = {3, sv, {{{0}}}};
     int na = nder < 2 ? 2 : 3;
-    cp_line_u(&E->P, E->lanes, 3, u, na, &Lu);
-    cp_line_v(&E->P, E->lanes, 3, v, na, &Lv);
-    cp_sum(&E->P, &E->C, &E->bub[0][0], 3, u, v, nder, &Lu, &Lv, out);
+    q2n_cp_line_u(&E->P, E->lanes, 3, u, na, &Lu);
+    q2n_cp_line_v(&E->P, E->lanes, 3, v, na, &Lv);
+    q2n_cp_sum(&E->P, &E->C, &E->bub[0][0], 3, u, v, nder, &Lu, &Lv, out);
     return Q2N_OK;
 }
 
-q2n_status cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out)
+q2n_status q2n_cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out)
 {
     const cp_eval *E = data;
     int greg = E->P.greg[0] || E->P.greg[1] || E->P.greg[2] || E->P.greg[3], nl = nu + (greg ? 1 : nv);
@@ -271,26 +272,26 @@ q2n_status cp_eval_grid(const void *data, int nu, const double *us, int nv, cons
         return Q2N_ERR_NOMEM;
     }
     for (int k = 0; k < nl; k++) Lu[k].s = st + (size_t)k * CP_LINE_SIZE(3);
-    for (int a = 0; a < nu; a++) cp_line_u(&E->P, E->lanes, 3, us[a], 2, &Lu[a]);
-    if (!greg) { /* constant corner terms: the tensor form (S, Su, Sv are cp_grid's orders 0..2) */
+    for (int a = 0; a < nu; a++) q2n_cp_line_u(&E->P, E->lanes, 3, us[a], 2, &Lu[a]);
+    if (!greg) { /* constant corner terms: the tensor form (S, Su, Sv are q2n_cp_grid's orders 0..2) */
         cp_line *Lv = Lu + nu;
-        for (int b = 0; b < nv; b++) cp_line_v(&E->P, E->lanes, 3, vs[b], 2, &Lv[b]);
-        cp_grid(&E->P, &E->C, &E->bub[0][0], 3, nu, us, Lu, nv, vs, Lv, 0, 2, out);
+        for (int b = 0; b < nv; b++) q2n_cp_line_v(&E->P, E->lanes, 3, vs[b], 2, &Lv[b]);
+        q2n_cp_grid(&E->P, &E->C, &E->bub[0][0], 3, nu, us, Lu, nv, vs, Lv, 0, 2, out);
         free(Lu);
         free(st);
         return Q2N_OK;
     }
     for (int b = 0; b < nv; b++) {
         cp_line *Lv = &Lu[nu];
-        cp_line_v(&E->P, E->lanes, 3, vs[b], 2, Lv);
-        for (int a = 0; a < nu; a++) cp_sum(&E->P, &E->C, &E->bub[0][0], 3, us[a], vs[b], 1, &Lu[a], Lv, out + 9 * ((size_t)b * nu + a));
+        q2n_cp_line_v(&E->P, E->lanes, 3, vs[b], 2, Lv);
+        for (int a = 0; a < nu; a++) q2n_cp_sum(&E->P, &E->C, &E->bub[0][0], 3, us[a], vs[b], 1, &Lu[a], Lv, out + 9 * ((size_t)b * nu + a));
     }
     free(Lu);
     free(st);
     return Q2N_OK;
 }
 
-q2n_status cp_eval_corner(const void *data, int i, int j, double out[2][2][2][3])
+q2n_status q2n_cp_eval_corner(const void *data, int i, int j, double out[2][2][2][3])
 {
     const cp_eval *E = data;
     if (E->P.K != 2) return Q2N_ERR_UNSUPPORTED;

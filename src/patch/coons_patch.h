@@ -3,7 +3,7 @@
  * (ev_fair.c, ev_paper.c).  Internal to src/patch/.
  *
  * A construction supplies, for each of the four sides (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0;
- * the side parameter s is u on sides 0, 2 and v on sides 1, 3), the uv fields
+ * the side parameter s is u on sides 0, 2 and v on sides 1, 3: patch/surface.h), the uv fields
  *     F[b][a] = ∂s^a ∂n^b S  on the side   (n = v on sides 0, 2, u on sides 1, 3; b <= K, a < na)
  * and the patch is  S = P_u + P_v - P_uv + Σ_b φ_b bub_b  with blending functions of degree 2K+1.
  * The mixed corner terms a, b >= 1 are the constant corner values where the two sides agree;
@@ -28,7 +28,7 @@ typedef void (*cp_side_fn)(const void *ctx, const void *lanes, int W, int sd, do
 
 typedef struct cp_patch {
     int K;             /* 1: bicubic blend (G1 data), 2: biquintic (G2 data) */
-    int greg[4];       /* corner c (0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)) keeps a Gregory blend */
+    int greg[4];       /* corner c (q2n_corner_uv, patch/surface.h) keeps a Gregory blend */
     cp_side_fn side;
     const void *ctx;
 } cp_patch;
@@ -52,31 +52,31 @@ typedef struct cp_line {
 #define CP_LINE_SIZE(W) ((size_t)2 * 3 * CP_NA * (W))
 #define CP_LS(L, i, b, a) ((L)->s + (size_t)((((i) * 3 + (b)) * CP_NA) + (a)) * (L)->W)
 
-void cp_corner_terms(const cp_patch *P, const void *lanes, int W, cp_corner *C);
+void q2n_cp_corner_terms(const cp_patch *P, const void *lanes, int W, cp_corner *C);
 /* Fill line L (its storage L->s set by the caller, CP_LINE_SIZE(W) doubles) at u or v. */
-void cp_line_u(const cp_patch *P, const void *lanes, int W, double u, int na, cp_line *L);
-void cp_line_v(const cp_patch *P, const void *lanes, int W, double v, int na, cp_line *L);
+void q2n_cp_line_u(const cp_patch *P, const void *lanes, int W, double u, int na, cp_line *L);
+void q2n_cp_line_v(const cp_patch *P, const void *lanes, int W, double v, int na, cp_line *L);
 
 /* Partials of S at (u, v) up to total order nder (0..3) into out (W lanes each, in the order
  * S; Su, Sv; Suu, Suv, Svv; Suuu, Suuv, Suvv, Svvv): needs lines computed with na > nder.
  * bub: CP_NBUB x W bubble coefficients, or NULL.  Third derivatives treat a Gregory corner as
  * its constant A values (the energy assembly is their only user). */
-void cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, double u, double v, int nder,
+void q2n_cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, double u, double v, int nder,
             const cp_line *Lu, const cp_line *Lv, double *out);
 
 /* The same partials on the tensor grid us[a] x vs[b] (lines Lu[a], Lv[b], na > 3 for third
- * orders), orders omin..omax of cp_sum's list, out[((b * nu + a) * (omax - omin + 1) + o - omin) * W
+ * orders), orders omin..omax of q2n_cp_sum's list, out[((b * nu + a) * (omax - omin + 1) + o - omin) * W
  * + l].  Corner terms are the constant M (Gregory blends are ignored: the energy assembly is the
  * user; they differ from M by rounding-level mismatches). */
-void cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, int nu, const double *us,
+void q2n_cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W, int nu, const double *us,
              const cp_line *Lu, int nv, const double *vs, const cp_line *Lv, int omin, int omax, double *out);
 
-/* The bubbles φ_b and their partials up to order 3 at (u, v), in cp_sum's order. */
-void cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10]);
+/* The bubbles φ_b and their partials up to order 3 at (u, v), in q2n_cp_sum's order. */
+void q2n_cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10]);
 
 /* Largest disagreement of the two sides' mixed corner values (a, b = 1..K) at corner (i, j),
  * relative to the corner's first- and mixed-derivative scale (W = 3 corner terms). */
-double cp_corner_mismatch(const cp_patch *P, const cp_corner *C, int i, int j);
+double q2n_cp_corner_mismatch(const cp_patch *P, const cp_corner *C, int i, int j);
 
 /* Production evaluators over a struct that starts with these fields (W = 3). */
 typedef struct cp_eval {
@@ -87,9 +87,9 @@ typedef struct cp_eval {
     const void *lanes;       /* passed to the side callback */
 } cp_eval;
 
-void cp_eval_init(cp_eval *E);  /* sets C and computes the corner terms (after P, lanes, bub) */
-q2n_status cp_eval_point(const void *data, double u, double v, int nder, double *out);
-q2n_status cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out);
-q2n_status cp_eval_corner(const void *data, int i, int j, double out[2][2][2][3]);
+void q2n_cp_eval_init(cp_eval *E);  /* sets C and computes the corner terms (after P, lanes, bub) */
+q2n_status q2n_cp_eval_point(const void *data, double u, double v, int nder, double *out);
+q2n_status q2n_cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out);
+q2n_status q2n_cp_eval_corner(const void *data, int i, int j, double out[2][2][2][3]);
 
 #endif

@@ -8,7 +8,7 @@
  *         regular patch these are the derivatives of the neighbouring regular section segment,
  *         so the section curve keeps its C1/C2 continuity through the vertex;
  *   n(t)  a cubic Hermite field between the unit normals of the two jets, its end derivatives
- *         the D-components of the jets' Weingarten maps along the edge (ev_jet_dn; the other
+ *         the D-components of the jets' Weingarten maps along the edge (q2n_ev_jet_dn; the other
  *         components do not reach D and D' at the ends, and would tilt n towards T inside);
  *   a ribbon frame T = γ_x/|γ_x|, D = n × T/|n × T| shared by the two faces (formulas.md §4.3,
  *         the "perpendicular ribbon" of Salvi–Várady), and for each face χ = a(t) D + b(t) T with
@@ -28,27 +28,20 @@
  * harmonize_vertex); they are zero as built here.
  * The derived quantities are rational in t; they are evaluated with derivative arrays up to order
  * 3 (Leibniz, Faà di Bruno), since the patch needs ξ_R and its two t-derivatives.
- * Sides shared with a regular patch are not built here: ev_side_eval samples that patch's
+ * Sides shared with a regular patch are not built here: q2n_ev_side_eval samples that patch's
  * boundary and cross fields and divides them by its local parametrization function (§4.1). */
 #include <math.h>
 #include <string.h>
 
+#include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
 
 /* ------------------------------------------------------------ polynomials */
 
-void ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3])
+void q2n_ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3])
 {
-    for (int q = 0; q <= nder; q++) {
-        double r[3] = {0, 0, 0};
-        for (int i = p->deg; i >= q; i--) {
-            double f = 1;
-            for (int j = 0; j < q; j++) f *= (double)(i - j);
-            for (int c = 0; c < 3; c++) r[c] = r[c] * t + f * p->c[i][c];
-        }
-        memcpy(out[q], r, sizeof r);
-    }
+    q2n_poly_derivs_n(&p->c[0][0], 3, p->deg, t, nder, &out[0][0]);
 }
 
 static void poly_zero(ev_poly *p) { memset(p, 0, sizeof *p); }
@@ -57,17 +50,11 @@ static void poly_zero(ev_poly *p) { memset(p, 0, sizeof *p); }
  * 2: quintic).  v0[a], v1[a] = a-th t-derivative. */
 static void poly_hermite(int K, const double v0[3][3], const double v1[3][3], ev_poly *out)
 {
-    /* power coefficients of H_{a,0} and H_{a,1} (formulas.md §4.1) */
-    static const double H3[2][2][6] = {{{1, 0, -3, 2, 0, 0}, {0, 0, 3, -2, 0, 0}},
-                                       {{0, 1, -2, 1, 0, 0}, {0, 0, -1, 1, 0, 0}}};
-    static const double H5[3][2][6] = {{{1, 0, 0, -10, 15, -6}, {0, 0, 0, 10, -15, 6}},
-                                       {{0, 1, 0, -6, 8, -3}, {0, 0, 0, -4, 7, -3}},
-                                       {{0, 0, 0.5, -1.5, 1.5, -0.5}, {0, 0, 0, 0.5, -1, 0.5}}};
     poly_zero(out);
-    out->deg = K == 1 ? 3 : 5;
+    out->deg = 2 * K + 1;
     for (int a = 0; a <= K; a++)
         for (int i = 0; i < 6; i++) {
-            double h0 = K == 1 ? H3[a][0][i] : H5[a][0][i], h1 = K == 1 ? H3[a][1][i] : H5[a][1][i];
+            double h0 = q2n_hermite_coef[K - 1][a][0][i], h1 = q2n_hermite_coef[K - 1][a][1][i];
             for (int c = 0; c < 3; c++) out->c[i][c] += h0 * v0[a][c] + h1 * v1[a][c];
         }
 }
@@ -75,7 +62,7 @@ static void poly_hermite(int K, const double v0[3][3], const double v1[3][3], ev
 /* ------------------------------------------------------------ derivative arrays
  * f[k] = k-th t-derivative, k = 0..3; products by Leibniz' rule. */
 #define JO 4
-static const double binom4[JO][JO] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+#define binom4 q2n_binom
 
 static void sj_mul(const double *a, const double *b, double *r)
 {
@@ -155,12 +142,9 @@ static void lin(double v0, double v1, double t, double *r)
 /* Cubic Hermite scalar: values v[0], v[1] and t-slopes s[0], s[1] at t = 0, 1. */
 static void herm(const double v[2], const double s[2], double t, double *r)
 {
-    double t2 = t * t, t3 = t2 * t;
-    double h[4][4] = {{1 - 3 * t2 + 2 * t3, -6 * t + 6 * t2, -6 + 12 * t, 12},
-                      {3 * t2 - 2 * t3, 6 * t - 6 * t2, 6 - 12 * t, -12},
-                      {t - 2 * t2 + t3, 1 - 4 * t + 3 * t2, -4 + 6 * t, 6},
-                      {t3 - t2, 3 * t2 - 2 * t, 6 * t - 2, 6}};
-    for (int k = 0; k < JO; k++) r[k] = h[0][k] * v[0] + h[1][k] * v[1] + h[2][k] * s[0] + h[3][k] * s[1];
+    double H[2][2][Q2N_HERMITE_MAXD + 1];
+    q2n_hermite_eval(1, t, JO - 1, H);
+    for (int k = 0; k < JO; k++) r[k] = H[0][0][k] * v[0] + H[0][1][k] * v[1] + H[1][0][k] * s[0] + H[1][1][k] * s[1];
 }
 
 /* Corner-compatibility bumps (ev_edge): E_p = t^p (1-t)^q / p! at end 0 (p = 1: C, 2: B, 3, 4
@@ -170,23 +154,13 @@ static void herm(const double v[2], const double s[2], double t, double *r)
  * γ_xx''), which must not change there. */
 static void bump_n(int end, int p, int loc, double t, int nder, double *r)
 {
-    static const double fact[5] = {1, 1, 2, 6, 24};
     int q = (p >= 3 ? 5 : 4) + loc;
-    double c[20] = {0}, bin = 1;
-    for (int i = 0; i <= q; i++) {
-        c[p + i] = (i & 1 ? -bin : bin) / fact[p];
-        bin = bin * (q - i) / (i + 1);
-    }
+    double c[20] = {0}, v[6];
+    for (int i = 0; i <= q; i++) /* t^p (1 - t)^q / p! in the power basis */
+        c[p + i] = (i & 1 ? -q2n_binom[q][i] : q2n_binom[q][i]) / q2n_factorial[p];
     double x = end ? 1 - t : t, sg = end && (p & 1) ? -1 : 1;
-    for (int k = 0; k <= nder; k++) {
-        double v = 0;
-        for (int i = 19; i >= k; i--) {
-            double f = 1;
-            for (int j = 0; j < k; j++) f *= (double)(i - j);
-            v = v * x + f * c[i];
-        }
-        r[k] = sg * (end && (k & 1) ? -v : v); /* d/dt = -d/dx at end 1 */
-    }
+    q2n_poly_derivs(c, 19, x, nder, v);
+    for (int k = 0; k <= nder; k++) r[k] = sg * (end && (k & 1) ? -v[k] : v[k]); /* d/dt = -d/dx at end 1 */
 }
 
 static void bump(const ev_edge *E, int end, int kind, double t, double *r) { bump_n(end, kind, E->loc[end], t, JO - 1, r); }
@@ -211,7 +185,7 @@ static void ribbon_at(const ev_edge *E, double t, ribbon *R)
 {
     double n[JO][3] = {{0}}, sq[JO], rd[JO], d = E->d;
     memset(R, 0, sizeof *R);
-    ev_poly_eval(&E->gamma, t, E->gamma.deg < 5 ? E->gamma.deg : 5, R->g);
+    q2n_ev_poly_eval(&E->gamma, t, E->gamma.deg < 5 ? E->gamma.deg : 5, R->g);
     for (int end = 0; end < 2; end++)
         for (int p = 3; p <= 4; p++) {
             double w = p == 3 ? E->g3[end] : E->g4[end], r[6];
@@ -219,7 +193,7 @@ static void ribbon_at(const ev_edge *E, double t, ribbon *R)
             bump_n(end, p, E->loc[end], t, 5, r);
             for (int k = 0; k < 6; k++) q2n_v3_axpy(R->g[k], w * r[k], E->nN[end]);
         }
-    ev_poly_eval(&E->nrm, t, 3, n);
+    q2n_ev_poly_eval(&E->nrm, t, 3, n);
     for (int end = 0; end < 2; end++)
         if (E->nb[end] != 0) {
             double r[JO];
@@ -267,7 +241,7 @@ static int decompose(const double D[3], const double G[3], const double r[3], do
 }
 
 
-q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
+q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
                          const double (*dir)[2], int order, int e, ev_edge *out, q2n_error *err)
 {
     int h = m->edge_he[e], p = q2n_he_origin(m, h), q = q2n_he_dest(m, h), tw = m->he_twin[h];
@@ -282,10 +256,10 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
     double g0[3][3], g1[3][3];
     memcpy(g0[0], q2n_mesh_vpos(m, p), sizeof g0[0]);
     memcpy(g1[0], q2n_mesh_vpos(m, q), sizeof g1[0]);
-    ev_jet_d1(Jp, up, g0[1]);
-    ev_jet_d1(Jq, uq, g1[1]);
-    ev_jet_d2(Jp, up, up, g0[2]);
-    ev_jet_d2(Jq, uq, uq, g1[2]);
+    q2n_ev_jet_d1(Jp, up, g0[1]);
+    q2n_ev_jet_d1(Jq, uq, g1[1]);
+    q2n_ev_jet_d2(Jp, up, up, g0[2]);
+    q2n_ev_jet_d2(Jq, uq, uq, g1[2]);
     for (int c = 0; c < 3; c++) {
         g0[1][c] *= d; g1[1][c] *= -d; /* towards q: the jet at q looks back along -x */
         g0[2][c] *= d * d; g1[2][c] *= d * d;
@@ -294,10 +268,10 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
     /* normal field: the jets' normals, with their Weingarten derivatives along the edge (this
      * makes the normal twist of the fields equal to the jets' II(u, w), which G2 needs) */
     double n0[3][3], n1[3][3];
-    if (!ev_jet_normal(Jp, n0[0]) || !ev_jet_normal(Jq, n1[0]))
+    if (!q2n_ev_jet_normal(Jp, n0[0]) || !q2n_ev_jet_normal(Jq, n1[0]))
         return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d: degenerate tangent plane at a vertex", m->name, e);
-    ev_jet_dn(Jp, up, n0[1]);
-    ev_jet_dn(Jq, uq, n1[1]);
+    q2n_ev_jet_dn(Jp, up, n0[1]);
+    q2n_ev_jet_dn(Jq, uq, n1[1]);
     for (int c = 0; c < 3; c++) { n0[1][c] *= d; n1[1][c] *= -d; n0[2][c] = n1[2][c] = 0; }
     poly_hermite(1, n0, n1, &out->nrm);
     out->face[0] = m->he_face[h];
@@ -334,8 +308,8 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
             int ep, eq;
             other_edges(m, hs[x], p, &ep, &eq);
             double c0[3], c1[3], a0 = 0, b0 = 0, a1 = 0, b1 = 0;
-            ev_jet_d1(Jp, edge_dir(m, dir, ep, p), c0);
-            ev_jet_d1(Jq, edge_dir(m, dir, eq, q), c1);
+            q2n_ev_jet_d1(Jp, edge_dir(m, dir, ep, p), c0);
+            q2n_ev_jet_d1(Jq, edge_dir(m, dir, eq, q), c1);
             decompose(D0, G0, c0, &a0, &b0);
             decompose(D1, G1, c1, &a1, &b1);
             sn[x] = fmin(fabs(a0) / (q2n_v3_norm(c0) + 1e-300), fabs(a1) / (q2n_v3_norm(c1) + 1e-300));
@@ -353,10 +327,10 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
         other_edges(m, hs[side], p, &ep, &eq);
         const double *wb = edge_dir(m, dir, ep, p), *wc = edge_dir(m, dir, eq, q);
         double c0[3], c1[3], x0[3], x1[3], t0[3], t1[3];
-        ev_jet_d1(Jp, wb, c0);
-        ev_jet_d1(Jq, wc, c1);
-        ev_jet_d2(Jp, wb, wb, x0);
-        ev_jet_d2(Jq, wc, wc, x1);
+        q2n_ev_jet_d1(Jp, wb, c0);
+        q2n_ev_jet_d1(Jq, wc, c1);
+        q2n_ev_jet_d2(Jp, wb, wb, x0);
+        q2n_ev_jet_d2(Jq, wc, wc, x1);
         if (!decompose(D0, G0, c0, &out->a[side][0], &out->b[side][0]) ||
             !decompose(D1, G1, c1, &out->a[side][1], &out->b[side][1]))
             return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d (%d-%d): degenerate ribbon", m->name, e, p, q);
@@ -364,8 +338,8 @@ q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jet
          * (its normal part holds by the choice of n'; the slopes fix the tangential part), so
          * that the two sides of a patch corner that both come from one jet have compatible
          * twists and the Gregory correction is not needed there */
-        ev_jet_d2(Jp, up, wb, t0);
-        ev_jet_d2(Jq, uq, wc, t1);
+        q2n_ev_jet_d2(Jp, up, wb, t0);
+        q2n_ev_jet_d2(Jq, uq, wc, t1);
         for (int end = 0; end < 2; end++) {
             const ribbon *R = end ? &R1 : &R0;
             double want[3], rest[3];
@@ -430,7 +404,7 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
     double aL[JO], bL[JO], CL[JO][3], tmp[JO][3];
     side_chi(E, 0, t, D, Tu, aL, bL, CL);
     double xl[JO][3] = {{0}};
-    ev_poly_eval(&E->xi, t, 2, xl);
+    q2n_ev_poly_eval(&E->xi, t, 2, xl);
     for (int end = 0; end < 2; end++) {
         double r1[JO], r2[JO];
         bump(E, end, 1, t, r1);
@@ -494,27 +468,26 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
 static void regular_lambda(const q2n_augmented_patch *R, int sR, double t, double out[4])
 {
     int c = R->w / 2 - 1;
-    if (sR == 0 || sR == 2) q2n_spline_blend_derivs(R->cls->k, R->ecol[0][c], R->ecol[1][c], t, out);
+    if (q2n_side_along_u(sR)) q2n_spline_blend_derivs(R->cls->k, R->ecol[0][c], R->ecol[1][c], t, out);
     else q2n_spline_blend_derivs(R->cls->k, R->drow[0][c], R->drow[1][c], t, out);
 }
 
-void ev_side_eval(const ev_side *sd, double s, double out[3][3][3])
+void q2n_ev_side_eval(const ev_side *sd, double s, double out[3][3][3])
 {
     double t = sd->rev ? 1 - s : s;
     if (sd->kind == 0) {
         constructed_eval(&sd->E, sd->derived, t, out);
     } else {
         /* regular neighbour: its side sR in its own coordinate (u on sides 0/2, v on 1/3) */
-        static const int iota[4] = {1, -1, -1, 1}; /* inward sign of the transverse coordinate */
         const q2n_augmented_patch *R = &sd->R;
-        int sR = sd->sR;
-        double uR = sR == 0 || sR == 2 ? t : sR == 1 ? 1 : 0;
-        double vR = sR == 1 || sR == 3 ? t : sR == 2 ? 1 : 0;
+        int sR = sd->sR, along_u = q2n_side_along_u(sR);
+        double uR = along_u ? t : q2n_side_level[sR];
+        double vR = along_u ? q2n_side_level[sR] : t;
         double D[27], f[3][3][3], L[4];
         q2n_ev_regular_partials(R, uR, vR, D);
         for (int b = 0; b < 3; b++)     /* transverse order */
             for (int a = 0; a < 3; a++) /* along-side order */
-                memcpy(f[b][a], D + 3 * ((sR == 0 || sR == 2) ? a * 3 + b : b * 3 + a), 3 * sizeof(double));
+                memcpy(f[b][a], D + 3 * (along_u ? a * 3 + b : b * 3 + a), 3 * sizeof(double));
         regular_lambda(R, sR, t, L);
         double L2[3] = {L[0] * L[0], 2 * L[0] * L[1], 2 * L[1] * L[1] + 2 * L[0] * L[2]};
         for (int c = 0; c < 3; c++) {
@@ -525,7 +498,7 @@ void ev_side_eval(const ev_side *sd, double s, double out[3][3][3])
             double q0 = f[1][0][c] / L[0];
             double q1 = (f[1][1][c] - q0 * L[1]) / L[0];
             double q2 = (f[1][2][c] - 2 * q1 * L[1] - q0 * L[2]) / L[0];
-            double sg = -iota[sR];
+            double sg = -q2n_side_iota[sR];
             out[1][0][c] = sg * q0;
             out[1][1][c] = sg * q1;
             out[1][2][c] = sg * q2;

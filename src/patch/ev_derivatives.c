@@ -31,6 +31,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dense.h"
+#include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
 
@@ -71,7 +73,7 @@ void q2n_ev_regular_partials(const q2n_augmented_patch *p, double u, double v, d
                 A[a][b][i] = sa;
                 Bf[a][b][i] = sb;
             }
-    static const double binom[3][3] = {{1, 0, 0}, {1, 1, 0}, {1, 2, 1}};
+    const double(*binom)[Q2N_BINOM_MAX + 1] = q2n_binom;
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++) {
             double r[3] = {0, 0, 0};
@@ -129,18 +131,18 @@ static double fan_span(const q2n_mesh *m, int v, int n)
 
 /* ------------------------------------------------------------ jets */
 
-void ev_jet_d1(const ev_vjet *J, const double u[2], double out[3])
+void q2n_ev_jet_d1(const ev_vjet *J, const double u[2], double out[3])
 {
     for (int c = 0; c < 3; c++) out[c] = J->J1[c][0] * u[0] + J->J1[c][1] * u[1];
 }
 
-void ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3])
+void q2n_ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3])
 {
     for (int c = 0; c < 3; c++)
         out[c] = J->J2[c][0] * a[0] * b[0] + J->J2[c][1] * (a[0] * b[1] + a[1] * b[0]) + J->J2[c][2] * a[1] * b[1];
 }
 
-int ev_jet_normal(const ev_vjet *J, double n[3])
+int q2n_ev_jet_normal(const ev_vjet *J, double n[3])
 {
     double a1[3] = {J->J1[0][0], J->J1[1][0], J->J1[2][0]}, a2[3] = {J->J1[0][1], J->J1[1][1], J->J1[2][1]};
     q2n_v3_cross(n, a1, a2);
@@ -150,11 +152,11 @@ int ev_jet_normal(const ev_vjet *J, double n[3])
     return 1;
 }
 
-void ev_jet_dn(const ev_vjet *J, const double a[2], double out[3])
+void q2n_ev_jet_dn(const ev_vjet *J, const double a[2], double out[3])
 {
     double n[3];
     out[0] = out[1] = out[2] = 0;
-    if (!ev_jet_normal(J, n)) return;
+    if (!q2n_ev_jet_normal(J, n)) return;
     double I[2][2] = {{0, 0}, {0, 0}}, II[3];
     for (int c = 0; c < 3; c++) {
         I[0][0] += J->J1[c][0] * J->J1[c][0];
@@ -192,28 +194,28 @@ static int jet_from_regular(const q2n_mesh *m, const q2n_surface *s, const doubl
     for (int i = 0; i < 4; i++)
         if (m->face_vert[m->face_start[f] + i] == v) c = i;
     if (c < 0) return 0;
-    static const double cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
-    /* in R's (u,v): the face edge leaving corner c runs along axA with sign sA, the other face
-     * edge at the corner along axB with sign sB (axis 0: u, 1: v) */
-    static const int axA[4] = {0, 1, 0, 1}, sA[4] = {1, 1, -1, -1};
-    static const int axB[4] = {1, 0, 1, 0}, sB[4] = {1, -1, -1, 1};
+    /* in R's (u,v): the face edge leaving corner c (side c) runs along u (A_u) or v with sign sA,
+     * the other face edge at the corner (side c's inward direction) along the other axis with
+     * sign sB (patch/surface.h) */
+    int A_u = q2n_side_along_u(c);
+    int sA = q2n_side_along[c][0] + q2n_side_along[c][1], sB = q2n_side_inward[c][0] + q2n_side_inward[c][1];
     double D[27];
-    q2n_ev_regular_partials(R, cu[c], cv[c], D);
+    q2n_ev_regular_partials(R, q2n_corner_uv[c][0], q2n_corner_uv[c][1], D);
     int ha = q2n_face_he(m, f, c), hb = q2n_he_prev(m, ha);
     double Ia = iv[m->he_edge[ha]], Ib = iv[m->he_edge[hb]];
     /* D index (a*3+b): first derivative along u = (1,0), along v = (0,1) */
-    int da = axA[c] == 0 ? 3 : 1, db = axB[c] == 0 ? 3 : 1;
-    int daa = axA[c] == 0 ? 6 : 2, dbb = axB[c] == 0 ? 6 : 2;
+    int da = A_u ? 3 : 1, db = A_u ? 1 : 3;
+    int daa = A_u ? 6 : 2, dbb = A_u ? 2 : 6;
     for (int k = 0; k < 3; k++) {
-        J->J1[k][0] = sA[c] * D[3 * da + k] / Ia;
-        J->J1[k][1] = sB[c] * D[3 * db + k] / Ib;
+        J->J1[k][0] = sA * D[3 * da + k] / Ia;
+        J->J1[k][1] = sB * D[3 * db + k] / Ib;
         J->J2[k][0] = D[3 * daa + k] / (Ia * Ia);
-        J->J2[k][1] = sA[c] * sB[c] * D[3 * 4 + k] / (Ia * Ib);
+        J->J2[k][1] = sA * sB * D[3 * 4 + k] / (Ia * Ib);
         J->J2[k][2] = D[3 * dbb + k] / (Ib * Ib);
         /* ∂A^p ∂B^q R at D index (p*3+q) when A is u, (q*3+p) when A is v */
-        int i21 = axA[c] == 0 ? 7 : 5, i12 = axA[c] == 0 ? 5 : 7;
-        J->Jm[k][0] = sB[c] * D[3 * i21 + k] / (Ia * Ia * Ib);
-        J->Jm[k][1] = sA[c] * D[3 * i12 + k] / (Ia * Ib * Ib);
+        int i21 = A_u ? 7 : 5, i12 = A_u ? 5 : 7;
+        J->Jm[k][0] = sB * D[3 * i21 + k] / (Ia * Ia * Ib);
+        J->Jm[k][1] = sA * D[3 * i12 + k] / (Ia * Ib * Ib);
         J->Jm[k][2] = D[3 * 8 + k] / (Ia * Ia * Ib * Ib);
     }
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
@@ -221,42 +223,22 @@ static int jet_from_regular(const q2n_mesh *m, const q2n_surface *s, const doubl
     for (int k = 0; k < n; k++)
         if (edges[k] == m->he_edge[ha]) ka = k;
     if (ka < 0) return 0;
-    static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-    for (int k = 0; k < n; k++) {
+    for (int k = 0; k < n; k++) { /* edge ka along +x, each next one a quarter turn further */
         int q = ((k - ka) % 4 + 4) % 4;
-        set_dir(m, dir, edges[k], v, ax[q][0], ax[q][1]);
+        set_dir(m, dir, edges[k], v, q2n_side_along[q][0], q2n_side_along[q][1]);
     }
     J->source = 1;
     return 1;
 }
 
-/* Solve the symmetric positive (definite after the ridge) system N x = r for 3 right-hand
- * sides by Gaussian elimination with partial pivoting; n <= 9. */
-static int solve_sys(int n, double N[9][9], double r[9][3])
+/* Solve the symmetric positive (definite after the ridge) system N x = r, n <= 9, one right-hand
+ * side (LAPACK's LU with partial pivoting, core/dense.h); 0 when N is singular. */
+static int solve_sys(int n, const double N[9][9], double r[9])
 {
-    for (int c = 0; c < n; c++) {
-        int piv = c;
-        for (int i = c + 1; i < n; i++)
-            if (fabs(N[i][c]) > fabs(N[piv][c])) piv = i;
-        if (N[piv][c] == 0) return 0;
-        if (piv != c) {
-            for (int j = 0; j < n; j++) { double t = N[c][j]; N[c][j] = N[piv][j]; N[piv][j] = t; }
-            for (int j = 0; j < 3; j++) { double t = r[c][j]; r[c][j] = r[piv][j]; r[piv][j] = t; }
-        }
-        for (int i = c + 1; i < n; i++) {
-            double f = N[i][c] / N[c][c];
-            for (int j = c; j < n; j++) N[i][j] -= f * N[c][j];
-            for (int j = 0; j < 3; j++) r[i][j] -= f * r[c][j];
-        }
-    }
-    for (int c = n - 1; c >= 0; c--) {
-        for (int j = 0; j < 3; j++) {
-            double acc = r[c][j];
-            for (int i = c + 1; i < n; i++) acc -= N[c][i] * r[i][j];
-            r[c][j] = acc / N[c][c];
-        }
-    }
-    return 1;
+    double A[81];
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) A[j * n + i] = N[i][j];
+    return q2n_dense_solve(n, 1, A, n, r, n) == 0;
 }
 
 /* Least-squares local polynomial at v (Appendix B, adapted; see the file comment). */
@@ -333,10 +315,9 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, fan *F)
     } else {
         fan_angles(m, v, F, g, nrm, eta);
     }
-    static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-    for (int k = 0; k < F->n; k++) {
-        F->X[k][0] = len[k] * (regular ? ax[k % 4][0] : cos(eta[k]));
-        F->X[k][1] = len[k] * (regular ? ax[k % 4][1] : sin(eta[k]));
+    for (int k = 0; k < F->n; k++) { /* regular: k quarter turns (patch/surface.h) */
+        F->X[k][0] = len[k] * (regular ? q2n_side_along[k % 4][0] : cos(eta[k]));
+        F->X[k][1] = len[k] * (regular ? q2n_side_along[k % 4][1] : sin(eta[k]));
     }
     for (int k = 0; k < F->nfan; k++) {
         int fc = F->faces[k], c = 0;
@@ -376,21 +357,21 @@ static int fit_first(const fan *F, ev_vjet *J)
  * normal part carries shape; G2 compatibility concerns it alone. */
 static int fit_normal_second(const fan *F, const double nj[3], ev_vjet *J)
 {
-    double N[9][9] = {{0}}, R[9][3] = {{0}};
+    double N[9][9] = {{0}}, R[9] = {0};
     for (int k = 0; k < F->n + F->nfan; k++) {
         const double *X = k < F->n ? F->X[k] : F->Xq[k - F->n], *q = k < F->n ? F->f[k] : F->q[k - F->n];
         double x = X[0], y = X[1], r2 = x * x + y * y, w = 1 / (r2 * r2), h = q2n_v3_dot(q, nj);
         double mono[3] = {0.5 * x * x, x * y, 0.5 * y * y};
         for (int i = 0; i < 3; i++) {
             for (int j = 0; j < 3; j++) N[i][j] += w * mono[i] * mono[j];
-            R[i][0] += w * mono[i] * h;
+            R[i] += w * mono[i] * h;
         }
     }
     double tr = N[0][0] + N[1][1] + N[2][2];
     for (int i = 0; i < 3; i++) N[i][i] += 1e-9 * tr; /* fans on two lines leave xy free */
     if (!solve_sys(3, N, R)) return 0;
     for (int q = 0; q < 3; q++)
-        for (int c = 0; c < 3; c++) J->J2[c][q] = R[q][0] * nj[c];
+        for (int c = 0; c < 3; c++) J->J2[c][q] = R[q] * nj[c];
     return 1;
 }
 
@@ -401,10 +382,10 @@ static int fit_normal_second(const fan *F, const double nj[3], ev_vjet *J)
  * ridge (minimum norm: fans do not determine all six numbers). */
 static void fit_tangential_second(const fan *F, ev_vjet *J)
 {
-    double M[9][9] = {{0}}, R[9][3] = {{0}};
+    double M[9][9] = {{0}}, R[9] = {0};
     for (int k = 0; k < F->n; k++) {
         double x = F->X[k][0], y = F->X[k][1], t[3], r[3], g[2];
-        ev_jet_d1(J, F->X[k], t);
+        q2n_ev_jet_d1(J, F->X[k], t);
         q2n_v3_sub(r, F->f[k], t);
         double tl = q2n_v3_norm(t);
         if (!(tl > 0)) continue;
@@ -416,7 +397,7 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
         double r2 = x * x + y * y, w = 1 / (r2 * r2);
         for (int i = 0; i < 6; i++) {
             for (int j = 0; j < 6; j++) M[i][j] += w * row[i] * row[j];
-            R[i][0] += w * row[i] * a;
+            R[i] += w * row[i] * a;
         }
     }
     double tr = 0;
@@ -425,7 +406,7 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
     for (int i = 0; i < 6; i++) M[i][i] += 1e-3 * tr / 6;
     if (!solve_sys(6, M, R)) return;
     for (int q = 0; q < 3; q++)
-        for (int c = 0; c < 3; c++) J->J2[c][q] += J->J1[c][0] * R[q][0] + J->J1[c][1] * R[3 + q][0];
+        for (int c = 0; c < 3; c++) J->J2[c][q] += J->J1[c][0] * R[q] + J->J1[c][1] * R[3 + q];
 }
 
 /* Least-squares local polynomial at v (Appendix B, adapted; see the file comment). */
@@ -433,7 +414,7 @@ static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, 
 {
     fan F;
     double nj[3];
-    if (!fan_gather(m, iv, v, &F) || !fit_first(&F, J) || !ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
+    if (!fan_gather(m, iv, v, &F) || !fit_first(&F, J) || !q2n_ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
         return 0;
     fit_tangential_second(&F, J);
     for (int k = 0; k < F.n; k++) {
@@ -447,7 +428,7 @@ static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, 
          * speed at most EV_SPEED_MAX times the chord (a lower bound as well changed nothing on
          * righthanded and raised the curvature extreme of osd_catmark_helmet 5-fold). */
         double g[3], sp, ch = q2n_v3_norm(F.f[k]), sc = 1;
-        ev_jet_d1(J, F.X[k], g);
+        q2n_ev_jet_d1(J, F.X[k], g);
         sp = q2n_v3_norm(g);
         if (sp > EV_SPEED_MAX * ch) sc = EV_SPEED_MAX * ch / sp;
         set_dir(m, dir, F.edges[k], v, sc * F.X[k][0] / iv[F.edges[k]], sc * F.X[k][1] / iv[F.edges[k]]);
@@ -508,7 +489,7 @@ static int jet_from_sections(const q2n_mesh *m, const double *iv, const q2n_spli
     double d1[2][3], d2[2][3];
     for (int l = 0; l < 2; l++)
         if (!section_derivs(m, iv, cls, v, hout[l], hout[l + 2], d1[l], d2[l])) return 0;
-    static const double ax[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    const int(*ax)[2] = q2n_side_along; /* edge k: k quarter turns from +x (patch/surface.h) */
     for (int c = 0; c < 3; c++) {
         J->J1[c][0] = d1[0][c];
         J->J1[c][1] = d1[1][c];
@@ -538,7 +519,7 @@ static int jet_from_sections(const q2n_mesh *m, const double *iv, const q2n_spli
     return 1;
 }
 
-q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
+q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
                           const q2n_spline_class *cls, ev_vjet *jets, double (*dir)[2], q2n_error *err)
 {
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];

@@ -3,7 +3,7 @@
  *
  * Every vertex that is a corner of an extraordinary face gets ONE jet P_v of order 2K (4 in G2
  * mode, 2 in G1 mode) in its chart (ev_jet4.h; the charts are the edge directions of
- * ev_vertex_jets).  Every datum of the curve network is a contraction of the jets at the two ends
+ * q2n_ev_vertex_jets).  Every datum of the curve network is a contraction of the jets at the two ends
  * of its edge, parametric in the edge's t in [0,1] (d: the edge's interval, u: its direction in
  * an end's chart, w: the face's other edge there, e_w that edge's interval):
  *   γ(t)    boundary curve: Hermite interpolant of order 2K (degree 4K+1) of d^j T_j[u^j];
@@ -17,7 +17,7 @@
  * derivative a side delivers is the jet's (α, β are flat at the ends, the corner maps linear):
  * the two sides of every corner agree and the patch (coons_patch.c) is the plain Boolean-sum Coons
  * patch with polynomial corner terms — no rational Gregory blend, no corrective bumps.  Sides
- * shared with a regular augmented patch take that patch's data (ev_side_eval, §4.1); at their
+ * shared with a regular augmented patch take that patch's data (q2n_ev_side_eval, §4.1); at their
  * vertices the jet's terms with both exponents <= 2 are the regular patch's (Lemma 1), so those
  * corners agree too (checked; a corner where they do not keeps a Gregory blend, counted).
  *
@@ -30,7 +30,7 @@
  * dimensionless; ω_F lowers the variation term on faces where a first, bending-only solve leaves
  * far more variation than on the typical face (thin features whose curvature must change fast:
  * they would otherwise dictate the shape everywhere).  A small ridge towards the local estimates
- * of ev_vertex_jets keeps the problem definite.  One sparse SPD solve (CHOLMOD) per pass, shared
+ * of q2n_ev_vertex_jets keeps the problem definite.  One sparse SPD solve (CHOLMOD) per pass, shared
  * by x, y and z. */
 #include <math.h>
 #include <stdlib.h>
@@ -40,6 +40,7 @@
 #include <pthread.h>
 
 #include "core/sparse.h"
+#include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/coons_patch.h"
 #include "patch/ev_fair.h"
@@ -70,10 +71,6 @@ typedef struct fe_ctx {
     fe_side side[4];
 } fe_ctx;
 
-static const int side_iota[4] = {1, -1, -1, 1};
-static const int corner_of[2][2] = {{0, 3}, {1, 2}};
-static const double bn4[6][6] = {{1, 0, 0, 0, 0, 0}, {1, 1, 0, 0, 0, 0}, {1, 2, 1, 0, 0, 0},
-                                 {1, 3, 3, 1, 0, 0}, {1, 4, 6, 4, 1, 0}, {1, 5, 10, 10, 5, 1}};
 
 /* ------------------------------------------------------------ side data (W lanes) */
 
@@ -155,7 +152,7 @@ static void constructed(const fe_ctx *X, const fe_side *S, const fe_ends *E, int
     }
     for (int a = 0; a < na; a++)
         for (int i = 0; i <= a; i++) {
-            double fa = bn4[a][i] * al[i], fb = bn4[a][i] * be[i];
+            double fa = q2n_binom[a][i] * al[i], fb = q2n_binom[a][i] * be[i];
             for (int l = 0; l < W; l++) out[1][a][l] += fa * c[a - i][l] + fb * g[a - i + 1][l];
         }
     if (K < 2) return;
@@ -163,46 +160,46 @@ static void constructed(const fe_ctx *X, const fe_side *S, const fe_ends *E, int
     for (int q = 0; q < 4; q++) {
         a2[q] = ab[q] = b2[q] = 0;
         for (int i = 0; i <= q; i++) {
-            a2[q] += bn4[q][i] * al[i] * al[q - i];
-            ab[q] += 2 * bn4[q][i] * al[i] * be[q - i];
-            b2[q] += bn4[q][i] * be[i] * be[q - i];
+            a2[q] += q2n_binom[q][i] * al[i] * al[q - i];
+            ab[q] += 2 * q2n_binom[q][i] * al[i] * be[q - i];
+            b2[q] += q2n_binom[q][i] * be[i] * be[q - i];
         }
     }
     for (int a = 0; a < na; a++)
         for (int i = 0; i <= a; i++) {
-            double f1 = bn4[a][i] * a2[i], f2 = bn4[a][i] * ab[i], f3 = bn4[a][i] * b2[i];
+            double f1 = q2n_binom[a][i] * a2[i], f2 = q2n_binom[a][i] * ab[i], f3 = q2n_binom[a][i] * b2[i];
             for (int l = 0; l < W; l++) out[2][a][l] += f1 * x[a - i][l] + f2 * c[a - i + 1][l] + f3 * g[a - i + 2][l];
         }
 }
 
-/* Regular side: local data of the neighbour (ev_side_eval, along derivatives <= 2; the third by
+/* Regular side: local data of the neighbour (q2n_ev_side_eval, along derivatives <= 2; the third by
  * central differences of the second, only the energy asks for it) times the local
  * parametrization function across the side (seed 003 §4, eq. 22–23). */
 static void regular(const fe_ctx *X, int sd, double s, int na, double F[3][CP_NA][CP_MAXW])
 {
     const fe_side *S = &X->side[sd];
     double loc[3][4][3], r[3][3][3], L[4];
-    ev_side_eval(&S->reg, s, r);
+    q2n_ev_side_eval(&S->reg, s, r);
     for (int b = 0; b < 3; b++)
         for (int a = 0; a < 3; a++) memcpy(loc[b][a], r[b][a], sizeof r[b][a]);
     if (na > 3) {
         const double h = 1e-4;
         double rp[3][3][3], rm[3][3][3];
-        ev_side_eval(&S->reg, s + h, rp);
-        ev_side_eval(&S->reg, s - h, rm);
+        q2n_ev_side_eval(&S->reg, s + h, rp);
+        q2n_ev_side_eval(&S->reg, s - h, rm);
         for (int b = 0; b < 3; b++)
             for (int c = 0; c < 3; c++) loc[b][3][c] = (rp[b][2][c] - rm[b][2][c]) / (2 * h);
     }
-    if (sd == 0 || sd == 2) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
+    if (q2n_side_along_u(sd)) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
     else q2n_spline_blend_derivs(X->kb, X->d0, X->d1, s, L);                   /* δ(v) */
     double L2[4] = {L[0] * L[0], 2 * L[0] * L[1], 2 * L[1] * L[1] + 2 * L[0] * L[2], 6 * L[1] * L[2] + 2 * L[0] * L[3]};
-    double io = side_iota[sd];
+    double io = q2n_side_iota[sd];
     for (int a = 0; a < na; a++)
         for (int c = 0; c < 3; c++) {
             double f1 = 0, f2 = 0;
             for (int i = 0; i <= a; i++) {
-                f1 += bn4[a][i] * L[i] * loc[1][a - i][c];
-                f2 += bn4[a][i] * L2[i] * loc[2][a - i][c];
+                f1 += q2n_binom[a][i] * L[i] * loc[1][a - i][c];
+                f2 += q2n_binom[a][i] * L2[i] * loc[2][a - i][c];
             }
             F[0][a][c] = loc[0][a][c];
             F[1][a][c] = io * f1;
@@ -231,7 +228,7 @@ static void fe_side_fn(const void *ctx, const void *lanes, int W, int sd, double
         side_ends(X->K, S, L->J[S->c0], L->J[S->c1], &E);
         constructed(X, S, &E, W, s, na, loc);
     }
-    double io = side_iota[sd]; /* inward -> axis direction */
+    double io = q2n_side_iota[sd]; /* inward -> axis direction */
     for (int a = 0; a < na; a++)
         for (int l = 0; l < W; l++) {
             F[0][a][l] = loc[0][a][l];
@@ -267,7 +264,7 @@ static void fe_eval_free(void *d) { free(d); }
 
 /* ------------------------------------------------------------ the driver */
 
-/* Direction of edge e in the chart of its end vertex v (dir of ev_vertex_jets). */
+/* Direction of edge e in the chart of its end vertex v (dir of q2n_ev_vertex_jets). */
 static const double *edge_dir(const q2n_mesh *m, const double (*dir)[2], int e, int v)
 {
     return dir[2 * e + (q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1)];
@@ -348,12 +345,10 @@ static q2n_status setup_patch(const fe_build *B, int f, fe_ctx *X, cp_patch *P, 
     P->K = B->K;
     P->side = fe_side_fn;
     P->ctx = X;
-    /* side sd runs from corner c0 to c1 (side 0: p0 -> p1, 1: p1 -> p2, 2: p3 -> p2, 3: p0 -> p3) */
-    static const int sc0[4] = {0, 1, 3, 0}, sc1[4] = {1, 2, 2, 3};
     for (int sd = 0; sd < 4; sd++) {
         int h = q2n_face_he(m, f, sd), t = m->he_twin[h], e = m->he_edge[h];
         fe_side *S = &X->side[sd];
-        int along_h = sd < 2;
+        int along_h = q2n_side_forward(sd); /* side sd's parameter runs along h (patch/surface.h) */
         if (t >= 0 && !B->unc[m->he_face[t]]) {
             int g = m->he_face[t], sR = t - m->face_start[g];
             const q2n_augmented_patch *R = q2n_surface_patch_data(B->s, g);
@@ -362,12 +357,12 @@ static q2n_status setup_patch(const fe_build *B, int f, fe_ctx *X, cp_patch *P, 
             S->reg.kind = 1;
             S->reg.R = *R;
             S->reg.sR = sR;
-            S->reg.rev = (sR >= 2) != along_h; /* R runs along t (= against h) on its sides 0, 1 */
+            S->reg.rev = (!q2n_side_forward(sR)) != along_h; /* R runs along t (= against h) on its sides 0, 1 */
             continue;
         }
         S->kind = 0;
-        S->c0 = sc0[sd];
-        S->c1 = sc1[sd];
+        S->c0 = q2n_side_first(sd);
+        S->c1 = q2n_side_last(sd);
         S->d = B->iv[e];
         int v0 = m->face_vert[m->face_start[f] + S->c0], v1 = m->face_vert[m->face_start[f] + S->c1];
         memcpy(S->u0, edge_dir(m, B->dir, e, v0), sizeof S->u0);
@@ -434,24 +429,6 @@ static void face_scale(const q2n_mesh *m, int f, double *Lu, double *Lv)
     for (int i = 0; i < 4; i++) p[i] = q2n_mesh_vpos(m, m->face_vert[m->face_start[f] + i]);
     *Lu = 0.5 * (q2n_v3_dist(p[0], p[1]) + q2n_v3_dist(p[3], p[2]));
     *Lv = 0.5 * (q2n_v3_dist(p[0], p[3]) + q2n_v3_dist(p[1], p[2]));
-}
-
-/* Gauss–Legendre nodes and weights on [0,1]. */
-static void gauss01(int n, double *x, double *w)
-{
-    for (int i = 0; i < n; i++) {
-        double z = cos(M_PI * (i + 0.75) / (n + 0.5)), pp = 1;
-        for (int it = 0; it < 100; it++) {
-            double p0 = 1, p1 = 0;
-            for (int j = 0; j < n; j++) { double p2 = p1; p1 = p0; p0 = ((2 * j + 1) * z * p1 - j * p2) / (j + 1); }
-            pp = n * (z * p0 - p1) / (z * z - 1);
-            double z1 = z;
-            z = z1 - p0 / pp;
-            if (fabs(z - z1) < 1e-15) break;
-        }
-        x[i] = 0.5 * (1 - z);
-        w[i] = 1 / ((1 - z * z) * pp * pp);
-    }
 }
 
 /* Growable triplet list of the upper triangle of the normal matrix. */
@@ -533,11 +510,11 @@ static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P,
     double *endv = malloc(sizeof(double) * 4 * FE_END_SIZE(W));
     if (!endv) { st = Q2N_ERR_NOMEM; goto done; }
     fill_lanes(P->ctx, J, W, &L, ends, endv);
-    cp_corner_terms(P, &L, W, &C);
-    for (int a = 0; a < ng; a++) cp_line_u(P, &L, W, gx[a], 4, &Lu[a]);
-    for (int b = 0; b < ng; b++) cp_line_v(P, &L, W, gx[b], 4, &Lv[b]);
+    q2n_cp_corner_terms(P, &L, W, &C);
+    for (int a = 0; a < ng; a++) q2n_cp_line_u(P, &L, W, gx[a], 4, &Lu[a]);
+    for (int b = 0; b < ng; b++) q2n_cp_line_v(P, &L, W, gx[b], 4, &Lv[b]);
     free(endv);
-    cp_grid(P, &C, bl, W, ng, gx, Lu, ng, gx, Lv, 3, 9, G);
+    q2n_cp_grid(P, &C, bl, W, ng, gx, Lu, ng, gx, Lv, 3, 9, G);
     for (int t = 0; t < 2 && !st; t++) {
         int r0 = t ? 3 : 0, nr = t ? 4 : 3, nrow = 0;
         F->K[t] = calloc((size_t)(nl ? nl : 1) * (nl ? nl : 1), sizeof(double));
@@ -586,7 +563,7 @@ static void *form_worker(void *arg)
 {
     fe_job *J = arg;
     double gx[EV_FAIR_GAUSS], gw[EV_FAIR_GAUSS];
-    gauss01(EV_FAIR_GAUSS, gx, gw);
+    q2n_gauss_legendre01(EV_FAIR_GAUSS, gx, gw);
     for (int fi = J->t; fi < J->nfaces && !J->st; fi += J->nt)
         J->st = face_form(J->B, fi, J->faces[fi], &J->P[fi], gx, gw, EV_FAIR_GAUSS, &J->F[fi]);
     return NULL;
@@ -728,7 +705,7 @@ done:
     return st;
 }
 
-q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int threads, ev_fair_stats *stats, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
@@ -760,7 +737,7 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
     B.unc = unc;
     for (int f = 0; f < m->nf; f++)
         if ((unc[f] = q2n_surface_kind(s, f) == Q2N_PATCH_UNCOVERED)) faces[nf++] = f;
-    if ((st = ev_vertex_jets(m, s, iv, cls, vj, dir, err))) goto done;
+    if ((st = q2n_ev_vertex_jets(m, s, iv, cls, vj, dir, err))) goto done;
 
     /* jets: initial values (the local estimates; orders 3, 4 zero) and unknowns */
     for (int i = 0; i < m->nv * EV_JS; i++) B.var[i] = -1;
@@ -824,12 +801,12 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
         const double *J[4];
         fe_lanes L = {{NULL, NULL, NULL, NULL}, NULL};
         for (int c = 0; c < 4; c++) L.J[c] = J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
-        cp_corner_terms(&CP[i], &L, 3, &C);
+        q2n_cp_corner_terms(&CP[i], &L, 3, &C);
         for (int ci = 0; ci < 2; ci++)
             for (int cj = 0; cj < 2; cj++) {
-                double mis = cp_corner_mismatch(&CP[i], &C, ci, cj);
+                double mis = q2n_cp_corner_mismatch(&CP[i], &C, ci, cj);
                 if (mis > EV_FAIR_COMPAT_REL) {
-                    CP[i].greg[corner_of[ci][cj]] = 1;
+                    CP[i].greg[q2n_corner_at(ci, cj)] = 1;
                     if (stats) stats->gregory_corners++;
                 }
                 if (stats) stats->corner_mismatch_max = fmax(stats->corner_mismatch_max, mis);
@@ -857,14 +834,14 @@ q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, co
         fill_lanes(&E->X, Jc, 3, &E->lanes, E->ends, &E->endv[0][0]);
         E->E.lanes = &E->lanes;
         memcpy(E->E.bub, B.bub[i], sizeof E->E.bub);
-        cp_eval_init(&E->E);
-        if ((st = q2n_surface_set_patch(s, f, Q2N_PATCH_COONS_GREGORY, E, cp_eval_point, fe_eval_free))) {
+        q2n_cp_eval_init(&E->E);
+        if ((st = q2n_surface_set_patch(s, f, Q2N_PATCH_COONS_GREGORY, E, q2n_cp_eval_point, fe_eval_free))) {
             free(E);
             q2n_error_set(err, st, "%s: face %d: cannot attach the patch", m->name, f);
             goto done;
         }
-        q2n_surface_set_patch_grid(s, f, cp_eval_grid);
-        q2n_surface_set_patch_corner(s, f, cp_eval_corner);
+        q2n_surface_set_patch_grid(s, f, q2n_cp_eval_grid);
+        q2n_surface_set_patch_corner(s, f, q2n_cp_eval_corner);
     }
 done:
     free(vj);

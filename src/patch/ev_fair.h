@@ -17,7 +17,7 @@ typedef struct ev_fair_stats {
 /* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the
  * edge intervals the regular patches were built with; threads: workers for the energy assembly
  * (the result does not depend on it); stats may be NULL. */
-q2n_status ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int threads, ev_fair_stats *stats, q2n_error *err);
 
 #endif

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dense.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
 
@@ -78,7 +79,7 @@ static q2n_status hz_residuals(hz_vertex *V, int only_e, const double *r0, doubl
             memcpy(r + HZ_RC * q, r0 + HZ_RC * q, HZ_RC * sizeof(double));
             continue;
         }
-        q2n_status st = ev_paper_patch_setup(V->P, m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, c->f, V->err);
+        q2n_status st = q2n_ev_paper_patch_setup(V->P, m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, c->f, V->err);
         if (st) return st;
         for (int o = 0; o < 4; o++)
             for (int x = 0; x < 3; x++) {
@@ -89,35 +90,11 @@ static q2n_status hz_residuals(hz_vertex *V, int only_e, const double *r0, doubl
     return Q2N_OK;
 }
 
-/* Cholesky factorisation G = L L^T in place (lower triangle); 0 if not positive definite. */
-static int chol_factor(double *G, int n)
-{
-    for (int j = 0; j < n; j++) {
-        double d = G[j * n + j];
-        for (int k = 0; k < j; k++) d -= G[j * n + k] * G[j * n + k];
-        if (!(d > 0)) return 0;
-        d = sqrt(d);
-        G[j * n + j] = d;
-        for (int i = j + 1; i < n; i++) {
-            double x = G[i * n + j];
-            for (int k = 0; k < j; k++) x -= G[i * n + k] * G[j * n + k];
-            G[i * n + j] = x / d;
-        }
-    }
-    return 1;
-}
+/* Cholesky factorisation of the symmetric n x n matrix G in place (core/dense.h, LAPACK; G is
+ * stored whole, so row- and column-major read the same); 0 if not positive definite. */
+static int chol_factor(double *G, int n) { return q2n_dense_cholesky(n, G, n) == 0; }
 
-static void chol_solve(const double *G, double *y, int n)
-{
-    for (int i = 0; i < n; i++) {
-        for (int k = 0; k < i; k++) y[i] -= G[i * n + k] * y[k];
-        y[i] /= G[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; i--) {
-        for (int k = i + 1; k < n; k++) y[i] -= G[k * n + i] * y[k];
-        y[i] /= G[i * n + i];
-    }
-}
+static void chol_solve(const double *G, double *y, int n) { q2n_dense_cholesky_solve(n, 1, G, n, y, n); }
 
 /* Probe step of unknown k: a unit step where the mismatches are affine in it (exact), a small
  * forward step for the slopes of a, b (first == 2), which enter the derived side through
@@ -171,7 +148,7 @@ static int hz_edge_sample(const ev_edge *E, double *out)
         S.derived = sd;
         for (int q = 1; q <= 9; q++) {
             double F[3][3][3];
-            ev_side_eval(&S, q / 10.0, F);
+            q2n_ev_side_eval(&S, q / 10.0, F);
             for (int c = 0; c < 3; c++) {
                 out[n++] = F[0][2][c];
                 out[n++] = F[1][1][c];
@@ -209,13 +186,13 @@ static q2n_status hz_surface_sample(hz_vertex *V, int k, const double *base, dou
 {
     (void)k, (void)base;
     for (int q = 0; q < V->nc; q++) {
-        q2n_status st = ev_paper_patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, V->cs[q].f, V->err);
+        q2n_status st = q2n_ev_paper_patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, V->cs[q].f, V->err);
         if (st) return st;
         double sc = 1.0 / V->gb[q][0];
         for (int a = 0; a <= 8; a++)
             for (int b = 0; b <= 8; b++) {
                 double D[9];
-                cp_eval_point(V->P, a / 8.0, b / 8.0, 1, D);
+                q2n_cp_eval_point(V->P, a / 8.0, b / 8.0, 1, D);
                 for (int x = 0; x < 6; x++) out[(size_t)HZ_NS * q + 6 * (9 * a + b) + x] = sc * D[3 + x];
             }
     }
@@ -334,13 +311,13 @@ static int hz_min_change(hz_vertex *V, const double *J, const double *rc, const 
  * degrees or more (a fold, a flip or a spike). */
 static q2n_status hz_shape(hz_vertex *V, int f, const double *ref, int *ok, double *out)
 {
-    q2n_status st = ev_paper_patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, f, V->err);
+    q2n_status st = q2n_ev_paper_patch_setup(V->P, V->m, V->s, V->iv, V->unc, V->edges, V->K, V->kb, f, V->err);
     if (st) return st;
     double big = 0, sn = 1, *nr = out ? out + 2 : NULL;
     for (int a = 0; a <= 8; a++)
         for (int b = 0; b <= 8; b++) {
             double D[9], c[3];
-            cp_eval_point(V->P, a / 8.0, b / 8.0, 1, D);
+            q2n_cp_eval_point(V->P, a / 8.0, b / 8.0, 1, D);
             double nu = q2n_v3_norm(D + 3), nv = q2n_v3_norm(D + 6);
             q2n_v3_cross(c, D + 3, D + 6);
             big = fmax(big, fmax(nu, nv));
@@ -431,7 +408,7 @@ static q2n_status hz_attempt(hz_vertex *V, const int *grp, int *ok)
  * The mismatches are affine in every unknown but the slopes of a, b (unknowns only where a twist
  * disagrees); there Gauss-Newton steps follow (hz_attempt), each the same least-change problem
  * for the linear model at the current point. */
-q2n_status ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
+q2n_status q2n_ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
                                    ev_edge **edges, int K, int kb, const int *vc_start, const int *vc_list, int v,
                                    q2n_error *err)
 {
@@ -479,8 +456,7 @@ q2n_status ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const do
         }
         if (!any) continue;
         if (nc == HZ_MAXC) { free(V); return Q2N_OK; }
-        static const int cuv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-        V->cs[nc] = (hz_corner){f, cuv[k][0], cuv[k][1]};
+        V->cs[nc] = (hz_corner){f, q2n_corner_uv[k][0], q2n_corner_uv[k][1]};
         nc++;
     }
     if (!nc || !nu) { free(V); return Q2N_OK; }
@@ -515,7 +491,7 @@ q2n_status ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const do
     }
     if (!(V->rmax > 0)) goto out;
     /* the slopes of a, b (first[] == 2) are unknowns only where a twist disagrees (where the
-     * sign guard of ev_build_edge changed a slope); elsewhere the twists stay as they are */
+     * sign guard of q2n_ev_build_edge changed a slope); elsewhere the twists stay as they are */
     if (!(V->r11 > 1e-9 * V->rmax)) {
         int w = 0;
         for (int k = 0; k < nu; k++)

@@ -52,7 +52,7 @@ typedef struct ev_edge {
      * vanishing with three derivatives at the other end (γ's: four).  They change the second t-derivatives
      * of n, a, b, the first two of ξ and τ and the third and fourth of γ at that end only, never
      * a value, a slope, or (for γ) a second derivative: */
-    double nD[2][3], nN[2][3]; /* D and N = D x T at the ends (set by ev_build_edge) */
+    double nD[2][3], nN[2][3]; /* D and N = D x T at the ends (set by q2n_ev_build_edge) */
     int loc[2];          /* locality of the bumps at each end: (1-t)^(4+loc) (γ: 5+loc), 0 as built */
     double g3[2], g4[2]; /* γ += (g3[end] E3_end + g4[end] E4_end) N_end, E_p = t^p (1-t)^5 / p!
                             (mirrored at end 1): the normal third and fourth derivatives */
@@ -66,19 +66,19 @@ typedef struct ev_edge {
 /* ---- ev_derivatives.c ---- */
 /* Jets and edge-end directions of all vertices touching an uncovered face.  dir[2*e + end]
  * (end 0: origin of edge_he[e]).  jets[v].source == 0 for vertices not needed. */
-q2n_status ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
+q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
                           const q2n_spline_class *cls, ev_vjet *jets, double (*dir)[2], q2n_error *err);
-void ev_jet_d1(const ev_vjet *J, const double u[2], double out[3]);
-void ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3]);
+void q2n_ev_jet_d1(const ev_vjet *J, const double u[2], double out[3]);
+void q2n_ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3]);
 /* Unit normal of the jet, and its derivative along the 2D direction a (Weingarten map of the
  * surface the jet describes: dn(a) = -J1 I^-1 II a); 0 when J1 is degenerate. */
-int ev_jet_normal(const ev_vjet *J, double n[3]);
-void ev_jet_dn(const ev_vjet *J, const double a[2], double out[3]);
+int q2n_ev_jet_normal(const ev_vjet *J, double n[3]);
+void q2n_ev_jet_dn(const ev_vjet *J, const double a[2], double out[3]);
 
 /* ---- curve_network.c ---- */
-q2n_status ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
+q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
                          const double (*dir)[2], int order, int e, ev_edge *out, q2n_error *err);
-void ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3]);
+void q2n_ev_poly_eval(const ev_poly *p, double t, int nder, double out[][3]);
 
 /* Side of a Coons–Gregory patch: local data (curve γ, inward χ, ξ) as functions of the
  * patch's side parameter s, with s-derivatives up to 2: out[field][deriv][xyz]. */
@@ -90,7 +90,7 @@ typedef struct ev_side {
     q2n_augmented_patch R; /* kind 1: the regular neighbour */
     int sR;              /* kind 1: its side index (0..3, the face half-edge) */
 } ev_side;
-void ev_side_eval(const ev_side *sd, double s, double out[3][3][3]);
+void q2n_ev_side_eval(const ev_side *sd, double s, double out[3][3][3]);
 
 /* ---- ev_paper.c: the paper's Coons–Gregory patch of one face ---- */
 typedef struct pp_ctx {
@@ -100,19 +100,19 @@ typedef struct pp_ctx {
 } pp_ctx;
 
 typedef struct ev_patch {
-    cp_eval E; /* first: the surface's data pointer is this struct (cp_eval_point) */
+    cp_eval E; /* first: the surface's data pointer is this struct (q2n_cp_eval_point) */
     pp_ctx X;
 } ev_patch;
 
 /* Fill the patch of uncovered face f from the curve network and its regular neighbours. */
-q2n_status ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surface *s, const double *iv,
+q2n_status q2n_ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surface *s, const double *iv,
                                 const char *unc, ev_edge *const *edges, int K, int kb, int f, q2n_error *err);
 /* The paper's construction for every uncovered face of s. */
-q2n_status ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+q2n_status q2n_ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                           q2n_error *err);
 
 /* ---- ev_harmonize.c: corner compatibility of vertex v (G2 mode; vc_*: corners by vertex) ---- */
-q2n_status ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
+q2n_status q2n_ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, const double *iv, const char *unc,
                                ev_edge **edges, int K, int kb, const int *vc_start, const int *vc_list, int v,
                                q2n_error *err);
 

@@ -16,6 +16,8 @@
 #ifndef Q2N_PATCH_EV_JET4_H
 #define Q2N_PATCH_EV_JET4_H
 
+#include "core/poly.h"
+
 #define EV_JS 15                                /* jet slots, orders 0..4 */
 #define EV_SLOT(j, i) ((j) * ((j) + 1) / 2 + (i)) /* ∂x^(j-i) ∂y^i */
 
@@ -23,8 +25,7 @@
 static inline void ev_jet_contract(const double *T, int W, int p, const double a[2], int q, const double b[2],
                                    double s, double *out)
 {
-    static const double binom[5][5] = {{1, 0, 0, 0, 0}, {1, 1, 0, 0, 0}, {1, 2, 1, 0, 0}, {1, 3, 3, 1, 0},
-                                       {1, 4, 6, 4, 1}};
+    const double(*binom)[Q2N_BINOM_MAX + 1] = q2n_binom;
     int j = p + q;
     double ap[5][2], bp[5][2]; /* powers of the x and y components */
     ap[0][0] = ap[0][1] = bp[0][0] = bp[0][1] = 1;

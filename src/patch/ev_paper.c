@@ -4,7 +4,7 @@
  * vertex (ev_derivatives.c), in G2 mode made corner-compatible by ev_harmonize.c.
  *
  * Patch.  Data on [0,1]^2 (corners p0 (0,0), p1 (1,0), p2 (1,1), p3 (0,1)), side 0 v=0, side 1
- * u=1, side 2 v=1, side 3 u=0.  Each side carries local data (γ, inward χ, ξ; ev_side_eval) in
+ * u=1, side 2 v=1, side 3 u=0.  Each side carries local data (γ, inward χ, ξ; q2n_ev_side_eval) in
  * its edge's local variable; the patch sees them in (u,v) as
  *     ∂v^0 S(u,0) = γ0(x0),  ∂v S(u,0) = ε(u) χ0(x0),  ∂v² S(u,0) = ε(u)² ξ0(x0)      (eq. 22–23)
  * (signs flipped for the inward directions -u, -v of sides 1, 2), ε / δ being the local
@@ -19,11 +19,9 @@
 #include "patch/ev_internal.h"
 
 /* The paper's patch: the shared Boolean-sum Coons patch (coons_patch.c) over side data from the
- * curve network (ev_side_eval) seen through the local parametrization functions, with Gregory
+ * curve network (q2n_ev_side_eval) seen through the local parametrization functions, with Gregory
  * blends at all four corners (r = K). */
 
-
-static const int side_iota[4] = {1, -1, -1, 1};
 
 /* uv fields of side sd at s: the local data (γ, inward χ, ξ) times the local parametrization
  * function across the side: ∂n S = ε χ, ∂n² S = ε² ξ (eq. 22–23; signs for the inward -u, -v of
@@ -34,11 +32,11 @@ static void pp_side(const void *ctx, const void *lanes, int W, int sd, double s,
     double loc[3][3][3], L[4];
     (void)lanes;
     (void)W;
-    ev_side_eval(&X->side[sd], s, loc);
-    if (sd == 0 || sd == 2) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
+    q2n_ev_side_eval(&X->side[sd], s, loc);
+    if (q2n_side_along_u(sd)) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
     else q2n_spline_blend_derivs(X->kb, X->d0, X->d1, s, L);                   /* δ(v) */
     double L2[3] = {L[0] * L[0], 2 * L[0] * L[1], 2 * L[1] * L[1] + 2 * L[0] * L[2]};
-    double io = side_iota[sd];
+    double io = q2n_side_iota[sd];
     for (int b = 0; b < 3; b++)
         for (int a = 0; a < na; a++) memset(F[b][a], 0, 3 * sizeof(double));
     for (int c = 0; c < 3; c++) {
@@ -55,7 +53,7 @@ static void pp_side(const void *ctx, const void *lanes, int W, int sd, double s,
 
 static void patch_free(void *d) { free(d); }
 /* Fill the patch of uncovered face f from the curve network and its regular neighbours. */
-q2n_status ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surface *s, const double *iv,
+q2n_status q2n_ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surface *s, const double *iv,
                               const char *unc, ev_edge *const *edges, int K, int kb, int f, q2n_error *err)
 {
     memset(P, 0, sizeof *P);
@@ -69,7 +67,7 @@ q2n_status ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surfac
         int h = q2n_face_he(m, f, sd), t = m->he_twin[h], e = m->he_edge[h];
         ev_side *S = &X->side[sd];
         /* the side parameter runs along h on sides 0, 1 and against it on sides 2, 3 */
-        int along_h = sd < 2;
+        int along_h = q2n_side_forward(sd);
         if (t >= 0 && !unc[m->he_face[t]]) {
             int g = m->he_face[t], sR = t - m->face_start[g];
             const q2n_augmented_patch *R = q2n_surface_patch_data(s, g);
@@ -79,7 +77,7 @@ q2n_status ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surfac
             S->sR = sR;
             /* R's coordinate runs along t on its sides 0, 1 and against t on 2, 3; t is
              * opposite to h */
-            int R_along_t = sR < 2;
+            int R_along_t = q2n_side_forward(sR);
             int R_along_h = !R_along_t;
             S->rev = R_along_h != along_h;
         } else {
@@ -95,10 +93,10 @@ q2n_status ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_surfac
     for (int c = 0; c < 4; c++) P->E.P.greg[c] = 1;
     P->E.P.side = pp_side;
     P->E.P.ctx = X;
-    cp_eval_init(&P->E);
+    q2n_cp_eval_init(&P->E);
     return Q2N_OK;
 }
-q2n_status ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+q2n_status q2n_ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                           q2n_error *err)
 {
     q2n_status st = Q2N_OK;
@@ -112,7 +110,7 @@ q2n_status ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *iv, c
         goto done;
     }
     for (int f = 0; f < m->nf; f++) unc[f] = q2n_surface_kind(s, f) == Q2N_PATCH_UNCOVERED;
-    if ((st = ev_vertex_jets(m, s, iv, cls, jets, dir, err))) goto done;
+    if ((st = q2n_ev_vertex_jets(m, s, iv, cls, jets, dir, err))) goto done;
 
     /* curve network: every edge of an uncovered face not shared with a regular patch */
     for (int f = 0; f < m->nf && !st; f++) {
@@ -125,7 +123,7 @@ q2n_status ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *iv, c
                 st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (edge %d)", e);
                 break;
             }
-            st = ev_build_edge(m, iv, jets, (const double (*)[2])dir, K, e, edges[e], err);
+            st = q2n_ev_build_edge(m, iv, jets, (const double (*)[2])dir, K, e, edges[e], err);
         }
     }
     if (st) goto done;
@@ -146,7 +144,7 @@ q2n_status ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *iv, c
         for (int v = m->nv; v > 0 && !st; v--) vc_start[v] = vc_start[v - 1];
         if (!st) vc_start[0] = 0;
         for (int v = 0; v < m->nv && !st; v++)
-            st = ev_harmonize_vertex(m, s, iv, unc, edges, K, cls->k, vc_start, vc_list, v, err);
+            st = q2n_ev_harmonize_vertex(m, s, iv, unc, edges, K, cls->k, vc_start, vc_list, v, err);
         free(vc_start);
         free(vc_list);
     }
@@ -157,16 +155,16 @@ q2n_status ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *iv, c
         ev_patch *P = calloc(1, sizeof *P);
         if (!P) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (patch %d)", f); goto done; }
         patches[f] = P;
-        if ((st = ev_paper_patch_setup(P, m, s, iv, unc, edges, K, cls->k, f, err))) goto done;
+        if ((st = q2n_ev_paper_patch_setup(P, m, s, iv, unc, edges, K, cls->k, f, err))) goto done;
     }
     for (int f = 0; f < m->nf; f++) {
         if (!patches[f]) continue;
-        if ((st = q2n_surface_set_patch(s, f, Q2N_PATCH_COONS_GREGORY, patches[f], cp_eval_point, patch_free))) {
+        if ((st = q2n_surface_set_patch(s, f, Q2N_PATCH_COONS_GREGORY, patches[f], q2n_cp_eval_point, patch_free))) {
             q2n_error_set(err, st, "%s: face %d: cannot attach the patch", m->name, f);
             goto done;
         }
-        q2n_surface_set_patch_grid(s, f, cp_eval_grid);
-        q2n_surface_set_patch_corner(s, f, cp_eval_corner);
+        q2n_surface_set_patch_grid(s, f, q2n_cp_eval_grid);
+        q2n_surface_set_patch_corner(s, f, q2n_cp_eval_corner);
         patches[f] = NULL;
     }
 done:

@@ -23,7 +23,7 @@
  * the model) must change curvature fast, and unweighted they would dictate the shape elsewhere. */
 #define EV_FAIR_VAR_OUTLIER 4.0
 
-/* Ridge towards the local estimates (ev_vertex_jets), relative to each unknown's own energy
+/* Ridge towards the local estimates (q2n_ev_vertex_jets), relative to each unknown's own energy
  * diagonal.  First and second order: keeps tangent planes and curvatures near the mesh's local
  * shape where the energy is indifferent; third/fourth order and bubbles: only makes the system
  * definite (the energy decides). */

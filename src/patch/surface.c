@@ -3,6 +3,8 @@
  * leaving the container is checked to be finite (Q2N_ERR_NUMERIC otherwise), whatever produced it. */
 #include "patch/surface.h"
 
+#include "core/poly.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,6 +23,41 @@ struct q2n_surface {
     int n;
     patch *p;
 };
+
+/* ------------------------------------------------------------ the face parametrization */
+
+const int q2n_corner_uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+const int q2n_side_along[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+const int q2n_side_inward[4][2] = {{0, 1}, {-1, 0}, {0, -1}, {1, 0}};
+const int q2n_side_iota[4] = {1, -1, -1, 1};
+const int q2n_side_level[4] = {0, 1, 1, 0};
+const int q2n_eval_order[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+
+void q2n_side_uv(int i, double t, double s, double *u, double *v)
+{
+    const int *c = q2n_corner_uv[i], *a = q2n_side_along[i], *n = q2n_side_inward[i];
+    *u = c[0] + t * a[0] + s * n[0];
+    *v = c[1] + t * a[1] + s * n[1];
+}
+
+void q2n_side_derivs(int i, int nder, const double *e, double D[6][3])
+{
+    /* ax = (a_u, n_u), ay = (a_v, n_v): the u and v components of the frame's two directions */
+    const int ax[2] = {q2n_side_along[i][0], q2n_side_inward[i][0]}, ay[2] = {q2n_side_along[i][1], q2n_side_inward[i][1]};
+    static const int pr[3][2] = {{0, 0}, {0, 1}, {1, 1}};
+    for (int q = 0; q < 3; q++) {
+        D[0][q] = e[q];
+        if (nder < 1) continue;
+        D[1][q] = ax[0] * e[Q2N_EV_U + q] + ay[0] * e[Q2N_EV_V + q];
+        D[2][q] = ax[1] * e[Q2N_EV_U + q] + ay[1] * e[Q2N_EV_V + q];
+        if (nder < 2) continue;
+        for (int r = 0; r < 3; r++) {
+            int a = pr[r][0], b = pr[r][1];
+            D[3 + r][q] = ax[a] * ax[b] * e[Q2N_EV_UU + q] + (ax[a] * ay[b] + ay[a] * ax[b]) * e[Q2N_EV_UV + q] +
+                          ay[a] * ay[b] * e[Q2N_EV_VV + q];
+        }
+    }
+}
 
 q2n_surface *q2n_surface_create(int npatches)
 {
@@ -80,12 +117,10 @@ static void bernstein(int n, double t, int nder, double *b)
         for (int i = 0; i <= n; i++) {
             double acc = 0;
             if (d <= n) {
-                int binom = 1;
                 for (int j = 0; j <= d; j++) {
                     int idx = i - j, m = n - d;
                     double bb = (idx >= 0 && idx <= m) ? tmp[m][idx] : 0.0;
-                    acc += (((d - j) & 1) ? -1.0 : 1.0) * binom * bb;
-                    binom = binom * (d - j) / (j + 1);
+                    acc += (((d - j) & 1) ? -1.0 : 1.0) * q2n_binom[d][j] * bb;
                 }
             }
             b[d * (n + 1) + i] = fall * acc;
@@ -96,7 +131,7 @@ static void bernstein(int n, double t, int nder, double *b)
 static void bezier_eval(const patch *p, double u, double v, int nder, double *out)
 {
     double bu[3 * 16], bv[3 * 16];
-    static const int ord[6][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}};
+    const int(*ord)[2] = q2n_eval_order;
     int nout = nder == 0 ? 1 : nder == 1 ? 3 : 6;
     bernstein(p->du, u, nder, bu);
     bernstein(p->dv, v, nder, bv);

@@ -1,14 +1,63 @@
-/* surface.h — the composite surface: one patch per mesh face (pipeline stage 3).
+/* surface.h — the composite surface: one patch per mesh face (pipeline stage 3), and the one
+ * home of the face parametrization that every stage after it uses.
  *
  * Contract: patch k is built on mesh face k; its domain is [0,1]^2 with u along the face's
  * first edge (v0 -> v1) and v along v0 -> v3.  Every surface construction (augmented
  * interpolatory patches, Coons–Gregory patches at extraordinary vertices, the Catmull–Clark
  * ACC path in src/acc/) fills this container; fitting and export read it through
- * q2n_surface_eval() and, for polynomial patches, q2n_surface_bezier(). */
+ * q2n_surface_eval() and, for polynomial patches, q2n_surface_bezier().
+ *
+ * The face parametrization (as Bfr::Parameterization is OpenSubdiv's).  Corner c is the face's
+ * c-th vertex, side i its i-th half-edge, from corner i to corner i+1 (counter-clockwise seen
+ * from the side the face's normal points to):
+ *
+ *     3 ------ 2        corner  (u,v)   side  on     along (corner i -> i+1)  inward  iota  level
+ *     |        |          0     (0,0)    0    v = 0  +u                        +v      +1    0
+ *     |        |          1     (1,0)    1    u = 1  +v                        -u      -1    1
+ *     0 ------ 1          2     (1,1)    2    v = 1  -u                        -v      -1    1
+ *    v ^                  3     (0,1)    3    u = 0  -v                        +u      +1    0
+ *      +-> u
+ *
+ * Side frame of side i (q2n_side_uv): t along the half-edge (0 at corner i, 1 at corner i+1), s
+ * inward (0 on the side):  (u, v) = corner_i + t along_i + s inward_i,  so by the chain rule
+ *     ∂t = a_u ∂u + a_v ∂v,   ∂s = n_u ∂u + n_v ∂v          (a = along_i, n = inward_i)
+ *     ∂tt = a_u² ∂uu + 2 a_u a_v ∂uv + a_v² ∂vv,  ∂ts = a_u n_u ∂uu + (a_u n_v + a_v n_u) ∂uv
+ *           + a_v n_v ∂vv,  ∂ss likewise  (q2n_side_derivs).
+ * Since along and inward are axis directions, one of a_u, a_v is 0: ∂t is ±∂u on sides 0 and 2
+ * (q2n_side_along_u) and ±∂v on sides 1 and 3.
+ * The Coons patches (coons_patch.h) and the augmented patches' sides use the patch coordinate
+ * instead of t: the side parameter is u on sides 0, 2 and v on sides 1, 3 (increasing, so it is t
+ * on sides 0, 1 and 1 - t on sides 2, 3), the cross coordinate is the other one, it equals
+ * `level` on the side, and iota is the sign of the inward direction on it.  The along directions
+ * are also (1, 0) turned by i quarter turns: the directions of the four edges at a regular vertex
+ * in a chart whose first edge runs along +x (src/patch/ev_derivatives.c). */
 #ifndef Q2N_PATCH_SURFACE_H
 #define Q2N_PATCH_SURFACE_H
 
 #include "core/error.h"
+
+/* ---- the face parametrization (table above) ---- */
+extern const int q2n_corner_uv[4][2];    /* (u, v) of corner c */
+extern const int q2n_side_along[4][2];   /* direction of side i in (u, v): corner i+1 - corner i */
+extern const int q2n_side_inward[4][2];  /* direction into the patch from side i: corner i+3 - corner i */
+extern const int q2n_side_iota[4];       /* sign of the inward direction on the cross coordinate */
+extern const int q2n_side_level[4];      /* value of the cross coordinate on side i */
+
+/* Side i runs along u (sides 0, 2), else along v. */
+static inline int q2n_side_along_u(int i) { return !(i & 1); }
+/* The patch-coordinate parameter of side i (u on sides 0, 2, v on 1, 3) runs along the side's
+ * half-edge on sides 0, 1 and against it on sides 2, 3: from corner q2n_side_first(i) to corner
+ * q2n_side_last(i). */
+static inline int q2n_side_forward(int i) { return i < 2; }
+static inline int q2n_side_first(int i) { return q2n_side_forward(i) ? i : (i + 1) & 3; }
+static inline int q2n_side_last(int i) { return q2n_side_forward(i) ? (i + 1) & 3 : i; }
+/* Corner at (u, v) = (i, j), i, j in {0, 1}. */
+static inline int q2n_corner_at(int i, int j) { return j ? 3 - i : i; }
+/* (u, v) of the point t along side i (from corner i) and s into the patch. */
+void q2n_side_uv(int i, double t, double s, double *u, double *v);
+/* Derivatives in side i's frame from (u, v) ones: e in q2n_surface_eval's layout (nder 0..2),
+ * D[0] = S, D[1] = ∂t S, D[2] = ∂s S, D[3] = ∂tt S, D[4] = ∂ts S, D[5] = ∂ss S (up to nder). */
+void q2n_side_derivs(int i, int nder, const double *e, double D[6][3]);
 
 typedef enum q2n_patch_kind {
     Q2N_PATCH_UNCOVERED = 0, /* no construction covers this face (yet): never evaluated */
@@ -22,6 +71,9 @@ typedef struct q2n_surface q2n_surface;
 /* Evaluation output layout, 3 doubles each: S, Su, Sv (nder >= 1), Suu, Suv, Svv (nder == 2). */
 enum { Q2N_EV_S = 0, Q2N_EV_U = 3, Q2N_EV_V = 6, Q2N_EV_UU = 9, Q2N_EV_UV = 12, Q2N_EV_VV = 15 };
 #define Q2N_EVAL_MAX 18
+/* Slot o of that layout (o = Q2N_EV_x / 3), extended by the third orders some producers use
+ * (Suuu, Suuv, Suvv, Svvv: slots 6..9), holds ∂u^a ∂v^b S with (a, b) = q2n_eval_order[o]. */
+extern const int q2n_eval_order[10][2];
 
 /* Container with n uncovered patches (producers fill them). */
 q2n_surface *q2n_surface_create(int npatches);

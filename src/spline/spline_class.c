@@ -16,10 +16,12 @@
 #include <ctype.h>
 #include <string.h>
 
+#include "core/hermite.h"
+
 /* A basis function: polynomial c[0..5] in t plus up to two truncated powers
  * tr[q] * (t - brk[q])_+^pw. */
 typedef struct basis_fn {
-    double c[6];
+    const double *c;
     double tr[2];
 } basis_fn;
 
@@ -59,33 +61,27 @@ static void eval_table(const basis_table *T, double t, int nder, double *out)
     }
 }
 
-/* Order of basis functions: end 0 orders 0..k, then end 1 orders 0..k. */
-static const basis_table cubic_hermite = {4, 0, {2, 2}, {
-    {{1, 0, -3, 2, 0, 0}, {0, 0}},
-    {{0, 1, -2, 1, 0, 0}, {0, 0}},
-    {{0, 0, 3, -2, 0, 0}, {0, 0}},
-    {{0, 0, -1, 1, 0, 0}, {0, 0}}}};
-static const basis_table quintic_hermite = {6, 0, {2, 2}, {
-    {{1, 0, 0, -10, 15, -6}, {0, 0}},
-    {{0, 1, 0, -6, 8, -3}, {0, 0}},
-    {{0, 0, 0.5, -1.5, 1.5, -0.5}, {0, 0}},
-    {{0, 0, 0, 10, -15, 6}, {0, 0}},
-    {{0, 0, 0, -4, 7, -3}, {0, 0}},
-    {{0, 0, 0, 0.5, -1, 0.5}, {0, 0}}}};
+/* Order of basis functions: end 0 orders 0..k, then end 1 orders 0..k.  The Hermite classes use
+ * the Hermite basis of core/hermite.h (q2n_hermite_coef[K - 1][order][end]). */
+#define HC(K, a, e) {q2n_hermite_coef[(K) - 1][a][e], {0, 0}}
+static const basis_table cubic_hermite = {4, 0, {2, 2}, {HC(1, 0, 0), HC(1, 1, 0), HC(1, 0, 1), HC(1, 1, 1)}};
+static const basis_table quintic_hermite = {6, 0, {2, 2},
+                                            {HC(2, 0, 0), HC(2, 1, 0), HC(2, 2, 0), HC(2, 0, 1), HC(2, 1, 1), HC(2, 2, 1)}};
+#undef HC
 /* formulas.md §3.3, D2C1P2S4 with H = 1 */
 static const basis_table quad_c1 = {4, 2, {0.5, 2}, {
-    {{1, 0, -2, 0, 0, 0}, {4, 0}},
-    {{0, 1, -1.5, 0, 0, 0}, {2, 0}},
-    {{0, 0, 2, 0, 0, 0}, {-4, 0}},
-    {{0, 0, -0.5, 0, 0, 0}, {2, 0}}}};
+    {(const double[6]){1, 0, -2, 0, 0, 0}, {4, 0}},
+    {(const double[6]){0, 1, -1.5, 0, 0, 0}, {2, 0}},
+    {(const double[6]){0, 0, 2, 0, 0, 0}, {-4, 0}},
+    {(const double[6]){0, 0, -0.5, 0, 0, 0}, {2, 0}}}};
 /* formulas.md §3.3, D3C2P2S4 with H = 1 */
 static const basis_table cubic_c2 = {6, 3, {1.0 / 3.0, 2.0 / 3.0}, {
-    {{1, 0, 0, -4.5, 0, 0}, {13.5, -13.5}},
-    {{0, 1, 0, -3, 0, 0}, {7.5, -6}},
-    {{0, 0, 0.5, -11.0 / 12.0, 0, 0}, {1.5, -0.75}},
-    {{0, 0, 0, 4.5, 0, 0}, {-13.5, 13.5}},
-    {{0, 0, 0, -1.5, 0, 0}, {6, -7.5}},
-    {{0, 0, 0, 1.0 / 6.0, 0, 0}, {-0.75, 1.5}}}};
+    {(const double[6]){1, 0, 0, -4.5, 0, 0}, {13.5, -13.5}},
+    {(const double[6]){0, 1, 0, -3, 0, 0}, {7.5, -6}},
+    {(const double[6]){0, 0, 0.5, -11.0 / 12.0, 0, 0}, {1.5, -0.75}},
+    {(const double[6]){0, 0, 0, 4.5, 0, 0}, {-13.5, 13.5}},
+    {(const double[6]){0, 0, 0, -1.5, 0, 0}, {6, -7.5}},
+    {(const double[6]){0, 0, 0, 1.0 / 6.0, 0, 0}, {-0.75, 1.5}}}};
 
 static void b_cubic(double t, int n, double *o) { eval_table(&cubic_hermite, t, n, o); }
 static void b_quintic(double t, int n, double *o) { eval_table(&quintic_hermite, t, n, o); }
@@ -222,16 +218,12 @@ int q2n_spline_curve_eval(const q2n_spline_class *c, int n, int dim, const doubl
     return 0;
 }
 
-/* Smoothstep polynomials of degree 2k+1 with vanishing derivatives of order 1..k at 0 and 1. */
-static const double smooth_coef[4][8] = {
-    {0, 1, 0, 0, 0, 0, 0, 0},
-    {0, 0, 3, -2, 0, 0, 0, 0},
-    {0, 0, 0, 10, -15, 6, 0, 0},
-    {0, 0, 0, 0, 35, -84, 70, -20}};
-
+/* Smoothstep polynomials of degree 2k+1 with vanishing derivatives of order 1..k at 0 and 1: t for
+ * k = 0, else the Hermite function H_{0,1} of order k (core/hermite.h). */
 void q2n_spline_blend_derivs(int k, double a, double b, double t, double out[4])
 {
-    const double *c = smooth_coef[k < 0 ? 0 : k > 3 ? 3 : k];
+    static const double linear[8] = {0, 1, 0, 0, 0, 0, 0, 0};
+    const double *c = k <= 0 ? linear : q2n_hermite_coef[(k > 3 ? 3 : k) - 1][0][1];
     double pw[8];
     pw[0] = 1;
     for (int p = 1; p < 8; p++) pw[p] = pw[p - 1] * t;
