@@ -29,16 +29,53 @@ static void on_progress(void *user, const q2n_progress *p)
     }
 }
 
+/* Status strings, version macros and the string forms of every enum: each name parses back to
+ * its value and appears in the list shown in messages; unknown names are refused. */
+static void test_status_and_choices(void)
+{
+    CHECK(!strcmp(q2n_status_string(Q2N_OK), "ok") && !strcmp(q2n_status_string(Q2N_ERR_IO), "i/o error") &&
+          !strcmp(q2n_status_string(Q2N_ERR_NUMERIC), "numeric failure") &&
+          !strcmp(q2n_status_string((q2n_status)99), "unknown error"), "status strings");
+    char v[32];
+    snprintf(v, sizeof v, "%d.%d.%d", Q2N_VERSION_MAJOR, Q2N_VERSION_MINOR, Q2N_VERSION_PATCH);
+    CHECK(!strcmp(v, QUAD2NURBS_VERSION) && !strcmp(q2n_version(), v), "version %s = macros %s", q2n_version(), v);
+    int names = 0;
+    for (int c = 0; c < Q2N_CHOICE_COUNT; c++) {
+        const char *name;
+        for (int i = 0; (name = q2n_choice_name((q2n_choice)c, i)); i++) {
+            if (!strcmp(name, "default") || !strcmp(name, "none")) continue;
+            int val = -1;
+            CHECK(q2n_parse_choice((q2n_choice)c, name, &val) == Q2N_OK && val == i, "choice %d: '%s' parses to %d", c, name, val);
+            CHECK(strstr(q2n_choice_list((q2n_choice)c), name) != NULL, "choice %d: '%s' in the list '%s'", c, name,
+                  q2n_choice_list((q2n_choice)c));
+            names++;
+        }
+        int val = 42;
+        CHECK(q2n_parse_choice((q2n_choice)c, "nurbs-magic", &val) == Q2N_ERR_ARG && val == 42, "choice %d: unknown refused", c);
+        CHECK(q2n_parse_choice((q2n_choice)c, "default", &val) == Q2N_ERR_ARG, "choice %d: 'default' is no name", c);
+    }
+    CHECK(names == 3 + 5 + 4 + 2 + 2 + 4 + 5 + 4 + 2 + 2 + 2, "%d names", names);
+    int val = -1;
+    CHECK(q2n_parse_choice(Q2N_CHOICE_SURFACE, "acc-g1", &val) == Q2N_OK && val == Q2N_SURFACE_ACC_G1, "acc-g1");
+    CHECK(q2n_parse_choice(Q2N_CHOICE_CLASS, "d3c1p2s4", &val) == Q2N_OK && val == Q2N_CLASS_D3C1P2S4, "class any case");
+    CHECK(q2n_parse_choice(Q2N_CHOICE_UNITS, "inch", &val) == Q2N_OK && val == Q2N_UNITS_IN, "units alias");
+    CHECK(q2n_parse_choice(Q2N_CHOICE_FORMAT, "stp", &val) == Q2N_OK && val == Q2N_FORMAT_STEP, "format alias");
+    CHECK(q2n_parse_choice(Q2N_CHOICE_COUNT, "g1", &val) == Q2N_ERR_ARG && q2n_choice_name(Q2N_CHOICE_COUNT, 0) == NULL &&
+          q2n_choice_name(Q2N_CHOICE_SURFACE, 3) == NULL && q2n_choice_name(Q2N_CHOICE_SURFACE, -1) == NULL,
+          "out of range");
+}
+
 int main(void)
 {
+    test_status_and_choices();
     char err[512];
     q2n_model *m = NULL;
     CHECK(strcmp(q2n_version(), QUAD2NURBS_VERSION) == 0, "version");
     CHECK(q2n_open("/nonexistent.obj", NULL, &m, err, sizeof err) != 0 && strstr(err, "nonexistent"),
           "missing file reported: %s", err);
     q2n_options bad = {0};
-    bad.surface = "nurbs-magic";
-    CHECK(q2n_open("data/demo_torus.obj", &bad, &m, err, sizeof err) != 0 && strstr(err, "nurbs-magic"),
+    bad.surface = (q2n_surface_method)7;
+    CHECK(q2n_open("data/demo_torus.obj", &bad, &m, err, sizeof err) != 0 && strstr(err, "invalid surface 7"),
           "bad option reported: %s", err);
     CHECK(q2n_open("data/demo_torus.obj", NULL, &m, err, sizeof err) == 0, "open demo: %s", err);
     if (!m) CHECK_DONE("test_api");
@@ -87,7 +124,7 @@ int main(void)
     o.progress = on_progress;
     o.progress_user = &log;
     o.scale = 2;
-    o.units = "in";
+    o.units = Q2N_UNITS_IN;
     o.angle_tol_deg = 0.5;
     o.tol = 1e-4;
     q2n_model *s = NULL;
@@ -112,8 +149,9 @@ int main(void)
         q2n_close(s);
     }
     q2n_options bu = {0};
-    bu.units = "yd";
-    CHECK(q2n_open("data/demo_torus.obj", &bu, &s, err, sizeof err) != 0 && strstr(err, "yd"), "unknown unit: %s", err);
+    bu.units = (q2n_units)9;
+    CHECK(q2n_open("data/demo_torus.obj", &bu, &s, err, sizeof err) == Q2N_ERR_ARG && strstr(err, "invalid units 9"),
+          "unknown unit: %s", err);
     q2n_options mm = {0};
     mm.max_memory = 1e5;
     CHECK(q2n_open("data/demo_torus.obj", &mm, &s, err, sizeof err) != 0 && strstr(err, "needs at least"),

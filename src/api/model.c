@@ -194,7 +194,6 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
 {
     double t0 = q2n_now();
     q2n_status st = Q2N_OK;
-    const char *path = m->mesh->name;
     if (m->opt.subdivide > 0) {
         q2n_progress_emit(&m->opt.progress, "subdivide", NULL, 0, m->opt.subdivide);
         q2n_mesh *sub = NULL;
@@ -204,10 +203,12 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (!st && !m->mesh->all_quads && m->opt.method == Q2N_SURFACE_AUGMENTED) {
         int f = 0;
         while (f < m->mesh->nf && q2n_face_size(m->mesh, f) == 4) f++;
+        char where[320];
+        face_where(m, f, where, sizeof where);
         st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
-                           "%s:%d: face %d has %d vertices; only quad meshes are supported "
+                           "%s has %d vertices; only quad meshes are supported "
                            "(use --subdivide 1 to apply one Catmull-Clark step first)",
-                           path, m->mesh->face_line[f], f, q2n_face_size(m->mesh, f));
+                           where, q2n_face_size(m->mesh, f));
     }
     /* an interpolating patch follows its quad's sides: a bow-tie's would cross (Catmull–Clark
      * control faces may be bow-ties: the ACC path and --subdivide take them) */
@@ -235,18 +236,27 @@ q2n_status q2n_model_build(const char *mesh_path, const q2n_model_options *opt, 
     return st;
 }
 
-q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
-                                q2n_error *err)
+q2n_status q2n_model_take_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out, q2n_error *err)
 {
     q2n_model *m = NULL;
     q2n_status st = model_new(opt, &m, err);
     if (st) { q2n_mesh_free(mesh); return st; }
-    if ((st = model_take_mesh(m, mesh, err)) || (st = q2n_model_construct(m, err))) {
+    if ((st = model_take_mesh(m, mesh, err))) {
         q2n_model_free(m);
         return st;
     }
     *out = m;
     return Q2N_OK;
+}
+
+q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
+                                q2n_error *err)
+{
+    q2n_model *m = NULL;
+    q2n_status st = q2n_model_take_mesh(mesh, opt, &m, err);
+    if (!st && (st = q2n_model_construct(m, err))) q2n_model_free(m);
+    if (!st) *out = m;
+    return st;
 }
 
 /* Output coordinates of an internal point x: scale * (origin + 2^exp * (mant * x)); of a

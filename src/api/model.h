@@ -8,6 +8,8 @@
 
 #include <stdio.h>
 
+#include "quad2nurbs.h"
+
 #include "acc/acc.h"
 #include "core/clock.h"
 #include "core/outfile.h"
@@ -19,11 +21,7 @@
 #include "patch/surface.h"
 #include "spline/spline.h"
 
-typedef enum q2n_surface_method {
-    Q2N_SURFACE_AUGMENTED = 0, /* seed 003: interpolates every vertex */
-    Q2N_SURFACE_ACC3,          /* seed 001 / Loop–Schaefer: bicubic, C0 at EVs */
-    Q2N_SURFACE_ACC_G1         /* seed 001: bicubic + biquintic, G1 everywhere */
-} q2n_surface_method;
+/* q2n_surface_method, q2n_format and the Q2N_GIVEN_* bits are public (include/quad2nurbs.h). */
 
 /* Zeroed = defaults (augmented, Q2N_SPLINE_CLASS_DEFAULT, centripetal α = 1/2, fair EV construction,
  * no subdivision, scale 1). */
@@ -68,6 +66,7 @@ typedef struct q2n_model {
     int tess;                  /* public API: tessellation points per patch side */
     int format;                /* public API: a q2n_format for names without a known extension */
     double max_memory;         /* public API: the resource limit (0 default, < 0 none) */
+    unsigned given;            /* public API: Q2N_GIVEN_* bits of the options set explicitly */
     q2n_nurbs_model *nurbs;    /* after q2n_model_fit, output coordinates */
     q2n_fit_report fit;        /* after q2n_model_fit */
     double t_read, t_build, t_fit, t_write; /* seconds */
@@ -83,6 +82,8 @@ q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q
  * side): a non-finite value fails with Q2N_ERR_NUMERIC naming the face and its line; a patch
  * whose normal turns against its face's is counted in folded and named in warning. */
 q2n_status q2n_model_construct(q2n_model *m, q2n_error *err);
+/* The read half for a validated mesh, which the model takes over (freed on failure too). */
+q2n_status q2n_model_take_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out, q2n_error *err);
 /* Build on a validated mesh, which the model takes over (freed on failure too). */
 q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
                                 q2n_error *err);
@@ -105,10 +106,6 @@ q2n_status q2n_model_eval(const q2n_model *m, int k, double u, double v, double 
 void q2n_model_map_points(const q2n_model *m, double *e, size_t n);
 
 /* ---------------------------------------------------------------- outputs (outputs.c) */
-
-typedef enum q2n_format {
-    Q2N_FORMAT_NONE = 0, Q2N_FORMAT_OBJ, Q2N_FORMAT_STEP, Q2N_FORMAT_IGES, Q2N_FORMAT_JSON
-} q2n_format;
 
 /* By extension (.obj, .step/.stp, .igs/.iges, .json; any case), else NONE. */
 q2n_format q2n_format_of_path(const char *path);
@@ -150,13 +147,6 @@ q2n_status q2n_model_write(q2n_model *m, const char *path, int tess, const q2n_e
 
 /* ---------------------------------------------------------------- options, limits (options.c) */
 
-/* Options the caller set explicitly (for q2n_options_warnings). */
-enum {
-    Q2N_SET_CLASS = 1 << 0, Q2N_SET_PARAM = 1 << 1, Q2N_SET_ALPHA = 1 << 2, Q2N_SET_EVPATCH = 1 << 3,
-    Q2N_SET_STRATEGY = 1 << 4, Q2N_SET_CONTINUITY = 1 << 5, Q2N_SET_SOLVER = 1 << 6, Q2N_SET_TOL = 1 << 7,
-    Q2N_SET_ANGLE_TOL = 1 << 8, Q2N_SET_CURVATURE_TOL = 1 << 9, Q2N_SET_TESS = 1 << 10, Q2N_SET_GRID = 1 << 11,
-    Q2N_SET_THREADS = 1 << 12, Q2N_SET_UNITS = 1 << 13
-};
 
 /* What a run will do, for the warnings and the estimates. */
 typedef struct q2n_plan {

@@ -20,7 +20,6 @@
 #include "cli.h"
 #include "patch/extraordinary.h"
 
-#define Q2N_VERSION_STRING "0.1.0"
 #define MAX_OUTPUTS 8
 #define PROG "quad2nurbs"
 
@@ -29,7 +28,7 @@ typedef struct cli_options {
     const char *input;
     const char *outputs[MAX_OUTPUTS];
     int noutputs, sample, grid, tess, quiet, progress;
-    unsigned set;                 /* Q2N_SET_* of the options given */
+    unsigned set;                 /* Q2N_GIVEN_* of the options given */
     q2n_format format;            /* --format */
     double max_memory;            /* --max-memory (0: default) */
     q2n_model_options model;
@@ -208,11 +207,11 @@ static int parse_option(int c, const char *arg, cli_options *o)
             return 2;
         }
         return 0;
-    case OPT_TESS: o->set |= Q2N_SET_TESS; return parse_int(arg, "--tess", 2, 10000, &o->tess) ? 2 : 0;
-    case OPT_GRID: o->set |= Q2N_SET_GRID; return parse_int(arg, "--grid", 1, 10000, &o->grid) ? 2 : 0;
+    case OPT_TESS: o->set |= Q2N_GIVEN_TESS; return parse_int(arg, "--tess", 2, 10000, &o->tess) ? 2 : 0;
+    case OPT_GRID: o->set |= Q2N_GIVEN_GRID; return parse_int(arg, "--grid", 1, 10000, &o->grid) ? 2 : 0;
     case OPT_SUBDIV: return parse_int(arg, "--subdivide", 0, 6, &o->model.subdivide) ? 2 : 0;
     case OPT_THREADS:
-        o->set |= Q2N_SET_THREADS;
+        o->set |= Q2N_GIVEN_THREADS;
         if (parse_int(arg, "--threads", 1, 4096, &o->fit.threads)) return 2;
         o->model.threads = o->fit.threads;
         return 0;
@@ -229,7 +228,7 @@ static int parse_option(int c, const char *arg, cli_options *o)
         return 0;
     }
     case OPT_CLASS:
-        o->set |= Q2N_SET_CLASS;
+        o->set |= Q2N_GIVEN_CLASS;
         if (!(o->model.cls = q2n_spline_class_find(arg))) {
             char known[200] = "";
             for (const q2n_spline_class *const *k = q2n_spline_classes(); *k; k++)
@@ -239,48 +238,48 @@ static int parse_option(int c, const char *arg, cli_options *o)
         }
         return 0;
     case OPT_PARAM:
-        o->set |= Q2N_SET_PARAM;
+        o->set |= Q2N_GIVEN_PARAM;
         if (q2n_param_method_parse(arg, &o->model.param.method)) {
             say("--param: expected centripetal, chordal, uniform or mean, got '%s'", arg);
             return 2;
         }
         return 0;
     case OPT_ALPHA:
-        o->set |= Q2N_SET_ALPHA;
+        o->set |= Q2N_GIVEN_ALPHA;
         return parse_real(arg, "--alpha", 0, 1, 2, " (use --param uniform for alpha 0)", &o->model.param.alpha) ? 2 : 0;
-    case OPT_TOL: o->set |= Q2N_SET_TOL; return parse_real(arg, "--tol", Q2N_TOL_MIN, 0, Q2N_TOL_MAX, "", &o->fit.tol) ? 2 : 0;
+    case OPT_TOL: o->set |= Q2N_GIVEN_TOL; return parse_real(arg, "--tol", Q2N_TOL_MIN, 0, Q2N_TOL_MAX, "", &o->fit.tol) ? 2 : 0;
     case OPT_TOLABS:
-        o->set |= Q2N_SET_TOL;
+        o->set |= Q2N_GIVEN_TOL;
         return parse_real(arg, "--tol-abs", 0, 1, 1e300, " (model units)", &o->fit.tol_abs) ? 2 : 0;
     case OPT_ANGLE:
-        o->set |= Q2N_SET_ANGLE_TOL;
+        o->set |= Q2N_GIVEN_ANGLE_TOL;
         return parse_real(arg, "--angle-tol", 0, 1, 90, " (degrees)", &o->fit.g1_tol_deg) ? 2 : 0;
     case OPT_CURV:
-        o->set |= Q2N_SET_CURVATURE_TOL;
+        o->set |= Q2N_GIVEN_CURVATURE_TOL;
         return parse_real(arg, "--curvature-tol", 0, 1, 10, " (relative)", &o->fit.g2_tol_rel) ? 2 : 0;
     case OPT_SCALE: return parse_real(arg, "--scale", 1e-12, 0, 1e12, "", &o->model.scale) ? 2 : 0;
     case OPT_MAXMEM: return parse_size(arg, &o->max_memory) ? 2 : 0;
     case OPT_EVPATCH: {
         q2n_ev_patch_kind k;
-        o->set |= Q2N_SET_EVPATCH;
+        o->set |= Q2N_GIVEN_EV_PATCH;
         if (q2n_ev_patch_parse(arg, &k)) { say("--ev-patch: expected g1 or g2, got '%s'", arg); return 2; }
         o->model.ev_patch = (int)k;
         return 0;
     }
     case OPT_SOLVER:
-        o->set |= Q2N_SET_SOLVER;
+        o->set |= Q2N_GIVEN_SOLVER;
         if (strcmp(arg, "ceres") == 0) o->fit.solver = Q2N_FIT_SOLVER_CERES;
         else if (strcmp(arg, "direct") == 0) o->fit.solver = Q2N_FIT_SOLVER_DIRECT;
         else { say("--solver: expected ceres or direct, got '%s'", arg); return 2; }
         return 0;
     case OPT_CONT:
-        o->set |= Q2N_SET_CONTINUITY;
+        o->set |= Q2N_GIVEN_CONTINUITY;
         if (strcmp(arg, "g1") == 0) o->fit.continuity = 1;
         else if (strcmp(arg, "g2") == 0) o->fit.continuity = 2;
         else { say("--continuity: expected g1 or g2, got '%s'", arg); return 2; }
         return 0;
     case OPT_UNITS:
-        o->set |= Q2N_SET_UNITS;
+        o->set |= Q2N_GIVEN_UNITS;
         if (q2n_units_parse(arg, &o->xopt.units)) { say("--units: expected mm, cm, m, in or ft, got '%s'", arg); return 2; }
         return 0;
     case OPT_SURFACE:
@@ -291,14 +290,14 @@ static int parse_option(int c, const char *arg, cli_options *o)
         return 0;
     case OPT_STRAT: {
         q2n_error e;
-        o->set |= Q2N_SET_STRATEGY;
+        o->set |= Q2N_GIVEN_ACC_STRATEGY;
         if (q2n_acc_parse_strategy(arg, &o->model.acc_strategy, &e)) { say("--acc-strategy: %s", e.message); return 2; }
         return 0;
     }
     case OPT_PROGRESS: o->progress = 1; return 0;
     case 'q': o->quiet = 1; return 0;
     case 'h': usage(stdout); return -1;
-    case 'V': printf(PROG " %s\n", Q2N_VERSION_STRING); return -1;
+    case 'V': printf(PROG " %s\n", QUAD2NURBS_VERSION); return -1;
     default: return usage_error(); /* getopt printed what was wrong */
     }
 }
