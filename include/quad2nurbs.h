@@ -190,6 +190,11 @@ enum {
     Q2N_GIVEN_TESS = 1 << 10, Q2N_GIVEN_GRID = 1 << 11, Q2N_GIVEN_THREADS = 1 << 12, Q2N_GIVEN_UNITS = 1 << 13
 };
 
+/* Accepted relative fit tolerances (tol, and tol_abs / bounding-box diagonal): below 1e-12
+ * rounding dominates, above 0.1 the "fit" no longer resembles the surface. */
+#define Q2N_TOL_MIN 1e-12
+#define Q2N_TOL_MAX 0.1
+
 /* Zeroed fields mean defaults (in brackets).  The command line's options of the same names. */
 typedef struct q2n_options {
     q2n_surface_method surface;    /* [augmented] */
@@ -315,8 +320,51 @@ typedef struct q2n_report {
     long cp_total;
     long step_bytes, iges_bytes; /* sizes of the CAD files written from this fit (0: none yet) */
     q2n_units units;           /* the unit the CAD files declare */
+    double unit_mm;            /* millimetres per model unit (1, 25.4, 10, 1000, 304.8) */
+    char construction_note[256]; /* what the construction did by itself (e.g. Catmull–Clark steps
+                                    of the ACC path on a mesh with triangles), or "" */
 } q2n_report;
 q2n_status q2n_get_report(const q2n_model *m, q2n_report *out);
+
+/* The model's warnings so far, in order (i from 0; NULL past the last): OBJ tags ignored (read),
+ * options the chosen path ignores (q2n_check_plan), faces whose surface folds over and faces left
+ * uncovered (build), continuity targets not met (fit).  Valid until q2n_close. */
+const char *q2n_warning(const q2n_model *m, int i);
+
+/* The construction at an n x n grid of every covered patch, one line per point to f:
+ * "k u v x y z xu yu zu xv yv zv" (%.17g).  Q2N_ERR_IO when f reports a write error (errno
+ * tells which, e.g. EPIPE). */
+q2n_status q2n_write_samples(const q2n_model *m, int n, FILE *f, char *errbuf, size_t errlen);
+
+/* ------------------------------------------------------------------ outputs as a transaction */
+
+/* What q2n_write_all does, in steps, for a caller that wants to check the outputs before the slow
+ * work (an unwritable directory fails in milliseconds) and to remove temporaries on a signal:
+ * q2n_outputs_open checks the set (known formats, fallback for names without a known extension
+ * such as "-" = standard output; no file twice; none is the input mesh `input`, which may be
+ * NULL) and creates one temporary per output next to it; q2n_outputs_write writes them (fitting
+ * first if needed; CAD files before the report, which gives their sizes); q2n_outputs_commit
+ * syncs all, then renames them over their targets; q2n_outputs_abort removes the temporaries.
+ * Commit and abort free the set (abort(NULL) does nothing); on any failure nothing is left
+ * behind.  Errors: Q2N_ERR_ARG for a set that makes no sense, Q2N_ERR_IO ("PATH: REASON"). */
+typedef struct q2n_outputs q2n_outputs;
+q2n_status q2n_outputs_open(const char *const *paths, int n, q2n_format fallback, const char *input, q2n_outputs **out,
+                            char *errbuf, size_t errlen);
+int q2n_outputs_count(const q2n_outputs *o);
+q2n_format q2n_outputs_format(const q2n_outputs *o, int i);
+/* The temporary of output i (NULL for a stream): for a signal handler to unlink (the string stays
+ * valid until commit or abort). */
+const char *q2n_outputs_temp_path(const q2n_outputs *o, int i);
+q2n_status q2n_outputs_write(q2n_model *m, q2n_outputs *o, char *errbuf, size_t errlen);
+q2n_status q2n_outputs_commit(q2n_outputs *o, char *errbuf, size_t errlen);
+void q2n_outputs_abort(q2n_outputs *o);
+
+/* Plan a run of a read model (before q2n_build): adds warnings about options the chosen path
+ * ignores (from q2n_options.given) and checks the estimated peak memory against max_memory
+ * (Q2N_ERR_ARG with both figures) and each output's estimated size against the free space of its
+ * file system (Q2N_ERR_IO).  outs may be NULL (no outputs); sample_grid > 0: q2n_write_samples
+ * with that grid will run. */
+q2n_status q2n_check_plan(q2n_model *m, const q2n_outputs *outs, int sample_grid, char *errbuf, size_t errlen);
 
 /* Frees everything of m (NULL: nothing). */
 void q2n_close(q2n_model *m);

@@ -5,6 +5,7 @@
 
 #include <limits.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,7 +26,6 @@ static q2n_status bad(char *buf, size_t len, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
-#include <stdarg.h>
 static q2n_status bad(char *buf, size_t len, const char *fmt, ...)
 {
     char raw[512];
@@ -249,6 +249,9 @@ q2n_status q2n_patch_eval(const q2n_model *m, int k, double u, double v, double 
     return q2n_model_eval(m, k, u, v, out, NULL);
 }
 
+struct q2n_outputs;
+static void make_plan(const q2n_model *m, const struct q2n_outputs *o, int sample_grid, q2n_plan *plan);
+
 /* Fit when an output needs it and the model has no fit yet; a failed fit leaves none. */
 static q2n_status fit_model(q2n_model *m, q2n_error *e)
 {
@@ -263,28 +266,18 @@ static q2n_status fit_model(q2n_model *m, q2n_error *e)
 q2n_status q2n_write_all(q2n_model *m, const char *const *paths, int n, char *errbuf, size_t errlen)
 {
     if (!m || !m->surface) return bad(errbuf, errlen, "q2n_write_all: no model built");
+    q2n_outputs *o = NULL;
+    q2n_status st = q2n_outputs_open(paths, n, (q2n_format)m->format, m->mesh->name, &o, errbuf, errlen);
+    if (st) return st;
+    q2n_plan plan;
+    make_plan(m, o, 0, &plan);
+    plan.fit &= !m->nurbs;
     q2n_error e;
-    q2n_output_set s;
-    q2n_status st = q2n_outputs_open(&s, n, paths, (q2n_format)m->format, m->mesh->name, &e);
-    if (st) return fail(st, &e, errbuf, errlen);
-    q2n_plan plan = {0};
-    plan.tess = m->tess;
-    plan.nout = s.n;
-    plan.out = s.out;
-    for (int i = 0; i < s.n; i++) {
-        plan.fit |= q2n_format_needs_fit(s.out[i].format) && !m->nurbs;
-        plan.obj |= s.out[i].format == Q2N_FORMAT_OBJ;
-    }
-    st = q2n_model_check_resources(m, &plan, m->max_memory, &e);
-    if (!st && plan.fit) st = fit_model(m, &e);
-    /* CAD files first, so that a report written after them gives their sizes */
-    for (int pass = 0; pass < 2; pass++)
-        for (int i = 0; !st && i < s.n; i++)
-            if ((s.out[i].format == Q2N_FORMAT_JSON) == pass)
-                st = q2n_model_write_output(m, &s.out[i], m->tess, &m->export_opt, &e);
-    if (!st) return q2n_outputs_commit(&s, &e) ? fail(e.code, &e, errbuf, errlen) : Q2N_OK;
-    q2n_outputs_abort(&s);
-    return fail(st, &e, errbuf, errlen);
+    if ((st = q2n_model_check_resources(m, &plan, m->max_memory, &e))) fail(st, &e, errbuf, errlen);
+    if (!st) st = q2n_outputs_write(m, o, errbuf, errlen);
+    if (!st) return q2n_outputs_commit(o, errbuf, errlen);
+    q2n_outputs_abort(o);
+    return st;
 }
 
 q2n_status q2n_write(q2n_model *m, const char *path, char *errbuf, size_t errlen)
@@ -330,6 +323,8 @@ q2n_status q2n_get_report(const q2n_model *m, q2n_report *r)
     r->t_fit = m->t_fit;
     r->t_write = m->t_write;
     r->units = m->export_opt.units;
+    r->unit_mm = q2n_units_in_mm(m->export_opt.units);
+    snprintf(r->construction_note, sizeof r->construction_note, "%s", m->note);
     if (!m->nurbs) return Q2N_OK;
     const q2n_fit_report *f = &m->fit;
     r->fitted = 1;
@@ -365,6 +360,117 @@ q2n_status q2n_get_report(const q2n_model *m, q2n_report *r)
     r->step_bytes = f->step_bytes;
     r->iges_bytes = f->iges_bytes;
     return Q2N_OK;
+}
+
+const char *q2n_warning(const q2n_model *m, int i)
+{
+    return m && i >= 0 && i < m->nwarnings ? m->warnings[i] : NULL;
+}
+
+q2n_status q2n_write_samples(const q2n_model *m, int n, FILE *f, char *errbuf, size_t errlen)
+{
+    if (!m || !m->surface || !f || n < 1) return bad(errbuf, errlen, "q2n_write_samples: no model built or no grid");
+    q2n_error e;
+    q2n_status st = q2n_model_write_samples(m, n, f, &e);
+    return st ? fail(st, &e, errbuf, errlen) : Q2N_OK;
+}
+
+/* ------------------------------------------------------------------ outputs */
+
+struct q2n_outputs {
+    q2n_output_set s;
+};
+
+q2n_status q2n_outputs_open(const char *const *paths, int n, q2n_format fallback, const char *input, q2n_outputs **out,
+                            char *errbuf, size_t errlen)
+{
+    if (!out) return bad(errbuf, errlen, "q2n_outputs_open: no output pointer");
+    *out = NULL;
+    q2n_outputs *o = calloc(1, sizeof *o);
+    if (!o) {
+        if (errbuf && errlen) snprintf(errbuf, errlen, "out of memory");
+        return Q2N_ERR_NOMEM;
+    }
+    q2n_error e;
+    q2n_status st = q2n_outputs_open_set(&o->s, n, paths, fallback, input, &e);
+    if (st) {
+        free(o);
+        return fail(st, &e, errbuf, errlen);
+    }
+    *out = o;
+    return Q2N_OK;
+}
+
+int q2n_outputs_count(const q2n_outputs *o) { return o ? o->s.n : 0; }
+
+q2n_format q2n_outputs_format(const q2n_outputs *o, int i)
+{
+    return o && i >= 0 && i < o->s.n ? o->s.out[i].format : Q2N_FORMAT_NONE;
+}
+
+const char *q2n_outputs_temp_path(const q2n_outputs *o, int i)
+{
+    return o && i >= 0 && i < o->s.n ? o->s.out[i].file.tmp : NULL;
+}
+
+/* The plan of a run: what the outputs need. */
+static void make_plan(const q2n_model *m, const q2n_outputs *o, int sample_grid, q2n_plan *plan)
+{
+    memset(plan, 0, sizeof *plan);
+    plan->sample = sample_grid > 0;
+    plan->grid = sample_grid;
+    plan->tess = m->tess;
+    plan->continuity = m->fit_opt.continuity;
+    plan->nout = o ? o->s.n : 0;
+    plan->out = o ? o->s.out : NULL;
+    for (int i = 0; i < plan->nout; i++) {
+        plan->fit |= q2n_format_needs_fit(plan->out[i].format);
+        plan->obj |= plan->out[i].format == Q2N_FORMAT_OBJ;
+    }
+}
+
+q2n_status q2n_check_plan(q2n_model *m, const q2n_outputs *o, int sample_grid, char *errbuf, size_t errlen)
+{
+    if (!m) return bad(errbuf, errlen, "q2n_check_plan: no model");
+    q2n_plan plan;
+    make_plan(m, o, sample_grid, &plan);
+    char w[16][160];
+    int nw = q2n_options_warnings(&m->opt, &m->fit_opt, m->given, &plan, w, 16);
+    for (int i = 0; i < nw; i++) q2n_model_warn(m, "%s", w[i]);
+    q2n_error e;
+    q2n_status st = q2n_model_check_resources(m, &plan, m->max_memory, &e);
+    return st ? fail(st, &e, errbuf, errlen) : Q2N_OK;
+}
+
+q2n_status q2n_outputs_write(q2n_model *m, q2n_outputs *o, char *errbuf, size_t errlen)
+{
+    if (!m || !m->surface || !o) return bad(errbuf, errlen, "q2n_outputs_write: no model built or no outputs");
+    q2n_plan plan;
+    make_plan(m, o, 0, &plan);
+    q2n_error e;
+    q2n_status st = plan.fit && !m->nurbs ? fit_model(m, &e) : Q2N_OK;
+    /* CAD files first, so that a report written after them gives their sizes */
+    for (int pass = 0; pass < 2; pass++)
+        for (int i = 0; !st && i < o->s.n; i++)
+            if ((o->s.out[i].format == Q2N_FORMAT_JSON) == pass)
+                st = q2n_model_write_output(m, &o->s.out[i], m->tess, &m->export_opt, &e);
+    return st ? fail(st, &e, errbuf, errlen) : Q2N_OK;
+}
+
+q2n_status q2n_outputs_commit(q2n_outputs *o, char *errbuf, size_t errlen)
+{
+    if (!o) return bad(errbuf, errlen, "q2n_outputs_commit: no outputs");
+    q2n_error e;
+    q2n_status st = q2n_outputs_commit_set(&o->s, &e);
+    free(o);
+    return st ? fail(st, &e, errbuf, errlen) : Q2N_OK;
+}
+
+void q2n_outputs_abort(q2n_outputs *o)
+{
+    if (!o) return;
+    q2n_outputs_abort_set(&o->s);
+    free(o);
 }
 
 void q2n_close(q2n_model *m) { q2n_model_free(m); }

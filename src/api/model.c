@@ -2,6 +2,7 @@
 #include "api/model.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -149,6 +150,17 @@ static q2n_status model_take_mesh(q2n_model *m, q2n_mesh *mesh, q2n_error *err)
     return Q2N_OK;
 }
 
+void q2n_model_warn(q2n_model *m, const char *fmt, ...)
+{
+    if (m->nwarnings >= Q2N_MODEL_MAX_WARNINGS) return;
+    char raw[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(raw, sizeof raw, fmt, ap);
+    va_end(ap);
+    q2n_escape(m->warnings[m->nwarnings++], sizeof m->warnings[0], raw);
+}
+
 double q2n_model_length_scale(const q2n_model *m)
 {
     return ldexp(m->scale_mant * m->opt.scale, m->scale_exp);
@@ -167,6 +179,10 @@ q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q
     else q2n_mesh_free(mesh);
     m->t_read = q2n_now() - t0;
     if (st) { q2n_model_free(m); return st; }
+    const q2n_mesh_read_info *ri = &m->read_info;
+    if (ri->tags)
+        q2n_model_warn(m, "%s:%ld: %ld OpenSubdiv tag line%s ignored (%s): sharp features are not supported yet",
+                       mesh_path, ri->tag_line, ri->tags, ri->tags == 1 ? "" : "s", ri->tag_names[0] ? ri->tag_names : "t");
     *out = m;
     return Q2N_OK;
 }
@@ -222,6 +238,10 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (st) return st;
     m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
     m->t_build = q2n_now() - t0;
+    if (m->warning[0]) q2n_model_warn(m, "%s", m->warning);
+    if (m->uncovered)
+        q2n_model_warn(m, "%d of %d faces are in extraordinary regions that the regular construction does not cover; "
+                       "they are left out of the output", m->uncovered, m->mesh->nf);
     q2n_progress_emit(&m->opt.progress, "build", NULL, m->mesh->nf, m->mesh->nf);
     return Q2N_OK;
 }
@@ -336,6 +356,9 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.diag = out_vector(m, m->fit.diag);
     m->fit.tol_abs = out_vector(m, m->fit.tol_abs);
     m->t_fit = q2n_now() - t0;
+    if (!st && (!m->fit.g1_met || !m->fit.g2_met))
+        q2n_model_warn(m, "continuity target not met: %s (max G1 %.3g deg, G2 %.3g)",
+                       m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
     if (st && err && strncmp(err->message, "fit: ", 5) != 0) { /* every fit message says where it comes from */
         char msg[sizeof err->message];
         snprintf(msg, sizeof msg, "%s", err->message);

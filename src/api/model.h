@@ -46,6 +46,9 @@ typedef struct q2n_model_options {
  * user's --scale (opt.scale): output = scale * (origin + 2^scale_exp * (scale_mant * internal)),
  * derivatives scale * 2^scale_exp * (scale_mant * d): an affine map, exact up to rounding (the
  * power of two keeps the scale itself in range). */
+/* Warnings a model keeps (more are dropped): a few per stage. */
+#define Q2N_MODEL_MAX_WARNINGS 32
+
 typedef struct q2n_model {
     q2n_model_options opt;
     q2n_mesh *mesh;            /* the mesh the patches are built on (after subdivision), internal */
@@ -67,6 +70,8 @@ typedef struct q2n_model {
     int format;                /* public API: a q2n_format for names without a known extension */
     double max_memory;         /* public API: the resource limit (0 default, < 0 none) */
     unsigned given;            /* public API: Q2N_GIVEN_* bits of the options set explicitly */
+    char warnings[Q2N_MODEL_MAX_WARNINGS][320]; /* what the caller should hear about, in order */
+    int nwarnings;
     q2n_nurbs_model *nurbs;    /* after q2n_model_fit, output coordinates */
     q2n_fit_report fit;        /* after q2n_model_fit */
     double t_read, t_build, t_fit, t_write; /* seconds */
@@ -87,6 +92,12 @@ q2n_status q2n_model_take_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n
 /* Build on a validated mesh, which the model takes over (freed on failure too). */
 q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
                                 q2n_error *err);
+/* Append a warning line to m->warnings (printf-style, escaped). */
+void q2n_model_warn(q2n_model *m, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 /* Output units per internal unit: scale * 2^scale_exp * scale_mant. */
 double q2n_model_length_scale(const q2n_model *m);
 /* Fit (or convert exactly) into B-splines; continuity defaults to the construction's. */
@@ -115,11 +126,11 @@ const char *q2n_format_name(q2n_format f);
 /* STEP, IGES and the report come from the fitted B-splines. */
 static inline int q2n_format_needs_fit(q2n_format f) { return f == Q2N_FORMAT_STEP || f == Q2N_FORMAT_IGES || f == Q2N_FORMAT_JSON; }
 
-/* Several outputs as one transaction: q2n_outputs_open checks the whole set (known formats —
+/* Several outputs as one transaction: q2n_outputs_open_set checks the whole set (known formats —
  * names without a known extension, such as "-" for standard output, take `fallback`; no file
  * twice; none is the input mesh) and creates every temporary (so an unwritable directory shows
  * in milliseconds, before any slow work), the caller writes each (q2n_model_write_output), and
- * q2n_outputs_commit makes all data durable before it replaces any file.  On any failure nothing
+ * q2n_outputs_commit_set makes all data durable before it replaces any file.  On any failure nothing
  * is left behind: no output, no temporary.  Errors: Q2N_ERR_ARG for a set that makes no sense,
  * Q2N_ERR_IO (message "PATH: REASON") for the file system. */
 typedef struct q2n_output {
@@ -133,12 +144,12 @@ typedef struct q2n_output_set {
     q2n_output *out;
 } q2n_output_set;
 
-q2n_status q2n_outputs_open(q2n_output_set *s, int n, const char *const *paths, q2n_format fallback,
+q2n_status q2n_outputs_open_set(q2n_output_set *s, int n, const char *const *paths, q2n_format fallback,
                             const char *input, q2n_error *err);
 q2n_status q2n_model_write_output(q2n_model *m, q2n_output *o, int tess, const q2n_export_options *xopt,
                                   q2n_error *err);
-q2n_status q2n_outputs_commit(q2n_output_set *s, q2n_error *err);
-void q2n_outputs_abort(q2n_output_set *s);
+q2n_status q2n_outputs_commit_set(q2n_output_set *s, q2n_error *err);
+void q2n_outputs_abort_set(q2n_output_set *s);
 
 /* One output by extension (a set of one): .obj (tessellation, tess points per patch side),
  * .step/.stp, .igs/.iges, .json (the fit report; these three need q2n_model_fit first). */
