@@ -6,7 +6,8 @@
 # libraries, if any, go in one line LDLIBS_test_NAME := ... below.
 #   make            library + executable          make check       quick tests (long sweeps left out)
 #   make check-full all tests + fuzz-check (CI)      make demo        main job on the demo mesh
-#   make bench      benchmarks (not tests)        make install PREFIX=/usr/local
+#   make bench      benchmarks (not tests)        make install PREFIX=/usr/local DESTDIR=
+#   (install: binary, libquad2nurbs.a, include/quad2nurbs.h, lib/pkgconfig/quad2nurbs.pc)
 #   make fuzz       libFuzzer harnesses (clang)   make fuzz-check  run each for FUZZ_SECONDS (60)
 #   make CONFIG=debug|asan                        (default: release)
 #   make check TESTS="test_cli test_mesh" JOBS=2  run some programs only / N at a time
@@ -58,6 +59,12 @@ TEST_C   := $(wildcard tests/test_*.c)
 TEST_BIN := $(TEST_C:tests/%.c=$(BUILD)/tests/%)
 REF_CXX  := $(wildcard tests/ref_*.cpp)
 REF_BIN  := $(REF_CXX:tests/%.cpp=$(BUILD)/tests/%)
+# Example programs (examples/*.c): the public header only (-Iinclude, no -Isrc), built by make
+# check and run by tests/test_install.c, which also builds them against an installed copy.
+EXAMPLE_C   := $(wildcard examples/*.c)
+EXAMPLE_BIN := $(EXAMPLE_C:examples/%.c=$(BUILD)/examples/%)
+# The version lives in include/quad2nurbs.h (Q2N_VERSION_MAJOR/MINOR/PATCH).
+VERSION  := $(shell sed -n 's/^\#define Q2N_VERSION_MAJOR \([0-9]*\).*/\1/p; s/^\#define Q2N_VERSION_MINOR \([0-9]*\).*/\1/p; s/^\#define Q2N_VERSION_PATCH \([0-9]*\).*/\1/p' include/quad2nurbs.h | paste -sd.)
 BENCH_C  := $(wildcard bench/*.c)
 BENCH_CXX:= $(wildcard bench/*.cpp)
 BENCH_BIN:= $(BENCH_C:bench/%.c=$(BUILD)/bench/%) $(BENCH_CXX:bench/%.cpp=$(BUILD)/bench/%)
@@ -111,6 +118,10 @@ $(BUILD)/tests/ref_%: tests/ref_%.cpp $(LIB)
 	@mkdir -p $(@D)
 	$(COMPILE_CXX) $(OCCT_INC) -Itests $(LINK_FLAGS) $< -o $@ $(LIB) $(LDLIBS_ref_$*) $(REFLIBS) $(Q2N_LDLIBS) $(LDLIBS)
 
+$(BUILD)/examples/%: examples/%.c include/quad2nurbs.h $(LIB)
+	@mkdir -p $(@D)
+	$(CC) -Iinclude -MMD -MP $(CPPFLAGS) $(Q2N_CFLAGS) $(CFLAGS) $(LINK_FLAGS) $< -o $@ $(LIB) $(Q2N_LDLIBS) $(LDLIBS)
+
 $(BUILD)/bench/%: bench/%.c $(LIB)
 	@mkdir -p $(@D)
 	$(COMPILE_C) -Itests $(LINK_FLAGS) $< -o $@ $(LIB) $(Q2N_LDLIBS) $(LDLIBS)
@@ -121,10 +132,10 @@ $(BUILD)/bench/%: bench/%.cpp $(LIB)
 
 # make check: the quick tests; make check-full: the same programs with their long sweeps
 # (Q2N_TEST_FULL=1).  tests/run_tests.sh runs JOBS programs at a time (TESTS: only those).
-check: $(EXE) $(TEST_BIN) $(REF_BIN)
+check: $(EXE) $(TEST_BIN) $(REF_BIN) $(EXAMPLE_BIN)
 	@sh tests/run_tests.sh -j $(JOBS) --build $(BUILD) $(TESTS)
 
-check-full: $(EXE) $(TEST_BIN) $(REF_BIN)
+check-full: $(EXE) $(TEST_BIN) $(REF_BIN) $(EXAMPLE_BIN)
 	@sh tests/run_tests.sh --full -j $(JOBS) --build $(BUILD) $(TESTS)
 	@if [ -n "$(TESTS)" ]; then :; elif command -v $(FUZZ_CC) >/dev/null 2>&1; then \
 	  $(MAKE) --no-print-directory fuzz-check; \
@@ -160,14 +171,24 @@ fuzz: $(FUZZ_BIN)
 fuzz-check: $(FUZZ_BIN)
 	@sh tests/fuzz/run_fuzz.sh $(FUZZ_DIR) $(FUZZ_SECONDS)
 
+# make install [PREFIX=/usr/local] [DESTDIR=staging]: the command, the static library, the public
+# header and a pkg-config file (the library is static: link with pkg-config --static, which adds
+# its dependencies from Libs.private).
 install: $(EXE) $(LIB)
-	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/include
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include
 	install -m 755 $(EXE) $(DESTDIR)$(PREFIX)/bin/quad2nurbs
 	install -m 644 $(LIB) $(DESTDIR)$(PREFIX)/lib/libquad2nurbs.a
 	install -m 644 include/quad2nurbs.h $(DESTDIR)$(PREFIX)/include/quad2nurbs.h
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
+	  'Name: quad2nurbs' \
+	  'Description: smooth interpolating surfaces on quad meshes, fitted B-splines, IGES and STEP' \
+	  'Version: $(VERSION)' 'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -lquad2nurbs' \
+	  'Libs.private: $(Q2N_LDLIBS)' > $(DESTDIR)$(PREFIX)/lib/pkgconfig/quad2nurbs.pc
+	chmod 644 $(DESTDIR)$(PREFIX)/lib/pkgconfig/quad2nurbs.pc
 
 clean:
 	rm -rf $(BUILD)
 
 # Header dependencies of every object and program (-MMD writes them beside each output).
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_BIN:=.d) $(REF_BIN:=.d) $(BENCH_BIN:=.d) $(FUZZ_LIB_OBJ:.o=.d)
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(TEST_BIN:=.d) $(REF_BIN:=.d) $(BENCH_BIN:=.d) $(FUZZ_LIB_OBJ:.o=.d) \
+         $(EXAMPLE_BIN:=.d)

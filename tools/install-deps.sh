@@ -15,10 +15,11 @@
 #   chromium                   headless browser: the report's test renders the page and screenshots it
 #   strace                     a test checks that outputs are fsync'ed before the rename (skipped without it)
 #   clang, libclang-rt-14-dev  libFuzzer with ASan/UBSan: make fuzz / fuzz-check (run by make check-full)
+#   pkgconf                    pkg-config: tests/test_install.c builds the example against `make install`
 set -e
 PKGS="gcc g++ make libceres-dev liblapack-dev libblas-dev libsuitesparse-dev libosd-dev libocct-foundation-dev \
 libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev freecad-python3 \
-python3-numpy python3-matplotlib python3-pil chromium strace clang libclang-rt-14-dev"
+python3-numpy python3-matplotlib python3-pil chromium strace clang libclang-rt-14-dev pkgconf"
 missing=""
 for p in $PKGS; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -25,14 +25,9 @@
 
 typedef enum q2n_acc_method { Q2N_ACC_3 = 0, Q2N_ACC_G1 = 1 } q2n_acc_method;
 
-/* seed 001 §6.1: CS = circulant system for M_{1,1} (§5.2.1), NCS = direct M_{2,0} (§5.2.2);
- * S = symmetric (θ = 1), AS = asymmetric (θ = 0) order-3/4 masks (§5.3, eq. 31). */
-typedef enum q2n_acc_strategy {
-    Q2N_ACC_CS_S = 0,
-    Q2N_ACC_NCS_S = 1,
-    Q2N_ACC_CS_AS = 2,
-    Q2N_ACC_NCS_AS = 3
-} q2n_acc_strategy;
+/* q2n_acc_strategy (Q2N_ACC_CS_S, ...) is the public enum of include/quad2nurbs.h.  Seed 001
+ * §6.1: CS = circulant system for M_{1,1} (§5.2.1), NCS = direct M_{2,0} (§5.2.2); S = symmetric
+ * (θ = 1), AS = asymmetric (θ = 0) order-3/4 masks (§5.3, eq. 31). */
 
 /* Zeroed = defaults: acc3, cs-s, at most 2 automatic subdivision steps. */
 typedef struct q2n_acc_options {

@@ -2,6 +2,7 @@
 #include "api/model.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -149,6 +150,17 @@ static q2n_status model_take_mesh(q2n_model *m, q2n_mesh *mesh, q2n_error *err)
     return Q2N_OK;
 }
 
+void q2n_model_warn(q2n_model *m, const char *fmt, ...)
+{
+    if (m->nwarnings >= Q2N_MODEL_MAX_WARNINGS) return;
+    char raw[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(raw, sizeof raw, fmt, ap);
+    va_end(ap);
+    q2n_escape(m->warnings[m->nwarnings++], sizeof m->warnings[0], raw);
+}
+
 double q2n_model_length_scale(const q2n_model *m)
 {
     return ldexp(m->scale_mant * m->opt.scale, m->scale_exp);
@@ -167,6 +179,10 @@ q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q
     else q2n_mesh_free(mesh);
     m->t_read = q2n_now() - t0;
     if (st) { q2n_model_free(m); return st; }
+    const q2n_mesh_read_info *ri = &m->read_info;
+    if (ri->tags)
+        q2n_model_warn(m, "%s:%ld: %ld OpenSubdiv tag line%s ignored (%s): sharp features are not supported yet",
+                       mesh_path, ri->tag_line, ri->tags, ri->tags == 1 ? "" : "s", ri->tag_names[0] ? ri->tag_names : "t");
     *out = m;
     return Q2N_OK;
 }
@@ -194,7 +210,6 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
 {
     double t0 = q2n_now();
     q2n_status st = Q2N_OK;
-    const char *path = m->mesh->name;
     if (m->opt.subdivide > 0) {
         q2n_progress_emit(&m->opt.progress, "subdivide", NULL, 0, m->opt.subdivide);
         q2n_mesh *sub = NULL;
@@ -204,10 +219,12 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (!st && !m->mesh->all_quads && m->opt.method == Q2N_SURFACE_AUGMENTED) {
         int f = 0;
         while (f < m->mesh->nf && q2n_face_size(m->mesh, f) == 4) f++;
+        char where[320];
+        face_where(m, f, where, sizeof where);
         st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
-                           "%s:%d: face %d has %d vertices; only quad meshes are supported "
+                           "%s has %d vertices; only quad meshes are supported "
                            "(use --subdivide 1 to apply one Catmull-Clark step first)",
-                           path, m->mesh->face_line[f], f, q2n_face_size(m->mesh, f));
+                           where, q2n_face_size(m->mesh, f));
     }
     /* an interpolating patch follows its quad's sides: a bow-tie's would cross (Catmull–Clark
      * control faces may be bow-ties: the ACC path and --subdivide take them) */
@@ -221,6 +238,10 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (st) return st;
     m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
     m->t_build = q2n_now() - t0;
+    if (m->warning[0]) q2n_model_warn(m, "%s", m->warning);
+    if (m->uncovered)
+        q2n_model_warn(m, "%d of %d faces are in extraordinary regions that the regular construction does not cover; "
+                       "they are left out of the output", m->uncovered, m->mesh->nf);
     q2n_progress_emit(&m->opt.progress, "build", NULL, m->mesh->nf, m->mesh->nf);
     return Q2N_OK;
 }
@@ -235,18 +256,27 @@ q2n_status q2n_model_build(const char *mesh_path, const q2n_model_options *opt, 
     return st;
 }
 
-q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
-                                q2n_error *err)
+q2n_status q2n_model_take_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out, q2n_error *err)
 {
     q2n_model *m = NULL;
     q2n_status st = model_new(opt, &m, err);
     if (st) { q2n_mesh_free(mesh); return st; }
-    if ((st = model_take_mesh(m, mesh, err)) || (st = q2n_model_construct(m, err))) {
+    if ((st = model_take_mesh(m, mesh, err))) {
         q2n_model_free(m);
         return st;
     }
     *out = m;
     return Q2N_OK;
+}
+
+q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
+                                q2n_error *err)
+{
+    q2n_model *m = NULL;
+    q2n_status st = q2n_model_take_mesh(mesh, opt, &m, err);
+    if (!st && (st = q2n_model_construct(m, err))) q2n_model_free(m);
+    if (!st) *out = m;
+    return st;
 }
 
 /* Output coordinates of an internal point x: scale * (origin + 2^exp * (mant * x)); of a
@@ -326,6 +356,9 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.diag = out_vector(m, m->fit.diag);
     m->fit.tol_abs = out_vector(m, m->fit.tol_abs);
     m->t_fit = q2n_now() - t0;
+    if (!st && (!m->fit.g1_met || !m->fit.g2_met))
+        q2n_model_warn(m, "continuity target not met: %s (max G1 %.3g deg, G2 %.3g)",
+                       m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
     if (st && err && strncmp(err->message, "fit: ", 5) != 0) { /* every fit message says where it comes from */
         char msg[sizeof err->message];
         snprintf(msg, sizeof msg, "%s", err->message);

@@ -8,6 +8,8 @@
 
 #include <stdio.h>
 
+#include "quad2nurbs.h"
+
 #include "acc/acc.h"
 #include "core/clock.h"
 #include "core/outfile.h"
@@ -19,11 +21,7 @@
 #include "patch/surface.h"
 #include "spline/spline.h"
 
-typedef enum q2n_surface_method {
-    Q2N_SURFACE_AUGMENTED = 0, /* seed 003: interpolates every vertex */
-    Q2N_SURFACE_ACC3,          /* seed 001 / Loop–Schaefer: bicubic, C0 at EVs */
-    Q2N_SURFACE_ACC_G1         /* seed 001: bicubic + biquintic, G1 everywhere */
-} q2n_surface_method;
+/* q2n_surface_method, q2n_format and the Q2N_GIVEN_* bits are public (include/quad2nurbs.h). */
 
 /* Zeroed = defaults (augmented, Q2N_SPLINE_CLASS_DEFAULT, centripetal α = 1/2, fair EV construction,
  * no subdivision, scale 1). */
@@ -48,6 +46,9 @@ typedef struct q2n_model_options {
  * user's --scale (opt.scale): output = scale * (origin + 2^scale_exp * (scale_mant * internal)),
  * derivatives scale * 2^scale_exp * (scale_mant * d): an affine map, exact up to rounding (the
  * power of two keeps the scale itself in range). */
+/* Warnings a model keeps (more are dropped): a few per stage. */
+#define Q2N_MODEL_MAX_WARNINGS 32
+
 typedef struct q2n_model {
     q2n_model_options opt;
     q2n_mesh *mesh;            /* the mesh the patches are built on (after subdivision), internal */
@@ -68,6 +69,9 @@ typedef struct q2n_model {
     int tess;                  /* public API: tessellation points per patch side */
     int format;                /* public API: a q2n_format for names without a known extension */
     double max_memory;         /* public API: the resource limit (0 default, < 0 none) */
+    unsigned given;            /* public API: Q2N_GIVEN_* bits of the options set explicitly */
+    char warnings[Q2N_MODEL_MAX_WARNINGS][320]; /* what the caller should hear about, in order */
+    int nwarnings;
     q2n_nurbs_model *nurbs;    /* after q2n_model_fit, output coordinates */
     q2n_fit_report fit;        /* after q2n_model_fit */
     double t_read, t_build, t_fit, t_write; /* seconds */
@@ -83,9 +87,17 @@ q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q
  * side): a non-finite value fails with Q2N_ERR_NUMERIC naming the face and its line; a patch
  * whose normal turns against its face's is counted in folded and named in warning. */
 q2n_status q2n_model_construct(q2n_model *m, q2n_error *err);
+/* The read half for a validated mesh, which the model takes over (freed on failure too). */
+q2n_status q2n_model_take_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out, q2n_error *err);
 /* Build on a validated mesh, which the model takes over (freed on failure too). */
 q2n_status q2n_model_build_mesh(q2n_mesh *mesh, const q2n_model_options *opt, q2n_model **out,
                                 q2n_error *err);
+/* Append a warning line to m->warnings (printf-style, escaped). */
+void q2n_model_warn(q2n_model *m, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 /* Output units per internal unit: scale * 2^scale_exp * scale_mant. */
 double q2n_model_length_scale(const q2n_model *m);
 /* Fit (or convert exactly) into B-splines; continuity defaults to the construction's. */
@@ -106,10 +118,6 @@ void q2n_model_map_points(const q2n_model *m, double *e, size_t n);
 
 /* ---------------------------------------------------------------- outputs (outputs.c) */
 
-typedef enum q2n_format {
-    Q2N_FORMAT_NONE = 0, Q2N_FORMAT_OBJ, Q2N_FORMAT_STEP, Q2N_FORMAT_IGES, Q2N_FORMAT_JSON
-} q2n_format;
-
 /* By extension (.obj, .step/.stp, .igs/.iges, .json; any case), else NONE. */
 q2n_format q2n_format_of_path(const char *path);
 /* "obj", "step"/"stp", "iges"/"igs", "json", else NONE. */
@@ -118,11 +126,11 @@ const char *q2n_format_name(q2n_format f);
 /* STEP, IGES and the report come from the fitted B-splines. */
 static inline int q2n_format_needs_fit(q2n_format f) { return f == Q2N_FORMAT_STEP || f == Q2N_FORMAT_IGES || f == Q2N_FORMAT_JSON; }
 
-/* Several outputs as one transaction: q2n_outputs_open checks the whole set (known formats —
+/* Several outputs as one transaction: q2n_outputs_open_set checks the whole set (known formats —
  * names without a known extension, such as "-" for standard output, take `fallback`; no file
  * twice; none is the input mesh) and creates every temporary (so an unwritable directory shows
  * in milliseconds, before any slow work), the caller writes each (q2n_model_write_output), and
- * q2n_outputs_commit makes all data durable before it replaces any file.  On any failure nothing
+ * q2n_outputs_commit_set makes all data durable before it replaces any file.  On any failure nothing
  * is left behind: no output, no temporary.  Errors: Q2N_ERR_ARG for a set that makes no sense,
  * Q2N_ERR_IO (message "PATH: REASON") for the file system. */
 typedef struct q2n_output {
@@ -136,12 +144,12 @@ typedef struct q2n_output_set {
     q2n_output *out;
 } q2n_output_set;
 
-q2n_status q2n_outputs_open(q2n_output_set *s, int n, const char *const *paths, q2n_format fallback,
+q2n_status q2n_outputs_open_set(q2n_output_set *s, int n, const char *const *paths, q2n_format fallback,
                             const char *input, q2n_error *err);
 q2n_status q2n_model_write_output(q2n_model *m, q2n_output *o, int tess, const q2n_export_options *xopt,
                                   q2n_error *err);
-q2n_status q2n_outputs_commit(q2n_output_set *s, q2n_error *err);
-void q2n_outputs_abort(q2n_output_set *s);
+q2n_status q2n_outputs_commit_set(q2n_output_set *s, q2n_error *err);
+void q2n_outputs_abort_set(q2n_output_set *s);
 
 /* One output by extension (a set of one): .obj (tessellation, tess points per patch side),
  * .step/.stp, .igs/.iges, .json (the fit report; these three need q2n_model_fit first). */
@@ -150,13 +158,6 @@ q2n_status q2n_model_write(q2n_model *m, const char *path, int tess, const q2n_e
 
 /* ---------------------------------------------------------------- options, limits (options.c) */
 
-/* Options the caller set explicitly (for q2n_options_warnings). */
-enum {
-    Q2N_SET_CLASS = 1 << 0, Q2N_SET_PARAM = 1 << 1, Q2N_SET_ALPHA = 1 << 2, Q2N_SET_EVPATCH = 1 << 3,
-    Q2N_SET_STRATEGY = 1 << 4, Q2N_SET_CONTINUITY = 1 << 5, Q2N_SET_SOLVER = 1 << 6, Q2N_SET_TOL = 1 << 7,
-    Q2N_SET_ANGLE_TOL = 1 << 8, Q2N_SET_CURVATURE_TOL = 1 << 9, Q2N_SET_TESS = 1 << 10, Q2N_SET_GRID = 1 << 11,
-    Q2N_SET_THREADS = 1 << 12, Q2N_SET_UNITS = 1 << 13
-};
 
 /* What a run will do, for the warnings and the estimates. */
 typedef struct q2n_plan {

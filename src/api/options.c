@@ -48,42 +48,42 @@ int q2n_options_warnings(const q2n_model_options *mo, const q2n_fit_options *fo,
     warn_list w = {msgs, 0, max};
     const char *meth = method_name(mo->method);
     static const struct { unsigned bit; const char *opt; } AUG[] = {
-        {Q2N_SET_CLASS, "--class"}, {Q2N_SET_PARAM, "--param"}, {Q2N_SET_ALPHA, "--alpha"}, {Q2N_SET_EVPATCH, "--ev-patch"}};
+        {Q2N_GIVEN_CLASS, "--class"}, {Q2N_GIVEN_PARAM, "--param"}, {Q2N_GIVEN_ALPHA, "--alpha"}, {Q2N_GIVEN_EV_PATCH, "--ev-patch"}};
     if (mo->method != Q2N_SURFACE_AUGMENTED)
         for (size_t i = 0; i < sizeof AUG / sizeof AUG[0]; i++)
             if (set & AUG[i].bit)
                 warn(&w, "%s is ignored with --surface %s (it shapes the augmented surface only)", AUG[i].opt, meth);
-    if ((set & Q2N_SET_STRATEGY) && mo->method != Q2N_SURFACE_ACC_G1)
+    if ((set & Q2N_GIVEN_ACC_STRATEGY) && mo->method != Q2N_SURFACE_ACC_G1)
         warn(&w, "--acc-strategy is ignored with --surface %s (it chooses the masks of acc-g1 only)%s", meth, "");
-    if ((set & Q2N_SET_ALPHA) && mo->method == Q2N_SURFACE_AUGMENTED &&
+    if ((set & Q2N_GIVEN_ALPHA) && mo->method == Q2N_SURFACE_AUGMENTED &&
         (mo->param.method == Q2N_PARAM_UNIFORM || mo->param.method == Q2N_PARAM_CHORDAL))
         warn(&w, "--alpha is ignored with --param %s (only centripetal and mean use an exponent)%s",
              mo->param.method == Q2N_PARAM_UNIFORM ? "uniform" : "chordal", "");
     if (!plan->fit) {
         char list[160] = "";
         static const struct { unsigned bit; const char *opt; } FIT[] = {
-            {Q2N_SET_TOL, "--tol/--tol-abs"}, {Q2N_SET_ANGLE_TOL, "--angle-tol"}, {Q2N_SET_CURVATURE_TOL, "--curvature-tol"},
-            {Q2N_SET_CONTINUITY, "--continuity"}, {Q2N_SET_SOLVER, "--solver"}, {Q2N_SET_UNITS, "--units"}};
+            {Q2N_GIVEN_TOL, "--tol/--tol-abs"}, {Q2N_GIVEN_ANGLE_TOL, "--angle-tol"}, {Q2N_GIVEN_CURVATURE_TOL, "--curvature-tol"},
+            {Q2N_GIVEN_CONTINUITY, "--continuity"}, {Q2N_GIVEN_SOLVER, "--solver"}, {Q2N_GIVEN_UNITS, "--units"}};
         for (size_t i = 0; i < sizeof FIT / sizeof FIT[0]; i++)
             if (set & FIT[i].bit)
                 snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", list[0] ? ", " : "", FIT[i].opt);
         if (list[0]) warn(&w, "%s: ignored, no output needs the fit (only .step, .igs and .json do)%s", list, "");
     } else if (mo->method != Q2N_SURFACE_AUGMENTED) {
-        if (set & Q2N_SET_CONTINUITY)
+        if (set & Q2N_GIVEN_CONTINUITY)
             warn(&w, "--continuity is ignored with --surface %s (its patches are converted exactly)%s", meth, "");
-        if (set & Q2N_SET_SOLVER)
+        if (set & Q2N_GIVEN_SOLVER)
             warn(&w, "--solver is ignored with --surface %s (its patches are converted exactly, nothing is solved)%s",
                  meth, "");
-        if (set & (Q2N_SET_ANGLE_TOL | Q2N_SET_CURVATURE_TOL))
+        if (set & (Q2N_GIVEN_ANGLE_TOL | Q2N_GIVEN_CURVATURE_TOL))
             warn(&w, "--angle-tol/--curvature-tol are ignored with --surface %s (exact conversion: the continuity is "
                      "the construction's)%s", meth, "");
-    } else if ((set & Q2N_SET_CURVATURE_TOL) && fit_continuity(mo, fo) == 1) {
+    } else if ((set & Q2N_GIVEN_CURVATURE_TOL) && fit_continuity(mo, fo) == 1) {
         warn(&w, "--curvature-tol is ignored: the fit imposes G1 only (%s)%s",
              fo->continuity == 1 ? "--continuity g1" : "a G1 construction", "");
     }
-    if ((set & Q2N_SET_TESS) && !plan->obj) warn(&w, "--tess is ignored: no .obj output%s%s", "", "");
-    if ((set & Q2N_SET_GRID) && !plan->sample) warn(&w, "--grid is ignored: it applies to `quad2nurbs sample`%s%s", "", "");
-    if ((set & Q2N_SET_THREADS) && fo->threads > Q2N_FIT_MAX_THREADS) {
+    if ((set & Q2N_GIVEN_TESS) && !plan->obj) warn(&w, "--tess is ignored: no .obj output%s%s", "", "");
+    if ((set & Q2N_GIVEN_GRID) && !plan->sample) warn(&w, "--grid is ignored: it applies to `quad2nurbs sample`%s%s", "", "");
+    if ((set & Q2N_GIVEN_THREADS) && fo->threads > Q2N_FIT_MAX_THREADS) {
         char a[16], b[16];
         snprintf(a, sizeof a, "%d", fo->threads);
         snprintf(b, sizeof b, "%d", Q2N_FIT_MAX_THREADS);

@@ -76,7 +76,7 @@ static int same_file(const char *a, const char *b)
 
 /* ------------------------------------------------------------------ the transaction */
 
-void q2n_outputs_abort(q2n_output_set *s)
+void q2n_outputs_abort_set(q2n_output_set *s)
 {
     for (int i = 0; s->out && i < s->n; i++) q2n_outfile_abort(&s->out[i].file);
     free(s->out);
@@ -84,7 +84,7 @@ void q2n_outputs_abort(q2n_output_set *s)
     s->n = 0;
 }
 
-q2n_status q2n_outputs_open(q2n_output_set *s, int n, const char *const *paths, q2n_format fallback,
+q2n_status q2n_outputs_open_set(q2n_output_set *s, int n, const char *const *paths, q2n_format fallback,
                             const char *input, q2n_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -115,7 +115,7 @@ q2n_status q2n_outputs_open(q2n_output_set *s, int n, const char *const *paths, 
         o->format = q2n_format_of_path(paths[i]);
         if (o->format == Q2N_FORMAT_NONE) o->format = fallback;
         q2n_status st = q2n_outfile_open(&o->file, paths[i], err);
-        if (st) { q2n_outputs_abort(s); return st; }
+        if (st) { q2n_outputs_abort_set(s); return st; }
     }
     return Q2N_OK;
 }
@@ -157,7 +157,7 @@ q2n_status q2n_model_write_output(q2n_model *m, q2n_output *o, int tess, const q
     return st;
 }
 
-q2n_status q2n_outputs_commit(q2n_output_set *s, q2n_error *err)
+q2n_status q2n_outputs_commit_set(q2n_output_set *s, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
     /* 1. every output's data on disk (a full disk shows here, before anything is replaced) */
@@ -166,18 +166,18 @@ q2n_status q2n_outputs_commit(q2n_output_set *s, q2n_error *err)
     for (int pass = 0; pass < 2 && !st; pass++)
         for (int i = 0; i < s->n && !st; i++)
             if (s->out[i].file.path && s->out[i].file.stream == !pass) st = q2n_outfile_commit(&s->out[i].file, err);
-    q2n_outputs_abort(s); /* removes what was not committed */
+    q2n_outputs_abort_set(s); /* removes what was not committed */
     return st;
 }
 
 q2n_status q2n_model_write(q2n_model *m, const char *path, int tess, const q2n_export_options *xopt, q2n_error *err)
 {
     q2n_output_set s;
-    q2n_status st = q2n_outputs_open(&s, 1, &path, Q2N_FORMAT_NONE, m->mesh ? m->mesh->name : NULL, err);
+    q2n_status st = q2n_outputs_open_set(&s, 1, &path, Q2N_FORMAT_NONE, m->mesh ? m->mesh->name : NULL, err);
     if (st) return st;
     if ((st = q2n_model_write_output(m, &s.out[0], tess, xopt, err))) {
-        q2n_outputs_abort(&s);
+        q2n_outputs_abort_set(&s);
         return st;
     }
-    return q2n_outputs_commit(&s, err);
+    return q2n_outputs_commit_set(&s, err);
 }

@@ -20,9 +20,7 @@
 /* The default --max-memory: this fraction of the physical memory (or of a smaller cgroup limit),
  * leaving the rest to the system and to other programs. */
 #define Q2N_MEM_DEFAULT_FRACTION 0.5
-/* Accepted relative fit tolerances (--tol, and --tol-abs / bounding-box diagonal): below 1e-12
- * rounding dominates, above 0.1 the "fit" no longer resembles the surface. */
-#define Q2N_TOL_MIN 1e-12
-#define Q2N_TOL_MAX 0.1
+/* The accepted relative fit tolerances Q2N_TOL_MIN, Q2N_TOL_MAX are part of the public contract:
+ * include/quad2nurbs.h. */
 
 #endif

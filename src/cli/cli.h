@@ -6,7 +6,7 @@
 
 #include <signal.h>
 
-#include "api/model.h"
+#include "quad2nurbs.h"
 
 /* ---- progress.c ---- */
 typedef enum { CLI_PROGRESS_OFF = 0, CLI_PROGRESS_TTY, CLI_PROGRESS_LINES } cli_progress_mode;
@@ -34,7 +34,7 @@ void cli_progress_clear(cli_progress *p);
  * background jobs) stays ignored.  SIGPIPE is ignored: a closed pipe is a write error. */
 void cli_signals_install(void);
 /* Temporaries of an output set to remove on a signal (replaces the previous registration). */
-void cli_signals_register(const q2n_output_set *s);
+void cli_signals_register(const q2n_outputs *s);
 /* Hold the signals off (around the commit, while files are renamed), and let them in again. */
 void cli_signals_block(sigset_t *old);
 void cli_signals_unblock(const sigset_t *old);

@@ -15,12 +15,9 @@
 #include <string.h>
 #include <strings.h>
 
-#include "api/model.h"
-#include "api/policy.h"
+#include "quad2nurbs.h"
 #include "cli.h"
-#include "patch/extraordinary.h"
 
-#define Q2N_VERSION_STRING "0.1.0"
 #define MAX_OUTPUTS 8
 #define PROG "quad2nurbs"
 
@@ -28,13 +25,8 @@
 typedef struct cli_options {
     const char *input;
     const char *outputs[MAX_OUTPUTS];
-    int noutputs, sample, grid, tess, quiet, progress;
-    unsigned set;                 /* Q2N_SET_* of the options given */
-    q2n_format format;            /* --format */
-    double max_memory;            /* --max-memory (0: default) */
-    q2n_model_options model;
-    q2n_fit_options fit;
-    q2n_export_options xopt;
+    int noutputs, sample, grid, quiet, progress;
+    q2n_options opt;              /* the library's options; opt.given: Q2N_GIVEN_* of those given */
 } cli_options;
 
 static void usage(FILE *f)
@@ -194,111 +186,99 @@ static const struct option LONGOPTS[] = {
     {"progress", no_argument, 0, OPT_PROGRESS},     {"help", no_argument, 0, 'h'},
     {"version", no_argument, 0, 'V'},               {0, 0, 0, 0}};
 
+/* An enum option: its value into *value, else a message and -1. */
+static int parse_choice(q2n_choice what, const char *opt, const char *arg, int *value)
+{
+    if (q2n_parse_choice(what, arg, value) == Q2N_OK) return 0;
+    say("%s: expected %s, got '%s'", opt, q2n_choice_list(what), arg);
+    return -1;
+}
+
 /* One option; 0, 2 (usage error, message printed) or -1 (done: --help, --version). */
 static int parse_option(int c, const char *arg, cli_options *o)
 {
+    q2n_options *q = &o->opt;
+    int v = 0;
     switch (c) {
     case 'o':
         if (o->noutputs == MAX_OUTPUTS) { say("at most %d outputs", MAX_OUTPUTS); return 2; }
         o->outputs[o->noutputs++] = arg;
         return 0;
     case OPT_FORMAT:
-        if ((o->format = q2n_format_parse(arg)) == Q2N_FORMAT_NONE) {
-            say("--format: expected obj, step, iges or json, got '%s'", arg);
-            return 2;
-        }
+        if (parse_choice(Q2N_CHOICE_FORMAT, "--format", arg, &v)) return 2;
+        q->format = (q2n_format)v;
         return 0;
-    case OPT_TESS: o->set |= Q2N_SET_TESS; return parse_int(arg, "--tess", 2, 10000, &o->tess) ? 2 : 0;
-    case OPT_GRID: o->set |= Q2N_SET_GRID; return parse_int(arg, "--grid", 1, 10000, &o->grid) ? 2 : 0;
-    case OPT_SUBDIV: return parse_int(arg, "--subdivide", 0, 6, &o->model.subdivide) ? 2 : 0;
-    case OPT_THREADS:
-        o->set |= Q2N_SET_THREADS;
-        if (parse_int(arg, "--threads", 1, 4096, &o->fit.threads)) return 2;
-        o->model.threads = o->fit.threads;
-        return 0;
-    case OPT_MAXSPANS: return parse_int(arg, "--max-spans", 1, 1024, &o->fit.max_spans) ? 2 : 0;
+    case OPT_TESS: q->given |= Q2N_GIVEN_TESS; return parse_int(arg, "--tess", 2, 10000, &q->tess) ? 2 : 0;
+    case OPT_GRID: q->given |= Q2N_GIVEN_GRID; return parse_int(arg, "--grid", 1, 10000, &o->grid) ? 2 : 0;
+    case OPT_SUBDIV: return parse_int(arg, "--subdivide", 0, 6, &q->subdivide) ? 2 : 0;
+    case OPT_THREADS: q->given |= Q2N_GIVEN_THREADS; return parse_int(arg, "--threads", 1, 4096, &q->threads) ? 2 : 0;
+    case OPT_MAXSPANS: return parse_int(arg, "--max-spans", 1, 1024, &q->max_spans) ? 2 : 0;
     case OPT_GLUING:
-        if (strcmp(arg, "exact") == 0) o->fit.no_exact = 0;
-        else if (strcmp(arg, "least-squares") == 0) o->fit.no_exact = 1;
-        else { say("--gluing: expected exact or least-squares, got '%s'", arg); return 2; }
+        if (parse_choice(Q2N_CHOICE_GLUING, "--gluing", arg, &v)) return 2;
+        q->gluing = (q2n_gluing)v;
         return 0;
-    case OPT_EVMETHOD: {
-        q2n_ev_method k;
-        if (q2n_ev_method_parse(arg, &k)) { say("--ev-construction: expected fair or paper, got '%s'", arg); return 2; }
-        o->model.ev_method = (int)k;
+    case OPT_EVMETHOD:
+        if (parse_choice(Q2N_CHOICE_EV_CONSTRUCTION, "--ev-construction", arg, &v)) return 2;
+        q->ev_construction = (q2n_ev_method)v;
         return 0;
-    }
     case OPT_CLASS:
-        o->set |= Q2N_SET_CLASS;
-        if (!(o->model.cls = q2n_spline_class_find(arg))) {
-            char known[200] = "";
-            for (const q2n_spline_class *const *k = q2n_spline_classes(); *k; k++)
-                snprintf(known + strlen(known), sizeof known - strlen(known), " %s", (*k)->name);
-            say("--class: unknown class '%s' (known:%s)", arg, known);
-            return 2;
-        }
+        q->given |= Q2N_GIVEN_CLASS;
+        if (parse_choice(Q2N_CHOICE_CLASS, "--class", arg, &v)) return 2;
+        q->spline_class = (q2n_class)v;
         return 0;
     case OPT_PARAM:
-        o->set |= Q2N_SET_PARAM;
-        if (q2n_param_method_parse(arg, &o->model.param.method)) {
-            say("--param: expected centripetal, chordal, uniform or mean, got '%s'", arg);
-            return 2;
-        }
+        q->given |= Q2N_GIVEN_PARAM;
+        if (parse_choice(Q2N_CHOICE_PARAM, "--param", arg, &v)) return 2;
+        q->param = (q2n_param_method)v;
         return 0;
     case OPT_ALPHA:
-        o->set |= Q2N_SET_ALPHA;
-        return parse_real(arg, "--alpha", 0, 1, 2, " (use --param uniform for alpha 0)", &o->model.param.alpha) ? 2 : 0;
-    case OPT_TOL: o->set |= Q2N_SET_TOL; return parse_real(arg, "--tol", Q2N_TOL_MIN, 0, Q2N_TOL_MAX, "", &o->fit.tol) ? 2 : 0;
+        q->given |= Q2N_GIVEN_ALPHA;
+        return parse_real(arg, "--alpha", 0, 1, 2, " (use --param uniform for alpha 0)", &q->alpha) ? 2 : 0;
+    case OPT_TOL: q->given |= Q2N_GIVEN_TOL; return parse_real(arg, "--tol", Q2N_TOL_MIN, 0, Q2N_TOL_MAX, "", &q->tol) ? 2 : 0;
     case OPT_TOLABS:
-        o->set |= Q2N_SET_TOL;
-        return parse_real(arg, "--tol-abs", 0, 1, 1e300, " (model units)", &o->fit.tol_abs) ? 2 : 0;
+        q->given |= Q2N_GIVEN_TOL;
+        return parse_real(arg, "--tol-abs", 0, 1, 1e300, " (model units)", &q->tol_abs) ? 2 : 0;
     case OPT_ANGLE:
-        o->set |= Q2N_SET_ANGLE_TOL;
-        return parse_real(arg, "--angle-tol", 0, 1, 90, " (degrees)", &o->fit.g1_tol_deg) ? 2 : 0;
+        q->given |= Q2N_GIVEN_ANGLE_TOL;
+        return parse_real(arg, "--angle-tol", 0, 1, 90, " (degrees)", &q->angle_tol_deg) ? 2 : 0;
     case OPT_CURV:
-        o->set |= Q2N_SET_CURVATURE_TOL;
-        return parse_real(arg, "--curvature-tol", 0, 1, 10, " (relative)", &o->fit.g2_tol_rel) ? 2 : 0;
-    case OPT_SCALE: return parse_real(arg, "--scale", 1e-12, 0, 1e12, "", &o->model.scale) ? 2 : 0;
-    case OPT_MAXMEM: return parse_size(arg, &o->max_memory) ? 2 : 0;
-    case OPT_EVPATCH: {
-        q2n_ev_patch_kind k;
-        o->set |= Q2N_SET_EVPATCH;
-        if (q2n_ev_patch_parse(arg, &k)) { say("--ev-patch: expected g1 or g2, got '%s'", arg); return 2; }
-        o->model.ev_patch = (int)k;
+        q->given |= Q2N_GIVEN_CURVATURE_TOL;
+        return parse_real(arg, "--curvature-tol", 0, 1, 10, " (relative)", &q->curvature_tol) ? 2 : 0;
+    case OPT_SCALE: return parse_real(arg, "--scale", 1e-12, 0, 1e12, "", &q->scale) ? 2 : 0;
+    case OPT_MAXMEM: return parse_size(arg, &q->max_memory) ? 2 : 0;
+    case OPT_EVPATCH:
+        q->given |= Q2N_GIVEN_EV_PATCH;
+        if (parse_choice(Q2N_CHOICE_EV_PATCH, "--ev-patch", arg, &v)) return 2;
+        q->ev_patch = (q2n_ev_patch_kind)v;
         return 0;
-    }
     case OPT_SOLVER:
-        o->set |= Q2N_SET_SOLVER;
-        if (strcmp(arg, "ceres") == 0) o->fit.solver = Q2N_FIT_SOLVER_CERES;
-        else if (strcmp(arg, "direct") == 0) o->fit.solver = Q2N_FIT_SOLVER_DIRECT;
-        else { say("--solver: expected ceres or direct, got '%s'", arg); return 2; }
+        q->given |= Q2N_GIVEN_SOLVER;
+        if (parse_choice(Q2N_CHOICE_SOLVER, "--solver", arg, &v)) return 2;
+        q->solver = (q2n_solver)v;
         return 0;
     case OPT_CONT:
-        o->set |= Q2N_SET_CONTINUITY;
-        if (strcmp(arg, "g1") == 0) o->fit.continuity = 1;
-        else if (strcmp(arg, "g2") == 0) o->fit.continuity = 2;
-        else { say("--continuity: expected g1 or g2, got '%s'", arg); return 2; }
+        q->given |= Q2N_GIVEN_CONTINUITY;
+        if (parse_choice(Q2N_CHOICE_CONTINUITY, "--continuity", arg, &v)) return 2;
+        q->continuity = (q2n_continuity)v;
         return 0;
     case OPT_UNITS:
-        o->set |= Q2N_SET_UNITS;
-        if (q2n_units_parse(arg, &o->xopt.units)) { say("--units: expected mm, cm, m, in or ft, got '%s'", arg); return 2; }
+        q->given |= Q2N_GIVEN_UNITS;
+        if (parse_choice(Q2N_CHOICE_UNITS, "--units", arg, &v)) return 2;
+        q->units = (q2n_units)v;
         return 0;
     case OPT_SURFACE:
-        if (strcmp(arg, "augmented") == 0) o->model.method = Q2N_SURFACE_AUGMENTED;
-        else if (strcmp(arg, "acc3") == 0) o->model.method = Q2N_SURFACE_ACC3;
-        else if (strcmp(arg, "acc-g1") == 0) o->model.method = Q2N_SURFACE_ACC_G1;
-        else { say("--surface: expected augmented, acc3 or acc-g1, got '%s'", arg); return 2; }
+        if (parse_choice(Q2N_CHOICE_SURFACE, "--surface", arg, &v)) return 2;
+        q->surface = (q2n_surface_method)v;
         return 0;
-    case OPT_STRAT: {
-        q2n_error e;
-        o->set |= Q2N_SET_STRATEGY;
-        if (q2n_acc_parse_strategy(arg, &o->model.acc_strategy, &e)) { say("--acc-strategy: %s", e.message); return 2; }
+    case OPT_STRAT:
+        q->given |= Q2N_GIVEN_ACC_STRATEGY;
+        if (parse_choice(Q2N_CHOICE_ACC_STRATEGY, "--acc-strategy", arg, &v)) return 2;
+        q->acc_strategy = (q2n_acc_strategy)v;
         return 0;
-    }
     case OPT_PROGRESS: o->progress = 1; return 0;
     case 'q': o->quiet = 1; return 0;
     case 'h': usage(stdout); return -1;
-    case 'V': printf(PROG " %s\n", Q2N_VERSION_STRING); return -1;
+    case 'V': printf(PROG " %s\n", q2n_version()); return -1;
     default: return usage_error(); /* getopt printed what was wrong */
     }
 }
@@ -325,7 +305,7 @@ static int parse_args(int argc, char **argv, cli_options *o)
         say("no output given (-o FILE.obj|.step|.igs|.json), or use `quad2nurbs sample`");
         return usage_error();
     }
-    if (o->fit.tol > 0 && o->fit.tol_abs > 0) {
+    if (o->opt.tol > 0 && o->opt.tol_abs > 0) {
         say("--tol and --tol-abs are alternatives: give one");
         return usage_error();
     }
@@ -343,10 +323,12 @@ static int parse_args(int argc, char **argv, cli_options *o)
 static int input_exit(q2n_status st) { return st == Q2N_ERR_NOMEM || st == Q2N_ERR_NUMERIC ? 1 : 2; }
 
 /* "0.13 µm" in the model's unit (SI prefixes for metric units); ASCII without UTF-8. */
-static void fmt_length(double v, q2n_units u, int utf8, char *out, size_t n)
+static void fmt_length(double v, q2n_units u, double mm, int utf8, char *out, size_t n)
 {
-    double mm = q2n_units_in_mm(u);
-    if (u == Q2N_UNITS_IN || u == Q2N_UNITS_FT) { snprintf(out, n, "%.2g %s", v, q2n_units_name(u)); return; }
+    if (u == Q2N_UNITS_IN || u == Q2N_UNITS_FT) {
+        snprintf(out, n, "%.2g %s", v, q2n_choice_name(Q2N_CHOICE_UNITS, (int)u));
+        return;
+    }
     double m = v * mm / 1000.0;
     static const struct { double f; const char *s, *a; } P[] = {
         {1, "m", "m"}, {1e-3, "mm", "mm"}, {1e-6, "\xc2\xb5m", "um"}, {1e-9, "nm", "nm"}};
@@ -355,27 +337,26 @@ static void fmt_length(double v, q2n_units u, int utf8, char *out, size_t n)
     snprintf(out, n, "%.2g %s", m / P[i].f, utf8 ? P[i].s : P[i].a);
 }
 
-static void summary(const cli_options *o, const q2n_model *m, int fit, int utf8)
+static void summary(const cli_options *o, const q2n_report *r, int fit, int utf8)
 {
     char line[1024];
-    int n = snprintf(line, sizeof line, "%s: %d faces, %d patches, read %.3f s, build %.3f s", o->input, m->mesh->nf,
-                     m->mesh->nf - m->uncovered, m->t_read, m->t_build);
+    int n = snprintf(line, sizeof line, "%s: %d faces, %d patches, read %.3f s, build %.3f s", o->input, r->faces,
+                     r->patches, r->t_read, r->t_build);
     if (fit) {
         char abs[48];
-        const q2n_fit_report *r = &m->fit;
-        fmt_length(r->max_dev_rel * r->diag, o->xopt.units, utf8, abs, sizeof abs);
-        n += snprintf(line + n, sizeof line - (size_t)n, ", fit %.3f s (max dev %.2g %s diag = %s, G1 %.2g%s", m->t_fit,
+        fmt_length(r->max_dev, r->units, r->unit_mm, utf8, abs, sizeof abs);
+        n += snprintf(line + n, sizeof line - (size_t)n, ", fit %.3f s (max dev %.2g %s diag = %s, G1 %.2g%s", r->t_fit,
                       r->max_dev_rel, utf8 ? "\xc3\x97" : "x", abs, r->g1_max_deg, utf8 ? "\xc2\xb0" : " deg");
         if (r->continuity == 2) n += snprintf(line + n, sizeof line - (size_t)n, ", G2 %.2g %%", 100 * r->g2_max_rel);
         n += snprintf(line + n, sizeof line - (size_t)n, ", control points per face %d/%d/%d min/median/max",
                       r->cp_min, r->cp_median, r->cp_max);
         if (r->step_bytes)
-            n += snprintf(line + n, sizeof line - (size_t)n, ", STEP %.1f KB/face", r->step_bytes / 1024.0 / m->mesh->nf);
+            n += snprintf(line + n, sizeof line - (size_t)n, ", STEP %.1f KB/face", r->step_bytes / 1024.0 / r->faces);
         if (r->iges_bytes)
-            n += snprintf(line + n, sizeof line - (size_t)n, ", IGES %.1f KB/face", r->iges_bytes / 1024.0 / m->mesh->nf);
+            n += snprintf(line + n, sizeof line - (size_t)n, ", IGES %.1f KB/face", r->iges_bytes / 1024.0 / r->faces);
         n += snprintf(line + n, sizeof line - (size_t)n, ")");
     }
-    snprintf(line + n, sizeof line - (size_t)n, ", write %.3f s", m->t_write);
+    snprintf(line + n, sizeof line - (size_t)n, ", write %.3f s", r->t_write);
     fprintf(stderr, PROG ": ");
     /* the input name is escaped; the rest is ours (UTF-8 symbols only in a UTF-8 locale) */
     char name[1024];
@@ -386,9 +367,10 @@ static void summary(const cli_options *o, const q2n_model *m, int fit, int utf8)
 typedef struct run_state {
     cli_options *o;
     cli_progress prog;
-    q2n_output_set outs;
+    q2n_outputs *outs;
     q2n_model *m;
     int utf8;
+    int warned;             /* the model's warnings printed so far */
 } run_state;
 
 /* Remove the outputs' temporaries; signals are held off meanwhile, so that the handler never
@@ -397,7 +379,8 @@ static void discard_outputs(run_state *s)
 {
     sigset_t old;
     cli_signals_block(&old);
-    q2n_outputs_abort(&s->outs);
+    q2n_outputs_abort(s->outs);
+    s->outs = NULL;
     cli_signals_register(NULL);
     cli_signals_unblock(&old);
 }
@@ -408,101 +391,80 @@ static int fail(run_state *s, int code, const char *msg)
     cli_progress_clear(&s->prog);
     say("%s", msg);
     discard_outputs(s);
-    q2n_model_free(s->m);
+    q2n_close(s->m);
     return code;
 }
 
-static void warning(run_state *s, const char *msg)
+/* The model's warnings not printed yet. */
+static void warnings(run_state *s)
 {
-    if (s->o->quiet) return;
-    cli_progress_clear(&s->prog);
-    say("warning: %s", msg);
+    const char *w;
+    for (; (w = q2n_warning(s->m, s->warned)); s->warned++) {
+        if (s->o->quiet) continue;
+        cli_progress_clear(&s->prog);
+        say("warning: %s", w);
+    }
 }
 
 static int run(run_state *s)
 {
     cli_options *o = s->o;
-    q2n_error err = {Q2N_OK, ""};
+    char err[1024], msg[1200];
     q2n_status st;
-    char msg[1200];
-    if ((st = q2n_export_date_from_env(&o->xopt, &err))) return fail(s, 2, err.message);
     /* outputs first: a wrong name or an unwritable place shows before any work; the temporaries
      * are registered for the signal handler before a signal can come in */
     sigset_t old;
     cli_signals_block(&old);
-    st = q2n_outputs_open(&s->outs, o->noutputs, o->outputs, o->format, o->input, &err);
-    if (!st) cli_signals_register(&s->outs);
+    st = q2n_outputs_open(o->outputs, o->noutputs, o->opt.format, o->input, &s->outs, err, sizeof err);
+    if (!st) cli_signals_register(s->outs);
     cli_signals_unblock(&old);
-    if (st) return fail(s, st == Q2N_ERR_ARG ? 2 : 1, err.message);
-    o->model.progress = (q2n_progress_sink){cli_progress_report, &s->prog, q2n_now()};
-    if ((st = q2n_model_read(o->input, &o->model, &s->m, &err))) return fail(s, input_exit(st), err.message);
+    if (st) return fail(s, st == Q2N_ERR_ARG ? 2 : 1, err);
+    o->opt.progress = cli_progress_report;
+    o->opt.progress_user = &s->prog;
+    if ((st = q2n_read(o->input, &o->opt, &s->m, err, sizeof err))) return fail(s, input_exit(st), err);
     q2n_model *m = s->m;
-    if (m->read_info.tags) {
-        snprintf(msg, sizeof msg, "%s:%ld: %ld OpenSubdiv tag line%s ignored (%s): sharp features are not supported yet",
-                 o->input, m->read_info.tag_line, m->read_info.tags, m->read_info.tags == 1 ? "" : "s",
-                 m->read_info.tag_names[0] ? m->read_info.tag_names : "t");
-        warning(s, msg);
+    warnings(s);
+    int fit = 0;
+    for (int i = 0; i < q2n_outputs_count(s->outs); i++) {
+        q2n_format f = q2n_outputs_format(s->outs, i);
+        fit |= f == Q2N_FORMAT_STEP || f == Q2N_FORMAT_IGES || f == Q2N_FORMAT_JSON;
     }
-    q2n_plan plan = {0};
-    plan.sample = o->sample;
-    plan.tess = o->tess;
-    plan.grid = o->grid;
-    plan.continuity = o->fit.continuity;
-    plan.nout = s->outs.n;
-    plan.out = s->outs.out;
-    for (int i = 0; i < s->outs.n; i++) {
-        plan.fit |= q2n_format_needs_fit(s->outs.out[i].format);
-        plan.obj |= s->outs.out[i].format == Q2N_FORMAT_OBJ;
-    }
-    char warn[16][160];
-    int nw = q2n_options_warnings(&o->model, &o->fit, o->set, &plan, warn, 16);
-    for (int i = 0; i < nw; i++) warning(s, warn[i]);
-    if ((st = q2n_model_check_resources(m, &plan, o->max_memory, &err)))
-        return fail(s, st == Q2N_ERR_ARG ? 2 : 1, err.message);
-    if ((st = q2n_model_construct(m, &err))) return fail(s, input_exit(st), err.message);
-    if (m->note[0] && !o->quiet) { /* what the ACC path did (information, not a warning) */
+    st = q2n_check_plan(m, s->outs, o->sample ? o->grid : 0, err, sizeof err);
+    warnings(s);
+    if (st) return fail(s, st == Q2N_ERR_ARG ? 2 : 1, err);
+    if ((st = q2n_build(m, err, sizeof err))) return fail(s, input_exit(st), err);
+    q2n_report r;
+    q2n_get_report(m, &r);
+    if (r.construction_note[0] && !o->quiet) { /* what the ACC path did (information, not a warning) */
         cli_progress_clear(&s->prog);
-        say("%s", m->note);
+        say("%s", r.construction_note);
     }
-    if (m->warning[0]) warning(s, m->warning);
-    if (m->uncovered) {
-        snprintf(msg, sizeof msg, "%d of %d faces are in extraordinary regions that the regular construction does not "
-                 "cover; they are left out of the output", m->uncovered, m->mesh->nf);
-        warning(s, msg);
-    }
-    if ((st = q2n_model_resolve_tol(m, &o->fit, &err))) return fail(s, 2, err.message);
-    if (plan.fit && (st = q2n_model_fit(m, &o->fit, &err))) {
-        snprintf(msg, sizeof msg, "%s: %s", o->input, err.message);
+    warnings(s);
+    if (fit && (st = q2n_fit(m, err, sizeof err))) {
+        snprintf(msg, sizeof msg, "%s: %s", o->input, err);
         return fail(s, st == Q2N_ERR_GEOMETRY || st == Q2N_ERR_NOMEM || st == Q2N_ERR_NUMERIC ? 1 : 2, msg);
     }
-    if (plan.fit && (!m->fit.g1_met || !m->fit.g2_met)) {
-        snprintf(msg, sizeof msg, "continuity target not met: %s (max G1 %.3g deg, G2 %.3g)",
-                 m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
-        warning(s, msg);
-    }
-    if (o->sample && (st = q2n_model_write_samples(m, o->grid, stdout, &err))) {
+    warnings(s);
+    if (o->sample && (st = q2n_write_samples(m, o->grid, stdout, err, sizeof err))) {
         if (errno == EPIPE) { /* `sample ... | head`: the reader has enough; end quietly, as filters do */
             discard_outputs(s);
             signal(SIGPIPE, SIG_DFL);
             raise(SIGPIPE);
         }
-        return fail(s, 1, err.message);
+        return fail(s, 1, err);
     }
-    /* CAD files first, so the report written after them gives their sizes */
-    for (int pass = 0; pass < 2; pass++)
-        for (int i = 0; i < s->outs.n; i++)
-            if ((s->outs.out[i].format == Q2N_FORMAT_JSON) == pass &&
-                (st = q2n_model_write_output(m, &s->outs.out[i], o->tess, &o->xopt, &err)))
-                return fail(s, 1, err.message);
+    if ((st = q2n_outputs_write(m, s->outs, err, sizeof err))) return fail(s, 1, err);
     cli_signals_block(&old); /* the temporaries' names stay valid for the handler until they are gone */
-    st = q2n_outputs_commit(&s->outs, &err);
+    st = q2n_outputs_commit(s->outs, err, sizeof err);
+    s->outs = NULL;
     cli_signals_register(NULL);
     cli_signals_unblock(&old);
-    if (st) return fail(s, 1, err.message);
+    if (st) return fail(s, 1, err);
     if (o->sample && fflush(stdout) != 0) return fail(s, 1, "standard output: write failed");
     cli_progress_clear(&s->prog);
-    if (!o->quiet && !o->sample) summary(o, m, plan.fit, s->utf8);
-    q2n_model_free(m);
+    q2n_get_report(m, &r);
+    if (!o->quiet && !o->sample) summary(o, &r, fit, s->utf8);
+    q2n_close(m);
     s->m = NULL;
     return 0;
 }
@@ -511,14 +473,7 @@ int main(int argc, char **argv)
 {
     cli_options o;
     memset(&o, 0, sizeof o);
-    o.grid = 5;
-    o.tess = 9;
-    o.model.param.method = Q2N_PARAM_CENTRIPETAL;
-    o.model.param.alpha = NAN;
-    q2n_fit_options_default(&o.fit);
-    o.fit.continuity = 0;    /* follow the construction */
-    o.fit.tol = 0;           /* the default unless --tol or --tol-abs */
-    o.fit.g1_tol_deg = o.fit.g2_tol_rel = 0;
+    o.grid = 5;               /* zeroed library options are its defaults */
     int rc = parse_args(argc, argv, &o);
     if (rc) return rc < 0 ? 0 : rc;
     /* UTF-8 symbols (°, ×, µ) in the summary only where the terminal's locale is UTF-8 */

@@ -39,13 +39,14 @@ void cli_signals_install(void)
     signal(SIGPIPE, SIG_IGN);
 }
 
-void cli_signals_register(const q2n_output_set *s)
+void cli_signals_register(const q2n_outputs *s)
 {
     sigset_t old;
     cli_signals_block(&old);   /* nested blocks are fine: the caller's mask comes back */
     ntemps = 0;
-    for (int i = 0; s && i < s->n && i < MAX_TEMPS; i++) temps[i] = s->out[i].file.tmp;
-    ntemps = s ? (s->n < MAX_TEMPS ? s->n : MAX_TEMPS) : 0;
+    int n = q2n_outputs_count(s);
+    for (int i = 0; i < n && i < MAX_TEMPS; i++) temps[i] = q2n_outputs_temp_path(s, i);
+    ntemps = n < MAX_TEMPS ? n : MAX_TEMPS;
     cli_signals_unblock(&old);
 }
 

@@ -65,7 +65,7 @@ q2n_status q2n_error_set(q2n_error *err, q2n_status code, const char *fmt, ...)
     return code;
 }
 
-const char *q2n_status_name(q2n_status code)
+const char *q2n_status_string(q2n_status code)
 {
     static const char *names[] = {"ok", "i/o error", "parse error", "topology error",
                                   "geometry error", "unsupported input", "out of memory",

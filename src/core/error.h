@@ -9,17 +9,9 @@
 
 #include <stddef.h>
 
-typedef enum q2n_status {
-    Q2N_OK = 0,
-    Q2N_ERR_IO,          /* file cannot be opened, read or written */
-    Q2N_ERR_PARSE,       /* malformed input text, bad number, NaN/Inf */
-    Q2N_ERR_TOPOLOGY,    /* non-manifold, inconsistent orientation, index out of range */
-    Q2N_ERR_GEOMETRY,    /* degenerate face or edge */
-    Q2N_ERR_UNSUPPORTED, /* valid input this construction does not handle (e.g. non-quads) */
-    Q2N_ERR_NOMEM,
-    Q2N_ERR_ARG,         /* invalid option or argument */
-    Q2N_ERR_NUMERIC      /* valid input, but an evaluation gave a non-finite number (NaN/Inf) */
-} q2n_status;
+#include "quad2nurbs.h"
+
+/* q2n_status (Q2N_OK, Q2N_ERR_*) is the public one of include/quad2nurbs.h. */
 
 typedef struct q2n_error {
     q2n_status code;
@@ -34,13 +26,8 @@ q2n_status q2n_error_set(q2n_error *err, q2n_status code, const char *fmt, ...)
 #endif
     ;
 
-const char *q2n_status_name(q2n_status code);
 
-/* Copy src into dst (cap bytes, NUL-terminated, truncated at a whole character) with every byte
- * that could act on a terminal written as \xHH: C0 controls, DEL, bytes that are not valid UTF-8
- * and the UTF-8 form of C1 controls.  Messages quote input bytes (a file name, a token), and an
- * ESC or OSC sequence in them must not reach the terminal.  q2n_error_set applies it to every
- * message.  Returns the length written. */
-size_t q2n_escape(char *dst, size_t cap, const char *src);
+/* q2n_escape (include/quad2nurbs.h) makes every message one line of printable text: an ESC or
+ * OSC sequence quoted from input (a file name, a token) must not reach the terminal. */
 
 #endif

@@ -31,8 +31,7 @@
  * here).  STEP: an SI_UNIT with prefix for mm, cm, m; a CONVERSION_BASED_UNIT (25.4 mm, 304.8 mm)
  * for in and ft.  IGES: global fields 14/15 with the flags of IGES 5.3 §2.2.4.3 (1 inch, 2 mm,
  * 4 feet, 6 m, 10 cm). */
-typedef enum q2n_units { Q2N_UNITS_MM = 0, Q2N_UNITS_IN = 1, Q2N_UNITS_CM, Q2N_UNITS_M, Q2N_UNITS_FT,
-                         Q2N_UNITS_COUNT } q2n_units;
+/* q2n_units (Q2N_UNITS_*) is the public enum of include/quad2nurbs.h. */
 
 /* "mm", "cm", "m", "in", "ft" (also "inch", "foot", "feet") -> *u; 0 on success, -1 unknown. */
 int q2n_units_parse(const char *s, q2n_units *u);

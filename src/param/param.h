@@ -11,12 +11,8 @@
 #include "core/error.h"
 #include "mesh/mesh.h"
 
-typedef enum q2n_param_method {
-    Q2N_PARAM_CENTRIPETAL = 0, /* |Δp|^α, α = 1/2 unless overridden */
-    Q2N_PARAM_CHORDAL,         /* α = 1 */
-    Q2N_PARAM_UNIFORM,         /* α = 0 */
-    Q2N_PARAM_MEAN             /* ribbon average of |Δp|^α (α = 1/2 unless overridden) */
-} q2n_param_method;
+/* q2n_param_method (Q2N_PARAM_*): include/quad2nurbs.h.  Centripetal |Δp|^α (α = 1/2 unless
+ * overridden), chordal α = 1, uniform α = 0, mean: ribbon average of |Δp|^α. */
 
 typedef struct q2n_param_options {
     q2n_param_method method;

@@ -23,20 +23,11 @@
 /* The largest vertex valence the construction handles (callers refuse higher ones up front). */
 #define Q2N_EV_MAX_VALENCE 64
 
-typedef enum q2n_ev_patch_kind {
-    Q2N_EV_PATCH_DEFAULT = 0, /* G2 for classes with k >= 2, G1 for C1 classes */
-    Q2N_EV_PATCH_G1,          /* bicubically blended, Gregory r = 1 */
-    Q2N_EV_PATCH_G2           /* biquintically blended, Gregory r = 2 */
-} q2n_ev_patch_kind;
-
-/* How the extraordinary regions are built. */
-typedef enum q2n_ev_method {
-    Q2N_EV_METHOD_DEFAULT = 0, /* the fair construction */
-    Q2N_EV_METHOD_FAIR,        /* one jet per vertex, compatible Coons patches, bending-energy
-                                  solve (ev_fair.c; docs/extraordinary.md) */
-    Q2N_EV_METHOD_PAPER        /* the paper's Coons–Gregory patches with Appendix-B-style 2-jets,
-                                  ribbon cross fields and corner harmonisation (coons_gregory.c) */
-} q2n_ev_method;
+/* q2n_ev_patch_kind (Q2N_EV_PATCH_*: default, G1 bicubically blended with Gregory r = 1, G2
+ * biquintically blended with r = 2) and q2n_ev_method (Q2N_EV_METHOD_*: default = fair, fair =
+ * one jet per vertex, compatible Coons patches, bending-energy solve (ev_fair.c), paper = the
+ * paper's Coons–Gregory patches with Appendix-B-style 2-jets, ribbon cross fields and corner
+ * harmonisation) are the public enums of include/quad2nurbs.h. */
 
 typedef struct q2n_extraordinary_options {
     const q2n_spline_class *cls; /* the class of the regular patches; NULL: Q2N_SPLINE_CLASS_DEFAULT */
