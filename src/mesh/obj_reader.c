@@ -11,6 +11,7 @@
  * Errors: "FILE:LINE: reason" (the line where the record starts), "FILE: strerror" when the file
  * cannot be read.  After parsing, q2n_mesh_from_arrays_lines validates the topology. */
 #include "mesh/mesh.h"
+#include "mesh/reader.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -112,21 +113,6 @@ static int src_line(obj_src *s, long *first)
     }
 }
 
-static int is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-/* Next whitespace-separated token of *cur, NUL-terminated in place; NULL at the end. */
-static char *next_tok(char **cur)
-{
-    char *p = *cur;
-    while (is_space(*p)) p++;
-    if (!*p) { *cur = p; return NULL; }
-    char *t = p;
-    while (*p && !is_space(*p)) p++;
-    if (*p) *p++ = '\0';
-    *cur = p;
-    return t;
-}
-
 /* A token quoted for a message, shortened. */
 static const char *quote(const char *t, char *buf, size_t n)
 {
@@ -140,7 +126,7 @@ static q2n_status parse_vertex(obj_data *d, char *cur, const char *where, q2n_er
     double x[8];
     int k = 0;
     char q[48];
-    for (char *t; (t = next_tok(&cur));) {
+    for (char *t; (t = q2n_rd_tok(&cur));) {
         char *end;
         errno = 0;
         double v = strtod(t, &end);
@@ -223,7 +209,7 @@ static q2n_status parse_corner(const char *t, size_t nv, const char *where, int 
 static q2n_status parse_face(obj_data *d, char *cur, long line, const char *where, q2n_error *err)
 {
     size_t n0 = d->nfv;
-    for (char *t; (t = next_tok(&cur));) {
+    for (char *t; (t = q2n_rd_tok(&cur));) {
         int idx = 0;
         q2n_status st = parse_corner(t, d->nv, where, &idx, err);
         if (st) return st;
@@ -261,7 +247,7 @@ static int keyword_ignored(const char *k)
 static void note_tag(q2n_mesh_read_info *info, char *cur, long line)
 {
     if (!info) return;
-    char *name = next_tok(&cur);
+    char *name = q2n_rd_tok(&cur);
     if (!info->tags++) info->tag_line = line;
     if (!name) return;
     size_t have = strlen(info->tag_names), n = strlen(name);
@@ -286,7 +272,7 @@ static q2n_status parse_all(obj_src *s, obj_data *d, const char *name, q2n_mesh_
             return q2n_error_set(err, Q2N_ERR_PARSE, "%s: NUL byte in line", where);
         char *hash = strchr(s->lb, '#');
         if (hash) *hash = '\0';
-        char *cur = s->lb, *kw = next_tok(&cur);
+        char *cur = s->lb, *kw = q2n_rd_tok(&cur);
         q2n_status st = Q2N_OK;
         if (!kw || keyword_ignored(kw)) continue;
         if (!strcmp(kw, "t")) note_tag(info, cur, line);
