@@ -349,7 +349,7 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
         double al = order == 1 ? E->alpha : E->alpha * E->alpha;
         for (int s = 0; s + 1 < nb && !st; s++)
             for (int q = 0; q < 6; q++) {
-                double x = cos(3.14159265358979323846 * (2 * q + 1) / 12.0), t = brk[s] + (brk[s + 1] - brk[s]) * 0.5 * (1.0 - x);
+                double x = cos(Q2N_PI * (2 * q + 1) / 12.0), t = brk[s] + (brk[s + 1] - brk[s]) * 0.5 * (1.0 - x);
                 double *rhs, *row = block_row(bl, 1, &rhs);
                 if (!row) { st = Q2N_ERR_NOMEM; break; }
                 rhs[0] = rhs[1] = rhs[2] = 0.0;

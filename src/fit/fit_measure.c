@@ -15,7 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FIT_PI 3.14159265358979323846
 #define FIT_SQRT1_2 0.70710678118654752440
 
 /* Normal-curvature of a surface (derivatives d[18], unit normal n) in the tangent direction
@@ -57,7 +56,7 @@ void q2n_fit_jumps(const double *dL, const double *dR, const double T[3], double
      * side of a degenerate face) has no normal or curvature to compare: it measures nothing */
     if (!unit_normal(dL, nL) || !unit_normal(dR, nR) || !(lt > 0) || !isfinite(lt)) return;
     q2n_v3_cross(c, nL, nR);
-    *g1 = atan2(q2n_v3_norm(c), q2n_v3_dot(nL, nR)) * (180.0 / FIT_PI);
+    *g1 = atan2(q2n_v3_norm(c), q2n_v3_dot(nL, nR)) * (180.0 / Q2N_PI);
     double t[3], x[3], w[3];
     q2n_v3_scale(t, 1.0 / lt, T);
     q2n_v3_cross(x, nL, t);

@@ -11,6 +11,7 @@
  * Errors: "FILE:LINE: reason" (the line where the record starts), "FILE: strerror" when the file
  * cannot be read.  After parsing, q2n_mesh_from_arrays_lines validates the topology. */
 #include "mesh/mesh.h"
+#include "mesh/mesh_policy.h"
 #include "mesh/reader.h"
 
 #include <errno.h>
@@ -44,8 +45,6 @@ typedef struct obj_src {
     char *lb;               /* current logical line, NUL-terminated */
     size_t lbn, lbcap;
 } obj_src;
-
-#define OBJ_MAX_COUNT ((size_t)INT_MAX - 1) /* every count must fit an int */
 
 static int grow(void **p, size_t *cap, size_t need, size_t elem)
 {
@@ -149,7 +148,7 @@ static q2n_status parse_vertex(obj_data *d, char *cur, const char *where, q2n_er
         return q2n_error_set(err, Q2N_ERR_PARSE, "%s: %s numbers in a v record (expected x y z "
                              "[w] or x y z r g b)", where, k > 8 ? "more than 8" : k == 5 ? "5" :
                              k == 7 ? "7" : "8");
-    if (d->nv >= OBJ_MAX_COUNT)
+    if (d->nv >= Q2N_MESH_MAX_COUNT)
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: more than 2^31-2 vertices", where);
     if (!grow((void **)&d->pos, &d->cap_v, 3 * (d->nv + 1), sizeof *d->pos))
         return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", where);
@@ -213,7 +212,7 @@ static q2n_status parse_face(obj_data *d, char *cur, long line, const char *wher
         int idx = 0;
         q2n_status st = parse_corner(t, d->nv, where, &idx, err);
         if (st) return st;
-        if (d->nfv >= OBJ_MAX_COUNT)
+        if (d->nfv >= Q2N_MESH_MAX_COUNT)
             return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: more than 2^31-2 face vertices",
                                  where);
         if (!grow((void **)&d->fvert, &d->cap_fv, d->nfv + 1, sizeof *d->fvert))
@@ -224,7 +223,7 @@ static q2n_status parse_face(obj_data *d, char *cur, long line, const char *wher
     if (n < 3)
         return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face with %s%zu vert%s (a face needs at least 3)",
                              where, n ? "only " : "", n, n == 1 ? "ex" : "ices");
-    if (d->nf >= OBJ_MAX_COUNT)
+    if (d->nf >= Q2N_MESH_MAX_COUNT)
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: more than 2^31-2 faces", where);
     if (!grow((void **)&d->fstart, &d->cap_fs, d->nf + 2, sizeof *d->fstart) ||
         !grow((void **)&d->fline, &d->cap_fl, d->nf + 1, sizeof *d->fline))

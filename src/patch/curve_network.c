@@ -217,8 +217,8 @@ q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet 
      * T × T = 0; only n'·D turns D (D' · n = -n'·D).  D and D' at the ends, hence the corner
      * values, the twists and the G1/G2 argument above, are unchanged.  The T-component (the
      * normal curvature along the edge) otherwise tilts the interior of the cubic n(t) towards
-     * the edge tangent: on osd_catmark_gregory_test1 (face 6) |n × T|/|n| fell to 0.0047 and D
-     * swung around the edge within Δt ≈ 0.1, a derivative spike of 48 x the median. */
+     * the edge tangent: |n × T|/|n| can fall to a few thousandths, and D then swings around the
+     * edge within a short stretch, a derivative spike the fit cannot follow. */
     {
         double k0 = q2n_v3_dot(n0[1], R0.D[0]), k1 = q2n_v3_dot(n1[1], R1.D[0]);
         for (int c = 0; c < 3; c++) { n0[1][c] = k0 * R0.D[0][c]; n1[1][c] = k1 * R1.D[0][c]; }
@@ -231,8 +231,7 @@ q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet 
      * (larger min over the ends of |a| / |χ|, the sine of the angle to the edge).  The derived
      * side divides by the base side's a (α = a_R / a_L): with the other choice, a face meeting
      * the edge at a small angle made α and its derivatives large, and the derived data wild
-     * near the vertex (crane_spot --subdivide 1, valence-6 vertices: mixed corner derivatives
-     * 20-40 x those of the base side). */
+     * near the vertex (mixed corner derivatives tens of times those of the base side). */
     int hs[2] = {h, tw};
     if (tw >= 0) {
         double sn[2];
