@@ -44,6 +44,7 @@
 
 /* ---- solves and corner points ---- */
 #define Q2N_FIT_LS_RCOND 1e-13          /* a direct-solver block with a singular value below this (relative) is rank deficient, an error: the blocks are well overdetermined, only a broken one comes near */
+#define Q2N_FIT_FOOT_STEPS 8           /* Gauss-Newton steps of a foot-point distance: it starts at the parametric foot, a few steps converge, the cap bounds the cost */
 #define Q2N_FIT_INTERP_REL 1e-9         /* a construction whose corner lies this close (relative) to the vertex interpolates it and the vertex is kept exactly; farther (ACC) its corner is */
 
 /* ---- exact Bézier conversion ---- */
