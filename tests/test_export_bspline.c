@@ -1,4 +1,4 @@
-/* test_export_bspline.c — q2n_bspline_eval / q2n_bspline_check against independent references:
+/* test_export_bspline.c — q2n_bspline_basis / _eval / _check against independent references:
  * Bernstein closed forms (one-span surfaces), finite differences of the evaluator's derivatives on
  * multi-span rational surfaces, the exact rational quarter circle, and the check's error cases. */
 #include "check.h"
@@ -42,8 +42,38 @@ static void make_surface(q2n_bspline_surface *s, int du, int dv, int nu, int nv,
         for (int i = 0; i < nu * nv; i++) s->weights[i] = 1.0 + 0.5 * rnd(&seed);
 }
 
+/* q2n_bspline_basis on one span (clamped [0,1], degree p): the Bernstein polynomials and their
+ * first and second derivatives in closed form, B' = p (B_{p-1,i-1} - B_{p-1,i}), B'' likewise
+ * (Farin, CAGD §5.3); orders above p are zero. */
+static void test_basis(void)
+{
+    double worst = 0;
+    for (int p = 1; p <= 7; p++) {
+        double kv[16], ders[3 * 16];
+        for (int i = 0; i <= p; i++) kv[i] = 0, kv[p + 1 + i] = 1;
+        for (int s = 0; s <= 8; s++) {
+            double t = s / 8.0;
+            int span = q2n_bspline_span(p + 1, p, kv, t);
+            CHECK(span == p, "degree %d, t %g: span %d (the only one is %d)", p, t, span, p);
+            q2n_bspline_basis(span, p, kv, t, 2, ders);
+            for (int i = 0; i <= p; i++) {
+                double b1 = p * ((i ? bern(p - 1, i - 1, t) : 0) - (i < p ? bern(p - 1, i, t) : 0));
+                double b2 = 0;
+                if (p >= 2)
+                    b2 = p * (p - 1) * ((i >= 2 ? bern(p - 2, i - 2, t) : 0) - 2 * (i >= 1 && i - 1 <= p - 2 ? bern(p - 2, i - 1, t) : 0) +
+                                        (i <= p - 2 ? bern(p - 2, i, t) : 0));
+                worst = fmax(worst, fabs(ders[i] - bern(p, i, t)));
+                worst = fmax(worst, fabs(ders[(p + 1) + i] - b1) / p);
+                worst = fmax(worst, fabs(ders[2 * (p + 1) + i] - b2) / (p * p));
+            }
+        }
+    }
+    CHECK(worst < 1e-13, "basis and derivatives up to 2 vs Bernstein closed forms: %.3g", worst);
+}
+
 int main(void)
 {
+    test_basis();
     q2n_error err;
     /* 1. One-span bi-quintic (Bézier) surface with weights: closed form sum B_i B_j w P / sum B_i B_j w. */
     {

@@ -6,11 +6,16 @@
  *   - stages include only earlier stages (folders of src/, in pipeline order), and src/cli/ uses
  *     only the public header include/quad2nurbs.h;
  *   - the face parametrization is declared once (src/patch/surface.h): no copy of its corner or
- *     side tables elsewhere in src/ or tests/ (test_augmented.c writes it out as its reference).
+ *     side tables elsewhere in src/ or tests/ (test_augmented.c writes it out as its reference);
+ *   - policy lives in the stages' policy headers (*policy.h): no #define of a floating-point
+ *     value in a src/ .c file, and every small literal threshold (1e-N) left in src/ code is on
+ *     an explicit list of numerical guards (rounding floors, singularity tests, difference steps);
+ *   - no src/ file names a shared test mesh (mesh stories go to docs/ and commit messages).
  * Each rule's checker is also run on a made-up violation, so that the test can fail. */
 #include <ctype.h>
 #include <dirent.h>
 #include <libgen.h>
+#include <strings.h>
 
 #include "check.h"
 
@@ -266,7 +271,7 @@ static void test_stages(void)
 /* The face parametrization's tables as they are written out (spacing normalised). */
 static const char *const TABLES[] = {"{0,0},{1,0},{1,1},{0,1}", "{1,-1,-1,1}", "{0,1,1,0}",
                                      "{1,0},{0,1},{-1,0},{0,-1}", "{0,1},{-1,0},{0,-1},{1,0}",
-                                     "{0,0},{1,0},{0,1},{2,0},{1,1},{0,2}", NULL};
+                                     "{0,0},{1,0},{0,1},{2,0},{1,1},{0,2}", "{0,1,0,2,1,0}", NULL};
 /* Their one home, the test that writes the table out as its reference, and this file. */
 static const char *const TABLE_HOMES[] = {"src/patch/surface.c", "tests/test_augmented.c", "tests/test_layout.c", NULL};
 
@@ -310,11 +315,171 @@ static void test_conventions(void)
     CHECK(all.bad == 0, "%d copies of convention tables, the first: %s", all.bad, all.first);
 }
 
+/* ------------------------------------------------------------------ policy */
+
+/* Small literals (digits, optional fraction, e-N) allowed in src/ code outside the policy headers,
+ * by file: numerical guards whose value follows from floating point, not from judgement. */
+typedef struct allowed_literal { const char *file, *literals, *why; } allowed_literal;
+static const allowed_literal ALLOWED[] = {
+    {"src/acc/acc_quality.c", "1e-300", "division floor"},
+    {"src/patch/surface.c", "1e-15", "Gauss-Newton step at rounding"},
+    {"src/fit/fit_target.c", "1e-30", "CG stops when the residual underflows"},
+    {"src/fit/fit_measure.c", "1e-14", "a distance at rounding needs no projection"},
+    {"src/patch/ev_derivatives.c", "1e-14", "singular 2x2 test relative to rounding"},
+    {"src/patch/curve_network.c", "1e-14 1e-300", "singular 2x2 test; division floor"},
+    {"src/patch/ev_harmonize.c", "1e-6 1e-9 1e-300 1e-10", "probe step; Cholesky jitter; division floor"},
+    {"src/patch/ev_fair.c", "1e-4 1e-12", "central-difference step; singular 2x2 test"},
+    {"src/core/poly.c", "1e-15", "Newton's iteration at rounding"},
+    {"src/core/clock.c", "1e-9", "nanoseconds"},
+    {"src/cli/main.c", "1e-12 1e-3 1e-6 1e-9", "unit prefixes; the --scale range (item 5 moves it into api/policy.h)"},
+    {"src/api/api.c", "1e-12", "the --scale range (item 5 moves it into api/policy.h)"},
+    {NULL, NULL, NULL}};
+/* #define of a floating-point value allowed in a .c file: constants of a formula. */
+static const char *const ALLOWED_DEFINES[] = {"FIT_SQRT1_2", NULL};
+
+static int ends_with(const char *s, const char *t) { size_t a = strlen(s), b = strlen(t); return a >= b && !strcmp(s + a - b, t); }
+
+static int literal_allowed(const char *path, const char *lit)
+{
+    for (const allowed_literal *a = ALLOWED; a->file; a++)
+        if (ends_with(path, a->file)) {
+            size_t n = strlen(lit);
+            for (const char *p = a->literals; (p = strstr(p, lit)); p += n)
+                if ((p == a->literals || p[-1] == ' ') && (p[n] == 0 || p[n] == ' ')) return 1;
+        }
+    return 0;
+}
+
+/* Strings blanked (comments already are), so that messages do not count as code. */
+static void blank_strings(char *s)
+{
+    for (char *p = s; *p; p++)
+        if (*p == '"' || *p == '\'') {
+            char q = *p;
+            for (p++; *p && *p != q && *p != '\n'; p++) {
+                if (*p == '\\' && p[1]) *p++ = ' ';
+                *p = ' ';
+            }
+            if (!*p) return;
+        }
+}
+
+static void check_policy(const char *path, const char *text, void *arg)
+{
+    header_report *r = arg;
+    if (!ends_with(path, ".c") && !ends_with(path, ".cpp")) return;
+    r->files++;
+    char *t = strdup(text);
+    if (!t) return;
+    strip_comments(t);
+    blank_strings(t);
+    int line = 1;
+    for (char *s = t; *s;) {
+        char *e = strchr(s, '\n');
+        if (e) *e = 0;
+        const char *q = s;
+        while (isspace((unsigned char)*q)) q++;
+        char what[300];
+        if (!strncmp(q, "#define", 7)) { /* #define NAME value: a floating-point value is policy */
+            char name[128] = "", val[128] = "";
+            if (sscanf(q + 7, " %127[A-Za-z0-9_] %127s", name, val) == 2 && !strchr(name, '(')) {
+                const char *v = val;
+                while (*v == '(') v++;
+                int isnum = isdigit((unsigned char)*v) || (*v == '.' && isdigit((unsigned char)v[1]));
+                int isfloat = isnum && strpbrk(v, ".eE") && strncmp(v, "0x", 2);
+                int ok = 0;
+                for (const char *const *a = ALLOWED_DEFINES; *a; a++) ok |= !strcmp(*a, name);
+                if (isfloat && !ok) {
+                    snprintf(what, sizeof what, "#define %.100s %.60s: a tuned value belongs in the stage's policy header", name, val);
+                    report(r, path, line, what);
+                }
+            }
+        } else
+            for (const char *p = q; *p; p++) { /* literals d[.d]e-N not inside a name */
+                if (!isdigit((unsigned char)*p) || (p > q && (isalnum((unsigned char)p[-1]) || p[-1] == '_' || p[-1] == '.')))
+                    continue;
+                const char *b = p;
+                while (isdigit((unsigned char)*p) || *p == '.') p++;
+                if ((*p == 'e' || *p == 'E') && p[1] == '-' && isdigit((unsigned char)p[2])) {
+                    p += 2;
+                    while (isdigit((unsigned char)*p)) p++;
+                    char lit[64];
+                    snprintf(lit, sizeof lit, "%.*s", (int)(p - b < 63 ? p - b : 63), b);
+                    if (!literal_allowed(path, lit)) {
+                        snprintf(what, sizeof what, "literal threshold %s: move it to the stage's policy header with its why "
+                                 "(or list it in test_layout.c's numerical guards)", lit);
+                        report(r, path, line, what);
+                    }
+                }
+                if (!*p) break;
+            }
+        line++;
+        if (!e) break;
+        s = e + 1;
+    }
+    free(t);
+}
+
+static void test_policy(void)
+{
+    header_report r = {0};
+    check_policy("src/fit/x.c", "#define SPIKE 10.0 /* ratio */\n#define N 4\n#define TWO_PI (2 * Q2N_PI)\n", &r);
+    CHECK(r.bad == 1, "a #define of a tuned float is found, integers and expressions pass (%d)", r.bad);
+    r.bad = 0;
+    check_policy("src/core/clock.c", "double t = 1e-9 * ns; /* 1e-3 */ const char *m = \"1e-7\";\n"
+                                      "if (x < 2.5e-8 * d) y = 1e-9;\n", &r);
+    CHECK(r.bad == 1 && strstr(r.first, "2.5e-8"), "an unlisted literal threshold is found, listed ones, comments "
+          "and strings pass: %d, %s", r.bad, r.first);
+    header_report all = {0};
+    static const char *const sfx[] = {".c", ".cpp", NULL};
+    each_file("src", sfx, check_policy, &all);
+    CHECK(all.files > 40, "%d source files read", all.files);
+    CHECK(all.bad == 0, "%d policy-rule violations, the first: %s", all.bad, all.first);
+}
+
+/* ------------------------------------------------------------------ mesh stories */
+
+/* The shared test meshes by name (../shared/meshes); src/ states reasons generally. */
+static const char *const MESH_NAMES[] = {"pawn", "helmet", "crane_spot", "rook", "osd_catmark", "gismo_", "polycube",
+                                         "carpet", "gregory_test", "fvar_bound", "bitorus", "righthanded",
+                                         "octtorus", "demo_torus", NULL};
+
+static void check_mesh_names(const char *path, const char *text, void *arg)
+{
+    header_report *r = arg;
+    r->files++;
+    int line = 1;
+    for (const char *s = text; *s; s++) {
+        if (*s == '\n') { line++; continue; }
+        for (const char *const *n = MESH_NAMES; *n; n++) {
+            size_t k = strlen(*n);
+            if (!strncasecmp(s, *n, k)) {
+                char what[200];
+                snprintf(what, sizeof what, "names the test mesh '%s' (state the reason generally; the case goes to docs/)", *n);
+                report(r, path, line, what);
+            }
+        }
+    }
+}
+
+static void test_mesh_names(void)
+{
+    header_report r = {0};
+    check_mesh_names("src/patch/x.c", "/* the cap keeps\n * osd_catmark_helmet smooth */\nint x;\n", &r);
+    CHECK(r.bad >= 1 && strstr(r.first, ":2:"), "a comment naming a shared mesh is found (%s)", r.first);
+    header_report all = {0};
+    static const char *const sfx[] = {".h", ".c", ".cpp", NULL};
+    each_file("src", sfx, check_mesh_names, &all);
+    CHECK(all.bad == 0, "%d mentions of shared meshes in src/, the first: %s", all.bad, all.first);
+}
+
 int main(void)
 {
     test_symbols();
     test_headers();
     test_stages();
     test_conventions();
+    test_policy();
+    test_mesh_names();
     CHECK_DONE("test_layout");
 }

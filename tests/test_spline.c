@@ -134,6 +134,67 @@ static void test_blend(void)
     }
 }
 
+/* core/jet.h against closed forms at t0: (e^t sin t)^(k) = 2^(k/2) e^t sin(t + kπ/4),
+ * (1/(3+t))^(k) = (-1)^k k! / (3+t)^(k+1), (e^(2t))^(-1/2) = e^(-t); vector rules on
+ * A = (cos t, sin t, 0), B = (-sin t, cos t, 0): A·A = 1, A×B = (0, 0, 1), e^t A; and the order-2
+ * value type equal bit for bit to the array rules for n = 2 (its comment promises that). */
+static void test_jets(void)
+{
+    const int n = Q2N_JET_MAXN;
+    const double PI = 3.14159265358979323846;
+    double worst = 0;
+    for (int rep = 0; rep < 4; rep++) {
+        double t = -0.7 + 0.6 * rep, e = exp(t), ex[Q2N_JET_MAXN + 1], sn[Q2N_JET_MAXN + 1], lin[Q2N_JET_MAXN + 1];
+        double e2[Q2N_JET_MAXN + 1], r[Q2N_JET_MAXN + 1], fact = 1;
+        for (int k = 0; k <= n; k++) {
+            ex[k] = e;
+            sn[k] = sin(t + k * PI / 2);
+            lin[k] = k == 0 ? 3 + t : k == 1 ? 1 : 0; /* 3 + t */
+            e2[k] = pow(2, k) * exp(2 * t);
+        }
+        q2n_jet_mul_n(n, ex, sn, r);
+        for (int k = 0; k <= n; k++) worst = fmax(worst, fabs(r[k] - pow(2, 0.5 * k) * e * sin(t + k * PI / 4)));
+        q2n_jet_inv_n(n, lin, r);
+        for (int k = 0; k <= n; k++) {
+            if (k) fact *= k;
+            worst = fmax(worst, fabs(r[k] - (k % 2 ? -1 : 1) * fact / pow(3 + t, k + 1)));
+        }
+        q2n_jet_rsqrt_n(3, e2, r);
+        for (int k = 0; k <= 3; k++) worst = fmax(worst, fabs(r[k] - (k % 2 ? -1 : 1) * exp(-t)));
+        double A[Q2N_JET_MAXN + 1][3], B[Q2N_JET_MAXN + 1][3], R[Q2N_JET_MAXN + 1][3], d[Q2N_JET_MAXN + 1];
+        for (int k = 0; k <= n; k++) {
+            A[k][0] = cos(t + k * PI / 2), A[k][1] = sin(t + k * PI / 2), A[k][2] = 0;
+            B[k][0] = -sin(t + k * PI / 2), B[k][1] = cos(t + k * PI / 2), B[k][2] = 0;
+        }
+        q2n_jet3_dot(n, A, A, d);
+        for (int k = 0; k <= n; k++) worst = fmax(worst, fabs(d[k] - (k == 0)));
+        q2n_jet3_cross(n, A, B, R);
+        for (int k = 0; k <= n; k++) worst = fmax(worst, fabs(R[k][0]) + fabs(R[k][1]) + fabs(R[k][2] - (k == 0)));
+        q2n_jet3_scale(n, ex, A, R);
+        q2n_jet3_add(n, R, B, R); /* e^t (cos t, sin t) + B */
+        for (int k = 0; k <= n; k++) {
+            double s = pow(2, 0.5 * k) * e;
+            worst = fmax(worst, fabs(R[k][0] - (s * cos(t + k * PI / 4) + B[k][0])));
+            worst = fmax(worst, fabs(R[k][1] - (s * sin(t + k * PI / 4) + B[k][1])));
+        }
+    }
+    CHECK(worst < 1e-12, "array jets vs closed forms: %.3g", worst);
+    unsigned seed = 11;
+    int same = 1;
+    for (int rep = 0; rep < 1000; rep++) {
+        q2n_jet a, b;
+        for (int k = 0; k < 3; k++) a.d[k] = 4 * rnd(&seed) - 2, b.d[k] = 4 * rnd(&seed) - 2;
+        a.d[0] += a.d[0] < 0 ? -0.1 : 0.1;
+        double m[3], i[3];
+        q2n_jet_mul_n(2, a.d, b.d, m);
+        q2n_jet_inv_n(2, a.d, i);
+        q2n_jet pm = q2n_jet_mul(a, b), pi = q2n_jet_inv(a);
+        same &= !memcmp(m, pm.d, sizeof m) && !memcmp(i, pi.d, sizeof i);
+        same &= q2n_jet_deriv(pm, 2) == m[2];
+    }
+    CHECK(same, "the order-2 jet type equals the array rules for n = 2 bit for bit");
+}
+
 /* Coefficients on jets: derivatives with respect to a parameter the intervals depend on. */
 static void test_coeff_jets(void)
 {
@@ -148,13 +209,13 @@ static void test_coeff_jets(void)
             q2n_jet Cm[Q2N_SPLINE_MAXB * Q2N_SPLINE_MAXW], Cp[Q2N_SPLINE_MAXB * Q2N_SPLINE_MAXW];
             for (int i = 0; i < w - 1; i++) d[i] = q2n_spline_blend(2, 0.5 + i, 2.5 - 0.3 * i, t0);
             q2n_spline_coeffs(c, d, C);
-            for (int i = 0; i < w - 1; i++) d[i] = q2n_jet_const(q2n_spline_blend(2, 0.5 + i, 2.5 - 0.3 * i, t0 - hh).c[0]);
+            for (int i = 0; i < w - 1; i++) d[i] = q2n_jet_const(q2n_spline_blend(2, 0.5 + i, 2.5 - 0.3 * i, t0 - hh).d[0]);
             q2n_spline_coeffs(c, d, Cm);
-            for (int i = 0; i < w - 1; i++) d[i] = q2n_jet_const(q2n_spline_blend(2, 0.5 + i, 2.5 - 0.3 * i, t0 + hh).c[0]);
+            for (int i = 0; i < w - 1; i++) d[i] = q2n_jet_const(q2n_spline_blend(2, 0.5 + i, 2.5 - 0.3 * i, t0 + hh).d[0]);
             q2n_spline_coeffs(c, d, Cp);
             for (int i = 0; i < c->nb * w; i++) {
-                double fd1 = (Cp[i].c[0] - Cm[i].c[0]) / (2 * hh);
-                double fd2 = (Cp[i].c[0] - 2 * C[i].c[0] + Cm[i].c[0]) / (hh * hh);
+                double fd1 = (Cp[i].d[0] - Cm[i].d[0]) / (2 * hh);
+                double fd2 = (Cp[i].d[0] - 2 * C[i].d[0] + Cm[i].d[0]) / (hh * hh);
                 worst = fmax(worst, fabs(q2n_jet_deriv(C[i], 1) - fd1) / (1 + fabs(fd1)));
                 worst = fmax(worst, 1e-3 * fabs(q2n_jet_deriv(C[i], 2) - fd2) / (1 + fabs(fd2)));
             }
@@ -169,6 +230,7 @@ int main(void)
     for (const q2n_spline_class *const *c = q2n_spline_classes(); *c; c++) test_class_properties(*c);
     test_blend();
     test_coeff_jets();
+    test_jets();
     CHECK(q2n_spline_class_find("nope") == NULL, "unknown class");
     CHECK_DONE("test_spline");
 }

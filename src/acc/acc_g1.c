@@ -18,6 +18,7 @@
  * Example-2 fractions are not reproduced, with M_{1,0} they are, exactly.  Eq. (31)'s second
  * line has a sign slip; we use M_{1,2}^{(0)} = r - M_{2,1}, which is what (30) requires. */
 #include "acc/acc_masks.h"
+#include "core/vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -25,7 +26,6 @@
 
 #include "core/dense.h"
 
-#define ACC_PI 3.14159265358979323846
 
 typedef struct g1ctx {
     int n;          /* sectors */
@@ -155,7 +155,7 @@ q2n_status q2n_acc_g1_interior(int N, int dim, q2n_acc_strategy st, double **P, 
 {
     if (N < 3 || N == 4) return q2n_error_set(err, Q2N_ERR_ARG, "acc-g1: interior valence %d is not an EV", N);
     g1ctx g;
-    q2n_status s = g1_alloc(&g, N, dim, st, P, 2.0 * cos(2.0 * ACC_PI / N), err);
+    q2n_status s = g1_alloc(&g, N, dim, st, P, 2.0 * cos(2.0 * Q2N_PI / N), err);
     if (s != Q2N_OK) return s;
     const double *b00 = AP(&g, 0, 0, 0);
     int even = (N % 2 == 0);
@@ -165,7 +165,7 @@ q2n_status q2n_acc_g1_interior(int N, int dim, q2n_acc_strategy st, double **P, 
         double *x = SEQ(g.x, &g, k);
         memcpy(x, b00, (size_t)dim * sizeof *x);
         for (int j = 0; j < N; j++) {
-            double c = 2.0 / N * cos(2.0 * ACC_PI * (k - j) / N);
+            double c = 2.0 / N * cos(2.0 * Q2N_PI * (k - j) / N);
             const double *xa = AP(&g, j, 1, 0);
             for (int t = 0; t < dim; t++) x[t] += c * xa[t];
         }
@@ -197,7 +197,7 @@ q2n_status q2n_acc_g1_interior(int N, int dim, q2n_acc_strategy st, double **P, 
             G[j] = 0;
             for (int m = 0; m < N; m++) {
                 if (even && 2 * m == N) continue;
-                double ph = 2.0 * ACC_PI * m / N;
+                double ph = 2.0 * Q2N_PI * m / N;
                 G[j] += cos(ph * (j + 0.5)) / (2.0 * cos(ph / 2.0));
             }
             G[j] /= N;
@@ -233,7 +233,7 @@ q2n_status q2n_acc_g1_boundary(int K, int dim, q2n_acc_strategy st, double **P, 
 {
     if (K < 3) return q2n_error_set(err, Q2N_ERR_ARG, "acc-g1: boundary vertex with %d faces is not an EV", K);
     g1ctx g;
-    double th = ACC_PI / K;
+    double th = Q2N_PI / K;
     q2n_status s = g1_alloc(&g, K, dim, st, P, 2.0 * cos(th), err);
     if (s != Q2N_OK) return s;
     const double *b00 = AP(&g, 0, 0, 0), *x0 = AP(&g, 0, 1, 0);

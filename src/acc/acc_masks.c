@@ -17,12 +17,12 @@
  *    (4v + 2a + 2b + d)/9.  Exact at regular boundary vertices and corners; at boundary EVs the
  *    ACC3 surface is only C0 anyway and acc-g1 recomputes these points (eq. 34, seed 001 §5.4). */
 #include "acc/acc_masks.h"
+#include "core/vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define ACC_PI 3.14159265358979323846
 
 static inline void axpy(double *y, double a, const double *x, int dim)
 {
@@ -158,7 +158,7 @@ static void corner_point(const ring *g, const double *val, int dim, double *out)
  * Scale: a = 4/(3n + C) (the Loop–Schaefer normalisation, so that n = 2 is the B-spline). */
 static void cross_tangent_weights(int n, double *wv, double *wb, double *a, double *b)
 {
-    double th = ACC_PI / n, C = cos(th), S = 0;
+    double th = Q2N_PI / n, C = cos(th), S = 0;
     for (int i = 1; i < n; i++) S += sin(i * th);
     *a = 4.0 / (3.0 * n + C);
     if (n == 2) { /* regular boundary vertex: B-spline cross tangent [-4v - (e_0+e_2) + 4e_1 + f_0 + f_1]/6 */
@@ -199,7 +199,7 @@ static void edge_point(const ring *g, int j, const double *val, int dim, double 
     }
     /* interior edge at a boundary vertex with n faces: E_j = P + (cos(jθ) T_b + sin(jθ) T_x)/3,
      * θ = π/n, T_b = (e_0 - e_n)/2 (formulas.md §1.4), T_x the cross-boundary limit tangent */
-    double th = ACC_PI / n, cj = cos(j * th) / 3.0, sj = sin(j * th) / 3.0;
+    double th = Q2N_PI / n, cj = cos(j * th) / 3.0, sj = sin(j * th) / 3.0;
     corner_point(g, val, dim, out);
     axpy(out, cj * 0.5, V(val, dim, ring_e(g, 0)), dim);
     axpy(out, -cj * 0.5, V(val, dim, ring_e(g, n)), dim);
@@ -222,11 +222,11 @@ static void vertex_normal(const ring *g, const double *pos, double *out)
     const double *pv = V(pos, 3, g->v);
     int n = g->n;
     if (!g->bnd) {
-        double c = cos(ACC_PI / n), q = 1.0 / (n * sqrt(4.0 + c * c));
+        double c = cos(Q2N_PI / n), q = 1.0 / (n * sqrt(4.0 + c * c));
         for (int i = 0; i < n; i++) {
-            double a0 = (1.0 / n + c * q) * cos(2 * ACC_PI * i / n), b0 = q * cos((2 * ACC_PI * i + ACC_PI) / n);
-            double a1 = (1.0 / n + c * q) * cos(2 * ACC_PI * (i - 1) / n),
-                   b1 = q * cos((2 * ACC_PI * (i - 1) + ACC_PI) / n);
+            double a0 = (1.0 / n + c * q) * cos(2 * Q2N_PI * i / n), b0 = q * cos((2 * Q2N_PI * i + Q2N_PI) / n);
+            double a1 = (1.0 / n + c * q) * cos(2 * Q2N_PI * (i - 1) / n),
+                   b1 = q * cos((2 * Q2N_PI * (i - 1) + Q2N_PI) / n);
             axpy(t0, a0, V(pos, 3, ring_e(g, i)), 3);
             axpy(t0, b0, V(pos, 3, ring_f(g, i)), 3);
             axpy(t1, a1, V(pos, 3, ring_e(g, i)), 3);
@@ -238,7 +238,7 @@ static void vertex_normal(const ring *g, const double *pos, double *out)
         axpy(t1, 1, V(pos, 3, ring_e(g, 1)), 3);
         axpy(t1, -1, pv, 3);
     } else {
-        double th = ACC_PI / n, wv, wb, a, b;
+        double th = Q2N_PI / n, wv, wb, a, b;
         cross_tangent_weights(n, &wv, &wb, &a, &b);
         axpy(t0, 0.5, V(pos, 3, ring_e(g, 0)), 3);
         axpy(t0, -0.5, V(pos, 3, ring_e(g, n)), 3);

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "acc/acc_masks.h"
+#include "acc/acc_policy.h"
 #include "core/poly.h"
 #include "core/vec3.h"
 
@@ -78,24 +79,10 @@ q2n_status q2n_acc_quality_measure(const q2n_surface *s, const q2n_mesh *m, int 
     return Q2N_OK;
 }
 
-/* Gauss–Newton projection of p onto patch k from (u,v), clamped to the unit square. */
+/* Projection of p onto patch k from (u,v), clamped to the unit square. */
 static void project(const q2n_surface *s, int k, const double p[3], double *u, double *v)
 {
-    for (int it = 0; it < 20; it++) {
-        double e[9], r[3];
-        if (q2n_surface_eval(s, k, *u, *v, 1, e) != Q2N_OK) return;
-        q2n_v3_sub(r, p, e);
-        const double *Su = e + 3, *Sv = e + 6;
-        double a = q2n_v3_dot(Su, Su), b = q2n_v3_dot(Su, Sv), c = q2n_v3_dot(Sv, Sv);
-        double g1 = q2n_v3_dot(Su, r), g2 = q2n_v3_dot(Sv, r), det = a * c - b * b;
-        if (!(det > 0)) return;
-        double du = (c * g1 - b * g2) / det, dv = (a * g2 - b * g1) / det;
-        double nu = fmin(1.0, fmax(0.0, *u + du)), nv = fmin(1.0, fmax(0.0, *v + dv));
-        double step = fabs(nu - *u) + fabs(nv - *v);
-        *u = nu;
-        *v = nv;
-        if (step < 1e-15) return;
-    }
+    q2n_surface_project(s, k, p, Q2N_ACC_PROJECT_STEPS, u, v);
 }
 
 /* Try patch g for the closest point of p (from its centre); keep it when it is closer. */

@@ -7,10 +7,10 @@
 /* Resident memory of the program before any mesh (libraries, Ceres, glog): the estimate's floor. */
 #define Q2N_MEM_BASE 8e6
 /* Bytes per face of the construction (mesh, half-edges, parameters, patch data): what `sample`
- * and .obj runs peak at (1.36 KB on a 10 000-face torus). */
+ * and .obj runs peak at. */
 #define Q2N_MEM_BUILD_PER_FACE 1400.0
-/* Bytes per face the fit adds at its peak with one knot span per patch (3.9 KB at 10 000 and
- * 90 000 faces); refinement multiplies it roughly by the spans per patch, so the estimate is a
+/* Bytes per face the fit adds at its peak with one knot span per patch (the same at every mesh
+ * size measured); refinement multiplies it roughly by the spans per patch, so the estimate is a
  * lower bound for refined fits.  STEP and IGES are streamed into their files: no memory. */
 #define Q2N_MEM_FIT_PER_FACE 3900.0
 /* Output bytes per face at one span per patch (the fit may refine: again a lower bound). */

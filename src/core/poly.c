@@ -1,10 +1,10 @@
 /* poly.c — binomials, power-basis derivatives, degree elevation, Gauss–Legendre (poly.h). */
 #include "core/poly.h"
+#include "core/vec3.h"
 
 #include <math.h>
 #include <string.h>
 
-#define POLY_PI 3.14159265358979323846
 
 const double q2n_binom[Q2N_BINOM_MAX + 1][Q2N_BINOM_MAX + 1] = {
     {1},
@@ -81,7 +81,7 @@ void q2n_bezier_elevate(int du, int dv, int mu, int mv, int dim, const double *c
 void q2n_gauss_legendre01(int n, double *x, double *w)
 {
     for (int i = 0; i < n; i++) {
-        double z = cos(POLY_PI * (i + 0.75) / (n + 0.5)), pp = 1;
+        double z = cos(Q2N_PI * (i + 0.75) / (n + 0.5)), pp = 1;
         for (int it = 0; it < 100; it++) {
             double p0 = 1, p1 = 0;
             for (int j = 0; j < n; j++) { double p2 = p1; p1 = p0; p0 = ((2 * j + 1) * z * p1 - j * p2) / (j + 1); }

@@ -4,6 +4,9 @@
 
 #include <math.h>
 
+/* π (math.h's M_PI is POSIX, not C11). */
+#define Q2N_PI 3.14159265358979323846
+
 static inline void q2n_v3_sub(double r[3], const double a[3], const double b[3])
 { r[0] = a[0] - b[0]; r[1] = a[1] - b[1]; r[2] = a[2] - b[2]; }
 static inline void q2n_v3_add(double r[3], const double a[3], const double b[3])

@@ -9,12 +9,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-/* Highest degree the evaluator supports (stack buffers); q2n_bspline_check enforces it. */
-#define Q2N_BSPLINE_MAX_DEG 15
 
-/* Knot span index i with knots[i] <= t < knots[i+1], p <= i <= n-1 (n = number of control points);
- * t at (or beyond) the end of the domain maps to the last non-empty span.  A2.1, NURBS Book. */
-static int find_span(int n, int p, const double *knots, double t)
+int q2n_bspline_span(int n, int p, const double *knots, double t)
 {
     if (t >= knots[n]) {
         int i = n - 1;
@@ -35,48 +31,72 @@ static int find_span(int n, int p, const double *knots, double t)
     return lo;
 }
 
-/* Non-zero basis functions N[0..p] of span i at t and their first derivatives D[0..p].
- * Triangular table of A2.3 (NURBS Book), restricted to first derivatives. */
-static void basis_ders(int i, int p, const double *knots, double t, double *N, double *D)
+/* A2.3 of the NURBS Book: the triangular table of basis functions (upper triangle) and knot
+ * differences (lower), then the derivative recurrence eq. (2.10) up to order nder.  A zero knot
+ * difference (a repeated knot) contributes nothing, as the convention 0/0 = 0 of eq. (2.5) says. */
+void q2n_bspline_basis(int i, int p, const double *knots, double t, int nder, double *ders)
 {
+    double ndu[Q2N_BSPLINE_MAX_DEG + 1][Q2N_BSPLINE_MAX_DEG + 1], a[2][Q2N_BSPLINE_MAX_DEG + 1];
     double left[Q2N_BSPLINE_MAX_DEG + 1], right[Q2N_BSPLINE_MAX_DEG + 1];
-    double ndu[Q2N_BSPLINE_MAX_DEG + 1][Q2N_BSPLINE_MAX_DEG + 1];
+    const int w = p + 1;
     ndu[0][0] = 1.0;
     for (int j = 1; j <= p; j++) {
         left[j] = t - knots[i + 1 - j];
         right[j] = knots[i + j] - t;
         double saved = 0.0;
         for (int r = 0; r < j; r++) {
-            ndu[j][r] = right[r + 1] + left[j - r];          /* knot differences (lower triangle) */
+            ndu[j][r] = right[r + 1] + left[j - r];
             double tmp = ndu[j][r] != 0.0 ? ndu[r][j - 1] / ndu[j][r] : 0.0;
-            ndu[r][j] = saved + right[r + 1] * tmp;           /* basis functions (upper triangle) */
+            ndu[r][j] = saved + right[r + 1] * tmp;
             saved = left[j - r] * tmp;
         }
         ndu[j][j] = saved;
     }
-    for (int j = 0; j <= p; j++) N[j] = ndu[j][p];
-    if (!D) return;
-    if (p == 0) { D[0] = 0.0; return; }
-    /* N'_{i-p+r,p} = p * ( N_{i-p+r,p-1} / (u_{i+r} - u_{i-p+r}) - N_{i-p+r+1,p-1} / (u_{i+r+1} - u_{i-p+r+1}) ),
-     * eq. (2.9) NURBS Book; ndu[p][r] holds the knot difference of the lower-degree function r. */
+    for (int j = 0; j <= p; j++) ders[j] = ndu[j][p];
+    if (nder > p)
+        for (int k = p + 1; k <= nder; k++)
+            for (int j = 0; j <= p; j++) ders[k * w + j] = 0.0;
     for (int r = 0; r <= p; r++) {
-        double d = 0.0;
-        if (r >= 1 && ndu[p][r - 1] != 0.0) d += ndu[r - 1][p - 1] / ndu[p][r - 1];
-        if (r <= p - 1 && ndu[p][r] != 0.0) d -= ndu[r][p - 1] / ndu[p][r];
-        D[r] = p * d;
+        int s1 = 0, s2 = 1;
+        a[0][0] = 1.0;
+        for (int k = 1; k <= nder && k <= p; k++) {
+            double d = 0.0;
+            int rk = r - k, pk = p - k;
+            if (r >= k) {
+                a[s2][0] = ndu[pk + 1][rk] != 0.0 ? a[s1][0] / ndu[pk + 1][rk] : 0.0;
+                d = a[s2][0] * ndu[rk][pk];
+            }
+            int j1 = rk >= -1 ? 1 : -rk;
+            int j2 = (r - 1 <= pk) ? k - 1 : p - r;
+            for (int j = j1; j <= j2; j++) {
+                a[s2][j] = ndu[pk + 1][rk + j] != 0.0 ? (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j] : 0.0;
+                d += a[s2][j] * ndu[rk + j][pk];
+            }
+            if (r <= pk) {
+                a[s2][k] = ndu[pk + 1][r] != 0.0 ? -a[s1][k - 1] / ndu[pk + 1][r] : 0.0;
+                d += a[s2][k] * ndu[r][pk];
+            }
+            ders[k * w + r] = d;
+            int tmp = s1; s1 = s2; s2 = tmp;
+        }
+    }
+    double f = p;
+    for (int k = 1; k <= nder && k <= p; k++) {
+        for (int j = 0; j <= p; j++) ders[k * w + j] *= f;
+        f *= p - k;
     }
 }
 
 void q2n_bspline_eval(const q2n_bspline_surface *s, double u, double v, double p[3], double du[3],
                       double dv[3])
 {
-    double Nu[Q2N_BSPLINE_MAX_DEG + 1], Du[Q2N_BSPLINE_MAX_DEG + 1];
-    double Nv[Q2N_BSPLINE_MAX_DEG + 1], Dv[Q2N_BSPLINE_MAX_DEG + 1];
+    double Bu[2 * (Q2N_BSPLINE_MAX_DEG + 1)], Bv[2 * (Q2N_BSPLINE_MAX_DEG + 1)];
     int want_d = du != NULL || dv != NULL;
-    int su = find_span(s->ncp_u, s->deg_u, s->knots_u, u);
-    int sv = find_span(s->ncp_v, s->deg_v, s->knots_v, v);
-    basis_ders(su, s->deg_u, s->knots_u, u, Nu, want_d ? Du : NULL);
-    basis_ders(sv, s->deg_v, s->knots_v, v, Nv, want_d ? Dv : NULL);
+    int su = q2n_bspline_span(s->ncp_u, s->deg_u, s->knots_u, u);
+    int sv = q2n_bspline_span(s->ncp_v, s->deg_v, s->knots_v, v);
+    q2n_bspline_basis(su, s->deg_u, s->knots_u, u, want_d, Bu);
+    q2n_bspline_basis(sv, s->deg_v, s->knots_v, v, want_d, Bv);
+    const double *Nu = Bu, *Du = Bu + s->deg_u + 1, *Nv = Bv, *Dv = Bv + s->deg_v + 1;
 
     /* Homogeneous sums A = sum N_i N_j w_ij P_ij, W = sum N_i N_j w_ij and their derivatives. */
     double A[3] = {0, 0, 0}, Au[3] = {0, 0, 0}, Av[3] = {0, 0, 0};
@@ -189,9 +209,10 @@ void q2n_nurbs_model_free(q2n_nurbs_model *m)
 
 void q2n_bspline_curve_eval(const q2n_bspline_curve *c, double t, double p[3], double d[3])
 {
-    double N[Q2N_BSPLINE_MAX_DEG + 1], D[Q2N_BSPLINE_MAX_DEG + 1];
-    int sp = find_span(c->ncp, c->deg, c->knots, t);
-    basis_ders(sp, c->deg, c->knots, t, N, d ? D : NULL);
+    double B[2 * (Q2N_BSPLINE_MAX_DEG + 1)];
+    int sp = q2n_bspline_span(c->ncp, c->deg, c->knots, t);
+    q2n_bspline_basis(sp, c->deg, c->knots, t, d != NULL, B);
+    const double *N = B, *D = B + c->deg + 1;
     for (int q = 0; q < 3; q++) {
         p[q] = 0.0;
         if (d) d[q] = 0.0;

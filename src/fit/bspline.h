@@ -41,6 +41,17 @@ typedef struct q2n_nurbs_model {
     q2n_bspline_curve *edges;
 } q2n_nurbs_model;
 
+/* Highest degree the evaluators support (stack buffers); q2n_bspline_check enforces it. */
+#define Q2N_BSPLINE_MAX_DEG 15
+
+/* Knot span index i with knots[i] <= t < knots[i+1], p <= i <= n-1 (n control points, degree p);
+ * t at (or beyond) either end maps to the first / last non-empty span.  A2.1, NURBS Book. */
+int q2n_bspline_span(int n, int p, const double *knots, double t);
+/* The p+1 non-zero basis functions of span i at t and their derivatives up to order nder:
+ * ders[k * (p + 1) + a] = d^k/dt^k N_{i-p+a,p}(t) (A2.3, NURBS Book; p <= Q2N_BSPLINE_MAX_DEG).
+ * The one B-spline basis of the library: the fit (degree 5, fit_internal.h) and the evaluators. */
+void q2n_bspline_basis(int i, int p, const double *knots, double t, int nder, double *ders);
+
 /* Evaluate a B-spline surface (value and first derivatives; d may be NULL): p[3], du[3], dv[3]. */
 void q2n_bspline_eval(const q2n_bspline_surface *s, double u, double v, double p[3], double du[3],
                       double dv[3]);

@@ -1,6 +1,6 @@
 /* fit_basis.c — the quintic B-spline basis the fit works in: clamped knot vectors from interior
- * breakpoints, span search, basis functions with first and second derivatives (Piegl & Tiller, The
- * NURBS Book 1997, A2.1 FindSpan and A2.3 DersBasisFuns), knot insertion (A5.4), the fit's sample
+ * breakpoints, span search and basis functions
+ * (q2n_bspline_span / q2n_bspline_basis, fit/bspline.c), knot insertion (A5.4), the fit's sample
  * and check parameters, and second-order evaluation of fitted surfaces (the continuity
  * measurements need curvatures, which q2n_bspline_eval does not give). */
 #include "fit/fit_internal.h"
@@ -93,78 +93,13 @@ int q2n_fit_curve_refine(int n, const double *kv, const double *cp, int dim, int
     return ok ? 0 : -1;
 }
 
-int q2n_fit_span(int n, const double *kv, double t)
-{
-    if (t >= kv[n]) return n - 1;
-    if (t <= kv[Q2N_FIT_DEG]) return Q2N_FIT_DEG;
-    int lo = Q2N_FIT_DEG, hi = n;
-    while (hi - lo > 1) {
-        int mid = (lo + hi) / 2;
-        if (t < kv[mid]) hi = mid;
-        else lo = mid;
-    }
-    return lo;
-}
-
-/* A2.3 of the NURBS Book: triangular table of basis functions and knot differences, then the
- * derivative recurrence eq. (2.10) up to order nder. */
-void q2n_fit_basis(int i, const double *kv, double t, int nder, double ders[3][Q2N_FIT_DEG + 1])
-{
-    enum { p = Q2N_FIT_DEG };
-    double ndu[p + 1][p + 1], left[p + 1], right[p + 1], a[2][p + 1];
-    ndu[0][0] = 1.0;
-    for (int j = 1; j <= p; j++) {
-        left[j] = t - kv[i + 1 - j];
-        right[j] = kv[i + j] - t;
-        double saved = 0.0;
-        for (int r = 0; r < j; r++) {
-            ndu[j][r] = right[r + 1] + left[j - r];
-            double tmp = ndu[r][j - 1] / ndu[j][r];
-            ndu[r][j] = saved + right[r + 1] * tmp;
-            saved = left[j - r] * tmp;
-        }
-        ndu[j][j] = saved;
-    }
-    for (int j = 0; j <= p; j++) ders[0][j] = ndu[j][p];
-    for (int r = 0; r <= p; r++) {
-        int s1 = 0, s2 = 1;
-        a[0][0] = 1.0;
-        for (int k = 1; k <= nder; k++) {
-            double d = 0.0;
-            int rk = r - k, pk = p - k;
-            if (r >= k) {
-                a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
-                d = a[s2][0] * ndu[rk][pk];
-            }
-            int j1 = rk >= -1 ? 1 : -rk;
-            int j2 = (r - 1 <= pk) ? k - 1 : p - r;
-            for (int j = j1; j <= j2; j++) {
-                a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][rk + j];
-                d += a[s2][j] * ndu[rk + j][pk];
-            }
-            if (r <= pk) {
-                a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-                d += a[s2][k] * ndu[r][pk];
-            }
-            ders[k][r] = d;
-            int tmp = s1; s1 = s2; s2 = tmp;
-        }
-    }
-    double f = p;
-    for (int k = 1; k <= nder; k++) {
-        for (int j = 0; j <= p; j++) ders[k][j] *= f;
-        f *= p - k;
-    }
-}
-
 void q2n_fit_surface_eval(const q2n_bspline_surface *s, double u, double v, int nder, double *out)
 {
     double Bu[3][Q2N_FIT_DEG + 1], Bv[3][Q2N_FIT_DEG + 1];
     int su = q2n_fit_span(s->ncp_u, s->knots_u, u), sv = q2n_fit_span(s->ncp_v, s->knots_v, v);
     q2n_fit_basis(su, s->knots_u, u, nder, Bu);
     q2n_fit_basis(sv, s->knots_v, v, nder, Bv);
-    /* (a,b) = derivative orders in u and v for each output slot (surface.h layout). */
-    static const int du[6] = {0, 1, 0, 2, 1, 0}, dv[6] = {0, 0, 1, 0, 1, 2};
+    const int(*ord)[2] = q2n_eval_order; /* derivative orders in u and v of each output slot */
     int nout = nder == 0 ? 1 : nder == 1 ? 3 : 6;
     memset(out, 0, 3 * (size_t)nout * sizeof *out);
     for (int b = 0; b <= Q2N_FIT_DEG; b++) {
@@ -173,7 +108,7 @@ void q2n_fit_surface_eval(const q2n_bspline_surface *s, double u, double v, int 
             int i = su - Q2N_FIT_DEG + a;
             const double *P = s->cp + 3 * ((size_t)j * s->ncp_u + i);
             for (int o = 0; o < nout; o++) {
-                double w = Bu[du[o]][a] * Bv[dv[o]][b];
+                double w = Bu[ord[o][0]][a] * Bv[ord[o][1]][b];
                 out[3 * o] += w * P[0];
                 out[3 * o + 1] += w * P[1];
                 out[3 * o + 2] += w * P[2];

@@ -151,14 +151,16 @@ static void measure_one(void *arg, int e)
     E->rep = !c->o.no_exact && flat && g[0][0] * g[NG - 1][0] > 0 && scale_only(DL, DR, g, c->o.continuity == 2);
 }
 
-q2n_status q2n_fit_glue_measure(fit_ctx *c)
+/* fn on every edge, in parallel (side caches are written per side; two edges never share a side),
+ * timed as sampling; the first edge whose construction evaluation failed is reported. */
+static q2n_status each_edge(fit_ctx *c, void (*fn)(void *, int))
 {
     int ne = c->m->ne;
     q2n_status *st = calloc((size_t)ne + 1, sizeof *st);
     if (!st) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     double t0 = q2n_now();
     classify_arg arg = {c, st};
-    q2n_fit_par_for(ne, c->o.threads, measure_one, &arg);
+    q2n_fit_par_for(ne, c->o.threads, fn, &arg);
     c->rep->t_sample += q2n_now() - t0;
     q2n_status r = Q2N_OK;
     char where[64];
@@ -168,6 +170,8 @@ q2n_status q2n_fit_glue_measure(fit_ctx *c)
     free(st);
     return r;
 }
+
+q2n_status q2n_fit_glue_measure(fit_ctx *c) { return each_edge(c, measure_one); }
 
 static void classify_one(void *arg, int e)
 {
@@ -187,24 +191,7 @@ static void classify_one(void *arg, int e)
     E->alpha = g[0][0];
 }
 
-q2n_status q2n_fit_glue_classify(fit_ctx *c)
-{
-    int ne = c->m->ne;
-    q2n_status *st = calloc((size_t)ne + 1, sizeof *st);
-    if (!st) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
-    /* side caches are written per side; two edges never share a side, so edges run in parallel */
-    double t0 = q2n_now();
-    classify_arg arg = {c, st};
-    q2n_fit_par_for(ne, c->o.threads, classify_one, &arg);
-    c->rep->t_sample += q2n_now() - t0;
-    q2n_status r = Q2N_OK;
-    char where[64];
-    for (int e = 0; e < ne && !r; e++)
-        if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d (%s): construction evaluation %s", e, q2n_fit_edge_where(c, e, where, sizeof where),
-                                     st[e] == Q2N_ERR_NUMERIC ? "not finite" : "failed");
-    free(st);
-    return r;
-}
+q2n_status q2n_fit_glue_classify(fit_ctx *c) { return each_edge(c, classify_one); }
 
 /* ------------------------------------------------------------------ row blocks */
 
@@ -362,7 +349,7 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
         double al = order == 1 ? E->alpha : E->alpha * E->alpha;
         for (int s = 0; s + 1 < nb && !st; s++)
             for (int q = 0; q < 6; q++) {
-                double x = cos(3.14159265358979323846 * (2 * q + 1) / 12.0), t = brk[s] + (brk[s + 1] - brk[s]) * 0.5 * (1.0 - x);
+                double x = cos(Q2N_PI * (2 * q + 1) / 12.0), t = brk[s] + (brk[s + 1] - brk[s]) * 0.5 * (1.0 - x);
                 double *rhs, *row = block_row(bl, 1, &rhs);
                 if (!row) { st = Q2N_ERR_NOMEM; break; }
                 rhs[0] = rhs[1] = rhs[2] = 0.0;

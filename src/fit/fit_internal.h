@@ -18,10 +18,13 @@
 void q2n_fit_knots_from_breaks(int nb, const double *br, double *kv);       /* kv: nb + 12 entries */
 void q2n_fit_knots_uniform(int m, double *kv);                              /* m spans, i/m */
 /* Span index i (Q2N_FIT_DEG <= i <= n-1) with kv[i] <= t < kv[i+1]; n = number of control points. */
-int q2n_fit_span(int n, const double *kv, double t);
+static inline int q2n_fit_span(int n, const double *kv, double t) { return q2n_bspline_span(n, Q2N_FIT_DEG, kv, t); }
 /* Non-zero basis functions of span i at t and derivatives up to order nder <= 2:
- * ders[r][a] = d^r/dt^r N_{i-5+a}(t) (NURBS Book A2.3). */
-void q2n_fit_basis(int i, const double *kv, double t, int nder, double ders[3][Q2N_FIT_DEG + 1]);
+ * ders[r][a] = d^r/dt^r N_{i-5+a}(t) (q2n_bspline_basis). */
+static inline void q2n_fit_basis(int i, const double *kv, double t, int nder, double ders[3][Q2N_FIT_DEG + 1])
+{
+    q2n_bspline_basis(i, Q2N_FIT_DEG, kv, t, nder, ders[0]);
+}
 /* Parameters of the fit samples (per_span points per span: a + (b - a) j / per_span, then 1) and of the
  * check points between them (the midpoints); returns the count written (nspans * per_span + 1, or
  * nspans * per_span for checks). */

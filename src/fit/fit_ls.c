@@ -7,6 +7,7 @@
  * solves each item with LAPACK's rank-revealing QR (core/dense.h) and is the reference the Ceres
  * path is tested against. */
 #include "fit/fit_internal.h"
+#include "fit/fit_policy.h"
 #include "core/ceres_shim.h"
 #include "core/dense.h"
 
@@ -151,7 +152,7 @@ q2n_status q2n_fit_ls_solve_direct(q2n_fit_ls *ls, q2n_error *err)
                 A[(size_t)(ls->col[e] - v0) * m + r] += ls->val[e];
             for (int c = 0; c < 3; c++) B[(size_t)c * m + r] = ls->rhs[3 * (size_t)(r0 + r) + c];
         }
-        int rank = 0, rc = q2n_dense_lstsq(m, n, 3, A, m, B, m, 1e-13, &rank);
+        int rank = 0, rc = q2n_dense_lstsq(m, n, 3, A, m, B, m, Q2N_FIT_LS_RCOND, &rank);
         if (rc > 0) { free(A); free(B); return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (LAPACK)"); }
         if (rc < 0 || rank < n) {
             free(A); free(B);

@@ -15,7 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FIT_PI 3.14159265358979323846
 #define FIT_SQRT1_2 0.70710678118654752440
 
 /* Normal-curvature of a surface (derivatives d[18], unit normal n) in the tangent direction
@@ -57,7 +56,7 @@ void q2n_fit_jumps(const double *dL, const double *dR, const double T[3], double
      * side of a degenerate face) has no normal or curvature to compare: it measures nothing */
     if (!unit_normal(dL, nL) || !unit_normal(dR, nR) || !(lt > 0) || !isfinite(lt)) return;
     q2n_v3_cross(c, nL, nR);
-    *g1 = atan2(q2n_v3_norm(c), q2n_v3_dot(nL, nR)) * (180.0 / FIT_PI);
+    *g1 = atan2(q2n_v3_norm(c), q2n_v3_dot(nL, nR)) * (180.0 / Q2N_PI);
     double t[3], x[3], w[3];
     q2n_v3_scale(t, 1.0 / lt, T);
     q2n_v3_cross(x, nL, t);
@@ -152,23 +151,7 @@ typedef struct measure_job {
  * construction's, fit_target.c: the parametric distance d0 is only an upper bound). */
 static double foot_distance(const q2n_surface *s, int k, double u, double v, const double P[3], double d0)
 {
-    double best = d0;
-    for (int it = 0; it < 8; it++) {
-        double e[Q2N_EVAL_MAX], r[3];
-        if (q2n_surface_eval(s, k, u, v, 1, e)) break;
-        q2n_v3_sub(r, e, P);
-        double d = q2n_v3_norm(r);
-        if (d < best) best = d;
-        const double *Su = e + Q2N_EV_U, *Sv = e + Q2N_EV_V;
-        double a = q2n_v3_dot(Su, Su), b = q2n_v3_dot(Su, Sv), cc = q2n_v3_dot(Sv, Sv);
-        double gu = -q2n_v3_dot(Su, r), gv = -q2n_v3_dot(Sv, r), det = a * cc - b * b;
-        if (!(det > 0)) break;
-        double du = (cc * gu - b * gv) / det, dv = (a * gv - b * gu) / det;
-        u = fmin(1.0, fmax(0.0, u + du));
-        v = fmin(1.0, fmax(0.0, v + dv));
-        if (fabs(du) + fabs(dv) < 1e-15) break;
-    }
-    return best;
+    return fmin(d0, q2n_surface_project(s, k, P, Q2N_FIT_FOOT_STEPS, &u, &v));
 }
 
 /* Deviation of patch k at the cell centres of its check grid: the distance of each fitted point to

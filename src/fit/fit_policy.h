@@ -42,6 +42,11 @@
 #define Q2N_FIT_SPIKE_RATIO 10.0        /* |dS| above 10x its median on a face is a spike narrower than any knot spacing (smooth faces stay below ~3) */
 #define Q2N_FIT_SCAN_SPANS 16           /* a failing patch is scanned once before it gets this many spans in a direction */
 
+/* ---- solves and corner points ---- */
+#define Q2N_FIT_LS_RCOND 1e-13          /* a direct-solver block with a singular value below this (relative) is rank deficient, an error: the blocks are well overdetermined, only a broken one comes near */
+#define Q2N_FIT_FOOT_STEPS 8           /* Gauss-Newton steps of a foot-point distance: it starts at the parametric foot, a few steps converge, the cap bounds the cost */
+#define Q2N_FIT_INTERP_REL 1e-9         /* a construction whose corner lies this close (relative) to the vertex interpolates it and the vertex is kept exactly; farther (ACC) its corner is */
+
 /* ---- exact Bézier conversion ---- */
 #define Q2N_FIT_BEZIER_AGREE 1e-9       /* shared Bézier boundaries must agree to this (relative) before they are unified */
 

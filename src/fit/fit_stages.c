@@ -378,7 +378,7 @@ q2n_status q2n_fit_prepare(fit_ctx *c)
         if (h < 0) continue;
         int e = m->he_edge[h];
         const double *S = c->e[e].end[m->edge_he[e] == h ? 0 : 1][0];
-        if (q2n_v3_dist(S, P) > 1e-9 * c->diag) memcpy(P, S, 3 * sizeof(double));
+        if (q2n_v3_dist(S, P) > Q2N_FIT_INTERP_REL * c->diag) memcpy(P, S, 3 * sizeof(double));
     }
     return Q2N_OK;
 }

@@ -11,6 +11,7 @@
 
 #include "core/outfile.h"
 #include "core/vec3.h"
+#include "iges/export_policy.h"
 
 /* ---------------------------------------------------------------- text buffer */
 
@@ -484,7 +485,7 @@ static q2n_status topo_build(const q2n_nurbs_model *m, double mesh_scale, q2n_ex
     const q2n_mesh *me = m->mesh;
     t->nv = me->nv; t->ne = me->ne; t->nf = me->nf;
     double diag = model_bbox_diag(m, &t->max_coord);
-    t->resolution = m->tol_abs > 0.0 ? m->tol_abs : 1e-9 * (diag > 0.0 ? diag : 1.0);
+    t->resolution = m->tol_abs > 0.0 ? m->tol_abs : Q2N_EXPORT_RESOLUTION_REL * (diag > 0.0 ? diag : 1.0);
     t->vpos = calloc(3 * (size_t)me->nv, sizeof(double));
     t->vused = calloc((size_t)me->nv, sizeof(int));
     t->edge_curve = calloc((size_t)me->ne, sizeof(q2n_export_curve));

@@ -2,6 +2,13 @@
 #ifndef Q2N_MESH_MESH_POLICY_H
 #define Q2N_MESH_MESH_POLICY_H
 
+#include <limits.h>
+#include <stddef.h>
+
+/* Most vertices, faces or face corners a reader accepts: every index and count of the mesh is an
+ * int, so a file with more is refused while it is read (before its arrays grow past it). */
+#define Q2N_MESH_MAX_COUNT ((size_t)INT_MAX - 1)
+
 /* Shortest edge, closest pair of opposite quad corners and narrowest face width (vector area /
  * longest edge) a mesh may have, as a fraction of its bounding-box diagonal.  Why 1e-12: it is
  * the finest fit tolerance (--tol accepts 1e-12 and up), so no CAD file written from the mesh
@@ -14,7 +21,7 @@
 /* A quad corner counts as reflex (turning against the quad's vector area) when its signed sine,
  * seen along that vector, is below minus this.  Why 1e-12: far above the rounding of a sine
  * computed from normalised coordinates (~1e-15), so a straight corner (180 degrees, as where a
- * vertex sits on the segment of its neighbours: osd_catmark_gregory_test1) never counts, and far
+ * vertex sits on the segment of its neighbours) never counts, and far
  * below any corner that really turns back.  Two reflex corners make a bow-tie: rejected. */
 #define Q2N_MESH_REFLEX_SIN 1e-12
 

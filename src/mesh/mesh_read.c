@@ -1,5 +1,6 @@
 /* mesh_read.c — mesh input in any supported format (OBJ, OFF, PLY): the format from the
  * extension or the first line, and the helpers the OFF and PLY readers share (reader.h). */
+#include "mesh/mesh_policy.h"
 #include "mesh/reader.h"
 
 #include <errno.h>
@@ -28,11 +29,9 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem)
     return 1;
 }
 
-#define RD_MAX_COUNT ((size_t)INT_MAX - 1) /* every count must fit an int */
-
 int q2n_rd_add_vertex(rd_mesh *d, const double x[3])
 {
-    if (d->nv >= RD_MAX_COUNT) return -2;
+    if (d->nv >= Q2N_MESH_MAX_COUNT) return -2;
     if (!grow((void **)&d->pos, &d->cap_v, 3 * (d->nv + 1), sizeof *d->pos)) return -1;
     memcpy(d->pos + 3 * d->nv++, x, 3 * sizeof *x);
     return 0;
@@ -40,7 +39,7 @@ int q2n_rd_add_vertex(rd_mesh *d, const double x[3])
 
 int q2n_rd_add_face(rd_mesh *d, const int *idx, int n, long line)
 {
-    if (d->nf >= RD_MAX_COUNT || d->nfv + (size_t)n >= RD_MAX_COUNT) return -2;
+    if (d->nf >= Q2N_MESH_MAX_COUNT || d->nfv + (size_t)n >= Q2N_MESH_MAX_COUNT) return -2;
     if (!grow((void **)&d->fvert, &d->cap_fv, d->nfv + (size_t)n, sizeof *d->fvert)) return -1;
     size_t cap = d->cap_f;
     if (!grow((void **)&d->fstart, &cap, d->nf + 2, sizeof *d->fstart)) return -1;

@@ -11,6 +11,8 @@
  * Errors: "FILE:LINE: reason" (the line where the record starts), "FILE: strerror" when the file
  * cannot be read.  After parsing, q2n_mesh_from_arrays_lines validates the topology. */
 #include "mesh/mesh.h"
+#include "mesh/mesh_policy.h"
+#include "mesh/reader.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -43,8 +45,6 @@ typedef struct obj_src {
     char *lb;               /* current logical line, NUL-terminated */
     size_t lbn, lbcap;
 } obj_src;
-
-#define OBJ_MAX_COUNT ((size_t)INT_MAX - 1) /* every count must fit an int */
 
 static int grow(void **p, size_t *cap, size_t need, size_t elem)
 {
@@ -112,21 +112,6 @@ static int src_line(obj_src *s, long *first)
     }
 }
 
-static int is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-/* Next whitespace-separated token of *cur, NUL-terminated in place; NULL at the end. */
-static char *next_tok(char **cur)
-{
-    char *p = *cur;
-    while (is_space(*p)) p++;
-    if (!*p) { *cur = p; return NULL; }
-    char *t = p;
-    while (*p && !is_space(*p)) p++;
-    if (*p) *p++ = '\0';
-    *cur = p;
-    return t;
-}
-
 /* A token quoted for a message, shortened. */
 static const char *quote(const char *t, char *buf, size_t n)
 {
@@ -140,7 +125,7 @@ static q2n_status parse_vertex(obj_data *d, char *cur, const char *where, q2n_er
     double x[8];
     int k = 0;
     char q[48];
-    for (char *t; (t = next_tok(&cur));) {
+    for (char *t; (t = q2n_rd_tok(&cur));) {
         char *end;
         errno = 0;
         double v = strtod(t, &end);
@@ -163,7 +148,7 @@ static q2n_status parse_vertex(obj_data *d, char *cur, const char *where, q2n_er
         return q2n_error_set(err, Q2N_ERR_PARSE, "%s: %s numbers in a v record (expected x y z "
                              "[w] or x y z r g b)", where, k > 8 ? "more than 8" : k == 5 ? "5" :
                              k == 7 ? "7" : "8");
-    if (d->nv >= OBJ_MAX_COUNT)
+    if (d->nv >= Q2N_MESH_MAX_COUNT)
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: more than 2^31-2 vertices", where);
     if (!grow((void **)&d->pos, &d->cap_v, 3 * (d->nv + 1), sizeof *d->pos))
         return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", where);
@@ -223,11 +208,11 @@ static q2n_status parse_corner(const char *t, size_t nv, const char *where, int 
 static q2n_status parse_face(obj_data *d, char *cur, long line, const char *where, q2n_error *err)
 {
     size_t n0 = d->nfv;
-    for (char *t; (t = next_tok(&cur));) {
+    for (char *t; (t = q2n_rd_tok(&cur));) {
         int idx = 0;
         q2n_status st = parse_corner(t, d->nv, where, &idx, err);
         if (st) return st;
-        if (d->nfv >= OBJ_MAX_COUNT)
+        if (d->nfv >= Q2N_MESH_MAX_COUNT)
             return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: more than 2^31-2 face vertices",
                                  where);
         if (!grow((void **)&d->fvert, &d->cap_fv, d->nfv + 1, sizeof *d->fvert))
@@ -238,7 +223,7 @@ static q2n_status parse_face(obj_data *d, char *cur, long line, const char *wher
     if (n < 3)
         return q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s: face with %s%zu vert%s (a face needs at least 3)",
                              where, n ? "only " : "", n, n == 1 ? "ex" : "ices");
-    if (d->nf >= OBJ_MAX_COUNT)
+    if (d->nf >= Q2N_MESH_MAX_COUNT)
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: more than 2^31-2 faces", where);
     if (!grow((void **)&d->fstart, &d->cap_fs, d->nf + 2, sizeof *d->fstart) ||
         !grow((void **)&d->fline, &d->cap_fl, d->nf + 1, sizeof *d->fline))
@@ -261,7 +246,7 @@ static int keyword_ignored(const char *k)
 static void note_tag(q2n_mesh_read_info *info, char *cur, long line)
 {
     if (!info) return;
-    char *name = next_tok(&cur);
+    char *name = q2n_rd_tok(&cur);
     if (!info->tags++) info->tag_line = line;
     if (!name) return;
     size_t have = strlen(info->tag_names), n = strlen(name);
@@ -286,7 +271,7 @@ static q2n_status parse_all(obj_src *s, obj_data *d, const char *name, q2n_mesh_
             return q2n_error_set(err, Q2N_ERR_PARSE, "%s: NUL byte in line", where);
         char *hash = strchr(s->lb, '#');
         if (hash) *hash = '\0';
-        char *cur = s->lb, *kw = next_tok(&cur);
+        char *cur = s->lb, *kw = q2n_rd_tok(&cur);
         q2n_status st = Q2N_OK;
         if (!kw || keyword_ignored(kw)) continue;
         if (!strcmp(kw, "t")) note_tag(info, cur, line);

@@ -242,12 +242,12 @@ static void combine(int w, int nb, const double *B, const q2n_jet *C, int nder, 
         double a[6] = {0, 0, 0, 0, 0, 0};
         for (int r = 0; r < nb; r++) {
             const q2n_jet c = C[r * w + i];
-            a[0] += B[r] * c.c[0];
-            if (nder >= 1) { a[1] += B[nb + r] * c.c[0]; a[2] += B[r] * c.c[1]; }
+            a[0] += B[r] * c.d[0];
+            if (nder >= 1) { a[1] += B[nb + r] * c.d[0]; a[2] += B[r] * c.d[1]; }
             if (nder >= 2) {
-                a[3] += B[2 * nb + r] * c.c[0];
-                a[4] += B[nb + r] * c.c[1];
-                a[5] += B[r] * 2.0 * c.c[2];
+                a[3] += B[2 * nb + r] * c.d[0];
+                a[4] += B[nb + r] * c.d[1];
+                a[5] += B[r] * c.d[2];
             }
         }
         for (int q = 0; q < 6; q++) F[q][i] = a[q];
@@ -406,8 +406,8 @@ static q2n_status eval_grid_cb(const void *data, int nu, const double *us, int n
             g->B0[r][q] = Bu[r];
             g->B1[r][q] = Bu[nb + r];
             for (int j = 0; j < w; j++) {
-                g->C0[r][j][q] = Cv[r * w + j].c[0];
-                g->C1[r][j][q] = Cv[r * w + j].c[1];
+                g->C0[r][j][q] = Cv[r * w + j].d[0];
+                g->C1[r][j][q] = Cv[r * w + j].d[1];
             }
         }
     }
@@ -420,8 +420,8 @@ static q2n_status eval_grid_cb(const void *data, int nu, const double *us, int n
             for (int j = 0; j < w; j++) {
                 double x0[3] = {0, 0, 0}, x1[3] = {0, 0, 0};
                 for (int i = 0; i < w; i++) {
-                    q2n_v3_axpy(x0, Cu[r * w + i].c[0], p->P + 3 * (j * w + i));
-                    q2n_v3_axpy(x1, Cu[r * w + i].c[1], p->P + 3 * (j * w + i));
+                    q2n_v3_axpy(x0, Cu[r * w + i].d[0], p->P + 3 * (j * w + i));
+                    q2n_v3_axpy(x1, Cu[r * w + i].d[1], p->P + 3 * (j * w + i));
                 }
                 memcpy(T0[r][j], x0, sizeof x0);
                 memcpy(T1[r][j], x1, sizeof x1);

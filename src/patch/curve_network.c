@@ -33,6 +33,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/jet.h"
 #include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
@@ -60,77 +61,8 @@ static void poly_hermite(int K, const double v0[3][3], const double v1[3][3], ev
 }
 
 /* ------------------------------------------------------------ derivative arrays
- * f[k] = k-th t-derivative, k = 0..3; products by Leibniz' rule. */
+ * f[k] = k-th t-derivative, k = 0..3: jets of order JO - 1 (core/jet.h). */
 #define JO 4
-#define binom4 q2n_binom
-
-static void sj_mul(const double *a, const double *b, double *r)
-{
-    double t[JO];
-    for (int k = 0; k < JO; k++) {
-        t[k] = 0;
-        for (int i = 0; i <= k; i++) t[k] += binom4[k][i] * a[i] * b[k - i];
-    }
-    memcpy(r, t, sizeof t);
-}
-
-static void sj_inv(const double *g, double *r)
-{
-    double t[JO];
-    t[0] = 1 / g[0];
-    for (int k = 1; k < JO; k++) {
-        double acc = 0;
-        for (int i = 1; i <= k; i++) acc += binom4[k][i] * g[i] * t[k - i];
-        t[k] = -acc / g[0];
-    }
-    memcpy(r, t, sizeof t);
-}
-
-/* vector arrays V[k][c] */
-static void vj_scale(const double *s, double V[JO][3], double R[JO][3])
-{
-    double T[JO][3] = {{0}};
-    for (int k = 0; k < JO; k++)
-        for (int i = 0; i <= k; i++)
-            for (int c = 0; c < 3; c++) T[k][c] += binom4[k][i] * s[i] * V[k - i][c];
-    memcpy(R, T, sizeof T);
-}
-
-static void vj_cross(double A[JO][3], double B[JO][3], double R[JO][3])
-{
-    double T[JO][3] = {{0}};
-    for (int k = 0; k < JO; k++)
-        for (int i = 0; i <= k; i++) {
-            double c[3];
-            q2n_v3_cross(c, A[i], B[k - i]);
-            q2n_v3_axpy(T[k], binom4[k][i], c);
-        }
-    memcpy(R, T, sizeof T);
-}
-
-static void vj_dot(double A[JO][3], double B[JO][3], double *r)
-{
-    for (int k = 0; k < JO; k++) {
-        r[k] = 0;
-        for (int i = 0; i <= k; i++) r[k] += binom4[k][i] * q2n_v3_dot(A[i], B[k - i]);
-    }
-}
-
-static void vj_add(double A[JO][3], double B[JO][3], double R[JO][3])
-{
-    for (int k = 0; k < JO; k++)
-        for (int c = 0; c < 3; c++) R[k][c] = A[k][c] + B[k][c];
-}
-
-/* g^(-1/2) by Faà di Bruno */
-static void sj_rsqrt(const double *g, double *r)
-{
-    double x = g[0], f1 = -0.5 * pow(x, -1.5), f2 = 0.75 * pow(x, -2.5), f3 = -1.875 * pow(x, -3.5);
-    r[0] = 1 / sqrt(x);
-    r[1] = f1 * g[1];
-    r[2] = f2 * g[1] * g[1] + f1 * g[2];
-    r[3] = f3 * g[1] * g[1] * g[1] + 3 * f2 * g[1] * g[2] + f1 * g[3];
-}
 
 static void lin(double v0, double v1, double t, double *r)
 {
@@ -205,13 +137,13 @@ static void ribbon_at(const ev_edge *E, double t, ribbon *R)
             R->Gx[k][c] = R->g[k + 1][c] / d;
             R->Gxx[k][c] = k + 2 < 6 ? R->g[k + 2][c] / (d * d) : 0;
         }
-    vj_dot(R->Gx, R->Gx, sq);
-    sj_rsqrt(sq, R->rs);
-    vj_scale(R->rs, R->Gx, R->T);
-    vj_cross(n, R->T, R->D);
-    vj_dot(R->D, R->D, sq);
-    sj_rsqrt(sq, rd);
-    vj_scale(rd, R->D, R->D);
+    q2n_jet3_dot(JO - 1, R->Gx, R->Gx, sq);
+    q2n_jet_rsqrt_n(JO - 1, sq, R->rs);
+    q2n_jet3_scale(JO - 1, R->rs, R->Gx, R->T);
+    q2n_jet3_cross(JO - 1, n, R->T, R->D);
+    q2n_jet3_dot(JO - 1, R->D, R->D, sq);
+    q2n_jet_rsqrt_n(JO - 1, sq, rd);
+    q2n_jet3_scale(JO - 1, rd, R->D, R->D);
 }
 
 /* ------------------------------------------------------------ constructed edges */
@@ -285,8 +217,8 @@ q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet 
      * T × T = 0; only n'·D turns D (D' · n = -n'·D).  D and D' at the ends, hence the corner
      * values, the twists and the G1/G2 argument above, are unchanged.  The T-component (the
      * normal curvature along the edge) otherwise tilts the interior of the cubic n(t) towards
-     * the edge tangent: on osd_catmark_gregory_test1 (face 6) |n × T|/|n| fell to 0.0047 and D
-     * swung around the edge within Δt ≈ 0.1, a derivative spike of 48 x the median. */
+     * the edge tangent: |n × T|/|n| can fall to a few thousandths, and D then swings around the
+     * edge within a short stretch, a derivative spike the fit cannot follow. */
     {
         double k0 = q2n_v3_dot(n0[1], R0.D[0]), k1 = q2n_v3_dot(n1[1], R1.D[0]);
         for (int c = 0; c < 3; c++) { n0[1][c] = k0 * R0.D[0][c]; n1[1][c] = k1 * R1.D[0][c]; }
@@ -299,8 +231,7 @@ q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet 
      * (larger min over the ends of |a| / |χ|, the sine of the angle to the edge).  The derived
      * side divides by the base side's a (α = a_R / a_L): with the other choice, a face meeting
      * the edge at a small angle made α and its derivatives large, and the derived data wild
-     * near the vertex (crane_spot --subdivide 1, valence-6 vertices: mixed corner derivatives
-     * 20-40 x those of the base side). */
+     * near the vertex (mixed corner derivatives tens of times those of the base side). */
     int hs[2] = {h, tw};
     if (tw >= 0) {
         double sn[2];
@@ -389,9 +320,9 @@ static void side_chi(const ev_edge *E, int side, double t, double D[JO][3], doub
     herm(E->b[side], E->bs[side], t, b);
     add_bumps(E, a, E->a1[side], E->a2[side], t);
     add_bumps(E, b, E->b1[side], E->b2[side], t);
-    vj_scale(a, D, C);
-    vj_scale(b, T, tmp);
-    vj_add(C, tmp, C);
+    q2n_jet3_scale(JO - 1, a, D, C);
+    q2n_jet3_scale(JO - 1, b, T, tmp);
+    q2n_jet3_add(JO - 1, C, tmp, C);
 }
 
 /* Constructed edge: fields of one side at t, t-derivatives 0..2. */
@@ -421,31 +352,31 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
      * β = b_R - b_L α: the normal part of ξ_R is that of α² ξ_L + 2αβ ∂xχ_L + β² γ_xx */
     double aR[JO], bR[JO], CR[JO][3], al[JO], be[JO], inv[JO];
     side_chi(E, 1, t, D, Tu, aR, bR, CR);
-    sj_inv(aL, inv);
-    sj_mul(aR, inv, al);
-    sj_mul(bL, al, be);
+    q2n_jet_inv_n(JO - 1, aL, inv);
+    q2n_jet_mul_n(JO - 1, aR, inv, al);
+    q2n_jet_mul_n(JO - 1, bL, al, be);
     for (int k = 0; k < JO; k++) be[k] = bR[k] - be[k];
-    sj_mul(be, rs, be); /* χ_R = α χ_L + β γ_x */
+    q2n_jet_mul_n(JO - 1, be, rs, be); /* χ_R = α χ_L + β γ_x */
     double CLx[JO][3] = {{0}}, XL[JO][3] = {{0}}, Y[JO][3], al2[JO], ab2[JO], be2[JO], N[JO][3];
     for (int k = 0; k + 1 < JO; k++)
         for (int c = 0; c < 3; c++) CLx[k][c] = CL[k + 1][c] / d;
     for (int k = 0; k < JO; k++) memcpy(XL[k], xl[k], sizeof xl[k]);
-    sj_mul(al, al, al2);
-    sj_mul(al, be, ab2);
+    q2n_jet_mul_n(JO - 1, al, al, al2);
+    q2n_jet_mul_n(JO - 1, al, be, ab2);
     for (int k = 0; k < JO; k++) ab2[k] *= 2;
-    sj_mul(be, be, be2);
-    vj_scale(al2, XL, Y);
-    vj_scale(ab2, CLx, tmp);
-    vj_add(Y, tmp, Y);
-    vj_scale(be2, Gxx, tmp);
-    vj_add(Y, tmp, Y);
-    vj_cross(D, Gx, N);
+    q2n_jet_mul_n(JO - 1, be, be, be2);
+    q2n_jet3_scale(JO - 1, al2, XL, Y);
+    q2n_jet3_scale(JO - 1, ab2, CLx, tmp);
+    q2n_jet3_add(JO - 1, Y, tmp, Y);
+    q2n_jet3_scale(JO - 1, be2, Gxx, tmp);
+    q2n_jet3_add(JO - 1, Y, tmp, Y);
+    q2n_jet3_cross(JO - 1, D, Gx, N);
     double ny[JO], nn[JO], c[JO], t1[JO], t2[JO], XR[JO][3];
-    vj_dot(N, Y, ny);
-    vj_dot(N, N, nn);
-    sj_inv(nn, inv);
-    sj_mul(ny, inv, c);
-    vj_scale(c, N, XR);
+    q2n_jet3_dot(JO - 1, N, Y, ny);
+    q2n_jet3_dot(JO - 1, N, N, nn);
+    q2n_jet_inv_n(JO - 1, nn, inv);
+    q2n_jet_mul_n(JO - 1, ny, inv, c);
+    q2n_jet3_scale(JO - 1, c, N, XR);
     lin(E->tau[0][0], E->tau[1][0], t, t1);
     lin(E->tau[0][1], E->tau[1][1], t, t2);
     {
@@ -454,10 +385,10 @@ static void constructed_eval(const ev_edge *E, int derived, double t, double out
         add_bumps(E, t1, w1[0], w2[0], t);
         add_bumps(E, t2, w1[1], w2[1], t);
     }
-    vj_scale(t1, D, tmp);
-    vj_add(XR, tmp, XR);
-    vj_scale(t2, Tu, tmp);
-    vj_add(XR, tmp, XR);
+    q2n_jet3_scale(JO - 1, t1, D, tmp);
+    q2n_jet3_add(JO - 1, XR, tmp, XR);
+    q2n_jet3_scale(JO - 1, t2, Tu, tmp);
+    q2n_jet3_add(JO - 1, XR, tmp, XR);
     for (int k = 0; k < 3; k++) { memcpy(out[1][k], CR[k], sizeof CR[k]); memcpy(out[2][k], XR[k], sizeof XR[k]); }
 }
 
@@ -483,32 +414,21 @@ void q2n_ev_side_eval(const ev_side *sd, double s, double out[3][3][3])
         int sR = sd->sR, along_u = q2n_side_along_u(sR);
         double uR = along_u ? t : q2n_side_level[sR];
         double vR = along_u ? q2n_side_level[sR] : t;
-        double D[27], f[3][3][3], L[4];
+        double D[27], f[3][3], L[4], iL[3], iL2[3];
         q2n_ev_regular_partials(R, uR, vR, D);
-        for (int b = 0; b < 3; b++)     /* transverse order */
-            for (int a = 0; a < 3; a++) /* along-side order */
-                memcpy(f[b][a], D + 3 * (along_u ? a * 3 + b : b * 3 + a), 3 * sizeof(double));
         regular_lambda(R, sR, t, L);
-        double L2[3] = {L[0] * L[0], 2 * L[0] * L[1], 2 * L[1] * L[1] + 2 * L[0] * L[2]};
-        for (int c = 0; c < 3; c++) {
-            out[0][0][c] = f[0][0][c];
-            out[0][1][c] = f[0][1][c];
-            out[0][2][c] = f[0][2][c];
-            /* §4.1: χ = (inward ∂ of R) / λ_R, then seen from the other side: -χ; ξ = ∂²/λ_R² */
-            double q0 = f[1][0][c] / L[0];
-            double q1 = (f[1][1][c] - q0 * L[1]) / L[0];
-            double q2 = (f[1][2][c] - 2 * q1 * L[1] - q0 * L[2]) / L[0];
-            double sg = -q2n_side_iota[sR];
-            out[1][0][c] = sg * q0;
-            out[1][1][c] = sg * q1;
-            out[1][2][c] = sg * q2;
-            double r0 = f[2][0][c] / L2[0];
-            double r1 = (f[2][1][c] - r0 * L2[1]) / L2[0];
-            double r2 = (f[2][2][c] - 2 * r1 * L2[1] - r0 * L2[2]) / L2[0];
-            out[2][0][c] = r0;
-            out[2][1][c] = r1;
-            out[2][2][c] = r2;
-        }
+        q2n_jet_inv_n(2, L, iL);
+        q2n_jet_mul_n(2, iL, iL, iL2);
+        double sg = -q2n_side_iota[sR];
+        for (int c = 0; c < 3; c++)
+            for (int b = 0; b < 3; b++) { /* transverse order b: jets (along-side derivatives) of ∂n^b R */
+                for (int a = 0; a < 3; a++) f[b][a] = D[3 * (along_u ? a * 3 + b : b * 3 + a) + c];
+                /* §4.1: χ = (inward ∂ of R) / λ_R, then seen from the other side: -χ; ξ = ∂²/λ_R² */
+                double q[3];
+                if (b == 0) memcpy(q, f[0], sizeof q);
+                else q2n_jet_mul_n(2, f[b], b == 1 ? iL : iL2, q);
+                for (int a = 0; a < 3; a++) out[b][a][c] = (b == 1 ? sg : 1) * q[a];
+            }
     }
     if (sd->rev)
         for (int b = 0; b < 3; b++)

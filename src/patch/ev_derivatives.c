@@ -21,8 +21,8 @@
  *     corners of the faces (at X_k + X_k+1) above the tangent plane; the tangential part of J2
  *     only carries each edge's change of speed (accelerations along the edges).
  * Why not (B.1)–(B.2) as printed: on fans with very different edge lengths the Bessel-like
- * estimate (B.1) mixes long edges into the tangent of a short one (on osd_catmark_righthanded a
- * tangent pointed backwards along its edge) and the degree-3 fit through 2n points is nearly
+ * estimate (B.1) mixes long edges into the tangent of a short one (a tangent can point backwards
+ * along its edge) and the degree-3 fit through 2n points is nearly
  * interpolating and ill-conditioned; both produced folded Coons–Gregory patches.  The
  * construction above keeps the paper's idea (one local polynomial per vertex, sampled along the
  * edge directions, hence G1/G2-compatible data) with a better conditioned fit.
@@ -35,14 +35,10 @@
 #include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
+#include "patch/ev_policy.h"
 
 #define MAXW Q2N_SPLINE_MAXW
 #define MAXB Q2N_SPLINE_MAXB
-#define EV_SPEED_MAX 1.5 /* largest end speed of an edge over its chord (fitted jets) */
 
 /* ------------------------------------------------------------ regular patch partials */
 
@@ -125,8 +121,8 @@ int q2n_ev_vertex_fan(const q2n_mesh *m, int v, int maxn, int *edges, int *other
  * boundary, a quarter turn at a corner (one face). */
 static double fan_span(const q2n_mesh *m, int v, int n)
 {
-    if (!m->vert_boundary[v]) return 2 * M_PI;
-    return n <= 2 ? 0.5 * M_PI : M_PI;
+    if (!m->vert_boundary[v]) return 2 * Q2N_PI;
+    return n <= 2 ? 0.5 * Q2N_PI : Q2N_PI;
 }
 
 /* ------------------------------------------------------------ jets */
@@ -251,8 +247,9 @@ typedef struct fan {
     double q[EV_MAXVAL][3], Xq[EV_MAXVAL][2]; /* far corner of face k (minus p0) and its position */
 } fan;
 
-/* Angles between consecutive projected edges mapped onto the fan's span, sectors capped at 0.8π
- * (else the two faces at an edge would not lie on its two sides); folded fans get uniform angles. */
+/* Angles between consecutive projected edges mapped onto the fan's span, sectors capped at
+ * EV_CHART_MAX_ANGLE (else the two faces at an edge would not lie on its two sides); folded fans
+ * get uniform angles. */
 static void fan_angles(const q2n_mesh *m, int v, const fan *F, double g[][3], const double nrm[3], double *eta)
 {
     double zeta[EV_MAXVAL], tot = 0, span = fan_span(m, v, F->n);
@@ -261,12 +258,12 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, double g[][3], co
         double c[3];
         q2n_v3_cross(c, g[k], g[(k + 1) % F->n]);
         zeta[k] = atan2(q2n_v3_dot(c, nrm), q2n_v3_dot(g[k], g[(k + 1) % F->n]));
-        folded |= !(zeta[k] > 0.05);
-        tot += fmax(zeta[k], 0.05);
+        folded |= !(zeta[k] > EV_CHART_MIN_ANGLE);
+        tot += fmax(zeta[k], EV_CHART_MIN_ANGLE);
     }
     for (int k = 0; k < F->nfan; k++) zeta[k] = folded ? span / F->nfan : zeta[k] * span / tot;
-    for (int it = 0; it < 8; it++) {
-        double cap = 0.8 * M_PI, over = 0, rest = 0;
+    for (int it = 0; it < EV_CHART_CAP_PASSES; it++) {
+        double cap = EV_CHART_MAX_ANGLE, over = 0, rest = 0;
         for (int k = 0; k < F->nfan; k++) {
             if (zeta[k] > cap) over += zeta[k] - cap, zeta[k] = cap;
             else rest += zeta[k];
@@ -368,7 +365,7 @@ static int fit_normal_second(const fan *F, const double nj[3], ev_vjet *J)
         }
     }
     double tr = N[0][0] + N[1][1] + N[2][2];
-    for (int i = 0; i < 3; i++) N[i][i] += 1e-9 * tr; /* fans on two lines leave xy free */
+    for (int i = 0; i < 3; i++) N[i][i] += EV_JET_NORMAL_RIDGE * tr;
     if (!solve_sys(3, N, R)) return 0;
     for (int q = 0; q < 3; q++)
         for (int c = 0; c < 3; c++) J->J2[c][q] = R[q] * nj[c];
@@ -403,7 +400,7 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
     double tr = 0;
     for (int i = 0; i < 6; i++) tr += M[i][i];
     if (!(tr > 0)) return;
-    for (int i = 0; i < 6; i++) M[i][i] += 1e-3 * tr / 6;
+    for (int i = 0; i < 6; i++) M[i][i] += EV_JET_ACCEL_RIDGE * tr / 6;
     if (!solve_sys(6, M, R)) return;
     for (int q = 0; q < 3; q++)
         for (int c = 0; c < 3; c++) J->J2[c][q] += J->J1[c][0] * R[q] + J->J1[c][1] * R[3 + q];
@@ -420,13 +417,11 @@ static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, 
     for (int k = 0; k < F.n; k++) {
         /* The least-squares J1 cannot match every edge of a fan whose edge lengths differ
          * widely: a short edge may get an end speed |J1·X_k| of several times its chord, and the
-         * quintic edge curve then nearly stops before its other end (osd_catmark_righthanded:
-         * 4.4 x the chord, speed down to 4e-5 of 9e-3).  Scaling the edge's direction u_k by s
-         * is a change of the edge's local variable: every datum read from the jet along that
-         * edge (J1·u, J2[u,u], the neighbours' cross fields J1·u, the twists J2[u,w]) scales
-         * consistently, so the data stay the derivatives of one surface.  s keeps the end
-         * speed at most EV_SPEED_MAX times the chord (a lower bound as well changed nothing on
-         * righthanded and raised the curvature extreme of osd_catmark_helmet 5-fold). */
+         * quintic edge curve then nearly stops before its other end.  Scaling the edge's
+         * direction u_k by s is a change of the edge's local variable: every datum read from the
+         * jet along that edge (J1·u, J2[u,u], the neighbours' cross fields J1·u, the twists
+         * J2[u,w]) scales consistently, so the data stay the derivatives of one surface.  s keeps
+         * the end speed at most EV_SPEED_MAX times the chord (ev_policy.h). */
         double g[3], sp, ch = q2n_v3_norm(F.f[k]), sc = 1;
         q2n_ev_jet_d1(J, F.X[k], g);
         sp = q2n_v3_norm(g);

@@ -47,10 +47,6 @@
 #include "patch/ev_jet4.h"
 #include "patch/ev_policy.h"
 
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
-
 typedef struct fe_side {
     int kind;            /* 0 constructed from the jets, 1 sampled from a regular neighbour */
     ev_side reg;         /* kind 1 */

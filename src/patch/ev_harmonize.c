@@ -6,6 +6,7 @@
 #include "core/dense.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
+#include "patch/ev_policy.h"
 
 /* ---- corner compatibility (G2 mode) ----
  * A Coons–Gregory corner blends two values of each mixed derivative ∂u^a ∂v^b S, a, b >= 1:
@@ -38,7 +39,6 @@
 #define HZ_NG (2 + 3 * 81) /* shape guard record: max |dS|, min sine, 81 normals */
 #define HZ_NS (6 * 81)     /* surface cost samples per corner face: S_u, S_v on a 9 x 9 grid */
 #define HZ_NH (2 * 9 * 9)  /* edge cost samples per edge */
-#define HZ_GN 8            /* Gauss-Newton steps at most (only where slopes of a, b are unknowns) */
 
 typedef struct hz_corner { int f, i, j; } hz_corner;
 
@@ -201,7 +201,7 @@ static q2n_status hz_surface_sample(hz_vertex *V, int k, const double *base, dou
 
 /* Q = the cost's Gram matrix, one block per edge end (block of the group starting at g0 at
  * Q + HZ_GU * g0, the first-order data weighted by F), or with full != NULL one nu x nu block
- * full^T full + 1e-3 of the edge cost (its trace relative), then Cholesky-factored in place.
+ * full^T full + EV_HZ_EDGE_WEIGHT of the edge cost (its trace relative), then Cholesky-factored in place.
  * grp[] receives the grouping the factors follow.  0 where a block is not positive definite. */
 static int hz_cost_factor(hz_vertex *V, double F, const double *full, int nfull, int *grp)
 {
@@ -213,7 +213,7 @@ static int hz_cost_factor(hz_vertex *V, double F, const double *full, int nfull,
             for (int i = 0; i < nfull; i++) tf += full[(size_t)nfull * k + i] * full[(size_t)nfull * k + i];
             for (int i = 0; i < HZ_NH; i++) te += V->H[(size_t)HZ_NH * k + i] * V->H[(size_t)HZ_NH * k + i];
         }
-        double lam = te > 0 ? 1e-3 * tf / te : 0, qmax = 0;
+        double lam = te > 0 ? EV_HZ_EDGE_WEIGHT * tf / te : 0, qmax = 0;
         for (int a = 0; a < nu; a++)
             for (int b = 0; b <= a; b++) {
                 double q = 0;
@@ -364,21 +364,21 @@ static q2n_status hz_attempt(hz_vertex *V, const int *grp, int *ok)
     memcpy(V->rc, V->r0, sizeof(double) * (size_t)nr);
     q2n_status st;
     *ok = 0;
-    for (int gn = 0; gn < HZ_GN; gn++) {
+    for (int gn = 0; gn < EV_HZ_MAX_STEPS; gn++) {
         if (gn > 0) {
             memcpy(zl, z, sizeof(double) * (size_t)nu);
             if ((st = hz_jacobian(V, zl, V->rc, V->Mw))) return st;
         }
         if (!hz_min_change(V, V->Mw, V->rc, zl, grp, z)) break;
         nstep++;
-        if (V->r11 <= 1e-9 * V->rmax) break; /* affine: one step is exact */
+        if (V->r11 <= EV_HZ_AFFINE_REL * V->rmax) break; /* affine: one step is exact */
         for (int k = 0; k < nu; k++) *V->u[k] += z[k];
         st = hz_residuals(V, -1, NULL, V->rt);
         for (int k = 0; k < nu; k++) *V->u[k] -= z[k];
         if (st) return st;
         double rn = 0;
         for (int i = 0; i < nr; i++) rn = fmax(rn, fabs(V->rt[i]));
-        if (rn <= 1e-10 * V->rmax) break;
+        if (rn <= EV_HZ_DONE_REL * V->rmax) break;
     }
     if (!nstep) return Q2N_OK;
     for (int k = 0; k < nu; k++) *V->u[k] += z[k];
@@ -401,7 +401,7 @@ static q2n_status hz_attempt(hz_vertex *V, const int *grp, int *ok)
  * these fail, the cost becomes the change of the patches themselves (their first derivatives on
  * a grid, hz_surface_sample): the edge-wise cost does not see that a mixed-derivative change at
  * the corner bends the whole patch through its Hermite corner blend, and at vertices with wild
- * corner data (mismatches tens of times the patch's first derivatives, righthanded, rook) only
+ * corner data (mismatches tens of times the patch's first derivatives) only
  * the surface-aware correction keeps the patches unfolded.  If that fails too, the corners at v
  * stay Gregory corners.
  *
@@ -492,7 +492,7 @@ q2n_status q2n_ev_harmonize_vertex(const q2n_mesh *m, const q2n_surface *s, cons
     if (!(V->rmax > 0)) goto out;
     /* the slopes of a, b (first[] == 2) are unknowns only where a twist disagrees (where the
      * sign guard of q2n_ev_build_edge changed a slope); elsewhere the twists stay as they are */
-    if (!(V->r11 > 1e-9 * V->rmax)) {
+    if (!(V->r11 > EV_HZ_AFFINE_REL * V->rmax)) {
         int w = 0;
         for (int k = 0; k < nu; k++)
             if (V->first[k] != 2) { V->u[w] = V->u[k]; V->ue[w] = V->ue[k]; V->first[w] = V->first[k]; w++; }

@@ -12,7 +12,11 @@
  * of a patch to every free jet coefficient.  Jets and everything computed from them are
  * therefore W-wide: lanes 0..2 carry x, y, z of the fixed part, lane 3 + c the (scalar,
  * coordinate-independent) response to the c-th free coefficient.  The production evaluator is
- * the case W = 3. */
+ * the case W = 3.
+ *
+ * Not core/jet.h: those are univariate jets with arithmetic on them (products, reciprocals, for
+ * derivatives of formulas along a curve); these are bivariate Taylor polynomials that are the
+ * construction's unknowns, and their one operation is the directional contraction below. */
 #ifndef Q2N_PATCH_EV_JET4_H
 #define Q2N_PATCH_EV_JET4_H
 

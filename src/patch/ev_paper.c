@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/jet.h"
 #include "patch/ev_internal.h"
 
 /* The paper's patch: the shared Boolean-sum Coons patch (coons_patch.c) over side data from the
@@ -35,18 +36,19 @@ static void pp_side(const void *ctx, const void *lanes, int W, int sd, double s,
     q2n_ev_side_eval(&X->side[sd], s, loc);
     if (q2n_side_along_u(sd)) q2n_spline_blend_derivs(X->kb, X->e0, X->e1, s, L); /* ε(u) */
     else q2n_spline_blend_derivs(X->kb, X->d0, X->d1, s, L);                   /* δ(v) */
-    double L2[3] = {L[0] * L[0], 2 * L[0] * L[1], 2 * L[1] * L[1] + 2 * L[0] * L[2]};
-    double io = q2n_side_iota[sd];
+    double L2[3], io = q2n_side_iota[sd];
+    q2n_jet_mul_n(2, L, L, L2);
     for (int b = 0; b < 3; b++)
         for (int a = 0; a < na; a++) memset(F[b][a], 0, 3 * sizeof(double));
-    for (int c = 0; c < 3; c++) {
-        for (int a = 0; a < 3 && a < na; a++) F[0][a][c] = loc[0][a][c];
-        F[1][0][c] = io * L[0] * loc[1][0][c];
-        F[1][1][c] = io * (L[1] * loc[1][0][c] + L[0] * loc[1][1][c]);
-        F[1][2][c] = io * (L[2] * loc[1][0][c] + 2 * L[1] * loc[1][1][c] + L[0] * loc[1][2][c]);
-        F[2][0][c] = L2[0] * loc[2][0][c];
-        F[2][1][c] = L2[1] * loc[2][0][c] + L2[0] * loc[2][1][c];
-        F[2][2][c] = L2[2] * loc[2][0][c] + 2 * L2[1] * loc[2][1][c] + L2[0] * loc[2][2][c];
+    for (int c = 0; c < 3; c++) { /* jets in s: ∂n S = ε χ, ∂n² S = ε² ξ */
+        double l[3][3], p[3];
+        for (int b = 0; b < 3; b++)
+            for (int a = 0; a < 3; a++) l[b][a] = loc[b][a][c];
+        for (int a = 0; a < 3 && a < na; a++) F[0][a][c] = l[0][a];
+        q2n_jet_mul_n(2, L, l[1], p);
+        for (int a = 0; a < 3 && a < na; a++) F[1][a][c] = io * p[a];
+        q2n_jet_mul_n(2, L2, l[2], p);
+        for (int a = 0; a < 3 && a < na; a++) F[2][a][c] = p[a];
     }
 }
 

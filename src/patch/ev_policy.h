@@ -3,10 +3,12 @@
 #ifndef Q2N_PATCH_EV_POLICY_H
 #define Q2N_PATCH_EV_POLICY_H
 
+#include "core/vec3.h"
+
 /* Gauss–Legendre points per direction for the fairness energy of a patch: the patches are
- * polynomials of degree up to ~17 along a side; with 6 the bending-only solve found shapes whose
- * wiggles fall between the nodes (3x the oscillation on osd_catmark_righthanded), while 8 and 10
- * give the same surfaces to 1 % (8 costs 0.64 of 10). */
+ * polynomials of degree up to ~17 along a side; fewer nodes let the solve find shapes whose
+ * wiggles fall between them, while 8 and 10 give the same surfaces to 1 % (docs/extraordinary.md,
+ * "Why the policy values"). */
 #ifndef EV_FAIR_GAUSS
 #define EV_FAIR_GAUSS 8
 #endif
@@ -41,9 +43,54 @@
 
 /* Relative difference of two faces' transversality below which an edge's base face is its owner
  * face instead of the more transversal one: differences that small are rounding (a symmetric
- * mesh computed in floating point), and without the margin one ulp of input flipped the choice
- * and moved the surface by 0.45 % of the diagonal (exact cube).  Genuine differences are far
- * larger. */
+ * mesh computed in floating point), and without the margin one ulp of input could flip the
+ * choice and move the surface visibly.  Genuine differences are far larger. */
 #define EV_FAIR_BASE_TIE 1e-9
+
+/* ---- vertex jets from the mesh (ev_derivatives.c) ---- */
+
+/* Largest end speed of an edge, in the jet's tangent map, over the edge's chord: a least-squares
+ * tangent map cannot match every edge of a fan whose edge lengths differ widely, and a short edge
+ * given several times its chord as end speed makes its quintic curve nearly stop before the other
+ * end.  Capping it rescales that edge's local variable (the data stay one surface's derivatives);
+ * a lower bound as well only made curvature extremes worse. */
+#define EV_SPEED_MAX 1.5
+
+/* Ridge of the fit of the tangential second-order part (the accelerations along the edges),
+ * relative to its mean diagonal: the fan determines them weakly, and the ridge keeps them small
+ * where it does not, without moving what it determines. */
+#define EV_JET_ACCEL_RIDGE 1e-3
+
+/* Ridge of the fit of the normal second-order part, relative to its trace: fans whose edges lie
+ * on two lines leave the twist term free; far below the data's weight, it fixes it at zero. */
+#define EV_JET_NORMAL_RIDGE 1e-9
+
+/* Chart of a vertex's fan (fan_angles): a sector narrower than EV_CHART_MIN_ANGLE radians counts
+ * as folded (the fan then gets uniform angles), and no sector is wider than EV_CHART_MAX_ANGLE
+ * (else the two faces at an edge would not lie on its two sides; the excess goes to the others
+ * in proportion, at most EV_CHART_CAP_PASSES times, which settles any fan of the valences
+ * handled).  Why 0.05 and 0.8π: a sector of 3 degrees has no usable direction pair, and 0.8π
+ * leaves a margin of 36 degrees to the straight angle. */
+#define EV_CHART_MIN_ANGLE 0.05
+#define EV_CHART_MAX_ANGLE (0.8 * Q2N_PI)
+#define EV_CHART_CAP_PASSES 8
+
+/* ---- the paper's harmonisation of corner data (ev_harmonize.c) ---- */
+
+/* Weight of the edge curves' change against the data's change in the surface-aware cost,
+ * relative to their traces: small, so the patches' change decides, but enough to keep the
+ * system definite along the edges. */
+#define EV_HZ_EDGE_WEIGHT 1e-3
+
+/* Gauss–Newton steps at most where the mismatches are not affine (slopes of a, b unknown): the
+ * mismatches are nearly affine, so a few steps converge or the correction is not applied. */
+#define EV_HZ_MAX_STEPS 8
+
+/* The twist mismatches count as zero (the problem as affine, one step exact) below this fraction
+ * of the largest mismatch: the rounding of the regular patches' mixed derivatives. */
+#define EV_HZ_AFFINE_REL 1e-9
+
+/* Gauss–Newton stops when the largest mismatch left is below this fraction of the initial one. */
+#define EV_HZ_DONE_REL 1e-10
 
 #endif

@@ -4,7 +4,9 @@
 #include "patch/surface.h"
 
 #include "core/poly.h"
+#include "core/vec3.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -283,4 +285,26 @@ q2n_status q2n_surface_corner_mixed(const q2n_surface *s, int k, int i, int j, d
     if (!s || k < 0 || k >= s->n || (i & ~1) || (j & ~1)) return Q2N_ERR_ARG;
     if (!s->p[k].corner) return Q2N_ERR_UNSUPPORTED;
     return s->p[k].corner(s->p[k].data, i, j, out);
+}
+
+double q2n_surface_project(const q2n_surface *s, int k, const double P[3], int maxit, double *u, double *v)
+{
+    double best = INFINITY;
+    for (int it = 0; it < maxit; it++) {
+        double e[Q2N_EVAL_MAX], r[3];
+        if (q2n_surface_eval(s, k, *u, *v, 1, e) != Q2N_OK) break;
+        q2n_v3_sub(r, e, P);
+        best = fmin(best, q2n_v3_norm(r));
+        const double *Su = e + Q2N_EV_U, *Sv = e + Q2N_EV_V;
+        double a = q2n_v3_dot(Su, Su), b = q2n_v3_dot(Su, Sv), c = q2n_v3_dot(Sv, Sv);
+        double gu = -q2n_v3_dot(Su, r), gv = -q2n_v3_dot(Sv, r), det = a * c - b * b;
+        if (!(det > 0)) break;
+        double du = (c * gu - b * gv) / det, dv = (a * gv - b * gu) / det;
+        double nu = fmin(1.0, fmax(0.0, *u + du)), nv = fmin(1.0, fmax(0.0, *v + dv));
+        double step = fabs(nu - *u) + fabs(nv - *v);
+        *u = nu;
+        *v = nv;
+        if (step < 1e-15) break; /* rounding of parameters in [0,1] */
+    }
+    return best;
 }

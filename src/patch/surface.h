@@ -88,6 +88,12 @@ int q2n_surface_count(const q2n_surface *s, q2n_patch_kind kind);
  * Q2N_ERR_NUMERIC when a value is not finite (NaN/Inf; out is filled anyway). */
 q2n_status q2n_surface_eval(const q2n_surface *s, int k, double u, double v, int nder, double *out);
 
+/* Foot point of P on patch k: Gauss–Newton on |S(u, v) - P|^2 from (*u, *v), the parameters
+ * clamped to [0,1]^2, at most maxit steps; it stops early when the normal equations are singular,
+ * an evaluation fails, or a step moves (u, v) by less than rounding.  Returns the smallest
+ * distance |S - P| met (INFINITY if none was evaluated); *u, *v get the last iterate. */
+double q2n_surface_project(const q2n_surface *s, int k, const double P[3], int maxit, double *u, double *v);
+
 /* Evaluate patch k on the tensor grid us[0..nu-1] x vs[0..nv-1] with first derivatives:
  * out has 9 doubles (S, Su, Sv) per point, u fastest.  Shares per-row work, so it is the
  * fast path for tessellation, sampling and fitting.  Q2N_ERR_NUMERIC when a value is not

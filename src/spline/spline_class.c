@@ -185,7 +185,7 @@ void q2n_spline_fundamental(const q2n_spline_class *c, const double *d, double x
     for (int q = 0; q <= nder; q++) {
         for (int i = 0; i < w; i++) {
             double acc = 0;
-            for (int r = 0; r < nb; r++) acc += B[q * nb + r] * C[r * w + i].c[0];
+            for (int r = 0; r < nb; r++) acc += B[q * nb + r] * C[r * w + i].d[0];
             psi[q * w + i] = acc * scale;
         }
         scale /= D;
@@ -238,6 +238,6 @@ q2n_jet q2n_spline_blend(int k, double a, double b, double t)
 {
     double o[4];
     q2n_spline_blend_derivs(k, a, b, t, o);
-    q2n_jet r = {{o[0], o[1], 0.5 * o[2]}};
+    q2n_jet r = {{o[0], o[1], o[2]}};
     return r;
 }
