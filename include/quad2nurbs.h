@@ -195,6 +195,11 @@ enum {
 #define Q2N_TOL_MIN 1e-12
 #define Q2N_TOL_MAX 0.1
 
+/* Accepted --scale factors: beyond these a model's coordinates leave the range in which the
+ * writers' 17 significant digits and the CAD importers' tolerances are meaningful. */
+#define Q2N_SCALE_MIN 1e-12
+#define Q2N_SCALE_MAX 1e12
+
 /* Zeroed fields mean defaults (in brackets).  The command line's options of the same names. */
 typedef struct q2n_options {
     q2n_surface_method surface;    /* [augmented] */
@@ -205,7 +210,7 @@ typedef struct q2n_options {
     q2n_ev_method ev_construction; /* augmented [fair] */
     q2n_acc_strategy acc_strategy; /* acc-g1 [cs-s] */
     int subdivide;                 /* Catmull–Clark steps before building, 0..6 [0] */
-    double scale;                  /* multiplies the mesh coordinates, 1e-12..1e12 [1] */
+    double scale;                  /* multiplies the mesh coordinates, Q2N_SCALE_MIN..Q2N_SCALE_MAX [1] */
     q2n_units units;               /* unit of the CAD files [mm] */
     double tol;                    /* fit tolerance relative to the bounding-box diagonal, 1e-12..0.1 [1e-5] */
     double tol_abs;                /* fit tolerance in model units; > 0 replaces tol */

@@ -244,7 +244,7 @@ static int parse_option(int c, const char *arg, cli_options *o)
     case OPT_CURV:
         q->given |= Q2N_GIVEN_CURVATURE_TOL;
         return parse_real(arg, "--curvature-tol", 0, 1, 10, " (relative)", &q->curvature_tol) ? 2 : 0;
-    case OPT_SCALE: return parse_real(arg, "--scale", 1e-12, 0, 1e12, "", &q->scale) ? 2 : 0;
+    case OPT_SCALE: return parse_real(arg, "--scale", Q2N_SCALE_MIN, 0, Q2N_SCALE_MAX, "", &q->scale) ? 2 : 0;
     case OPT_MAXMEM: return parse_size(arg, &q->max_memory) ? 2 : 0;
     case OPT_EVPATCH:
         q->given |= Q2N_GIVEN_EV_PATCH;
