@@ -37,6 +37,7 @@
 #include "core/poly.h"
 #include "core/vec3.h"
 #include "patch/ev_internal.h"
+#include "patch/ev_policy.h"
 
 /* ------------------------------------------------------------ polynomials */
 
@@ -231,7 +232,9 @@ q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet 
      * (larger min over the ends of |a| / |χ|, the sine of the angle to the edge).  The derived
      * side divides by the base side's a (α = a_R / a_L): with the other choice, a face meeting
      * the edge at a small angle made α and its derivatives large, and the derived data wild
-     * near the vertex (mixed corner derivatives tens of times those of the base side). */
+     * near the vertex (mixed corner derivatives tens of times those of the base side).  Within
+     * EV_BASE_TIE of a tie the base is the edge's owner face (h), so that rounding-level changes
+     * of a symmetric mesh do not flip the choice (docs/extraordinary.md, "Base faces"). */
     int hs[2] = {h, tw};
     if (tw >= 0) {
         double sn[2];
@@ -245,7 +248,7 @@ q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet 
             decompose(D1, G1, c1, &a1, &b1);
             sn[x] = fmin(fabs(a0) / (q2n_v3_norm(c0) + 1e-300), fabs(a1) / (q2n_v3_norm(c1) + 1e-300));
         }
-        if (sn[1] > sn[0]) { hs[0] = tw; hs[1] = h; out->base_twin = 1; }
+        if (sn[1] > sn[0] * (1.0 + EV_BASE_TIE)) { hs[0] = tw; hs[1] = h; out->base_twin = 1; }
     }
     out->face[0] = m->he_face[hs[0]];
     out->face[1] = tw >= 0 ? m->he_face[hs[1]] : -1;

@@ -767,7 +767,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
 
     /* constructed edges and their base faces: the face whose cross direction is the more
      * transversal to the edge at its worse end (α = ratio of the transversal parts stays moderate);
-     * within EV_FAIR_BASE_TIE of a tie the edge's owner face, so that rounding-level changes of a
+     * within EV_BASE_TIE of a tie the edge's owner face, so that rounding-level changes of a
      * symmetric mesh do not flip the choice (docs/extraordinary.md, "Base faces") */
     for (int e = 0; e < m->ne; e++) {
         B.base[e] = -1;
@@ -783,7 +783,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
             const double *wa = cross_dir(m, B.dir, f, e, va), *wb = cross_dir(m, B.dir, f, e, vb);
             q[k] = fmin(sine2(wa, edge_dir(m, B.dir, e, va)), sine2(wb, edge_dir(m, B.dir, e, vb)));
         }
-        B.base[e] = q[1] > q[0] * (1.0 + EV_FAIR_BASE_TIE) ? f1 : f0;
+        B.base[e] = q[1] > q[0] * (1.0 + EV_BASE_TIE) ? f1 : f0;
     }
     for (int i = 0; i < nf && !st; i++) st = setup_patch(&B, faces[i], &X[i], &CP[i], err);
     if (st) goto done;

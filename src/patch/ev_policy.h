@@ -42,10 +42,11 @@
 #define Q2N_EV_MAX_THREADS 64
 
 /* Relative difference of two faces' transversality below which an edge's base face is its owner
- * face instead of the more transversal one: differences that small are rounding (a symmetric
- * mesh computed in floating point), and without the margin one ulp of input could flip the
- * choice and move the surface visibly.  Genuine differences are far larger. */
-#define EV_FAIR_BASE_TIE 1e-9
+ * face instead of the more transversal one (both constructions: ev_fair.c, curve_network.c):
+ * differences that small are rounding (a symmetric mesh computed in floating point), and without
+ * the margin one ulp of input could flip the choice and move the surface visibly.  Genuine
+ * differences are far larger. */
+#define EV_BASE_TIE 1e-9
 
 /* ---- vertex jets from the mesh (ev_derivatives.c) ---- */
 
