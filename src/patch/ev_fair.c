@@ -558,10 +558,11 @@ typedef struct fe_job {
 static void *form_worker(void *arg)
 {
     fe_job *J = arg;
-    double gx[EV_FAIR_GAUSS], gw[EV_FAIR_GAUSS];
-    q2n_gauss_legendre01(EV_FAIR_GAUSS, gx, gw);
+    int ng = J->B->K >= 2 ? EV_FAIR_GAUSS_G2 : EV_FAIR_GAUSS_G1;
+    double gx[EV_FAIR_GAUSS_MAX], gw[EV_FAIR_GAUSS_MAX];
+    q2n_gauss_legendre01(ng, gx, gw);
     for (int fi = J->t; fi < J->nfaces && !J->st; fi += J->nt)
-        J->st = face_form(J->B, fi, J->faces[fi], &J->P[fi], gx, gw, EV_FAIR_GAUSS, &J->F[fi]);
+        J->st = face_form(J->B, fi, J->faces[fi], &J->P[fi], gx, gw, ng, &J->F[fi]);
     return NULL;
 }
 

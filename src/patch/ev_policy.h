@@ -5,13 +5,18 @@
 
 #include "core/vec3.h"
 
-/* Gauss–Legendre points per direction for the fairness energy of a patch: the patches are
- * polynomials of degree up to ~17 along a side; fewer nodes let the solve find shapes whose
- * wiggles fall between them, while 8 and 10 give the same surfaces to 1 % (docs/extraordinary.md,
- * "Why the policy values"). */
-#ifndef EV_FAIR_GAUSS
-#define EV_FAIR_GAUSS 8
+/* Gauss–Legendre points per direction for the fairness energy of a patch.  G1 patches have degree
+ * <= 7 along a side, so 8 points integrate their energy integrands (degree <= 10) exactly.  G2
+ * patches reach degree ~17 (integrands up to degree 30): 12 points give the same surfaces as 16 to
+ * every digit of the fairness figures measured, 8 did not (docs/extraordinary.md, "Why the policy
+ * values"). */
+#ifndef EV_FAIR_GAUSS_G1
+#define EV_FAIR_GAUSS_G1 8
 #endif
+#ifndef EV_FAIR_GAUSS_G2
+#define EV_FAIR_GAUSS_G2 12
+#endif
+#define EV_FAIR_GAUSS_MAX (EV_FAIR_GAUSS_G1 > EV_FAIR_GAUSS_G2 ? EV_FAIR_GAUSS_G1 : EV_FAIR_GAUSS_G2)
 
 /* Weight of the curvature-variation term against bending (both dimensionless per face): it is
  * what removes the ripples (bending alone ranks a wavy and a smooth cap alike); larger values
