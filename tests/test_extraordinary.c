@@ -784,7 +784,12 @@ static void test_high_valence(void)
         q2n_mesh_free(m);
     }
     printf("construction + checks CPU: valence 16 %.3f s, valence 64 %.3f s\n", t[0], t[1]);
-    CHECK(t[1] < 2.0, "valence 64: %.2f s CPU (target 0.5 s; 13.1 s before the fair construction)", t[1]);
+#if defined(__SANITIZE_ADDRESS__)
+    const double bound = 20.0; /* an ASan/UBSan build (make CONFIG=asan) runs about 10x slower */
+#else
+    const double bound = 2.0;
+#endif
+    CHECK(t[1] < bound, "valence 64: %.2f s CPU (target 0.5 s; 13.1 s before the fair construction)", t[1]);
 }
 
 int main(void)

@@ -13,6 +13,13 @@
 #include "quad2nurbs.h"
 
 #define PREFIX "/opt/q2n"
+/* A sanitizer build (make CONFIG=asan) installs an instrumented library: the example must link the
+ * sanitizer runtimes too, which pkg-config cannot know about. */
+#if defined(__SANITIZE_ADDRESS__)
+#define EXAMPLE_SAN " -fsanitize=address,undefined"
+#else
+#define EXAMPLE_SAN ""
+#endif
 #define EXAMPLE "torus_from_arrays"
 
 static long slurp(const char *path, char *buf, size_t cap)
@@ -78,7 +85,7 @@ int main(void)
     snprintf(inc, sizeof inc, "-I%s" PREFIX "/include", dest);
     CHECK(strstr(a, inc) && strstr(a, "-lquad2nurbs") && strstr(a, "-lceres"), "flags: %s", a);
     const char *prog = chk_scratch(EXAMPLE);
-    snprintf(cmd, sizeof cmd, "${CC:-cc} -std=c11 -Wall -Wextra -Werror examples/" EXAMPLE ".c -o '%s' $(cat '%s') >'%s' 2>&1",
+    snprintf(cmd, sizeof cmd, "${CC:-cc} -std=c11 -Wall -Wextra -Werror" EXAMPLE_SAN " examples/" EXAMPLE ".c -o '%s' $(cat '%s') >'%s' 2>&1",
              prog, flags, chk_scratch("example_build.log"));
     CHECK(sh(cmd) == 0, "the example builds against the installed library (log: %s)", chk_scratch("example_build.log"));
 
