@@ -12,6 +12,7 @@
 #include <time.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <sys/resource.h>
 
 #include "check.h"
 
@@ -325,6 +326,25 @@ static void resources(void)
     CHECK(rc == 0, "--max-memory 0 is no limit: %d '%s'", rc, err);
     clock_gettime(CLOCK_MONOTONIC, &b);
     CHECK(b.tv_sec - a.tv_sec < 20, "refusals took %ld s: the work started", (long)(b.tv_sec - a.tv_sec));
+    /* The fit's peak memory on the 2400-face torus (one span per patch) stays near the estimate
+     * (8 MB + 2400 x (1.4 + 5.2 + 5.5) KB = 37 MB): its side caches once grew in blocks of 32
+     * parameters per side, 74 MB here (27 KB per face; 2.4 GB for a 90 000-face torus). */
+    char exe[1024], tor[512];
+    if (!realpath(EXE, exe)) snprintf(exe, sizeof exe, "%s", EXE);
+    snprintf(tor, sizeof tor, "%s/t2400.obj", dir);
+    pid_t pid = fork();
+    if (pid == 0) {
+        if (!freopen("/dev/null", "w", stderr)) _exit(126);
+        execl(exe, exe, "-q", tor, "-o", chk_scratch("mem.json"), (char *)NULL);
+        _exit(127);
+    }
+    int status = 0;
+    struct rusage ru;
+    memset(&ru, 0, sizeof ru);
+    CHECK(pid > 0 && wait4(pid, &status, 0, &ru) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
+              ru.ru_maxrss < 48 * 1024,
+          "fit of 2400 faces: peak resident %ld KB (estimate ~37 MB, bound 48 MB), exit %d", ru.ru_maxrss,
+          WIFEXITED(status) ? WEXITSTATUS(status) : -1);
     /* the tessellation file would not fit on the disk: 2400 patches of 10000 x 10000 points (30 TB) */
     struct statvfs vf;
     if (statvfs(dir, &vf) == 0 && (double)vf.f_bavail * vf.f_frsize < 3e13) {

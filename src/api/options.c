@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "api/policy.h"
+#include "fit/fit_policy.h"
 #include "patch/extraordinary.h"
 
 /* ------------------------------------------------------------------ warnings */
@@ -171,8 +172,11 @@ void q2n_model_estimate(const q2n_model *m, const q2n_plan *plan, q2n_estimate *
     double faces = (double)nf, build = Q2N_MEM_BASE + faces * Q2N_MEM_BUILD_PER_FACE, peak = build;
     e->faces = nf;
     e->peak_stage = "build";
-    if (plan->fit && build + faces * Q2N_MEM_FIT_PER_FACE > peak) {
-        peak = build + faces * Q2N_MEM_FIT_PER_FACE;
+    double cache = faces * Q2N_MEM_FIT_CACHE_PER_FACE;
+    if (cache > Q2N_FIT_SIDE_CACHE_BYTES) cache = Q2N_FIT_SIDE_CACHE_BYTES;
+    double fit = faces * Q2N_MEM_FIT_PER_FACE + cache;
+    if (plan->fit && build + fit > peak) {
+        peak = build + fit;
         e->peak_stage = "fit";
     }
     /* per-patch evaluation buffers (9 doubles per point) of the tessellation and of `sample` */

@@ -9,10 +9,13 @@
 /* Bytes per face of the construction (mesh, half-edges, parameters, patch data): what `sample`
  * and .obj runs peak at. */
 #define Q2N_MEM_BUILD_PER_FACE 1400.0
-/* Bytes per face the fit adds at its peak with one knot span per patch (the same at every mesh
- * size measured); refinement multiplies it roughly by the spans per patch, so the estimate is a
- * lower bound for refined fits.  STEP and IGES are streamed into their files: no memory. */
-#define Q2N_MEM_FIT_PER_FACE 3900.0
+/* Bytes per face the fit adds at its peak with one knot span per patch, besides its side caches;
+ * refinement multiplies it roughly by the spans per patch, so the estimate is a lower bound for
+ * refined fits.  STEP and IGES are streamed into their files: no memory. */
+#define Q2N_MEM_FIT_PER_FACE 5200.0
+/* The fit's side caches per face at one span per patch, up to their budget
+ * (Q2N_FIT_SIDE_CACHE_BYTES, fit/fit_policy.h). */
+#define Q2N_MEM_FIT_CACHE_PER_FACE 5500.0
 /* Output bytes per face at one span per patch (the fit may refine: again a lower bound). */
 #define Q2N_OUT_STEP_PER_FACE 5600.0
 #define Q2N_OUT_IGES_PER_FACE 6700.0

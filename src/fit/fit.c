@@ -348,6 +348,7 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
     c->p = calloc((size_t)m->nf, sizeof *c->p);
     c->e = calloc((size_t)m->ne, sizeof *c->e);
     c->sc = calloc(4 * (size_t)m->nf, sizeof *c->sc);
+    atomic_init(&c->sc_bytes, 0);
     if (!c->p || !c->e || !c->sc) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     for (int e = 0; e < m->ne; e++) c->e[e].fitted = -1;
     q2n_status st = q2n_fit_glue_measure(c);
@@ -365,6 +366,18 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
         if (!added) break;
     }
     if (st) return st;
+    /* the construction caches serve the rounds only: free them before the model copy, the peak */
+    for (int q = 0; q < 4 * m->nf; q++) {
+        free(c->sc[q].t);
+        free(c->sc[q].D);
+        memset(&c->sc[q], 0, sizeof c->sc[q]);
+    }
+    atomic_store(&c->sc_bytes, 0);
+    for (int k = 0; k < m->nf; k++) {
+        fit_grid_cache *g = &c->p[k].gc;
+        free(g->u); free(g->v); free(g->val); free(g->have);
+        memset(g, 0, sizeof *g);
+    }
     if ((st = make_model(c, out))) return st;
     report_totals(c, *out);
     q2n_fit_accept(c);

@@ -32,6 +32,11 @@
 #define Q2N_FIT_CONSTRAINT_RCOND 1e-11  /* singular values of a constraint block below this (relative) are dependent rows, not conditions */
 #define Q2N_FIT_CONSTRAINT_RESID 1e-9   /* a constraint block whose best solution misses by more (relative) is inconsistent: fall back to least squares */
 
+/* ---- construction caches ---- */
+#ifndef Q2N_FIT_SIDE_CACHE_BYTES
+#define Q2N_FIT_SIDE_CACHE_BYTES 64e6   /* side values are cached for reuse by the later stages and rounds up to this total; beyond it they are evaluated when needed: memory stays near 6 KB per face on large models, small ones keep every value */
+#endif
+
 /* ---- corners ---- */
 #define Q2N_FIT_JET_SPREAD 0.1          /* two corner estimates disagreeing by more than this fraction of tol (control-point terms) are a Gregory-type corner */
 #define Q2N_FIT_JET_H 0.002             /* step of the one-sided 6-point corner differences: rounding ~eps/h^2 stays below 1e-10 relative */

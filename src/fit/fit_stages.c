@@ -135,21 +135,45 @@ static int sc_find(const fit_side_cache *sc, double t, int *pos)
 q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t, double *D)
 {
     fit_side_cache *sc = &c->sc[4 * k + i];
+    /* grow to exactly what this call adds (a side holds a few dozen parameters), within the
+     * budget of all side caches; a side that would exceed it is evaluated without caching (the
+     * same values: which sides are cached does not change any result) */
+    int missing = 0;
+    for (int q = 0; q < n; q++) {
+        int pos;
+        missing += sc_find(sc, t[q], &pos) < 0;
+    }
+    int cache = 1;
+    if (missing && sc->n + missing > sc->cap) {
+        long add = (long)(sc->n + missing - sc->cap) * (long)(19 * sizeof(double));
+        long before = atomic_fetch_add(&c->sc_bytes, add);
+        if ((double)(before + add) > Q2N_FIT_SIDE_CACHE_BYTES) {
+            atomic_fetch_sub(&c->sc_bytes, add);
+            cache = 0;
+        } else {
+            int nc = sc->n + missing;
+            double *nt = realloc(sc->t, sizeof(double) * (size_t)nc);
+            if (nt) sc->t = nt;
+            double *nd = nt ? realloc(sc->D, 18 * sizeof(double) * (size_t)nc) : NULL;
+            if (!nt || !nd) return Q2N_ERR_NOMEM;
+            sc->D = nd;
+            sc->cap = nc;
+        }
+    }
     for (int q = 0; q < n; q++) {
         int pos, at = sc_find(sc, t[q], &pos);
+        if (at < 0 && !cache) {
+            if (!D) continue;   /* a prefetch: evaluated when needed */
+            double V[6][3];
+            q2n_status st = q2n_fit_target_frame(c, k, i, t[q], V);
+            if (st) return st;
+            memcpy(D + 18 * (size_t)q, V, sizeof V);
+            continue;
+        }
         if (at < 0) {
             double V[6][3];
             q2n_status st = q2n_fit_target_frame(c, k, i, t[q], V);
             if (st) return st;
-            if (sc->n == sc->cap) {
-                int nc = sc->cap ? 2 * sc->cap : 32;
-                double *nt = realloc(sc->t, sizeof(double) * (size_t)nc);
-                if (nt) sc->t = nt;
-                double *nd = nt ? realloc(sc->D, 18 * sizeof(double) * (size_t)nc) : NULL;
-                if (!nt || !nd) return Q2N_ERR_NOMEM;
-                sc->D = nd;
-                sc->cap = nc;
-            }
             memmove(sc->t + pos + 1, sc->t + pos, sizeof(double) * (size_t)(sc->n - pos));
             memmove(sc->D + 18 * (size_t)(pos + 1), sc->D + 18 * (size_t)pos, 18 * sizeof(double) * (size_t)(sc->n - pos));
             sc->t[pos] = t[q];

@@ -12,6 +12,8 @@
 
 #include "fit/fit_internal.h"
 
+#include <stdatomic.h>
+
 /* A sorted growable set of breakpoints in (0,1). */
 typedef struct fit_breaks {
     int n, cap;
@@ -102,6 +104,7 @@ typedef struct fit_ctx {
     fit_patch *p;            /* nf */
     fit_edge *e;             /* ne */
     fit_side_cache *sc;      /* 4 * nf: side i of patch k at 4k + i */
+    atomic_long sc_bytes;    /* bytes held by the side caches (Q2N_FIT_SIDE_CACHE_BYTES bounds them) */
     double (*jet)[4][4][4];  /* corner jets of the construction, once per fit */
     double *vpos;            /* nv: patch corner point of every vertex */
     int round;
