@@ -327,7 +327,7 @@ static void resources(void)
     clock_gettime(CLOCK_MONOTONIC, &b);
     CHECK(b.tv_sec - a.tv_sec < 20, "refusals took %ld s: the work started", (long)(b.tv_sec - a.tv_sec));
     /* The fit's peak memory on the 2400-face torus (one span per patch) stays near the estimate
-     * (8 MB + 2400 x (1.4 + 5.2 + 5.5) KB = 37 MB): its side caches once grew in blocks of 32
+     * (8 MB + 2400 x (1.4 + 4.6 + 5.5) KB = 36 MB): its side caches once grew in blocks of 32
      * parameters per side, 74 MB here (27 KB per face; 2.4 GB for a 90 000-face torus). */
     char exe[1024], tor[512];
     if (!realpath(EXE, exe)) snprintf(exe, sizeof exe, "%s", EXE);

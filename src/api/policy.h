@@ -12,7 +12,7 @@
 /* Bytes per face the fit adds at its peak with one knot span per patch, besides its side caches;
  * refinement multiplies it roughly by the spans per patch, so the estimate is a lower bound for
  * refined fits.  STEP and IGES are streamed into their files: no memory. */
-#define Q2N_MEM_FIT_PER_FACE 5200.0
+#define Q2N_MEM_FIT_PER_FACE 4600.0
 /* The fit's side caches per face at one span per patch, up to their budget
  * (Q2N_FIT_SIDE_CACHE_BYTES, fit/fit_policy.h). */
 #define Q2N_MEM_FIT_CACHE_PER_FACE 5500.0

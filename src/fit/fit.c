@@ -247,25 +247,22 @@ static q2n_status make_model(fit_ctx *c, q2n_nurbs_model **out)
         q2n_bspline_surface *b = &md->patches[k];
         b->deg_u = b->deg_v = Q2N_FIT_DEG;
         b->ncp_u = p->nu; b->ncp_v = p->nv;
-        size_t nku = (size_t)p->nu + Q2N_FIT_DEG + 1, nkv = (size_t)p->nv + Q2N_FIT_DEG + 1, n = (size_t)p->nu * p->nv;
-        b->knots_u = malloc(nku * sizeof(double));
-        b->knots_v = malloc(nkv * sizeof(double));
-        b->cp = malloc(3 * n * sizeof(double));
+        /* the fit is over: its arrays move into the model (no copy at the peak) */
+        b->knots_u = p->ku; p->ku = NULL;
+        b->knots_v = p->kv; p->kv = NULL;
+        b->cp = p->cp; p->cp = NULL;
         if (!b->knots_u || !b->knots_v || !b->cp) goto oom;
-        memcpy(b->knots_u, p->ku, nku * sizeof(double));
-        memcpy(b->knots_v, p->kv, nkv * sizeof(double));
-        memcpy(b->cp, p->cp, 3 * n * sizeof(double));
     }
     for (int e = 0; e < m->ne; e++) {
-        const fit_edge *E = &c->e[e];
+        fit_edge *E = &c->e[e];
         q2n_bspline_curve *cv = &md->edges[e];
         cv->deg = Q2N_FIT_DEG;
         cv->ncp = E->n;
         cv->knots = malloc(sizeof(double) * (size_t)(E->n + 6));
-        cv->cp = malloc(3 * sizeof(double) * (size_t)E->n);
+        cv->cp = E->cp;
+        E->cp = NULL;
         if (!cv->knots || !cv->cp) goto oom;
         q2n_fit_knots_from_breaks(E->K.n, E->K.t, cv->knots);
-        memcpy(cv->cp, E->cp, 3 * sizeof(double) * (size_t)E->n);
     }
     *out = md;
     return Q2N_OK;
@@ -374,9 +371,16 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
     }
     atomic_store(&c->sc_bytes, 0);
     for (int k = 0; k < m->nf; k++) {
-        fit_grid_cache *g = &c->p[k].gc;
+        fit_patch *p = &c->p[k];
+        fit_grid_cache *g = &p->gc;
         free(g->u); free(g->v); free(g->val); free(g->have);
         memset(g, 0, sizeof *g);
+        free(p->cell); free(p->fixed); free(p->var); free(p->kur); free(p->kvr);
+        p->cell = NULL; p->fixed = NULL; p->var = NULL; p->kur = p->kvr = NULL;
+    }
+    for (int e = 0; e < m->ne; e++) {
+        free(c->e[e].chk);
+        c->e[e].chk = NULL;
     }
     if ((st = make_model(c, out))) return st;
     report_totals(c, *out);
