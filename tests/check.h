@@ -9,10 +9,12 @@
  *   Q2N_TEST_FULL       1: full mode (make check-full), long sweeps run default: quick mode
  *   Q2N_SCRATCH         the program's own scratch folder               default build/scratch/<program>
  *   Q2N_EXE             the quad2nurbs executable                      default build/quad2nurbs
- * Helpers: chk_shared_mesh(file), q2n_test_full(what), chk_scratch(name), chk_exe(). */
+ * Helpers: chk_shared_mesh(file), q2n_test_full(what), chk_scratch(name), chk_exe(), chk_slurp(path, &len),
+ * chk_tmpdir(dir, cap, prefix), chk_count_files(dir, prefix). */
 #ifndef Q2N_TEST_CHECK_H
 #define Q2N_TEST_CHECK_H
 
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -169,6 +171,43 @@ static inline const char *chk_scratch(const char *name)
     char *p = buf[slot++ & 15];
     snprintf(p, sizeof buf[0], "%s/%s", chk_scratch_dir(), name);
     return p;
+}
+
+/* The whole of a file, NUL-terminated (caller frees), or NULL; *len (when len is not NULL) its size
+ * once the file could be opened. */
+static inline char *chk_slurp(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = n >= 0 ? (char *)malloc((size_t)n + 1) : NULL;
+    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) { free(b); b = NULL; }
+    if (b) b[n] = '\0';
+    fclose(f);
+    if (len) *len = n >= 0 ? (size_t)n : 0;
+    return b;
+}
+
+/* A fresh folder "<scratch folder>/<prefix>_XXXXXX" into dir (cap bytes): 0, or -1 when the name
+ * does not fit or it cannot be created. */
+static inline int chk_tmpdir(char *dir, size_t cap, const char *prefix)
+{
+    int n = snprintf(dir, cap, "%s/%s_XXXXXX", chk_scratch_dir(), prefix);
+    if (n < 0 || (size_t)n >= cap) return -1;
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+/* Files in dir whose names start with prefix (".q2n-": the atomic writer's temporaries). */
+static inline int chk_count_files(const char *dir, const char *prefix)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    int n = 0;
+    while (d && (e = readdir(d))) n += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
+    if (d) closedir(d);
+    return n;
 }
 
 /* The quad2nurbs executable under test (Q2N_EXE; by hand: build/quad2nurbs). */

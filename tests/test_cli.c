@@ -7,7 +7,6 @@
  * the report and as the fit's acceptance targets; the summary's units; warnings for options the
  * chosen path ignores; --threads above 64; the valence limit with a line; resource limits. */
 #define _GNU_SOURCE
-#include <dirent.h>
 #include <sys/statvfs.h>
 #include <time.h>
 #include <sys/stat.h>
@@ -54,13 +53,7 @@ static int run(const char *args, char *errline, size_t cap, long *outlines)
 
 static int leftovers(void) /* temporaries (.q2n-*) or out.* in the scratch dir */
 {
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    int n = 0;
-    while (d && (e = readdir(d)))
-        n += strncmp(e->d_name, ".q2n-", 5) == 0 || strncmp(e->d_name, "out", 3) == 0;
-    if (d) closedir(d);
-    return n;
+    return chk_count_files(dir, ".q2n-") + chk_count_files(dir, "out");
 }
 
 static void expect_error(const char *label, const char *file, const char *text, const char *extra,
@@ -75,21 +68,6 @@ static void expect_error(const char *label, const char *file, const char *text, 
     CHECK(leftovers() == 0, "%s: an output or temporary file was left behind", label);
 }
 
-/* The whole of a file (caller frees), or NULL. */
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) { free(b); b = NULL; }
-    if (b) b[n] = '\0';
-    fclose(f);
-    return b;
-}
-
 /* Run a shell command line in the scratch dir (the executable as $Q), all of stderr into err. */
 static int run_sh(const char *line, char *err, size_t cap)
 {
@@ -98,7 +76,7 @@ static int run_sh(const char *line, char *err, size_t cap)
     snprintf(ep, sizeof ep, "%s/stderr.txt", dir);
     snprintf(cmd, sizeof cmd, "cd %s && Q=%s && %s 2> stderr.txt", dir, exe, line);
     int st = system(cmd);
-    char *e = slurp(ep);
+    char *e = chk_slurp(ep, NULL);
     snprintf(err, cap, "%s", e ? e : "");
     free(e);
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
@@ -116,7 +94,7 @@ static char *report(const char *name)
 {
     char p[512];
     snprintf(p, sizeof p, "%s/%s", dir, name);
-    return slurp(p);
+    return chk_slurp(p, NULL);
 }
 
 /* Issue 13 item 4: getopt errors name the program (not its path) and end with one hint line. */
@@ -141,7 +119,7 @@ static void option_errors(void)
     rc = run_sh("$Q --help > help.txt", err, sizeof err);
     char p[512];
     snprintf(p, sizeof p, "%s/help.txt", dir);
-    char *h = slurp(p);
+    char *h = chk_slurp(p, NULL);
     static const char *const opts[] = {"--output", "--format", "--surface", "--acc-strategy", "--class", "--ev-patch",
                                        "--param", "--alpha", "--subdivide", "--scale", "--units", "--tess", "--tol ",
                                        "--tol-abs", "--angle-tol", "--curvature-tol", "--continuity", "--threads",
@@ -292,12 +270,12 @@ static void progress(void)
     char p[512], err[4096];
     int rc = run_sh("script -qc \"$Q t2400.obj -o p.json\" /dev/null > tty.txt", err, sizeof err);
     snprintf(p, sizeof p, "%s/tty.txt", dir);
-    char *tty = slurp(p);
+    char *tty = chk_slurp(p, NULL);
     CHECK(rc == 0 && tty && strstr(tty, "\rquad2nurbs: fit round 1") && strstr(tty, "t2400.obj: 2400 faces"),
           "progress on a pseudo-terminal: '%.300s'", tty ? tty : "");
     free(tty);
     rc = run_sh("script -qc \"$Q -q t2400.obj -o p.json\" /dev/null > tty.txt", err, sizeof err);
-    tty = slurp(p);
+    tty = chk_slurp(p, NULL);
     CHECK(rc == 0 && tty && tty[0] == 0, "-q on a terminal prints nothing: '%.200s'", tty ? tty : "");
     free(tty);
     rc = run_sh("$Q --progress t2400.obj -o p.json", err, sizeof err);

@@ -17,7 +17,6 @@
 #include "test_export_models.h"
 
 #include <ctype.h>
-#include <dirent.h>
 #include <sys/stat.h>
 #include <time.h>
 
@@ -410,32 +409,7 @@ static void check_step(const char *what, const char *text, const q2n_nurbs_model
 
 /* ------------------------------------------------------------------ driver */
 
-static char *slurp(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    *len = fread(b, 1, (size_t)n, f);
-    b[*len] = 0;
-    fclose(f);
-    return b;
-}
-
 static int exists(const char *p) { struct stat st; return stat(p, &st) == 0; }
-
-/* Temporaries of the atomic writer (".q2n-XXXXXX", core/outfile.h) left in dir. */
-static int temporaries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    int n = 0;
-    while (d && (e = readdir(d))) n += strncmp(e->d_name, ".q2n-", 5) == 0;
-    if (d) closedir(d);
-    return n;
-}
 
 static void roundtrip(const char *what, const q2n_nurbs_model *m, int ncomp, int nclosed)
 {
@@ -459,18 +433,18 @@ static void roundtrip(const char *what, const q2n_nurbs_model *m, int ncomp, int
     /* file output equals the text, twice (determinism), and leaves no temporary file */
     const char *path = chk_scratch("export_rt.step");
     CHECK(q2n_export_file(m, &o, path, &err) == Q2N_OK, "%s: write %s: %s", what, path, err.message);
-    t2 = slurp(path, &l2);
+    t2 = chk_slurp(path, &l2);
     CHECK(t2 && l1 == l2 && memcmp(t1, t2, l1) == 0, "%s: STEP file = text (deterministic)", what);
-    CHECK(!temporaries(chk_scratch_dir()), "%s: no temporary file left", what);
+    CHECK(!chk_count_files(chk_scratch_dir(), ".q2n-"), "%s: no temporary file left", what);
     free(t1); free(t2);
     remove(path);
     /* IGES through a stream (the parameter section goes through a temporary file) = its text */
     CHECK(q2n_export_iges_text(m, &o, &t1, &l1, &err) == Q2N_OK, "%s: IGES: %s", what, err.message);
     path = chk_scratch("export_rt.igs");
     CHECK(q2n_export_file(m, &o, path, &err) == Q2N_OK, "%s: write %s: %s", what, path, err.message);
-    t2 = slurp(path, &l2);
+    t2 = chk_slurp(path, &l2);
     CHECK(t2 && l1 == l2 && memcmp(t1, t2, l1) == 0, "%s: IGES file = text", what);
-    CHECK(!temporaries(chk_scratch_dir()), "%s: no temporary file left (IGES)", what);
+    CHECK(!chk_count_files(chk_scratch_dir(), ".q2n-"), "%s: no temporary file left (IGES)", what);
     free(t1); free(t2);
     remove(path);
 }
@@ -602,7 +576,7 @@ int main(void)
         s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2] += 1e-3; /* corner (0,1) moves: a gap */
         CHECK(q2n_export_file(&gm, NULL, p, &err) == Q2N_ERR_GEOMETRY && strstr(err.message, "watertight"),
               "gap detected: %s", err.message);
-        CHECK(!exists(p) && !temporaries(chk_scratch_dir()), "no file (and no temporary) after an error");
+        CHECK(!exists(p) && !chk_count_files(chk_scratch_dir(), ".q2n-"), "no file (and no temporary) after an error");
         s->cp[3 * (s->ncp_u * (s->ncp_v - 1)) + 2] = keep;
         CHECK(q2n_export_file(&gm, NULL, chk_scratch("export_bad.obj"), &err) == Q2N_ERR_ARG, "unknown extension");
         CHECK(q2n_export_file(&gm, NULL, chk_scratch("no/such/dir/x.step"), &err) == Q2N_ERR_IO, "missing dir: %s", err.message);

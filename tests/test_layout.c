@@ -21,20 +21,6 @@
 
 /* ------------------------------------------------------------------ files */
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    if (s && fread(s, 1, (size_t)n, f) != (size_t)n) { free(s); s = NULL; }
-    if (s) s[n] = 0;
-    fclose(f);
-    return s;
-}
-
 /* Comments replaced by blanks (newlines kept, so line numbers stay), string literals kept. */
 static void strip_comments(char *s)
 {
@@ -82,7 +68,7 @@ static int each_file(const char *dir, const char *const *suffixes, file_fn fn, v
         size_t l = strlen(p);
         for (const char *const *s = suffixes; *s; s++)
             if (l > strlen(*s) && !strcmp(p + l - strlen(*s), *s)) {
-                char *t = slurp(p);
+                char *t = chk_slurp(p, NULL);
                 if (t) { fn(p, t, arg); n++; }
                 free(t);
                 break;

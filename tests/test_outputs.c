@@ -11,7 +11,6 @@
  *     of that signal (the shell's 130 / 143).
  * Reproducers of issue 13 item 2 and issue 16 items 4 and 5. */
 #define _GNU_SOURCE
-#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -32,21 +31,6 @@ static void write_file(const char *name, const char *text)
     if (f) { fputs(text, f); fclose(f); }
 }
 
-static char *slurp(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) { free(b); b = NULL; }
-    if (b) b[n] = '\0';
-    fclose(f);
-    if (len) *len = (size_t)n;
-    return b;
-}
-
 /* Run `quad2nurbs ARGS` in dir (environment prefix env, may be ""); stderr into err (whole). */
 static int run(const char *env, const char *args, char *err, size_t cap)
 {
@@ -55,7 +39,7 @@ static int run(const char *env, const char *args, char *err, size_t cap)
     snprintf(cmd, sizeof cmd, "cd %s && %s %s %s > stdout.txt 2> stderr.txt", dir, env, exe_abs, args);
     int st = system(cmd);
     size_t n = 0;
-    char *e = slurp(ep, &n);
+    char *e = chk_slurp(ep, &n);
     snprintf(err, cap, "%s", e ? e : "");
     free(e);
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
@@ -69,22 +53,12 @@ static int exists(const char *name)
     return lstat(p, &st) == 0;
 }
 
-static int temporaries(void)
-{
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    int n = 0;
-    while (d && (e = readdir(d))) n += strncmp(e->d_name, ".q2n-", 5) == 0;
-    if (d) closedir(d);
-    return n;
-}
-
 static void all_or_nothing(void)
 {
     char err[4096];
     /* issue 13 item 2: the first output must not survive the failure of the second */
     int rc = run("", "quad.obj -o a.step -o /proc/x.step", err, sizeof err);
-    CHECK(rc == 1 && strstr(err, "/proc/x.step: cannot create output") && !exists("a.step") && !temporaries(),
+    CHECK(rc == 1 && strstr(err, "/proc/x.step: cannot create output") && !exists("a.step") && !chk_count_files(dir, ".q2n-"),
           "unwritable second output: exit %d, a.step %s (%s)", rc, exists("a.step") ? "left" : "absent", err);
     /* a failure at the very end (a full device, written after the files were ready): the existing
      * file keeps its old content */
@@ -92,9 +66,9 @@ static void all_or_nothing(void)
     rc = run("", "quad.obj -o b.step -o c.igs -o /dev/full --format step", err, sizeof err);
     char p[256];
     snprintf(p, sizeof p, "%s/b.step", dir);
-    char *b = slurp(p, NULL);
+    char *b = chk_slurp(p, NULL);
     CHECK(rc == 1 && strstr(err, "/dev/full: write failed: No space left on device") && b && !strcmp(b, "OLD\n") &&
-          !exists("c.igs") && !temporaries(), "full device last: exit %d, b.step '%.8s', c.igs %d (%s)", rc,
+          !exists("c.igs") && !chk_count_files(dir, ".q2n-"), "full device last: exit %d, b.step '%.8s', c.igs %d (%s)", rc,
           b ? b : "(none)", exists("c.igs"), err);
     free(b);
     /* every output's place is checked before the input is read */
@@ -108,9 +82,9 @@ static void all_or_nothing(void)
     CHECK(rc == 2 && strstr(err, "d.step: given twice as an output"), "same name twice: %d (%s)", rc, err);
     snprintf(p, sizeof p, "%s/quad.obj", dir);
     size_t l0, l1;
-    char *before = slurp(p, &l0);
+    char *before = chk_slurp(p, &l0);
     rc = run("", "quad.obj -o quad.obj", err, sizeof err);
-    char *after = slurp(p, &l1);
+    char *after = chk_slurp(p, &l1);
     CHECK(rc == 2 && strstr(err, "quad.obj: is the input mesh") && before && after && l0 == l1 && !memcmp(before, after, l0),
           "-o equal to the input refused and the mesh intact: %d (%s)", rc, err);
     rc = run("", "quad.obj -o ./sub/../quad.obj", err, sizeof err);
@@ -126,9 +100,9 @@ static void stdout_and_failures(void)
     int rc = run("SOURCE_DATE_EPOCH=1700000000", "quad.obj -q -o - --format step -o sub/quad.step", err, sizeof err);
     size_t ls, lf;
     snprintf(p, sizeof p, "%s/stdout.txt", dir);
-    char *so = slurp(p, &ls);
+    char *so = chk_slurp(p, &ls);
     snprintf(p, sizeof p, "%s/sub/quad.step", dir);
-    char *fo = slurp(p, &lf);
+    char *fo = chk_slurp(p, &lf);
     CHECK(rc == 0 && so && fo && ls == lf && ls > 100 && !memcmp(so, fo, ls), "-o - equals the file: exit %d, %zu vs %zu "
           "bytes (%s)", rc, ls, lf, err);
     free(so);
@@ -161,7 +135,7 @@ static void stdout_and_failures(void)
     char args[600];
     snprintf(args, sizeof args, "quad.obj -q -o %s", name);
     rc = run("", args, err, sizeof err);
-    CHECK(rc == 0 && exists(name) && !temporaries(), "a 250-character name: %d (%s)", rc, err);
+    CHECK(rc == 0 && exists(name) && !chk_count_files(dir, ".q2n-"), "a 250-character name: %d (%s)", rc, err);
 }
 
 static void modes_and_links(void)
@@ -200,7 +174,7 @@ static void durability(void)
              "-o dur.step > /dev/null 2>&1", dir, exe_abs);
     int rc = system(cmd);
     snprintf(p, sizeof p, "%s/trace.txt", dir);
-    char *t = slurp(p, NULL);
+    char *t = chk_slurp(p, NULL);
     const char *ren = t ? strstr(t, "dur.step\"") : NULL;   /* the rename onto the target */
     while (ren && !strstr(ren - 40 > t ? ren - 40 : t, "rename")) ren = strstr(ren + 1, "dur.step\"");
     const char *f1 = t ? strstr(t, "fsync(") : NULL;
@@ -226,7 +200,7 @@ static void signal_case(int sig)
     }
     int seen = 0;
     for (int i = 0; i < 4000 && !seen; i++) {   /* up to 20 s */
-        seen = temporaries() >= 2;
+        seen = chk_count_files(dir, ".q2n-") >= 2;
         if (!seen) { struct timespec ts = {0, 5000000}; nanosleep(&ts, NULL); }
     }
     struct timespec ts = {0, 50000000};
@@ -237,7 +211,8 @@ static void signal_case(int sig)
     CHECK(seen, "signal %d: the temporaries never appeared", sig);
     CHECK(WIFSIGNALED(st) && WTERMSIG(st) == sig, "signal %d: the program %s %d", sig,
           WIFSIGNALED(st) ? "died of signal" : "exited with", WIFSIGNALED(st) ? WTERMSIG(st) : WEXITSTATUS(st));
-    CHECK(!temporaries() && !exists(out) && !exists("sig.igs"), "signal %d: %d temporaries and %s left", sig, temporaries(),
+    int left = chk_count_files(dir, ".q2n-");
+    CHECK(!left && !exists(out) && !exists("sig.igs"), "signal %d: %d temporaries and %s left", sig, left,
           exists(out) ? "the output" : "no output");
 }
 
@@ -247,17 +222,8 @@ int main(void)
         CHECK(0, "%s not built", EXE);
         CHECK_DONE("test_outputs");
     }
-    { /* a folder in the scratch folder (relative to the repository, like the runner's) */
-        const char *sd = chk_scratch_dir();
-        size_t len = strlen(sd);
-        if (len > 40) {
-            CHECK(0, "scratch folder name too long for this test: %s", sd);
-            CHECK_DONE("test_outputs");
-        }
-        memcpy(dir, sd, len);
-        memcpy(dir + len, "/outputs_XXXXXX", sizeof "/outputs_XXXXXX");
-    }
-    if (!mkdtemp(dir)) { CHECK(0, "mkdtemp"); CHECK_DONE("test_outputs"); }
+    /* a folder in the scratch folder (relative to the repository, like the runner's) */
+    if (chk_tmpdir(dir, sizeof dir, "outputs") != 0) { CHECK(0, "no scratch folder %s", dir); CHECK_DONE("test_outputs"); }
     char p[256];
     snprintf(p, sizeof p, "%s/sub", dir);
     mkdir(p, 0755);

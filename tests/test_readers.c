@@ -99,21 +99,6 @@ static int same_mesh(const q2n_mesh *a, const q2n_mesh *b)
            !memcmp(a->face_vert, b->face_vert, sizeof(int) * (size_t)a->face_start[a->nf]);
 }
 
-static char *slurp(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) { free(b); b = NULL; }
-    if (b) b[n] = '\0';
-    fclose(f);
-    if (len) *len = (size_t)n;
-    return b;
-}
-
 /* Every format of mesh m reads back to m itself (the OBJ reader's result). */
 static void formats_agree(const char *what, q2n_mesh *m, int flt_exact)
 {
@@ -267,9 +252,9 @@ static void same_bytes_cli(void)
         char p[160];
         size_t l, ls;
         snprintf(p, sizeof p, "%s/o%d/s.txt", dir, i);
-        char *s = slurp(p, &l);
+        char *s = chk_slurp(p, &l);
         snprintf(p, sizeof p, "%s/o%d/m.step", dir, i);
-        char *st = slurp(p, &ls);
+        char *st = chk_slurp(p, &ls);
         if (i == 0) { ref = s; refstep = st; lref = l; lstep = ls; continue; }
         CHECK(s && ref && l == lref && l > 0 && !memcmp(s, ref, l), "%s: `sample` output differs from the OBJ's", in[i]);
         CHECK(st && refstep && ls == lstep && ls > 0 && !memcmp(st, refstep, ls), "%s: STEP differs from the OBJ's", in[i]);
@@ -282,17 +267,8 @@ static void same_bytes_cli(void)
 
 int main(void)
 {
-    { /* a folder in the scratch folder (relative to the repository, like the runner's) */
-        const char *sd = chk_scratch_dir();
-        size_t len = strlen(sd);
-        if (len > 40) {
-            CHECK(0, "scratch folder name too long for this test: %s", sd);
-            CHECK_DONE("test_readers");
-        }
-        memcpy(dir, sd, len);
-        memcpy(dir + len, "/readers_XXXXXX", sizeof "/readers_XXXXXX");
-    }
-    if (!mkdtemp(dir)) { CHECK(0, "mkdtemp"); CHECK_DONE("test_readers"); }
+    /* a folder in the scratch folder (relative to the repository, like the runner's) */
+    if (chk_tmpdir(dir, sizeof dir, "readers") != 0) { CHECK(0, "no scratch folder %s", dir); CHECK_DONE("test_readers"); }
     q2n_mesh *torus = mg_torus(12, 8, 3.0, 1.0, 0.1, 1, 7u);
     formats_agree("jittered torus", torus, 0);
     /* float-exact coordinates: the float PLY variants must agree too */

@@ -16,20 +16,6 @@
 
 static char dir[64], exe[1024];
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    if (b && fread(b, 1, (size_t)n, f) != (size_t)n) { free(b); b = NULL; }
-    if (b) b[n] = '\0';
-    fclose(f);
-    return b;
-}
-
 static int sh(const char *fmt, const char *a, const char *b)
 {
     char cmd[4096], inner[3500];
@@ -61,7 +47,7 @@ static void write_files(void)
         CHECK(sh("SOURCE_DATE_EPOCH=0 %s %s", exe, args) == 0, "run --units %s", UNITS[i].unit);
         char p[256];
         snprintf(p, sizeof p, "%s/u_%s.json", dir, UNITS[i].unit);
-        char *js = slurp(p);
+        char *js = chk_slurp(p, NULL);
         double diag = jnum(js, "bbox_diag"), want = 10.0 * sqrt(3.0) / UNITS[i].mm;
         CHECK(fabs(diag - want) <= 1e-12 * want, "%s: report diagonal %.17g, want %.17g", UNITS[i].unit, diag, want);
         CHECK(js && strstr(js, "\"units\": \"") && fabs(jnum(js, "tol_abs") - 1e-4 * want) <= 1e-9 * want,
@@ -119,9 +105,9 @@ static void scale_and_tolerance(void)
           "sample runs");
     char p[256];
     snprintf(p, sizeof p, "%s/s1.txt", dir);
-    char *a = slurp(p);
+    char *a = chk_slurp(p, NULL);
     snprintf(p, sizeof p, "%s/s2.txt", dir);
-    char *b = slurp(p);
+    char *b = chk_slurp(p, NULL);
     int lines = 0, exact = 1;
     for (char *x = a, *y = b; x && y && *x && *y; lines++) {
         double va[12], vb[12];
@@ -141,7 +127,7 @@ static void scale_and_tolerance(void)
     /* --tol-abs in the scaled unit: 1e-4 in on a 10 mm cube written in inches */
     CHECK(sh("%s -q cube.obj --units in --scale 0.03937007874015748 --tol-abs 1e-4 -o t.json%s", exe, "") == 0, "--tol-abs");
     snprintf(p, sizeof p, "%s/t.json", dir);
-    char *js = slurp(p);
+    char *js = chk_slurp(p, NULL);
     double diag = 10.0 * sqrt(3.0) / 25.4;
     CHECK(fabs(jnum(js, "tol") - 1e-4 / diag) <= 1e-12 && fabs(jnum(js, "tol_abs") - 1e-4) <= 1e-9,
           "--tol-abs 1e-4: tol %.17g (want %.17g), tol_abs %g", jnum(js, "tol"), 1e-4 / diag, jnum(js, "tol_abs"));
@@ -153,11 +139,11 @@ static void dates(void)
     CHECK(sh("SOURCE_DATE_EPOCH=1700000000 %s -q cube.obj -o d.step -o d.igs%s", exe, "") == 0, "dated run");
     char p[256];
     snprintf(p, sizeof p, "%s/d.step", dir);
-    char *s = slurp(p);
+    char *s = chk_slurp(p, NULL);
     CHECK(s && strstr(s, "FILE_NAME('d','2023-11-14T22:13:20'"), "STEP time stamp from SOURCE_DATE_EPOCH");
     free(s);
     snprintf(p, sizeof p, "%s/d.igs", dir);
-    s = slurp(p);
+    s = chk_slurp(p, NULL);
     char g[800] = "";
     for (const char *q = s ? strchr(s, '\n') + 1 : NULL; q && q[72] == 'G'; q += 81) strncat(g, q, 72);
     const char *d1 = strstr(g, "15H20231114.221320");
@@ -171,7 +157,7 @@ static void dates(void)
     strftime(today, sizeof today, "'%Y-%m-%d", &tm);
     CHECK(sh("env -u SOURCE_DATE_EPOCH %s -q cube.obj -o n.step%s", exe, "") == 0, "undated run");
     snprintf(p, sizeof p, "%s/n.step", dir);
-    s = slurp(p);
+    s = chk_slurp(p, NULL);
     CHECK(s && strstr(s, today), "STEP time stamp of today %s", today + 1);
     free(s);
     CHECK(sh("SOURCE_DATE_EPOCH=yesterday %s -q cube.obj -o x.step 2> err.txt%s", exe, "") == 2, "malformed SOURCE_DATE_EPOCH");
@@ -183,17 +169,8 @@ int main(void)
         CHECK(0, "%s not built", chk_exe());
         CHECK_DONE("test_units");
     }
-    { /* a folder in the scratch folder (relative to the repository, like the runner's) */
-        const char *sd = chk_scratch_dir();
-        size_t len = strlen(sd);
-        if (len > 40) {
-            CHECK(0, "scratch folder name too long for this test: %s", sd);
-            CHECK_DONE("test_units");
-        }
-        memcpy(dir, sd, len);
-        memcpy(dir + len, "/units_XXXXXX", sizeof "/units_XXXXXX");
-    }
-    if (!mkdtemp(dir)) { CHECK(0, "mkdtemp"); CHECK_DONE("test_units"); }
+    /* a folder in the scratch folder (relative to the repository, like the runner's) */
+    if (chk_tmpdir(dir, sizeof dir, "units") != 0) { CHECK(0, "no scratch folder %s", dir); CHECK_DONE("test_units"); }
     char p[128];
     snprintf(p, sizeof p, "%s/cube.obj", dir);
     FILE *f = fopen(p, "w");
