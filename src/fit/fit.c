@@ -310,25 +310,43 @@ static void report_totals(fit_ctx *c, const q2n_nurbs_model *md)
     q2n_fit_report_sizes(md, rep);
 }
 
-static void ctx_free(fit_ctx *c)
+/* Free what only the rounds need (construction caches, measurement cells, work arrays); called
+ * before the model takes the fitted arrays, and by ctx_free. */
+static void free_round_state(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
     for (int k = 0; c->p && k < m->nf; k++) {
         fit_patch *p = &c->p[k];
-        q2n_fit_breaks_free(&p->I[0]);
-        q2n_fit_breaks_free(&p->I[1]);
-        free(p->ku); free(p->kv); free(p->kur); free(p->kvr); free(p->cp); free(p->fixed); free(p->var);
         free(p->gc.u); free(p->gc.v); free(p->gc.val); free(p->gc.have);
-        free(p->cell);
+        memset(&p->gc, 0, sizeof p->gc);
+        free(p->cell); free(p->fixed); free(p->var); free(p->kur); free(p->kvr);
+        p->cell = NULL; p->fixed = NULL; p->var = NULL; p->kur = p->kvr = NULL;
     }
     for (int e = 0; c->e && e < m->ne; e++) {
-        q2n_fit_breaks_free(&c->e[e].K);
-        free(c->e[e].cp);
         free(c->e[e].chk);
+        c->e[e].chk = NULL;
     }
     for (int q = 0; c->sc && q < 4 * m->nf; q++) {
         free(c->sc[q].t);
         free(c->sc[q].D);
+        memset(&c->sc[q], 0, sizeof c->sc[q]);
+    }
+    atomic_store(&c->sc_bytes, 0);
+}
+
+static void ctx_free(fit_ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    free_round_state(c);
+    for (int k = 0; c->p && k < m->nf; k++) {
+        fit_patch *p = &c->p[k];
+        q2n_fit_breaks_free(&p->I[0]);
+        q2n_fit_breaks_free(&p->I[1]);
+        free(p->ku); free(p->kv); free(p->cp);
+    }
+    for (int e = 0; c->e && e < m->ne; e++) {
+        q2n_fit_breaks_free(&c->e[e].K);
+        free(c->e[e].cp);
     }
     free(c->p);
     free(c->e);
@@ -363,25 +381,7 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
         if (!added) break;
     }
     if (st) return st;
-    /* the construction caches serve the rounds only: free them before the model copy, the peak */
-    for (int q = 0; q < 4 * m->nf; q++) {
-        free(c->sc[q].t);
-        free(c->sc[q].D);
-        memset(&c->sc[q], 0, sizeof c->sc[q]);
-    }
-    atomic_store(&c->sc_bytes, 0);
-    for (int k = 0; k < m->nf; k++) {
-        fit_patch *p = &c->p[k];
-        fit_grid_cache *g = &p->gc;
-        free(g->u); free(g->v); free(g->val); free(g->have);
-        memset(g, 0, sizeof *g);
-        free(p->cell); free(p->fixed); free(p->var); free(p->kur); free(p->kvr);
-        p->cell = NULL; p->fixed = NULL; p->var = NULL; p->kur = p->kvr = NULL;
-    }
-    for (int e = 0; e < m->ne; e++) {
-        free(c->e[e].chk);
-        c->e[e].chk = NULL;
-    }
+    free_round_state(c); /* before the model takes the fitted arrays: the peak */
     if ((st = make_model(c, out))) return st;
     report_totals(c, *out);
     q2n_fit_accept(c);

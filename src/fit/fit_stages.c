@@ -145,7 +145,7 @@ q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t,
     }
     int cache = 1;
     if (missing && sc->n + missing > sc->cap) {
-        long add = (long)(sc->n + missing - sc->cap) * (long)(19 * sizeof(double));
+        long add = (long)(sc->n + missing - sc->cap) * (long)((1 + 18) * sizeof(double)); /* t and D */
         long before = atomic_fetch_add(&c->sc_bytes, add);
         if ((double)(before + add) > Q2N_FIT_SIDE_CACHE_BYTES) {
             atomic_fetch_sub(&c->sc_bytes, add);
@@ -162,26 +162,22 @@ q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t,
     }
     for (int q = 0; q < n; q++) {
         int pos, at = sc_find(sc, t[q], &pos);
-        if (at < 0 && !cache) {
-            if (!D) continue;   /* a prefetch: evaluated when needed */
-            double V[6][3];
-            q2n_status st = q2n_fit_target_frame(c, k, i, t[q], V);
-            if (st) return st;
-            memcpy(D + 18 * (size_t)q, V, sizeof V);
+        if (at >= 0) {
+            if (D) memcpy(D + 18 * (size_t)q, sc->D + 18 * (size_t)at, 18 * sizeof(double));
             continue;
         }
-        if (at < 0) {
-            double V[6][3];
-            q2n_status st = q2n_fit_target_frame(c, k, i, t[q], V);
-            if (st) return st;
+        if (!cache && !D) continue;   /* a prefetch beyond the budget: evaluated when needed */
+        double V[6][3];
+        q2n_status st = q2n_fit_target_frame(c, k, i, t[q], V);
+        if (st) return st;
+        if (cache) {
             memmove(sc->t + pos + 1, sc->t + pos, sizeof(double) * (size_t)(sc->n - pos));
             memmove(sc->D + 18 * (size_t)(pos + 1), sc->D + 18 * (size_t)pos, 18 * sizeof(double) * (size_t)(sc->n - pos));
             sc->t[pos] = t[q];
             memcpy(sc->D + 18 * (size_t)pos, V, sizeof V);
             sc->n++;
-            at = pos;
         }
-        if (D) memcpy(D + 18 * (size_t)q, sc->D + 18 * (size_t)at, 18 * sizeof(double));
+        if (D) memcpy(D + 18 * (size_t)q, V, sizeof V);
     }
     return Q2N_OK;
 }
