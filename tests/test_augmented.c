@@ -123,6 +123,23 @@ static void check_mesh(const char *label, const q2n_mesh *m, const char *clsname
     if (expect_all) CHECK(st->covered == m->nf, "%s: %d of %d faces covered", label, st->covered, m->nf);
     unsigned seed = 3;
     for (int f = 0; f < m->nf; f++) {
+        /* the surface stores the patch compactly (grid points as indices into a pool of the mesh's
+         * vertices and the extrapolated points): expanded, it is the patch q2n_augmented_setup
+         * builds, and the surface evaluates exactly as that patch does */
+        q2n_augmented_patch A, B;
+        memset(&A, 0, sizeof A);
+        memset(&B, 0, sizeof B);
+        int has = q2n_augmented_setup(m, f, opt.cls, &opt.param, iv, &A);
+        int got = q2n_augmented_patch_get(S, f, &B);
+        CHECK(has == got && (q2n_surface_kind(S, f) == Q2N_PATCH_AUGMENTED) == got, "%s face %d: stored %d, setup %d", label,
+              f, got, has);
+        if (has && got) {
+            CHECK(!memcmp(&A, &B, sizeof A), "%s face %d: stored patch differs from its setup", label, f);
+            double e1[Q2N_EVAL_MAX], e2[Q2N_EVAL_MAX], uu = 0.1 + 0.8 * mg_rnd(&seed), vv = 0.1 + 0.8 * mg_rnd(&seed);
+            q2n_surface_eval(S, f, uu, vv, 2, e1);
+            q2n_augmented_eval(&A, uu, vv, 2, e2);
+            CHECK(!memcmp(e1, e2, sizeof e1), "%s face %d: surface and patch evaluate differently", label, f);
+        }
         if (q2n_surface_kind(S, f) != Q2N_PATCH_AUGMENTED) continue;
         for (int c = 0; c < 4; c++) { /* interpolation of the corners */
             double e[Q2N_EVAL_MAX];

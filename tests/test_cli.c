@@ -305,8 +305,9 @@ static void resources(void)
     clock_gettime(CLOCK_MONOTONIC, &b);
     CHECK(b.tv_sec - a.tv_sec < 20, "refusals took %ld s: the work started", (long)(b.tv_sec - a.tv_sec));
     /* The fit's peak memory on the 2400-face torus (one span per patch) stays near the estimate
-     * (8 MB + 2400 x (1.4 + 4.6 + 5.5) KB = 36 MB): its side caches once grew in blocks of 32
-     * parameters per side, 74 MB here (27 KB per face; 2.4 GB for a 90 000-face torus). */
+     * (8 MB + 2400 x (0.56 + 3.15 + 5.75) KB = 30.7 MB): its side caches once grew in blocks of 32
+     * parameters per side, 74 MB here (27 KB per face; 2.4 GB for a 90 000-face torus); before the
+     * construction kept its grids as indices and the fit its per-span maxima, 36 MB. */
     char exe[1024], tor[512];
     if (!realpath(EXE, exe)) snprintf(exe, sizeof exe, "%s", EXE);
     snprintf(tor, sizeof tor, "%s/t2400.obj", dir);
@@ -320,8 +321,8 @@ static void resources(void)
     struct rusage ru;
     memset(&ru, 0, sizeof ru);
     CHECK(pid > 0 && wait4(pid, &status, 0, &ru) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
-              ru.ru_maxrss < 48 * 1024,
-          "fit of 2400 faces: peak resident %ld KB (estimate ~37 MB, bound 48 MB), exit %d", ru.ru_maxrss,
+              ru.ru_maxrss < 34 * 1024,
+          "fit of 2400 faces: peak resident %ld KB (estimate ~31 MB, bound 34 MB), exit %d", ru.ru_maxrss,
           WIFEXITED(status) ? WEXITSTATUS(status) : -1);
     /* the tessellation file would not fit on the disk: 2400 patches of 10000 x 10000 points (30 TB) */
     struct statvfs vf;

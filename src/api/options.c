@@ -173,7 +173,7 @@ void q2n_model_estimate(const q2n_model *m, const q2n_plan *plan, q2n_estimate *
     e->faces = nf;
     e->peak_stage = "build";
     double cache = faces * Q2N_MEM_FIT_CACHE_PER_FACE;
-    if (cache > Q2N_FIT_SIDE_CACHE_BYTES) cache = Q2N_FIT_SIDE_CACHE_BYTES;
+    if (cache > Q2N_FIT_CACHE_BYTES) cache = Q2N_FIT_CACHE_BYTES;
     double fit = faces * Q2N_MEM_FIT_PER_FACE + cache;
     if (plan->fit && build + fit > peak) {
         peak = build + fit;

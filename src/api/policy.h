@@ -8,14 +8,14 @@
 #define Q2N_MEM_BASE 8e6
 /* Bytes per face of the construction (mesh, half-edges, parameters, patch data): what `sample`
  * and .obj runs peak at. */
-#define Q2N_MEM_BUILD_PER_FACE 1400.0
-/* Bytes per face the fit adds at its peak with one knot span per patch, besides its side caches;
+#define Q2N_MEM_BUILD_PER_FACE 560.0
+/* Bytes per face the fit adds at its peak with one knot span per patch, besides its caches;
  * refinement multiplies it roughly by the spans per patch, so the estimate is a lower bound for
  * refined fits.  STEP and IGES are streamed into their files: no memory. */
-#define Q2N_MEM_FIT_PER_FACE 4600.0
-/* The fit's side caches per face at one span per patch, up to their budget
- * (Q2N_FIT_SIDE_CACHE_BYTES, fit/fit_policy.h). */
-#define Q2N_MEM_FIT_CACHE_PER_FACE 5500.0
+#define Q2N_MEM_FIT_PER_FACE 3150.0
+/* The fit's construction caches (side and grid values) per face at one span per patch, up to
+ * their budget (Q2N_FIT_CACHE_BYTES, fit/fit_policy.h). */
+#define Q2N_MEM_FIT_CACHE_PER_FACE 5750.0
 /* Output bytes per face at one span per patch (the fit may refine: again a lower bound). */
 #define Q2N_OUT_STEP_PER_FACE 5600.0
 #define Q2N_OUT_IGES_PER_FACE 6700.0

@@ -144,9 +144,9 @@ static void measure_edge(void *arg, int e)
     double *t = malloc(sizeof(double) * (size_t)n), *tr = malloc(sizeof(double) * (size_t)n);
     double *kv = malloc(sizeof(double) * (size_t)(E->K.n + 12));
     double *DL = malloc(18 * sizeof(double) * (size_t)n), *DR = malloc(18 * sizeof(double) * (size_t)n);
-    free(E->chk);
-    E->chk = malloc(5 * sizeof(double) * (size_t)n);
-    if (!t || !tr || !DL || !DR || !E->chk || !kv) {
+    free(E->spmax);
+    E->spmax = calloc(2 * (size_t)(E->K.n + 1), sizeof(double));
+    if (!t || !tr || !DL || !DR || !E->spmax || !kv) {
         free(t); free(tr); free(DL); free(DR); free(kv);
         a->st[e] = Q2N_ERR_NOMEM;
         return;
@@ -179,19 +179,21 @@ static void measure_edge(void *arg, int e)
             double r2 = c->o.continuity == 2 ? 0.41 * q2n_v3_norm(dss) / fabs(Ns[x][2][2]) : 0.0;
             row = fmax(row, fmax(r1, r2));
         }
-        double *ck = E->chk + 5 * (size_t)q;
-        ck[0] = t[q];
-        ck[1] = q2n_v3_dist(f[0], DL + 18 * (size_t)q) / c->diag;
-        ck[2] = row / c->diag;
-        ck[3] = ck[4] = 0.0;
+        /* the span of K the check point lies in (a point on a knot belongs to the span after it) */
+        int sp = 0;
+        while (sp < E->K.n && E->K.t[sp] <= t[q]) sp++;
+        double dev = q2n_v3_dist(f[0], DL + 18 * (size_t)q) / c->diag, rdev = row / c->diag;
+        double *mx = E->spmax + 2 * (size_t)sp;
+        if (dev > mx[0]) mx[0] = dev;
+        if (rdev > mx[1]) mx[1] = rdev;
         if (two) {   /* the tangent of the fitted side, as q2n_fit_measure and the audit use */
-            double F[6][3];
+            double F[6][3], j1, j2;
             q2n_side_derivs(sd[0].i, 1, f[0], F);
-            q2n_fit_jumps(f[0], f[1], F[1], c->diag, &ck[3], &ck[4]);
+            q2n_fit_jumps(f[0], f[1], F[1], c->diag, &j1, &j2);
             double gap = q2n_v3_dist(f[0], f[1]) / c->diag;
             if (gap > E->g0) E->g0 = gap;
-            if (!(ck[3] <= E->g1)) E->g1 = ck[3];
-            if (!(ck[4] <= E->g2)) E->g2 = ck[4];
+            if (!(j1 <= E->g1)) E->g1 = j1;
+            if (!(j2 <= E->g2)) E->g2 = j2;
         }
     }
     free(t); free(tr); free(DL); free(DR);
@@ -319,19 +321,19 @@ static void free_round_state(fit_ctx *c)
         fit_patch *p = &c->p[k];
         free(p->gc.u); free(p->gc.v); free(p->gc.val); free(p->gc.have);
         memset(&p->gc, 0, sizeof p->gc);
-        free(p->cell); free(p->fixed); free(p->var); free(p->kur); free(p->kvr);
-        p->cell = NULL; p->fixed = NULL; p->var = NULL; p->kur = p->kvr = NULL;
+        q2n_fit_patch_free_reversed(p);
+        free(p->cell); free(p->var);   /* var's block holds fixed */
+        p->cell = NULL; p->fixed = NULL; p->var = NULL;
     }
     for (int e = 0; c->e && e < m->ne; e++) {
-        free(c->e[e].chk);
-        c->e[e].chk = NULL;
+        free(c->e[e].spmax);
+        c->e[e].spmax = NULL;
     }
     for (int q = 0; c->sc && q < 4 * m->nf; q++) {
-        free(c->sc[q].t);
-        free(c->sc[q].D);
+        free(c->sc[q].v);
         memset(&c->sc[q], 0, sizeof c->sc[q]);
     }
-    atomic_store(&c->sc_bytes, 0);
+    atomic_store(&c->cache_bytes, 0);
 }
 
 static void ctx_free(fit_ctx *c)
@@ -363,7 +365,7 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
     c->p = calloc((size_t)m->nf, sizeof *c->p);
     c->e = calloc((size_t)m->ne, sizeof *c->e);
     c->sc = calloc(4 * (size_t)m->nf, sizeof *c->sc);
-    atomic_init(&c->sc_bytes, 0);
+    atomic_init(&c->cache_bytes, 0);
     if (!c->p || !c->e || !c->sc) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     for (int e = 0; e < m->ne; e++) c->e[e].fitted = -1;
     q2n_status st = q2n_fit_glue_measure(c);

@@ -198,7 +198,7 @@ q2n_status q2n_fit_glue_classify(fit_ctx *c) { return each_edge(c, classify_one)
 typedef struct row_block {
     int e, two, exact;
     int n;                   /* unknowns */
-    int *vk, *vg;            /* patch and grid index of each unknown */
+    int *vk, *vg;            /* patch and grid index of each unknown (one allocation at vk) */
     int m, capm;             /* fidelity (+ least-squares gluing) rows */
     double *A, *b;           /* row-major m x n, m x 3 */
     int nc, capc;            /* constraint rows */
@@ -212,7 +212,8 @@ typedef struct row_block {
 
 static void block_free(row_block *b)
 {
-    free(b->vk); free(b->vg); free(b->A); free(b->b); free(b->C); free(b->d); free(b->Z); free(b->xp);
+    free(b->vk); /* and vg */
+    free(b->A); free(b->b); free(b->C); free(b->d); free(b->Z); free(b->xp);
 }
 
 /* Append a zero row to A (constraint == 0) or C (constraint == 1); returns its coefficients (n) and
@@ -261,11 +262,18 @@ static int add_deriv(fit_ctx *c, double *row, double *rhs, const fit_side *sd, d
 /* Number the block's unknowns: the free points of row `order` of each side. */
 static int block_vars(fit_ctx *c, row_block *bl, const fit_side *sd, int nsd, int order)
 {
-    int cap = 0;
-    for (int x = 0; x < nsd; x++) cap += sd[x].nt;
-    bl->vk = malloc(sizeof(int) * (size_t)(cap + 1));
-    bl->vg = malloc(sizeof(int) * (size_t)(cap + 1));
-    if (!bl->vk || !bl->vg) return -1;
+    int cap = 0;   /* exactly the free points: every edge of the stage holds its block until the solve */
+    for (int x = 0; x < nsd; x++) {
+        if (order >= sd[x].ns) continue;
+        const fit_patch *p = &c->p[sd[x].k];
+        for (int it = 0; it < sd[x].nt; it++) {
+            int g = q2n_fit_side_g(c, &sd[x], it, order);
+            cap += !p->fixed[g] && p->var[g] < 0;
+        }
+    }
+    bl->vk = malloc(2 * sizeof(int) * (size_t)(cap + 1));   /* vk, then vg */
+    if (!bl->vk) return -1;
+    bl->vg = bl->vk + cap + 1;
     bl->n = 0;
     for (int x = 0; x < nsd; x++) {
         if (order >= sd[x].ns) continue;
@@ -499,6 +507,9 @@ q2n_status q2n_fit_rows_stage(fit_ctx *c, const int *edges, int n, int order)
         }
         if (q2n_fit_ls_dense_item(&c->ls, b->m, cols, b->A, b->b, &b->var0))
             st = q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+        /* the problem holds the rows now: only the map back (vk, vg, Z, xp) is kept for the solve */
+        free(b->A); free(b->b); free(b->C); free(b->d);
+        b->A = b->b = b->C = b->d = NULL;
     }
     if (!st) {
         double t1 = q2n_now();

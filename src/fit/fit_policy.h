@@ -33,8 +33,8 @@
 #define Q2N_FIT_CONSTRAINT_RESID 1e-9   /* a constraint block whose best solution misses by more (relative) is inconsistent: fall back to least squares */
 
 /* ---- construction caches ---- */
-#ifndef Q2N_FIT_SIDE_CACHE_BYTES
-#define Q2N_FIT_SIDE_CACHE_BYTES 64e6   /* side values are cached for reuse by the later stages and rounds up to this total; beyond it they are evaluated when needed: memory stays near 6 KB per face on large models, small ones keep every value */
+#ifndef Q2N_FIT_CACHE_BYTES
+#define Q2N_FIT_CACHE_BYTES 64e6        /* construction values (side and grid caches together) are kept for reuse by the later stages and rounds up to this total; beyond it they are evaluated when needed: large models stay near 3.7 KB per face plus this, small ones keep every value */
 #endif
 
 /* ---- corners ---- */

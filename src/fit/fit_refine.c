@@ -143,19 +143,18 @@ int q2n_fit_refine(fit_ctx *c)
         br[0] = 0.0;
         for (int q = 0; q < E->K.n; q++) br[q + 1] = E->K.t[q];
         br[nsp] = 1.0;
-        for (int q = 0; q < E->nchk; q++) {
-            const double *ck = E->chk + 5 * (size_t)q;
-            double r0 = ck[1] / (Q2N_FIT_EDGE_SHARE * tol), r1 = ck[2] / (Q2N_FIT_ROW_SHARE * tol);
-            double r2 = c1 ? ck[3] / aim1 : 0.0, r3 = c2 ? ck[4] / aim2 : 0.0;
-            int sp = 0;
-            while (sp < E->K.n && E->K.t[sp] <= ck[0]) sp++;
+        /* split_levels grows with the ratio: the per-span and per-edge maxima decide */
+        for (int sp = 0; sp < nsp; sp++) {
+            const double *mx = E->spmax + 2 * (size_t)sp;
+            double r0 = mx[0] / (Q2N_FIT_EDGE_SHARE * tol), r1 = mx[1] / (Q2N_FIT_ROW_SHARE * tol);
             int l = 0;
             if (r0 > 1) l = split_levels(r0, 6.0);
             if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
-            if (l > lv[sp]) lv[sp] = (unsigned char)l;
-            if (r2 > 1 && split_levels(r2, 5.0) > cont) cont = split_levels(r2, 5.0);
-            if (r3 > 1 && split_levels(r3, 4.0) > cont) cont = split_levels(r3, 4.0);
+            lv[sp] = (unsigned char)l;
         }
+        double r2 = c1 ? E->g1 / aim1 : 0.0, r3 = c2 ? E->g2 / aim2 : 0.0;
+        if (r2 > 1) cont = split_levels(r2, 5.0);
+        if (r3 > 1 && split_levels(r3, 4.0) > cont) cont = split_levels(r3, 4.0);
         for (int sp = 0; sp < nsp; sp++) {
             int l = lv[sp] > cont ? lv[sp] : cont;
             if (l) added += split_span(c, e, 0, br[sp], br[sp + 1], l, add_edge);

@@ -125,18 +125,27 @@ static int sc_find(const fit_side_cache *sc, double t, int *pos)
     int lo = 0, hi = sc->n;
     while (lo < hi) {
         int mid = (lo + hi) / 2;
-        if (sc->t[mid] < t) lo = mid + 1;
+        if (sc->v[FIT_SC_STRIDE * (size_t)mid] < t) lo = mid + 1;
         else hi = mid;
     }
     *pos = lo;
-    return lo < sc->n && sc->t[lo] == t ? lo : -1;
+    return lo < sc->n && sc->v[FIT_SC_STRIDE * (size_t)lo] == t ? lo : -1;
+}
+
+/* Reserve add bytes of the construction caches' budget; 0 (nothing reserved) when it would be exceeded. */
+static int cache_reserve(fit_ctx *c, long add)
+{
+    long before = atomic_fetch_add(&c->cache_bytes, add);
+    if ((double)(before + add) <= Q2N_FIT_CACHE_BYTES) return 1;
+    atomic_fetch_sub(&c->cache_bytes, add);
+    return 0;
 }
 
 q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t, double *D)
 {
     fit_side_cache *sc = &c->sc[4 * k + i];
     /* grow to exactly what this call adds (a side holds a few dozen parameters), within the
-     * budget of all side caches; a side that would exceed it is evaluated without caching (the
+     * budget of all construction caches; a side that would exceed it is evaluated without caching (the
      * same values: which sides are cached does not change any result) */
     int missing = 0;
     for (int q = 0; q < n; q++) {
@@ -145,25 +154,21 @@ q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t,
     }
     int cache = 1;
     if (missing && sc->n + missing > sc->cap) {
-        long add = (long)(sc->n + missing - sc->cap) * (long)((1 + 18) * sizeof(double)); /* t and D */
-        long before = atomic_fetch_add(&c->sc_bytes, add);
-        if ((double)(before + add) > Q2N_FIT_SIDE_CACHE_BYTES) {
-            atomic_fetch_sub(&c->sc_bytes, add);
+        long add = (long)(sc->n + missing - sc->cap) * (long)(FIT_SC_STRIDE * sizeof(double)); /* t and D */
+        if (!cache_reserve(c, add)) {
             cache = 0;
         } else {
             int nc = sc->n + missing;
-            double *nt = realloc(sc->t, sizeof(double) * (size_t)nc);
-            if (nt) sc->t = nt;
-            double *nd = nt ? realloc(sc->D, 18 * sizeof(double) * (size_t)nc) : NULL;
-            if (!nt || !nd) return Q2N_ERR_NOMEM;
-            sc->D = nd;
+            double *nv = realloc(sc->v, FIT_SC_STRIDE * sizeof(double) * (size_t)nc);
+            if (!nv) return Q2N_ERR_NOMEM;
+            sc->v = nv;
             sc->cap = nc;
         }
     }
     for (int q = 0; q < n; q++) {
         int pos, at = sc_find(sc, t[q], &pos);
         if (at >= 0) {
-            if (D) memcpy(D + 18 * (size_t)q, sc->D + 18 * (size_t)at, 18 * sizeof(double));
+            if (D) memcpy(D + 18 * (size_t)q, sc->v + FIT_SC_STRIDE * (size_t)at + 1, 18 * sizeof(double));
             continue;
         }
         if (!cache && !D) continue;   /* a prefetch beyond the budget: evaluated when needed */
@@ -171,10 +176,10 @@ q2n_status q2n_fit_side_values(fit_ctx *c, int k, int i, int n, const double *t,
         q2n_status st = q2n_fit_target_frame(c, k, i, t[q], V);
         if (st) return st;
         if (cache) {
-            memmove(sc->t + pos + 1, sc->t + pos, sizeof(double) * (size_t)(sc->n - pos));
-            memmove(sc->D + 18 * (size_t)(pos + 1), sc->D + 18 * (size_t)pos, 18 * sizeof(double) * (size_t)(sc->n - pos));
-            sc->t[pos] = t[q];
-            memcpy(sc->D + 18 * (size_t)pos, V, sizeof V);
+            double *at_pos = sc->v + FIT_SC_STRIDE * (size_t)pos;
+            memmove(at_pos + FIT_SC_STRIDE, at_pos, FIT_SC_STRIDE * sizeof(double) * (size_t)(sc->n - pos));
+            at_pos[0] = t[q];
+            memcpy(at_pos + 1, V, sizeof V);
             sc->n++;
         }
         if (D) memcpy(D + 18 * (size_t)q, V, sizeof V);
@@ -195,6 +200,29 @@ static int merge_params(int na, const double *a, int nb, const double *b, double
     return n;
 }
 
+/* Bytes of a grid cache of nu x nv parameters: u, v, positions, have. */
+static long grid_cache_bytes(int nu, int nv)
+{
+    return (long)(nu + nv) * (long)sizeof(double) + (long)nu * nv * (long)(3 * sizeof(double) + 1);
+}
+
+/* Positions of patch k on the grid us x vs into out, evaluated without the cache. */
+static q2n_status grid_uncached(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
+                                long *evals)
+{
+    double *buf = malloc(9 * sizeof(double) * (size_t)nu * nv);
+    if (!buf) return Q2N_ERR_NOMEM;
+    q2n_status st = q2n_fit_target_grid(c, k, nu, us, nv, vs, buf, 9);
+    for (size_t q = 0; !st && q < (size_t)nu * nv; q++) {
+        const double *x = buf + 9 * q;
+        if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) st = Q2N_ERR_NUMERIC;
+        memcpy(out + 3 * q, x, 3 * sizeof(double));
+    }
+    *evals += (long)nu * nv;
+    free(buf);
+    return st;
+}
+
 /* Positions of the construction's patch k on the grid us x vs (sorted, distinct) into out
  * (3 per point, u fastest), from the patch's grid cache; missing points are evaluated row by row
  * with the grid fast path (a whole grid at once when nothing is cached). */
@@ -202,11 +230,19 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
                               long *evals)
 {
     fit_grid_cache *g = &c->p[k].gc;
-    /* grow the cache to the union of parameters */
+    /* grow the cache to the union of parameters, within the budget of all construction caches;
+     * beyond it the grid is evaluated without caching (the same values) */
     double *nu_t = malloc(sizeof(double) * (size_t)(g->nu + nu)), *nv_t = malloc(sizeof(double) * (size_t)(g->nv + nv));
     if (!nu_t || !nv_t) { free(nu_t); free(nv_t); return Q2N_ERR_NOMEM; }
     int NU = merge_params(g->nu, g->u, nu, us, nu_t), NV = merge_params(g->nv, g->v, nv, vs, nv_t);
+    if ((NU != g->nu || NV != g->nv) && !cache_reserve(c, grid_cache_bytes(NU, NV) - grid_cache_bytes(g->nu, g->nv))) {
+        free(nu_t); free(nv_t);
+        return grid_uncached(c, k, nu, us, nv, vs, out, evals);
+    }
     if (NU != g->nu || NV != g->nv) {
+        double *su = realloc(nu_t, sizeof(double) * (size_t)NU), *sv = realloc(nv_t, sizeof(double) * (size_t)NV);
+        if (su) nu_t = su;
+        if (sv) nv_t = sv;
         double *val = malloc(3 * sizeof(double) * (size_t)NU * NV);
         unsigned char *have = calloc((size_t)NU * NV, 1);
         int *mu = malloc(sizeof(int) * (size_t)(g->nu + 1)), *mv = malloc(sizeof(int) * (size_t)(g->nv + 1));
@@ -339,6 +375,7 @@ static const int jet_order[4][2] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
 typedef struct prep_arg {
     fit_ctx *c;
     q2n_status *st;
+    double (*S)[2][3];       /* per edge: the construction's points at t = 0 and t = 1 */
 } prep_arg;
 
 static void jet_one(void *arg, int k)
@@ -348,9 +385,13 @@ static void jet_one(void *arg, int k)
         double J[4][3], sp[4];
         a->st[k] = corner_mixed(a->c->s, k, i, J, sp);
         for (int o = 0; o < 4; o++) {
-            double f = q2n_fit_target_jet_scale(a->c, k, i, jet_order[o][0], jet_order[o][1]);
+            int ja = jet_order[o][0], jb = jet_order[o][1];
+            double f = q2n_fit_target_jet_scale(a->c, k, i, ja, jb);
             for (int q = 0; q < 3; q++) a->c->jet[k][i][o][q] = f * J[o][q];
-            a->c->jet[k][i][o][3] = f * sp[o];
+            /* the two edge-wise estimates as positions of the control point they fix, for one span
+             * (Bézier factors 5, 20 for orders 1, 2), so the verdict does not depend on the knots */
+            double dq = f * sp[o] / ((ja == 1 ? 5.0 : 20.0) * (jb == 1 ? 5.0 : 20.0));
+            if (o < 3 && dq > Q2N_FIT_JET_SPREAD * a->c->o.tol * a->c->diag) a->c->p[k].gregory |= 1 << i;
         }
     }
 }
@@ -360,8 +401,13 @@ static void ends_one(void *arg, int e)
     prep_arg *a = arg;
     fit_ctx *c = a->c;
     int h = c->m->edge_he[e], f = c->m->he_face[h];
-    for (int end = 0; end < 2 && !a->st[e]; end++)
-        a->st[e] = q2n_fit_target_frame(c, f, h - c->m->face_start[f], (double)end, c->e[e].end[end]);
+    for (int end = 0; end < 2 && !a->st[e]; end++) {
+        double D[6][3];
+        a->st[e] = q2n_fit_target_frame(c, f, h - c->m->face_start[f], (double)end, D);
+        memcpy(a->S[e][end], D[0], sizeof D[0]);
+        memcpy(c->e[e].end[end][0], D[1], sizeof D[1]);   /* d_t */
+        memcpy(c->e[e].end[end][1], D[3], sizeof D[3]);   /* d_tt */
+    }
 }
 
 q2n_status q2n_fit_prepare(fit_ctx *c)
@@ -371,9 +417,13 @@ q2n_status q2n_fit_prepare(fit_ctx *c)
     c->jet = malloc(sizeof *c->jet * (size_t)m->nf);
     int nmax = m->nf > m->ne ? m->nf : m->ne;
     q2n_status *st = calloc((size_t)nmax + 1, sizeof *st);
-    if (!c->vpos || !c->jet || !st) { free(st); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory"); }
+    double (*S)[2][3] = malloc(sizeof *S * ((size_t)m->ne + 1));
+    if (!c->vpos || !c->jet || !st || !S) {
+        free(st); free(S);
+        return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
+    }
     double t0 = q2n_now();
-    prep_arg arg = {c, st};
+    prep_arg arg = {c, st, S};
     q2n_fit_par_for(m->ne, c->o.threads, ends_one, &arg);
     q2n_status r = Q2N_OK;
     char where[64];
@@ -387,7 +437,7 @@ q2n_status q2n_fit_prepare(fit_ctx *c)
                                      st[k] == Q2N_ERR_NUMERIC ? "not finite" : "cannot be evaluated");
     free(st);
     c->rep->t_sample += q2n_now() - t0;
-    if (r) return r;
+    if (r) { free(S); return r; }
     /* corner points: an interpolating construction passes through the vertex (kept exactly);
      * otherwise the corner of the patch of the vertex's first half-edge, the same point for every
      * patch there */
@@ -397,9 +447,10 @@ q2n_status q2n_fit_prepare(fit_ctx *c)
         int h = m->vert_he[v];
         if (h < 0) continue;
         int e = m->he_edge[h];
-        const double *S = c->e[e].end[m->edge_he[e] == h ? 0 : 1][0];
-        if (q2n_v3_dist(S, P) > Q2N_FIT_INTERP_REL * c->diag) memcpy(P, S, 3 * sizeof(double));
+        const double *Se = S[e][m->edge_he[e] == h ? 0 : 1];
+        if (q2n_v3_dist(Se, P) > Q2N_FIT_INTERP_REL * c->diag) memcpy(P, Se, 3 * sizeof(double));
     }
+    free(S);
     return Q2N_OK;
 }
 
@@ -439,6 +490,27 @@ static int patch_breaks(const fit_ctx *c, int k, int d, double *br)
     return w;
 }
 
+/* The knot vector k (n knots) reversed, 1 - k[n-1-q]: k itself when it is symmetric (one span,
+ * or symmetric refinement: most patches), else a new array; NULL when k is NULL or out of memory. */
+static double *reversed_knots(int n, double *k)
+{
+    if (!k) return NULL;
+    int sym = 1;
+    for (int q = 0; q < n && sym; q++) sym = k[q] == 1.0 - k[n - 1 - q];
+    if (sym) return k;
+    double *r = malloc(sizeof(double) * (size_t)n);
+    if (r)
+        for (int q = 0; q < n; q++) r[q] = 1.0 - k[n - 1 - q];
+    return r;
+}
+
+void q2n_fit_patch_free_reversed(fit_patch *p)
+{
+    if (p->kur != p->ku) free(p->kur);
+    if (p->kvr != p->kv) free(p->kvr);
+    p->kur = p->kvr = NULL;
+}
+
 /* Rebuild patch k's knot vectors from its edges and interior breakpoints; sets knots_changed. */
 static q2n_status patch_knots(fit_ctx *c, int k)
 {
@@ -453,24 +525,24 @@ static q2n_status patch_knots(fit_ctx *c, int k)
                !memcmp(bu, p->ku + 6, sizeof(double) * (size_t)nbu) && !memcmp(bv, p->kv + 6, sizeof(double) * (size_t)nbv);
     p->knots_changed = !same;
     if (same) { free(bu); free(bv); return Q2N_OK; }
-    free(p->ku); free(p->kv); free(p->kur); free(p->kvr); free(p->cp); free(p->fixed); free(p->var);
+    q2n_fit_patch_free_reversed(p);
+    free(p->ku); free(p->kv); free(p->cp); free(p->var);   /* var's block holds fixed */
     p->mu = nbu + 1; p->mv = nbv + 1; p->nu = nbu + 6; p->nv = nbv + 6;
     size_t n = (size_t)p->nu * p->nv;
     p->ku = malloc(sizeof(double) * (size_t)(p->nu + 6));
     p->kv = malloc(sizeof(double) * (size_t)(p->nv + 6));
-    p->kur = malloc(sizeof(double) * (size_t)(p->nu + 6));
-    p->kvr = malloc(sizeof(double) * (size_t)(p->nv + 6));
     p->cp = calloc(3 * n, sizeof(double));
-    p->fixed = calloc(n, 1);
-    p->var = malloc(n * sizeof(int));
+    p->var = malloc(n * (sizeof(int) + 1));
+    p->fixed = p->var ? (unsigned char *)(p->var + n) : NULL;
+    if (p->fixed) memset(p->fixed, 0, n);
+    if (p->ku) q2n_fit_knots_from_breaks(nbu, bu, p->ku);
+    if (p->kv) q2n_fit_knots_from_breaks(nbv, bv, p->kv);
+    p->kur = reversed_knots(p->nu + 6, p->ku);
+    p->kvr = reversed_knots(p->nv + 6, p->kv);
     if (!p->ku || !p->kv || !p->kur || !p->kvr || !p->cp || !p->fixed || !p->var) {
         free(bu); free(bv);
         return Q2N_ERR_NOMEM;
     }
-    q2n_fit_knots_from_breaks(nbu, bu, p->ku);
-    q2n_fit_knots_from_breaks(nbv, bv, p->kv);
-    for (int q = 0; q < p->nu + 6; q++) p->kur[q] = 1.0 - p->ku[p->nu + 5 - q];
-    for (int q = 0; q < p->nv + 6; q++) p->kvr[q] = 1.0 - p->kv[p->nv + 5 - q];
     for (size_t g = 0; g < n; g++) p->var[g] = -1;
     p->ver++;
     free(bu); free(bv);
@@ -509,8 +581,8 @@ static q2n_status curve_assemble(fit_ctx *c, int e, curve_block *cb)
         int i0 = end ? E->n - 1 : 0, i1 = end ? E->n - 2 : 1, i2 = end ? E->n - 3 : 2;
         double *P0 = E->cp + 3 * i0, *P1 = E->cp + 3 * i1, *P2 = E->cp + 3 * i2;
         for (int q = 0; q < 3; q++) {
-            P1[q] = (E->end[end][1][q] - N[1][q0] * P0[q]) / N[1][q1];
-            P2[q] = (E->end[end][3][q] - N[2][q0] * P0[q] - N[2][q1] * P1[q]) / N[2][q2];
+            P1[q] = (E->end[end][0][q] - N[1][q0] * P0[q]) / N[1][q1];
+            P2[q] = (E->end[end][1][q] - N[2][q0] * P0[q] - N[2][q1] * P1[q]) / N[2][q2];
         }
     }
     /* interior points 3 .. n-4 */
@@ -632,19 +704,11 @@ static void pin_corners(fit_ctx *c, int k)
 {
     fit_patch *p = &c->p[k];
     int npin = c->o.continuity == 2 ? 4 : 3;
-    p->gregory = 0;
     for (int i = 0; i < 4; i++) {
         fit_side sd = q2n_fit_make_side(c, k, i);
         double Nt[3][Q2N_FIT_DEG + 1], Ns[3][Q2N_FIT_DEG + 1];
         q2n_fit_basis(Q2N_FIT_DEG, sd.kt, 0.0, 2, Nt);
         q2n_fit_basis(Q2N_FIT_DEG, sd.ks, 0.0, 2, Ns);
-        for (int o = 0; o < 3; o++) {
-            /* the two edge-wise estimates as positions of the control point they fix, for one span
-             * (Bézier factors 5, 20 for orders 1, 2), so the verdict does not depend on the knots */
-            int a = jet_order[o][0], b = jet_order[o][1];
-            double dq = c->jet[k][i][o][3] / ((a == 1 ? 5.0 : 20.0) * (b == 1 ? 5.0 : 20.0));
-            if (dq > Q2N_FIT_JET_SPREAD * c->o.tol * c->diag) p->gregory |= 1 << i;
-        }
         for (int o = 0; o < npin; o++) {
             if (o > 0 && o < 3 && (p->gregory & (1 << i))) continue;
             int a = jet_order[o][0], b = jet_order[o][1];

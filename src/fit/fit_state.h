@@ -20,12 +20,12 @@ typedef struct fit_breaks {
     double *t;
 } fit_breaks;
 
-/* Cached construction values along one patch side: sorted parameters t and, per parameter, the
- * side-frame derivatives D[6][3] (S, d_t, d_s, d_tt, d_ts, d_ss) at (t, 0). */
+/* Cached construction values along one patch side: per parameter t (sorted), 19 doubles: t, then
+ * the side-frame derivatives D[6][3] (S, d_t, d_s, d_tt, d_ts, d_ss) at (t, 0). */
+#define FIT_SC_STRIDE 19
 typedef struct fit_side_cache {
     int n, cap;
-    double *t;
-    double *D;       /* 18 per parameter */
+    double *v;       /* FIT_SC_STRIDE per parameter */
 } fit_side_cache;
 
 /* Cached construction positions of one patch on the parameter grid u[i] x v[j] (sorted, distinct);
@@ -43,7 +43,7 @@ typedef struct fit_edge {
     int ver, fitted;         /* K's version; version the curve was last fitted for (-1: never) */
     int n;                   /* control points of the curve: K.n + 6 */
     double *cp;              /* 3 * n, owner orientation */
-    double end[2][6][3];     /* owner-frame derivatives of the construction at t = 0 and t = 1 */
+    double end[2][2][3];     /* d_t S, d_tt S of the construction (owner frame) at t = 0 and t = 1 */
     int glue, glue2;         /* fit_glue_kind of the G1 and the G2 relation */
     double alpha0, alpha1;   /* the construction's alpha at t = 0 and t = 1 (fit_target.c) */
     int rep;                 /* the construction's gluing is a scale alpha(t): reparametrized to constant */
@@ -55,8 +55,8 @@ typedef struct fit_edge {
                                 (formulas.md §4.2 with beta = gamma = delta = 0) */
     double g1c, g2c;         /* the construction's own normal / curvature jumps on this edge */
     int nchk;                /* check points of the last measurement (owner side's check parameters) */
-    double *chk;             /* 5 per check point: t, curve deviation, cross-row deviation (position
-                                terms), fitted normal jump (deg), fitted curvature jump; deviations / diag */
+    double *spmax;           /* 2 per span of K at the last measurement: the largest curve deviation and
+                                cross-row deviation (position terms) / diag over its check points */
     double g0, g1, g2;       /* last measured fitted gap / diag and jumps (maxima over the check points) */
     double g1_prev, g2_prev; /* the round before, for the stall rule */
     int g1_fails, g2_fails;  /* consecutive rounds this edge drove refinement for continuity */
@@ -69,11 +69,12 @@ typedef struct fit_patch {
     int ver;                 /* bumped when the knot vectors change */
     int mu, mv, nu, nv;      /* spans and control points per direction */
     double *ku, *kv;         /* knot vectors (nu + 6, nv + 6) */
-    double *kur, *kvr;       /* the same reversed (1 - t), for sides running against u or v */
+    double *kur, *kvr;       /* the same reversed (1 - t), for sides running against u or v (ku, kv
+                                themselves when symmetric: q2n_fit_patch_free_reversed frees them) */
     double *cp;              /* 3 * nu * nv, u fastest */
-    unsigned char *fixed;    /* nu * nv */
+    unsigned char *fixed;    /* nu * nv, in var's allocation (after its ints) */
     int *var;                /* nu * nv: unknown index in the current block, or -1 */
-    int gregory;             /* bit i: the edges through corner i disagree about a mixed derivative */
+    int gregory;             /* bit i: the edges through corner i disagree about a mixed derivative (once per fit) */
     fit_grid_cache gc;       /* construction samples */
     double dev;              /* last measured max deviation / diag */
     double s2;               /* sum of squared deviations / diag^2 over the check cells */
@@ -104,8 +105,8 @@ typedef struct fit_ctx {
     fit_patch *p;            /* nf */
     fit_edge *e;             /* ne */
     fit_side_cache *sc;      /* 4 * nf: side i of patch k at 4k + i */
-    atomic_long sc_bytes;    /* bytes held by the side caches (Q2N_FIT_SIDE_CACHE_BYTES bounds them) */
-    double (*jet)[4][4][4];  /* corner jets of the construction, once per fit */
+    atomic_long cache_bytes; /* bytes held by the side and grid caches (Q2N_FIT_CACHE_BYTES bounds them) */
+    double (*jet)[4][4][3];  /* corner jets of the construction (patch, corner, jet_order), once per fit */
     double *vpos;            /* nv: patch corner point of every vertex */
     int round;
     q2n_fit_ls ls;
@@ -116,6 +117,8 @@ typedef struct fit_ctx {
 /* ---- breakpoints (fit_stages.c) ---- */
 int q2n_fit_breaks_add(fit_breaks *b, double t);            /* 1 added, 0 present, -1 out of memory */
 void q2n_fit_breaks_free(fit_breaks *b);
+
+void q2n_fit_patch_free_reversed(fit_patch *p);              /* kur, kvr (not ku, kv) */
 
 /* ---- frames and construction access (fit_stages.c) ---- */
 fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i);

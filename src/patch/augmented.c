@@ -191,29 +191,95 @@ static double grid_interval(const grid *G, int horizontal, int i, int j, const d
     return q2n_param_interval(a, b, q2n_param_alpha(popt));
 }
 
+/* q2n_augmented_setup with the grid (mesh vertex of every point) left in *G. */
+static int setup_grid(const q2n_mesh *m, int f, const q2n_spline_class *cls, const q2n_param_options *popt,
+                      const double *edge_iv, grid *G, q2n_augmented_patch *out)
+{
+    if (q2n_face_size(m, f) != 4) return 0;
+    G->w = cls->w;
+    G->h = cls->w / 2;
+    if (!gather_cells(m, f, G) || !assign_points(m, G) || !extrapolate(m, G)) return 0;
+    int w = G->w, h = G->h;
+    memset(out, 0, sizeof *out);
+    out->cls = cls;
+    out->w = w;
+    for (int j = 0; j < w; j++)
+        for (int i = 0; i < w; i++) memcpy(out->P + 3 * (j * w + i), G->P[j][i], 3 * sizeof(double));
+    for (int r = 0; r < 2; r++)
+        for (int i = 0; i < w - 1; i++) {
+            out->drow[r][i] = grid_interval(G, 1, i, h - 1 + r, edge_iv, popt);
+            out->ecol[r][i] = grid_interval(G, 0, h - 1 + r, i, edge_iv, popt);
+        }
+    return 1;
+}
+
 int q2n_augmented_setup(const q2n_mesh *m, int f, const q2n_spline_class *cls,
                         const q2n_param_options *popt, const double *edge_iv,
                         q2n_augmented_patch *out)
 {
     grid G;
-    if (q2n_face_size(m, f) != 4) return 0;
-    G.w = cls->w;
-    G.h = cls->w / 2;
-    if (!gather_cells(m, f, &G) || !assign_points(m, &G) || !extrapolate(m, &G)) return 0;
-    int w = G.w, h = G.h;
-    memset(out, 0, sizeof *out);
-    out->cls = cls;
-    out->w = w;
-    for (int j = 0; j < w; j++)
-        for (int i = 0; i < w; i++) {
-            memcpy(out->P + 3 * (j * w + i), G.P[j][i], 3 * sizeof(double));
-            out->vid[j * w + i] = G.vid[j][i];
-        }
-    for (int r = 0; r < 2; r++)
-        for (int i = 0; i < w - 1; i++) {
-            out->drow[r][i] = grid_interval(&G, 1, i, h - 1 + r, edge_iv, popt);
-            out->ecol[r][i] = grid_interval(&G, 0, h - 1 + r, i, edge_iv, popt);
-        }
+    return setup_grid(m, f, cls, popt, edge_iv, &G, out);
+}
+
+/* ---------------------------------------------------------------- storage in the surface */
+
+/* The surface keeps a regular patch compactly: its grid as indices into one point pool shared by
+ * all the surface's augmented patches (the mesh's vertices, then the extrapolated points of open
+ * meshes), expanded into a q2n_augmented_patch when evaluated — 360 instead of 1 070 bytes per
+ * face, the same values. */
+typedef struct aug_pool {
+    double *pts;
+    int n, cap;
+    long refs;                      /* patches that use it: the last one frees it */
+} aug_pool;
+
+typedef struct aug_stored {
+    const q2n_spline_class *cls;
+    aug_pool *pool;
+    int w;
+    int idx[MAXW * MAXW];           /* point of grid index j * w + i in the pool */
+    double drow[2][MAXW], ecol[2][MAXW];
+} aug_stored;
+
+static void expand(const aug_stored *a, q2n_augmented_patch *p)
+{
+    int n = a->w * a->w;
+    p->cls = a->cls;
+    p->w = a->w;
+    memcpy(p->drow, a->drow, sizeof p->drow);
+    memcpy(p->ecol, a->ecol, sizeof p->ecol);
+    for (int g = 0; g < n; g++) memcpy(p->P + 3 * g, a->pool->pts + 3 * (size_t)a->idx[g], 3 * sizeof(double));
+}
+
+static int pool_add(aug_pool *pl, const double x[3])
+{
+    if (pl->n == pl->cap) {
+        int cap = pl->cap + pl->cap / 2 + 16;
+        double *np = realloc(pl->pts, 3 * sizeof(double) * (size_t)cap);
+        if (!np) return -1;
+        pl->pts = np;
+        pl->cap = cap;
+    }
+    memcpy(pl->pts + 3 * (size_t)pl->n, x, 3 * sizeof(double));
+    return pl->n++;
+}
+
+static void free_stored(void *d)
+{
+    aug_stored *a = d;
+    if (a && --a->pool->refs == 0) {
+        free(a->pool->pts);
+        free(a->pool);
+    }
+    free(a);
+}
+
+int q2n_augmented_patch_get(const q2n_surface *s, int f, q2n_augmented_patch *out)
+{
+    if (q2n_surface_kind(s, f) != Q2N_PATCH_AUGMENTED) return 0;
+    const aug_stored *a = q2n_surface_patch_data(s, f);
+    if (!a) return 0;
+    expand(a, out);
     return 1;
 }
 
@@ -317,7 +383,9 @@ void q2n_augmented_eval(const q2n_augmented_patch *p, double u, double v, int nd
 
 static q2n_status eval_cb(const void *data, double u, double v, int nder, double *out)
 {
-    q2n_augmented_eval(data, u, v, nder, out);
+    q2n_augmented_patch p;
+    expand(data, &p);
+    q2n_augmented_eval(&p, u, v, nder, out);
     return Q2N_OK;
 }
 
@@ -390,7 +458,9 @@ static void grid_batch(const q2n_augmented_patch *p, const grid_cols *gc, const 
 static q2n_status eval_grid_cb(const void *data, int nu, const double *us, int nv, const double *vs,
                                double *out)
 {
-    const q2n_augmented_patch *p = data;
+    q2n_augmented_patch pe;
+    expand(data, &pe);
+    const q2n_augmented_patch *p = &pe;
     int w = p->w, nb = p->cls->nb, nbatch = (nu + QB - 1) / QB;
     grid_cols *gc = aligned_alloc(32, (size_t)nbatch * sizeof *gc);
     if (!gc) return Q2N_ERR_NOMEM;
@@ -435,8 +505,6 @@ static q2n_status eval_grid_cb(const void *data, int nu, const double *us, int n
     return Q2N_OK;
 }
 
-static void free_patch(void *d) { free(d); }
-
 q2n_status q2n_augmented_build(const q2n_mesh *m, const q2n_augmented_options *opt,
                                const double *edge_iv, q2n_surface **out, q2n_error *err)
 {
@@ -448,17 +516,41 @@ q2n_status q2n_augmented_build(const q2n_mesh *m, const q2n_augmented_options *o
         edge_iv = own;
     }
     q2n_surface *s = q2n_surface_create(m->nf);
-    if (!s) { free(own); return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (surface)"); }
-    for (int f = 0; f < m->nf; f++) {
-        q2n_augmented_patch tmp, *p;
-        if (!q2n_augmented_setup(m, f, cls, &opt->param, edge_iv, &tmp)) continue;
-        if (!(p = malloc(sizeof *p))) {
-            q2n_surface_free(s); free(own);
-            return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (patch %d)", f);
-        }
-        *p = tmp;
-        q2n_surface_set_patch(s, f, Q2N_PATCH_AUGMENTED, p, eval_cb, free_patch);
+    aug_pool *pool = calloc(1, sizeof *pool);
+    if (!s || !pool) {
+        q2n_surface_free(s); free(pool); free(own);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (surface)");
+    }
+    /* the pool starts with the mesh's vertices: a grid point that is a mesh vertex is its index */
+    for (int v = 0; v < m->nv && pool->n >= 0; v++)
+        if (pool_add(pool, q2n_mesh_vpos(m, v)) < 0) pool->n = -1;
+    pool->refs = 1;   /* the build's own reference, dropped at the end */
+    for (int f = 0; f < m->nf && pool->n >= 0; f++) {
+        q2n_augmented_patch tmp;
+        grid G;
+        if (!setup_grid(m, f, cls, &opt->param, edge_iv, &G, &tmp)) continue;
+        aug_stored *a = malloc(sizeof *a);
+        if (!a) { pool->n = -1; break; }
+        a->cls = tmp.cls;
+        a->pool = pool;
+        a->w = tmp.w;
+        memcpy(a->drow, tmp.drow, sizeof a->drow);
+        memcpy(a->ecol, tmp.ecol, sizeof a->ecol);
+        for (int j = 0; j < tmp.w; j++)
+            for (int i = 0; i < tmp.w; i++) {
+                int id = G.vid[j][i] >= 0 ? G.vid[j][i] : pool->n < 0 ? -1 : pool_add(pool, G.P[j][i]);
+                if (id < 0) pool->n = -1;
+                a->idx[j * tmp.w + i] = id;
+            }
+        pool->refs++;
+        q2n_surface_set_patch(s, f, Q2N_PATCH_AUGMENTED, a, eval_cb, free_stored);
         q2n_surface_set_patch_grid(s, f, eval_grid_cb);
+    }
+    int failed = pool->n < 0;
+    if (--pool->refs == 0) { free(pool->pts); free(pool); }
+    if (failed) {
+        q2n_surface_free(s); free(own);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (patches)");
     }
     free(own);
     *out = s;

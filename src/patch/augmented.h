@@ -19,13 +19,12 @@ typedef struct q2n_augmented_options {
     q2n_param_options param;
 } q2n_augmented_options;
 
-/* Per-patch data (read-only view, for tests and the extraordinary-patch builder). */
+/* One regular patch (for tests and the extraordinary-patch builder; the surface stores it compactly). */
 typedef struct q2n_augmented_patch {
     const q2n_spline_class *cls;
     int w;
     double P[3 * Q2N_SPLINE_MAXW * Q2N_SPLINE_MAXW]; /* grid p_ij, i (along u) fastest; grid index
                                                         g = -w/2+1 .. w/2 at array index g+w/2-1 */
-    int vid[Q2N_SPLINE_MAXW * Q2N_SPLINE_MAXW];      /* mesh vertex of each grid point, -1: extrapolated */
     double drow[2][Q2N_SPLINE_MAXW];                 /* d_{i,0}, d_{i,1}: intervals of rows v=0, v=1 */
     double ecol[2][Q2N_SPLINE_MAXW];                 /* e_{0,j}, e_{1,j}: intervals of columns u=0, u=1 */
 } q2n_augmented_patch;
@@ -40,6 +39,10 @@ q2n_status q2n_augmented_build(const q2n_mesh *m, const q2n_augmented_options *o
 int q2n_augmented_setup(const q2n_mesh *m, int f, const q2n_spline_class *cls,
                         const q2n_param_options *popt, const double *edge_iv,
                         q2n_augmented_patch *out);
+
+/* The regular patch of face f of a surface built by q2n_augmented_build, expanded into *out;
+ * returns 0 when face f has no augmented patch. */
+int q2n_augmented_patch_get(const q2n_surface *s, int f, q2n_augmented_patch *out);
 
 /* Evaluate a patch (same output layout as q2n_surface_eval). */
 void q2n_augmented_eval(const q2n_augmented_patch *p, double u, double v, int nder, double *out);

@@ -184,8 +184,8 @@ static void set_dir(const q2n_mesh *m, double (*dir)[2], int e, int v, double x,
 static int jet_from_regular(const q2n_mesh *m, const q2n_surface *s, const double *iv, int v, int f,
                             ev_vjet *J, double (*dir)[2])
 {
-    const q2n_augmented_patch *R = q2n_surface_patch_data(s, f);
-    if (!R) return 0;
+    q2n_augmented_patch Rp, *R = &Rp;
+    if (!q2n_augmented_patch_get(s, f, &Rp)) return 0;
     int c = -1;
     for (int i = 0; i < 4; i++)
         if (m->face_vert[m->face_start[f] + i] == v) c = i;

@@ -347,8 +347,8 @@ static q2n_status setup_patch(const fe_build *B, int f, fe_ctx *X, cp_patch *P, 
         int along_h = q2n_side_forward(sd); /* side sd's parameter runs along h (patch/surface.h) */
         if (t >= 0 && !B->unc[m->he_face[t]]) {
             int g = m->he_face[t], sR = t - m->face_start[g];
-            const q2n_augmented_patch *R = q2n_surface_patch_data(B->s, g);
-            if (!R) return q2n_error_set(err, Q2N_ERR_ARG, "%s: face %d: no regular patch data", m->name, g);
+            q2n_augmented_patch Rp, *R = &Rp;
+            if (!q2n_augmented_patch_get(B->s, g, &Rp)) return q2n_error_set(err, Q2N_ERR_ARG, "%s: face %d: no regular patch data", m->name, g);
             S->kind = 1;
             S->reg.kind = 1;
             S->reg.R = *R;

@@ -72,8 +72,8 @@ q2n_status q2n_ev_paper_patch_setup(ev_patch *P, const q2n_mesh *m, const q2n_su
         int along_h = q2n_side_forward(sd);
         if (t >= 0 && !unc[m->he_face[t]]) {
             int g = m->he_face[t], sR = t - m->face_start[g];
-            const q2n_augmented_patch *R = q2n_surface_patch_data(s, g);
-            if (!R) return q2n_error_set(err, Q2N_ERR_ARG, "%s: face %d: no regular patch data", m->name, g);
+            q2n_augmented_patch Rp, *R = &Rp;
+            if (!q2n_augmented_patch_get(s, g, &Rp)) return q2n_error_set(err, Q2N_ERR_ARG, "%s: face %d: no regular patch data", m->name, g);
             S->kind = 1;
             S->R = *R;
             S->sR = sR;
