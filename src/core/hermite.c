@@ -2,6 +2,8 @@
 #include "core/hermite.h"
 
 #include <pthread.h>
+#include <stdint.h>
+#include <string.h>
 
 const double q2n_hermite_coef[Q2N_HERMITE_MAXK][Q2N_HERMITE_MAXK + 1][2][10] = {
     { /* K = 1 */
@@ -43,9 +45,9 @@ static void fill_tables(void)
                     }
 }
 
-void q2n_hermite_eval(int K, double t, int nder, double H[][2][Q2N_HERMITE_MAXD + 1])
+/* The evaluation proper (q2n_hermite_eval without the memo). */
+static void hermite_compute(int K, double t, int nder, double H[][2][Q2N_HERMITE_MAXD + 1])
 {
-    pthread_once(&D_once, fill_tables);
     int deg = 2 * K + 1;
     double pw[10];
     pw[0] = 1;
@@ -58,4 +60,41 @@ void q2n_hermite_eval(int K, double t, int nder, double H[][2][Q2N_HERMITE_MAXD 
                 for (int i = 0; i + q <= deg; i++) r += c[i] * pw[i];
                 H[a][e][q] = r;
             }
+}
+
+/* A composite patch asks for the same bases many times in a row: every point of a Coons patch
+ * evaluates its two opposite sides at the same parameter, each side three or four fields of
+ * different orders, and points along one side share the cross parameter.  A few recent tables
+ * per thread, keyed by (K, the bits of t) and computed up to some nder, answer those requests by
+ * copying — the same numbers, a fraction of the work. */
+#define MEMO_N 16
+typedef struct memo_entry {
+    int K, nder;             /* nder < 0: empty */
+    uint64_t tbits;
+    unsigned long used;      /* last use: the least recent entry is replaced */
+    double H[Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1];
+} memo_entry;
+static _Thread_local memo_entry memo[MEMO_N];
+static _Thread_local unsigned long memo_clock;
+
+void q2n_hermite_eval(int K, double t, int nder, double H[][2][Q2N_HERMITE_MAXD + 1])
+{
+    pthread_once(&D_once, fill_tables);
+    uint64_t tb;
+    memcpy(&tb, &t, sizeof tb);
+    memo_entry *m = NULL, *old = &memo[0];
+    for (int i = 0; i < MEMO_N && !m; i++) {
+        if (memo[i].used && memo[i].K == K && memo[i].tbits == tb) m = &memo[i];
+        else if (memo[i].used < old->used) old = &memo[i];
+    }
+    if (!m || m->nder < nder) {   /* a miss, or the same key asked for more derivatives */
+        if (!m) m = old;
+        m->K = K;
+        m->tbits = tb;
+        m->nder = nder;
+        hermite_compute(K, t, nder, m->H);
+    }
+    m->used = ++memo_clock;
+    for (int a = 0; a <= K; a++)
+        for (int e = 0; e < 2; e++) memcpy(H[a][e], m->H[a][e], sizeof(double) * (size_t)(nder + 1));
 }

@@ -10,6 +10,7 @@
 #include "patch/augmented.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -285,19 +286,59 @@ int q2n_augmented_patch_get(const q2n_surface *s, int f, q2n_augmented_patch *ou
 
 /* ---------------------------------------------------------------- evaluation */
 
+/* Evaluations along a patch side keep one parameter fixed (v = 0 on side 0, ...), so the same
+ * coefficients are asked for again and again: a few recent ones per thread, keyed by everything
+ * they depend on (class, intervals, parameter bits), are copied instead of recomputed. */
+#define COEF_MEMO_N 8
+typedef struct coef_memo {
+    unsigned long used;                 /* last use (0: empty); the least recent is replaced */
+    const q2n_spline_class *cls;
+    int w;
+    uint64_t xbits;
+    double d[2][MAXW];
+    q2n_jet C[Q2N_SPLINE_MAXB * MAXW];
+} coef_memo;
+static _Thread_local coef_memo coef_memo_tab[COEF_MEMO_N];
+static _Thread_local unsigned long coef_memo_clock;
+
+void q2n_augmented_coeffs(const q2n_spline_class *cls, int w, const double *d0, const double *d1, double x,
+                          q2n_jet *C)
+{
+    uint64_t xb;
+    memcpy(&xb, &x, sizeof xb);
+    size_t nd = sizeof(double) * (size_t)(w - 1), nc = sizeof(q2n_jet) * (size_t)(cls->nb * w);
+    coef_memo *m = NULL, *old = &coef_memo_tab[0];
+    for (int i = 0; i < COEF_MEMO_N && !m; i++) {
+        coef_memo *e = &coef_memo_tab[i];
+        if (e->used && e->cls == cls && e->w == w && e->xbits == xb && !memcmp(e->d[0], d0, nd) && !memcmp(e->d[1], d1, nd))
+            m = e;
+        else if (e->used < old->used)
+            old = e;
+    }
+    if (!m) {
+        m = old;
+        q2n_jet d[MAXW];
+        for (int i = 0; i < w - 1; i++) d[i] = q2n_spline_blend(cls->k, d0[i], d1[i], x);
+        q2n_spline_coeffs(cls, d, m->C);
+        m->cls = cls;
+        m->w = w;
+        m->xbits = xb;
+        memcpy(m->d[0], d0, nd);
+        memcpy(m->d[1], d1, nd);
+    }
+    m->used = ++coef_memo_clock;
+    memcpy(C, m->C, nc);
+}
+
 /* Coefficients of the u-direction functions at v (jets in v) — eq. (8a) blended intervals. */
 static void u_coeffs(const q2n_augmented_patch *p, double v, q2n_jet *C)
 {
-    q2n_jet d[MAXW];
-    for (int i = 0; i < p->w - 1; i++) d[i] = q2n_spline_blend(p->cls->k, p->drow[0][i], p->drow[1][i], v);
-    q2n_spline_coeffs(p->cls, d, C);
+    q2n_augmented_coeffs(p->cls, p->w, p->drow[0], p->drow[1], v, C);
 }
 
 static void v_coeffs(const q2n_augmented_patch *p, double u, q2n_jet *C)
 {
-    q2n_jet e[MAXW];
-    for (int j = 0; j < p->w - 1; j++) e[j] = q2n_spline_blend(p->cls->k, p->ecol[0][j], p->ecol[1][j], u);
-    q2n_spline_coeffs(p->cls, e, C);
+    q2n_augmented_coeffs(p->cls, p->w, p->ecol[0], p->ecol[1], u, C);
 }
 
 /* Fundamental functions and their partials in (own, cross) variables:

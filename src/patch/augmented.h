@@ -44,6 +44,11 @@ int q2n_augmented_setup(const q2n_mesh *m, int f, const q2n_spline_class *cls,
  * returns 0 when face f has no augmented patch. */
 int q2n_augmented_patch_get(const q2n_surface *s, int f, q2n_augmented_patch *out);
 
+/* Coefficients C_ri (jets in x) of the direction functions of class cls at x, from the end
+ * intervals d0[i], d1[i] (i < w - 1) blended by eq. (8a): C has cls->nb * w jets. */
+void q2n_augmented_coeffs(const q2n_spline_class *cls, int w, const double *d0, const double *d1, double x,
+                          q2n_jet *C);
+
 /* Evaluate a patch (same output layout as q2n_surface_eval). */
 void q2n_augmented_eval(const q2n_augmented_patch *p, double u, double v, int nder, double *out);
 

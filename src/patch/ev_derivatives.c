@@ -44,17 +44,13 @@
 
 void q2n_ev_regular_partials(const q2n_augmented_patch *p, double u, double v, double D[27])
 {
-    int w = p->w, nb = p->cls->nb, k = p->cls->k;
-    q2n_jet dj[MAXW], ej[MAXW], Cu[MAXB * MAXW], Cv[MAXB * MAXW];
+    int w = p->w, nb = p->cls->nb;
+    q2n_jet Cu[MAXB * MAXW], Cv[MAXB * MAXW];
     double Bu[4 * MAXB], Bv[4 * MAXB];
     /* eq. (8): the u-direction functions depend on v through the blended row intervals, the
      * v-direction functions on u through the column intervals; jets give two derivatives. */
-    for (int i = 0; i < w - 1; i++) {
-        dj[i] = q2n_spline_blend(k, p->drow[0][i], p->drow[1][i], v);
-        ej[i] = q2n_spline_blend(k, p->ecol[0][i], p->ecol[1][i], u);
-    }
-    q2n_spline_coeffs(p->cls, dj, Cu);
-    q2n_spline_coeffs(p->cls, ej, Cv);
+    q2n_augmented_coeffs(p->cls, w, p->drow[0], p->drow[1], v, Cu);
+    q2n_augmented_coeffs(p->cls, w, p->ecol[0], p->ecol[1], u, Cv);
     p->cls->basis(u, 2, Bu);
     p->cls->basis(v, 2, Bv);
     double A[3][3][MAXW], Bf[3][3][MAXW]; /* [du][dv][index] */
