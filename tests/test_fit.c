@@ -394,6 +394,20 @@ static void internals(void)
     }
     CHECK(emax <= 1e-13, "fit_surface_eval vs q2n_bspline_eval: %g", emax);
     CHECK(dmax <= 1e-6, "second derivatives vs central differences: %g", dmax);
+    /* the measurement's grid evaluation: every point the same sum as the pointwise one, including
+     * parameters on knots and at the ends */
+    {
+        double us[7] = {0.0, 1.0 / 3, 0.2, 0.5, 2.0 / 3, 0.9, 1.0}, vs[5] = {0.0, 0.25, 0.5, 0.75, 1.0}, G[3 * 35];
+        CHECK(q2n_fit_surface_grid(&b, 7, us, 5, vs, G) == 0, "grid evaluation");
+        int diff = 0;
+        for (int j = 0; j < 5; j++)
+            for (int i = 0; i < 7; i++) {
+                double o[3];
+                q2n_fit_surface_eval(&b, us[i], vs[j], 0, o);
+                diff += memcmp(o, G + 3 * (j * 7 + i), sizeof o) != 0;
+            }
+        CHECK(diff == 0, "grid evaluation differs from the pointwise one at %d of 35 points", diff);
+    }
 
     q2n_fit_ls ls;
     q2n_fit_ls_init(&ls);

@@ -107,12 +107,13 @@ static void measure_patch(void *arg, int k)
     p->ncv = q2n_fit_check_params(p->nv, p->kv, Q2N_FIT_SAMPLES_PER_SPAN, cv);
     q2n_status st = q2n_fit_patch_grid(c, k, ncu, cu, ncv, cv, S, &a->evals[k]);
     q2n_bspline_surface b = patch_view(p);
+    double *F = st ? NULL : malloc(3 * sizeof(double) * (size_t)ncu * ncv);
+    if (!st && (!F || q2n_fit_surface_grid(&b, ncu, cu, ncv, cv, F))) st = Q2N_ERR_NOMEM;
     double dev = 0.0, s2 = 0.0;
     int wi = 0, wj = 0;
     for (int j = 0; !st && j < ncv; j++)
         for (int i = 0; i < ncu; i++) {
-            double f[3];
-            q2n_fit_surface_eval(&b, cu[i], cv[j], 0, f);
+            const double *f = F + 3 * ((size_t)j * ncu + i);
             double d = q2n_v3_dist(f, S + 3 * ((size_t)j * ncu + i)) / c->diag;
             p->cell[(size_t)j * ncu + i] = d;
             s2 += d * d;
@@ -122,7 +123,7 @@ static void measure_patch(void *arg, int k)
     p->s2 = s2;
     p->share[0] = p->share[1] = 0.5;
     if (!st && dev > c->o.tol) direction_shares(c, k, cu[wi], cv[wj], p->share);
-    free(cu); free(cv); free(S);
+    free(cu); free(cv); free(S); free(F);
     a->st[k] = st;
 }
 

@@ -116,3 +116,44 @@ void q2n_fit_surface_eval(const q2n_bspline_surface *s, double u, double v, int 
         }
     }
 }
+
+int q2n_fit_surface_grid(const q2n_bspline_surface *s, int nu, const double *us, int nv, const double *vs, double *out)
+{
+    enum { P1 = Q2N_FIT_DEG + 1 };
+    int *su = malloc(sizeof(int) * (size_t)(nu + nv));
+    double *Bu = malloc(sizeof(double) * P1 * (size_t)(nu + nv));
+    if (!su || !Bu) { free(su); free(Bu); return -1; }
+    int *sv = su + nu;
+    double *Bv = Bu + P1 * (size_t)nu;
+    for (int i = 0; i < nu; i++) {
+        double B[3][P1];
+        su[i] = q2n_fit_span(s->ncp_u, s->knots_u, us[i]);
+        q2n_fit_basis(su[i], s->knots_u, us[i], 0, B);
+        memcpy(Bu + P1 * (size_t)i, B[0], sizeof B[0]);
+    }
+    for (int j = 0; j < nv; j++) {
+        double B[3][P1];
+        sv[j] = q2n_fit_span(s->ncp_v, s->knots_v, vs[j]);
+        q2n_fit_basis(sv[j], s->knots_v, vs[j], 0, B);
+        memcpy(Bv + P1 * (size_t)j, B[0], sizeof B[0]);
+    }
+    for (int j = 0; j < nv; j++)
+        for (int i = 0; i < nu; i++) {
+            const double *bu = Bu + P1 * (size_t)i, *bv = Bv + P1 * (size_t)j;
+            double *o = out + 3 * ((size_t)j * nu + i);
+            o[0] = o[1] = o[2] = 0.0;
+            for (int b = 0; b <= Q2N_FIT_DEG; b++) {
+                int jj = sv[j] - Q2N_FIT_DEG + b;
+                for (int a = 0; a <= Q2N_FIT_DEG; a++) {
+                    const double *P = s->cp + 3 * ((size_t)jj * s->ncp_u + (su[i] - Q2N_FIT_DEG + a));
+                    double w = bu[a] * bv[b];
+                    o[0] += w * P[0];
+                    o[1] += w * P[1];
+                    o[2] += w * P[2];
+                }
+            }
+        }
+    free(su);
+    free(Bu);
+    return 0;
+}

@@ -238,20 +238,31 @@ static double *block_row(row_block *bl, int constraint, double **rhs)
     return row;
 }
 
-/* row += scale * d^a/dt^a d^b/ds^b S(t, 0) of side sd's spline: fixed control points go to rhs
- * (subtracted), the block's unknowns (p->var) to the row. */
-static int add_deriv(fit_ctx *c, double *row, double *rhs, const fit_side *sd, double t, int a, int b, double scale)
+/* Side sd's spline bases at (t, 0): the span of t and the along basis with two derivatives there,
+ * the across basis at s = 0 (the same for every t of the side: computed once per block). */
+typedef struct side_at {
+    int span;
+    double Nt[3][Q2N_FIT_DEG + 1];
+    const double (*Ns)[Q2N_FIT_DEG + 1];
+} side_at;
+
+static void side_at_t(const fit_side *sd, const double (*Ns)[Q2N_FIT_DEG + 1], double t, side_at *A)
 {
-    double Nt[3][Q2N_FIT_DEG + 1], Ns[3][Q2N_FIT_DEG + 1];
-    int span = q2n_fit_span(sd->nt, sd->kt, t);
-    q2n_fit_basis(span, sd->kt, t, 2, Nt);
-    q2n_fit_basis(Q2N_FIT_DEG, sd->ks, 0.0, 2, Ns);
+    A->span = q2n_fit_span(sd->nt, sd->kt, t);
+    q2n_fit_basis(A->span, sd->kt, t, 2, A->Nt);
+    A->Ns = Ns;
+}
+
+/* row += scale * d^a/dt^a d^b/ds^b S(t, 0) of side sd's spline (bases A at t): fixed control
+ * points go to rhs (subtracted), the block's unknowns (p->var) to the row. */
+static int add_deriv(fit_ctx *c, double *row, double *rhs, const fit_side *sd, const side_at *A, int a, int b, double scale)
+{
     const fit_patch *p = &c->p[sd->k];
     for (int j = 0; j <= b; j++)
         for (int q = 0; q <= Q2N_FIT_DEG; q++) {
-            double w = scale * Nt[a][q] * Ns[b][j];
+            double w = scale * A->Nt[a][q] * A->Ns[b][j];
             if (w == 0.0) continue;
-            int g = q2n_fit_side_g(c, sd, span - Q2N_FIT_DEG + q, j);
+            int g = q2n_fit_side_g(c, sd, A->span - Q2N_FIT_DEG + q, j);
             if (p->fixed[g]) q2n_v3_axpy(rhs, -w, p->cp + 3 * (size_t)g);
             else if (p->var[g] >= 0) row[p->var[g]] += w;
             else return -1;   /* a free point of another block: the stages' ordering forbids it */
@@ -341,7 +352,9 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
             double *rhs, *row = block_row(bl, 0, &rhs);
             if (!row) { st = Q2N_ERR_NOMEM; goto out; }
             q2n_v3_scale(rhs, sc, D + 18 * (size_t)q + 3 * (order == 1 ? 2 : 5));
-            if (add_deriv(c, row, rhs, &sd[x], ts[x][q], 0, order, sc)) { st = Q2N_ERR_ARG; goto out; }
+            side_at A;
+            side_at_t(&sd[x], (const double (*)[Q2N_FIT_DEG + 1])Ns[x], ts[x][q], &A);
+            if (add_deriv(c, row, rhs, &sd[x], &A, 0, order, sc)) { st = Q2N_ERR_ARG; goto out; }
         }
     }
     if (!two) goto out;
@@ -361,8 +374,11 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
                 double *rhs, *row = block_row(bl, 1, &rhs);
                 if (!row) { st = Q2N_ERR_NOMEM; break; }
                 rhs[0] = rhs[1] = rhs[2] = 0.0;
-                if (add_deriv(c, row, rhs, &sd[1], 1.0 - t, 0, order, w1) ||
-                    add_deriv(c, row, rhs, &sd[0], t, 0, order, -al * w1)) {
+                side_at A0, A1;
+                side_at_t(&sd[1], (const double (*)[Q2N_FIT_DEG + 1])Ns[1], 1.0 - t, &A1);
+                side_at_t(&sd[0], (const double (*)[Q2N_FIT_DEG + 1])Ns[0], t, &A0);
+                if (add_deriv(c, row, rhs, &sd[1], &A1, 0, order, w1) ||
+                    add_deriv(c, row, rhs, &sd[0], &A0, 0, order, -al * w1)) {
                     st = Q2N_ERR_ARG;
                     break;
                 }
@@ -389,16 +405,19 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
             double *rhs, *row = block_row(bl, 0, &rhs);
             if (!row) { st = Q2N_ERR_NOMEM; break; }
             rhs[0] = rhs[1] = rhs[2] = 0.0;
+            side_at A0, A1;
+            side_at_t(&sd[1], (const double (*)[Q2N_FIT_DEG + 1])Ns[1], 1.0 - t, &A1);
+            side_at_t(&sd[0], (const double (*)[Q2N_FIT_DEG + 1])Ns[0], t, &A0);
             int bad;
             if (order == 1)   /* d_s S_R - alpha d_s S_L - beta d_t S_L = 0 */
-                bad = add_deriv(c, row, rhs, &sd[1], 1.0 - t, 0, 1, w) || add_deriv(c, row, rhs, &sd[0], t, 0, 1, -g[0] * w) ||
-                      add_deriv(c, row, rhs, &sd[0], t, 1, 0, -g[1] * w);
+                bad = add_deriv(c, row, rhs, &sd[1], &A1, 0, 1, w) || add_deriv(c, row, rhs, &sd[0], &A0, 0, 1, -g[0] * w) ||
+                      add_deriv(c, row, rhs, &sd[0], &A0, 1, 0, -g[1] * w);
             else              /* the G2 relation with gamma, delta the tangential part of the residual */
-                bad = add_deriv(c, row, rhs, &sd[1], 1.0 - t, 0, 2, w) ||
-                      add_deriv(c, row, rhs, &sd[0], t, 0, 2, -g[0] * g[0] * w) ||
-                      add_deriv(c, row, rhs, &sd[0], t, 1, 1, -2 * g[0] * g[1] * w) ||
-                      add_deriv(c, row, rhs, &sd[0], t, 2, 0, -g[1] * g[1] * w) ||
-                      add_deriv(c, row, rhs, &sd[0], t, 0, 1, -g[2] * w) || add_deriv(c, row, rhs, &sd[0], t, 1, 0, -g[3] * w);
+                bad = add_deriv(c, row, rhs, &sd[1], &A1, 0, 2, w) ||
+                      add_deriv(c, row, rhs, &sd[0], &A0, 0, 2, -g[0] * g[0] * w) ||
+                      add_deriv(c, row, rhs, &sd[0], &A0, 1, 1, -2 * g[0] * g[1] * w) ||
+                      add_deriv(c, row, rhs, &sd[0], &A0, 2, 0, -g[1] * g[1] * w) ||
+                      add_deriv(c, row, rhs, &sd[0], &A0, 0, 1, -g[2] * w) || add_deriv(c, row, rhs, &sd[0], &A0, 1, 0, -g[3] * w);
             if (bad) st = Q2N_ERR_ARG;
         }
         free(tt); free(tr);

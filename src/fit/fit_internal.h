@@ -37,6 +37,10 @@ int q2n_fit_curve_refine(int n, const double *kv, const double *cp, int dim, int
 /* Evaluate a polynomial B-spline surface with derivatives up to order nder (0..2) into out[] in
  * the layout of q2n_surface_eval (S, Su, Sv, Suu, Suv, Svv; surface.h). */
 void q2n_fit_surface_eval(const q2n_bspline_surface *s, double u, double v, int nder, double *out);
+/* Positions on the grid us[0..nu-1] x vs[0..nv-1] (3 per point, u fastest): each basis once per
+ * column and row, every point the same sum as q2n_fit_surface_eval's (bit for bit); returns 0, or
+ * -1 when out of memory. */
+int q2n_fit_surface_grid(const q2n_bspline_surface *s, int nu, const double *us, int nv, const double *vs, double *out);
 
 /* ---- linear least squares (fit_ls.c) ----
  * A stage: independent items, each with its own unknown control points (3-vectors) and rows
