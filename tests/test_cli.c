@@ -320,10 +320,17 @@ static void resources(void)
     int status = 0;
     struct rusage ru;
     memset(&ru, 0, sizeof ru);
+#if defined(__SANITIZE_ADDRESS__)
+    /* AddressSanitizer's shadow memory and quarantine triple the resident set: only the exit */
+    CHECK(pid > 0 && wait4(pid, &status, 0, &ru) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0,
+          "fit of 2400 faces under ASan: exit %d", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    SKIP("fit of 2400 faces: peak resident %ld KB not bounded under AddressSanitizer", ru.ru_maxrss);
+#else
     CHECK(pid > 0 && wait4(pid, &status, 0, &ru) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
               ru.ru_maxrss < 34 * 1024,
           "fit of 2400 faces: peak resident %ld KB (estimate ~31 MB, bound 34 MB), exit %d", ru.ru_maxrss,
           WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+#endif
     /* the tessellation file would not fit on the disk: 2400 patches of 10000 x 10000 points (30 TB) */
     struct statvfs vf;
     if (statvfs(dir, &vf) == 0 && (double)vf.f_bavail * vf.f_frsize < 3e13) {
