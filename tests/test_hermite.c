@@ -1,11 +1,13 @@
 /* test_hermite.c — the Hermite basis of core/hermite.h against its defining end conditions and an
  * independent evaluation of the printed coefficients, and the per-thread memos that serve repeated
- * requests (q2n_hermite_eval, q2n_augmented_coeffs): whatever the order of requests — the same
- * parameter with more derivatives, other orders, ±0, other intervals at the same parameter, two
- * threads at once — every answer is the one a fresh computation gives. */
+ * requests (q2n_hermite_eval, q2n_augmented_coeffs, the Coons evaluator's lines): whatever the
+ * order of requests — the same parameter with more derivatives, other orders, ±0, other intervals
+ * at the same parameter, two threads at once, a patch whose data changed at the same address —
+ * every answer is the one a fresh computation gives. */
 #include "check.h"
 #include "core/hermite.h"
 #include "patch/augmented.h"
+#include "patch/coons_patch.h"
 
 #include <pthread.h>
 
@@ -127,10 +129,72 @@ static void test_coeff_memo(void)
     CHECK(bad == 0, "coefficient memo: %d of %d requests differ from a fresh computation", bad, n);
 }
 
+/* A biquintic-reproducing Coons patch (K = 2) fed with the boundary data of a polynomial of bidegree
+ * <= 5: f_x = c0 u^3 v^2 + c1 u v + c2, f_y = c1 u^2 + v^3, f_z = c2 u v^4. */
+typedef struct poly_ctx { double c[3]; } poly_ctx;
+
+/* d^i/du^i u^n */
+static double mono(int n, int i, double u)
+{
+    if (i > n) return 0;
+    double f = 1;
+    for (int j = 0; j < i; j++) f *= (double)(n - j);
+    return f * pow(u, n - i);
+}
+
+static void poly_partial(const poly_ctx *P, double u, double v, int du, int dv, double o[3])
+{
+    o[0] = P->c[0] * mono(3, du, u) * mono(2, dv, v) + P->c[1] * mono(1, du, u) * mono(1, dv, v) + P->c[2] * mono(0, du, u) * mono(0, dv, v);
+    o[1] = P->c[1] * mono(2, du, u) * mono(0, dv, v) + mono(0, du, u) * mono(3, dv, v);
+    o[2] = P->c[2] * mono(1, du, u) * mono(4, dv, v);
+}
+
+static void poly_side(const void *ctx, const void *lanes, int W, int sd, double s, int na, double F[3][CP_NA][CP_MAXW])
+{
+    (void)lanes, (void)W;
+    const poly_ctx *P = ctx;
+    for (int b = 0; b <= 2; b++)
+        for (int a = 0; a < na; a++) {
+            double o[3];
+            if (sd == 0 || sd == 2) poly_partial(P, s, sd == 0 ? 0.0 : 1.0, a, b, o);
+            else poly_partial(P, sd == 3 ? 0.0 : 1.0, s, b, a, o);
+            for (int x = 0; x < 3; x++) F[b][a][x] = o[x];
+        }
+}
+
+/* Points along v = 0 reuse the line at v = 0; the patch's data then changes at the same address
+ * and is re-initialised: the evaluator must not serve the old line. */
+static void test_line_memo(void)
+{
+    static cp_eval E;
+    poly_ctx P = {{1.0, 2.0, 3.0}};
+    memset(&E, 0, sizeof E);
+    E.P.K = 2;
+    E.P.side = poly_side;
+    E.P.ctx = &P;
+    double worst[2] = {0, 0};
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass) P.c[0] = -4.0, P.c[1] = 0.5, P.c[2] = 7.0;
+        q2n_cp_eval_init(&E);
+        for (int q = 0; q <= 8; q++) {
+            double u = q / 8.0, v = q % 3 == 0 ? 0.0 : 0.375, out[18], f[3], fu[3], fv[3];
+            q2n_cp_eval_point(&E, u, v, 1, out);
+            poly_partial(&P, u, v, 0, 0, f);
+            poly_partial(&P, u, v, 1, 0, fu);
+            poly_partial(&P, u, v, 0, 1, fv);
+            for (int x = 0; x < 3; x++)
+                worst[pass] = fmax(worst[pass], fmax(fabs(out[x] - f[x]), fmax(fabs(out[3 + x] - fu[x]), fabs(out[6 + x] - fv[x]))));
+        }
+    }
+    CHECK(worst[0] < 1e-12 && worst[1] < 1e-12, "Coons patch reproduces a biquintic polynomial, before and after its data "
+          "changed at the same address: %.3g, %.3g", worst[0], worst[1]);
+}
+
 int main(void)
 {
     test_end_conditions();
     test_memo();
     test_coeff_memo();
+    test_line_memo();
     CHECK_DONE("test_hermite");
 }

@@ -12,6 +12,8 @@
 #include "patch/coons_patch.h"
 
 #include <math.h>
+#include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -97,37 +99,47 @@ static void gregory_weight(int r, int i, int j, double u, double v, double W[3][
 /* Bubbles φ_b = 4^(2K+2) B(u) B(v) m_b, B(t) = t^(K+1) (1-t)^(K+1), m_b = 1, 2u-1, 2v-1,
  * (2u-1)(2v-1): they vanish with K derivatives on all four sides, so adding them changes no side
  * datum (continuity and interpolation are untouched). */
-void q2n_cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
+/* The bubbles' factor along one axis at t: out[0][d] = d-th derivative of 4^p B(t), out[1][d] the
+ * same times the monomial 2t - 1. */
+static void bubble_axis(int K, double t, double out[2][4])
 {
-    double bu[4], bv[4];
+    double r[4], pa[4], pb[4], ta[4], tb[4]; /* t^p, (1-t)^p and derivatives */
     int p = K + 1;
     double sc = p == 2 ? 16 : 64; /* 4^p */
     const double(*bn)[Q2N_BINOM_MAX + 1] = q2n_binom;
-    for (int k = 0; k < 2; k++) {
-        double t = k ? v : u, *r = k ? bv : bu, pa[4], pb[4], ta[4], tb[4]; /* t^p, (1-t)^p and derivatives */
-        ta[0] = tb[0] = 1;
-        for (int i = 1; i < 4; i++) { ta[i] = ta[i - 1] * t; tb[i] = tb[i - 1] * (1 - t); }
-        for (int d = 0; d < 4; d++) {
-            double f = 1;
-            for (int j = 0; j < d; j++) f *= (double)(p - j);
-            pa[d] = d > p ? 0 : f * ta[p - d];
-            pb[d] = d > p ? 0 : f * tb[p - d] * (d & 1 ? -1 : 1);
-        }
-        for (int d = 0; d < 4; d++) {
-            r[d] = 0;
-            for (int i = 0; i <= d; i++) r[d] += bn[d][i] * pa[i] * pb[d - i];
-            r[d] *= sc;
-        }
+    ta[0] = tb[0] = 1;
+    for (int i = 1; i < 4; i++) { ta[i] = ta[i - 1] * t; tb[i] = tb[i - 1] * (1 - t); }
+    for (int d = 0; d < 4; d++) {
+        double f = 1;
+        for (int j = 0; j < d; j++) f *= (double)(p - j);
+        pa[d] = d > p ? 0 : f * ta[p - d];
+        pb[d] = d > p ? 0 : f * tb[p - d] * (d & 1 ? -1 : 1);
     }
+    for (int d = 0; d < 4; d++) {
+        r[d] = 0;
+        for (int i = 0; i <= d; i++) r[d] += bn[d][i] * pa[i] * pb[d - i];
+        r[d] *= sc;
+    }
+    for (int d = 0; d < 4; d++) { /* times the monomial 2t-1 (value, slope 2) */
+        out[0][d] = r[d];
+        out[1][d] = (2 * t - 1) * r[d] + (d ? 2 * d * r[d - 1] : 0);
+    }
+}
+
+/* ph from the two axes' factors (bubble b uses the monomial in u when b & 1, in v when b & 2). */
+static void bubbles_from_axes(const double U[2][4], const double V[2][4], double ph[CP_NBUB][10])
+{
     const int(*ord)[2] = q2n_eval_order;
-    for (int b = 0; b < CP_NBUB; b++) {
-        double U[4], V[4];
-        for (int d = 0; d < 4; d++) { /* times the monomial 2t-1 (value, slope 2) where selected */
-            U[d] = (b & 1) ? (2 * u - 1) * bu[d] + (d ? 2 * d * bu[d - 1] : 0) : bu[d];
-            V[d] = (b & 2) ? (2 * v - 1) * bv[d] + (d ? 2 * d * bv[d - 1] : 0) : bv[d];
-        }
-        for (int o = 0; o < 10; o++) ph[b][o] = U[ord[o][0]] * V[ord[o][1]];
-    }
+    for (int b = 0; b < CP_NBUB; b++)
+        for (int o = 0; o < 10; o++) ph[b][o] = U[b & 1][ord[o][0]] * V[(b >> 1) & 1][ord[o][1]];
+}
+
+void q2n_cp_bubbles(int K, double u, double v, double ph[CP_NBUB][10])
+{
+    double U[2][4], V[2][4];
+    bubble_axis(K, u, U);
+    bubble_axis(K, v, V);
+    bubbles_from_axes((const double (*)[4])U, (const double (*)[4])V, ph);
 }
 
 void q2n_cp_sum(const cp_patch *P, const cp_corner *C, const double *bub, int W, double u, double v, int nder,
@@ -200,7 +212,12 @@ void q2n_cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W
     const int(*ord)[2] = q2n_eval_order;
     int K = P->K, no = omax - omin + 1;
     double Dv[2][3][CP_NA][CP_MAXW]; /* per v-line: u-side data minus the corner tensor contracted in v */
+    /* the bubbles are separable: their u factors once per column, v factors once per row */
+    double (*Ua)[2][4] = bub ? malloc(sizeof *Ua * (size_t)(nu > 0 ? nu : 1)) : NULL;
+    for (int a = 0; Ua && a < nu; a++) bubble_axis(K, us[a], Ua[a]);
     for (int b = 0; b < nv; b++) {
+        double Vb[2][4];
+        if (Ua) bubble_axis(K, vs[b], Vb);
         const cp_line *L = &Lv[b];
         for (int i = 0; i < 2; i++)
             for (int k = 0; k <= K; k++)
@@ -218,7 +235,8 @@ void q2n_cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W
         for (int a = 0; a < nu; a++) {
             const cp_line *U = &Lu[a];
             double ph[CP_NBUB][10];
-            if (bub) q2n_cp_bubbles(K, us[a], vs[b], ph);
+            if (Ua) bubbles_from_axes((const double (*)[4])Ua[a], (const double (*)[4])Vb, ph);
+            else if (bub) q2n_cp_bubbles(K, us[a], vs[b], ph);
             for (int o = omin; o <= omax; o++) {
                 int p = ord[o][0], q = ord[o][1];
                 double *r = out + ((size_t)(b * nu + a) * no + (o - omin)) * W;
@@ -237,15 +255,60 @@ void q2n_cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W
             }
         }
     }
+    free(Ua);
 }
 
 /* ------------------------------------------------------------ production evaluators (W = 3) */
 
+static atomic_ulong cp_gen;
+
 void q2n_cp_eval_init(cp_eval *E)
 {
+    E->gen = atomic_fetch_add(&cp_gen, 1) + 1;
     E->C.W = 3;
     E->C.v = E->ct;
     q2n_cp_corner_terms(&E->P, E->lanes, 3, &E->C);
+}
+
+/* Point evaluations along a patch side keep one parameter fixed, so one of the two lines is the
+ * same from point to point: the last few lines per thread, keyed by the patch state's generation
+ * (q2n_cp_eval_init), the direction, na and the bits of the parameter, are copied instead of
+ * recomputed (the same numbers). */
+#define LINE_MEMO_N 4
+typedef struct line_memo {
+    unsigned long gen, used;     /* used 0: empty */
+    int dir, na;
+    uint64_t tbits;
+    double s[CP_LINE_SIZE(3)];
+    double H[3][2][Q2N_HERMITE_MAXD + 1];
+} line_memo;
+static _Thread_local line_memo line_memo_tab[LINE_MEMO_N];
+static _Thread_local unsigned long line_memo_clock;
+
+static void eval_line(const cp_eval *E, int dir, double t, int na, cp_line *L)
+{
+    uint64_t tb;
+    memcpy(&tb, &t, sizeof tb);
+    line_memo *m = NULL, *old = &line_memo_tab[0];
+    for (int i = 0; i < LINE_MEMO_N && !m; i++) {
+        line_memo *x = &line_memo_tab[i];
+        if (x->used && x->gen == E->gen && x->dir == dir && x->na == na && x->tbits == tb) m = x;
+        else if (x->used < old->used) old = x;
+    }
+    if (!m) {
+        m = old;
+        cp_line F = {3, m->s, {{{0}}}};
+        if (dir) q2n_cp_line_v(&E->P, E->lanes, 3, t, na, &F);
+        else q2n_cp_line_u(&E->P, E->lanes, 3, t, na, &F);
+        memcpy(m->H, F.H, sizeof m->H);
+        m->gen = E->gen;
+        m->dir = dir;
+        m->na = na;
+        m->tbits = tb;
+    }
+    m->used = ++line_memo_clock;
+    memcpy(L->s, m->s, sizeof m->s);
+    memcpy(L->H, m->H, sizeof m->H);
 }
 
 q2n_status q2n_cp_eval_point(const void *data, double u, double v, int nder, double *out)
@@ -254,8 +317,8 @@ q2n_status q2n_cp_eval_point(const void *data, double u, double v, int nder, dou
     double su[CP_LINE_SIZE(3)], sv[CP_LINE_SIZE(3)];
     cp_line Lu = {3, su, {{{0}}}}, Lv = {3, sv, {{{0}}}};
     int na = nder < 2 ? 2 : 3;
-    q2n_cp_line_u(&E->P, E->lanes, 3, u, na, &Lu);
-    q2n_cp_line_v(&E->P, E->lanes, 3, v, na, &Lv);
+    eval_line(E, 0, u, na, &Lu);
+    eval_line(E, 1, v, na, &Lv);
     q2n_cp_sum(&E->P, &E->C, &E->bub[0][0], 3, u, v, nder, &Lu, &Lv, out);
     return Q2N_OK;
 }

@@ -85,9 +85,12 @@ typedef struct cp_eval {
     double ct[3 * 36 * 3];
     double bub[CP_NBUB][3];
     const void *lanes;       /* passed to the side callback */
+    unsigned long gen;       /* set by q2n_cp_eval_init: identifies this state in the evaluators' line memo */
 } cp_eval;
 
-void q2n_cp_eval_init(cp_eval *E);  /* sets C and computes the corner terms (after P, lanes, bub) */
+/* Sets C and computes the corner terms (after P, lanes, bub); call it again after any change of
+ * the patch's data (it also renews gen, so no evaluator reuses a line of the old data). */
+void q2n_cp_eval_init(cp_eval *E);
 q2n_status q2n_cp_eval_point(const void *data, double u, double v, int nder, double *out);
 q2n_status q2n_cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out);
 q2n_status q2n_cp_eval_corner(const void *data, int i, int j, double out[2][2][2][3]);
