@@ -215,13 +215,18 @@ void q2n_cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W
     /* the bubbles are separable: their u factors once per column, v factors once per row */
     double (*Ua)[2][4] = bub ? malloc(sizeof *Ua * (size_t)(nu > 0 ? nu : 1)) : NULL;
     for (int a = 0; Ua && a < nu; a++) bubble_axis(K, us[a], Ua[a]);
+    /* only the v-orders the requested outputs use: the lines hold no more (their weights and
+     * fields beyond na - 1 are not filled) */
+    int qmax = 0;
+    for (int o = omin; o <= omax; o++)
+        if (ord[o][1] > qmax) qmax = ord[o][1];
     for (int b = 0; b < nv; b++) {
         double Vb[2][4];
         if (Ua) bubble_axis(K, vs[b], Vb);
         const cp_line *L = &Lv[b];
         for (int i = 0; i < 2; i++)
             for (int k = 0; k <= K; k++)
-                for (int q = 0; q < CP_NA; q++) {
+                for (int q = 0; q <= qmax; q++) {
                     double *r = Dv[i][k][q];
                     memcpy(r, CP_LS(L, i, k, q), sizeof(double) * W);
                     for (int j = 0; j < 2; j++)
