@@ -69,9 +69,9 @@ static void hermite_compute(int K, double t, int nder, double H[][2][Q2N_HERMITE
  * copying — the same numbers, a fraction of the work. */
 #define MEMO_N 16
 typedef struct memo_entry {
-    int K, nder;             /* nder < 0: empty */
+    int K, nder;             /* order, derivatives computed */
     uint64_t tbits;
-    unsigned long used;      /* last use: the least recent entry is replaced */
+    unsigned long used;      /* last use (0: empty): the least recent entry is replaced */
     double H[Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1];
 } memo_entry;
 static _Thread_local memo_entry memo[MEMO_N];

@@ -162,6 +162,7 @@ static void measure_edge(void *arg, int e)
     E->g0 = E->g1 = E->g2 = 0.0;
     double Ns[2][3][Q2N_FIT_DEG + 1];
     for (int x = 0; x < 1 + two; x++) q2n_fit_basis(Q2N_FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
+    int sp = 0;
     for (int q = 0; !st && q < n; q++) {
         double f[2][Q2N_EVAL_MAX], row = 0.0;
         for (int x = 0; x < 1 + two; x++) {
@@ -180,8 +181,8 @@ static void measure_edge(void *arg, int e)
             double r2 = c->o.continuity == 2 ? 0.41 * q2n_v3_norm(dss) / fabs(Ns[x][2][2]) : 0.0;
             row = fmax(row, fmax(r1, r2));
         }
-        /* the span of K the check point lies in (a point on a knot belongs to the span after it) */
-        int sp = 0;
+        /* the span of K the check point lies in (a point on a knot belongs to the span after it;
+         * the check parameters ascend, so the span only moves forward) */
         while (sp < E->K.n && E->K.t[sp] <= t[q]) sp++;
         double dev = q2n_v3_dist(f[0], DL + 18 * (size_t)q) / c->diag, rdev = row / c->diag;
         double *mx = E->spmax + 2 * (size_t)sp;

@@ -243,10 +243,10 @@ static double *block_row(row_block *bl, int constraint, double **rhs)
 typedef struct side_at {
     int span;
     double Nt[3][Q2N_FIT_DEG + 1];
-    const double (*Ns)[Q2N_FIT_DEG + 1];
+    double (*Ns)[Q2N_FIT_DEG + 1];
 } side_at;
 
-static void side_at_t(const fit_side *sd, const double (*Ns)[Q2N_FIT_DEG + 1], double t, side_at *A)
+static void side_at_t(const fit_side *sd, double (*Ns)[Q2N_FIT_DEG + 1], double t, side_at *A)
 {
     A->span = q2n_fit_span(sd->nt, sd->kt, t);
     q2n_fit_basis(A->span, sd->kt, t, 2, A->Nt);
@@ -353,7 +353,7 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
             if (!row) { st = Q2N_ERR_NOMEM; goto out; }
             q2n_v3_scale(rhs, sc, D + 18 * (size_t)q + 3 * (order == 1 ? 2 : 5));
             side_at A;
-            side_at_t(&sd[x], (const double (*)[Q2N_FIT_DEG + 1])Ns[x], ts[x][q], &A);
+            side_at_t(&sd[x], Ns[x], ts[x][q], &A);
             if (add_deriv(c, row, rhs, &sd[x], &A, 0, order, sc)) { st = Q2N_ERR_ARG; goto out; }
         }
     }
@@ -375,8 +375,8 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
                 if (!row) { st = Q2N_ERR_NOMEM; break; }
                 rhs[0] = rhs[1] = rhs[2] = 0.0;
                 side_at A0, A1;
-                side_at_t(&sd[1], (const double (*)[Q2N_FIT_DEG + 1])Ns[1], 1.0 - t, &A1);
-                side_at_t(&sd[0], (const double (*)[Q2N_FIT_DEG + 1])Ns[0], t, &A0);
+                side_at_t(&sd[1], Ns[1], 1.0 - t, &A1);
+                side_at_t(&sd[0], Ns[0], t, &A0);
                 if (add_deriv(c, row, rhs, &sd[1], &A1, 0, order, w1) ||
                     add_deriv(c, row, rhs, &sd[0], &A0, 0, order, -al * w1)) {
                     st = Q2N_ERR_ARG;
@@ -406,8 +406,8 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
             if (!row) { st = Q2N_ERR_NOMEM; break; }
             rhs[0] = rhs[1] = rhs[2] = 0.0;
             side_at A0, A1;
-            side_at_t(&sd[1], (const double (*)[Q2N_FIT_DEG + 1])Ns[1], 1.0 - t, &A1);
-            side_at_t(&sd[0], (const double (*)[Q2N_FIT_DEG + 1])Ns[0], t, &A0);
+            side_at_t(&sd[1], Ns[1], 1.0 - t, &A1);
+            side_at_t(&sd[0], Ns[0], t, &A0);
             int bad;
             if (order == 1)   /* d_s S_R - alpha d_s S_L - beta d_t S_L = 0 */
                 bad = add_deriv(c, row, rhs, &sd[1], &A1, 0, 1, w) || add_deriv(c, row, rhs, &sd[0], &A0, 0, 1, -g[0] * w) ||

@@ -137,29 +137,24 @@ int q2n_fit_refine(fit_ctx *c)
          * every span (it converges under uniform refinement of its edge; graded towards the worst
          * point it did not next to extraordinary corners: docs/fit.md) */
         int nsp = E->K.n + 1, cont = 0;
-        unsigned char *lv = calloc((size_t)nsp, 1);
         double *br = malloc(sizeof(double) * (size_t)(nsp + 1));
-        if (!lv || !br) { free(lv); free(br); continue; }
+        if (!br) continue;
         br[0] = 0.0;
         for (int q = 0; q < E->K.n; q++) br[q + 1] = E->K.t[q];
         br[nsp] = 1.0;
-        /* split_levels grows with the ratio: the per-span and per-edge maxima decide */
-        for (int sp = 0; sp < nsp; sp++) {
-            const double *mx = E->spmax + 2 * (size_t)sp;
-            double r0 = mx[0] / (Q2N_FIT_EDGE_SHARE * tol), r1 = mx[1] / (Q2N_FIT_ROW_SHARE * tol);
-            int l = 0;
-            if (r0 > 1) l = split_levels(r0, 6.0);
-            if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
-            lv[sp] = (unsigned char)l;
-        }
+        /* split_levels grows with the ratio: the per-edge jump maxima and the per-span deviation
+         * maxima decide */
         double r2 = c1 ? E->g1 / aim1 : 0.0, r3 = c2 ? E->g2 / aim2 : 0.0;
         if (r2 > 1) cont = split_levels(r2, 5.0);
         if (r3 > 1 && split_levels(r3, 4.0) > cont) cont = split_levels(r3, 4.0);
         for (int sp = 0; sp < nsp; sp++) {
-            int l = lv[sp] > cont ? lv[sp] : cont;
+            const double *mx = E->spmax + 2 * (size_t)sp;
+            double r0 = mx[0] / (Q2N_FIT_EDGE_SHARE * tol), r1 = mx[1] / (Q2N_FIT_ROW_SHARE * tol);
+            int l = cont;
+            if (r0 > 1 && split_levels(r0, 6.0) > l) l = split_levels(r0, 6.0);
+            if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
             if (l) added += split_span(c, e, 0, br[sp], br[sp + 1], l, add_edge);
         }
-        free(lv);
         free(br);
     }
     /* patches: cells over the tolerance, in the limiting direction(s) */

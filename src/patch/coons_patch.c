@@ -98,8 +98,9 @@ static void gregory_weight(int r, int i, int j, double u, double v, double W[3][
 
 /* Bubbles φ_b = 4^(2K+2) B(u) B(v) m_b, B(t) = t^(K+1) (1-t)^(K+1), m_b = 1, 2u-1, 2v-1,
  * (2u-1)(2v-1): they vanish with K derivatives on all four sides, so adding them changes no side
- * datum (continuity and interpolation are untouched). */
-/* The bubbles' factor along one axis at t: out[0][d] = d-th derivative of 4^p B(t), out[1][d] the
+ * datum (continuity and interpolation are untouched).  They are separable: */
+
+/* the factor along one axis at t: out[0][d] = d-th derivative of 4^p B(t), out[1][d] the
  * same times the monomial 2t - 1. */
 static void bubble_axis(int K, double t, double out[2][4])
 {
