@@ -50,7 +50,7 @@ EXE      := $(BUILD)/quad2nurbs
 ifneq ($(LIB_CXX),)
   DEPLIBS := -lceres -lglog -lgflags -lstdc++ -lpthread
 endif
-Q2N_LDLIBS := $(DEPLIBS) -lcholmod -llapack -lblas -lm
+Q2N_LDLIBS := $(DEPLIBS) -lcholmod -lsuitesparseconfig -llapack -lblas -lm
 COMPILE_C    = $(CC) $(Q2N_CPPFLAGS) $(CPPFLAGS) $(Q2N_CFLAGS) $(CFLAGS)
 COMPILE_CXX  = $(CXX) $(Q2N_CPPFLAGS) $(CPPFLAGS) $(Q2N_CXXFLAGS) $(CXXFLAGS)
 LINK_FLAGS   = $(Q2N_LDFLAGS) $(LDFLAGS)

@@ -23,14 +23,39 @@ extern void dptsv_(const int *n, const int *nrhs, double *d, double *e, double *
 /* LAPACK's info: 0 success, < 0 a bad argument (-1 here), > 0 the matrix (1 here). */
 static int info_code(int info) { return info < 0 ? -1 : info > 0 ? 1 : 0; }
 
+double *q2n_dense_alloc(size_t n)
+{
+    size_t b = (n ? n : 1) * sizeof(double);
+    if (b / sizeof(double) != (n ? n : 1) || b > (size_t)-1 - Q2N_DENSE_ALIGN) return NULL;
+    b = (b + Q2N_DENSE_ALIGN - 1) / Q2N_DENSE_ALIGN * Q2N_DENSE_ALIGN;
+    return aligned_alloc(Q2N_DENSE_ALIGN, b);
+}
+
+/* An aligned copy of the ld x cols column-major array X (dense.h, "Alignment"), or NULL. */
+static double *stage(const double *X, int ld, int cols)
+{
+    size_t n = (size_t)ld * (size_t)cols;
+    double *a = q2n_dense_alloc(n);
+    if (a && n) memcpy(a, X, n * sizeof(double));
+    return a;
+}
+
+static void unstage(double *X, const double *a, int ld, int cols)
+{
+    memcpy(X, a, (size_t)ld * (size_t)cols * sizeof(double));
+}
+
 int q2n_dense_solve(int n, int nrhs, double *A, int lda, double *B, int ldb)
 {
     if (n < 0 || nrhs < 0 || lda < (n > 1 ? n : 1) || ldb < (n > 1 ? n : 1)) return -1;
     if (n == 0 || nrhs == 0) return 0;
     int *ipiv = malloc(sizeof(int) * (size_t)n), info = 0;
-    if (!ipiv) return 1;
-    dgesv_(&n, &nrhs, A, &lda, ipiv, B, &ldb, &info);
-    free(ipiv);
+    double *a = stage(A, lda, n), *b = stage(B, ldb, nrhs);
+    if (!ipiv || !a || !b) { free(ipiv); free(a); free(b); return 1; }
+    dgesv_(&n, &nrhs, a, &lda, ipiv, b, &ldb, &info);
+    unstage(A, a, lda, n);
+    unstage(B, b, ldb, nrhs);
+    free(ipiv); free(a); free(b);
     return info_code(info);
 }
 
@@ -39,7 +64,11 @@ int q2n_dense_cholesky(int n, double *A, int lda)
     if (n < 0 || lda < (n > 1 ? n : 1)) return -1;
     if (n == 0) return 0;
     int info = 0;
-    dpotrf_("L", &n, A, &lda, &info, 1);
+    double *a = stage(A, lda, n);
+    if (!a) return 1;
+    dpotrf_("L", &n, a, &lda, &info, 1);
+    unstage(A, a, lda, n);
+    free(a);
     return info_code(info);
 }
 
@@ -48,7 +77,11 @@ int q2n_dense_cholesky_solve(int n, int nrhs, const double *L, int lda, double *
     if (n < 0 || nrhs < 0 || lda < (n > 1 ? n : 1) || ldb < (n > 1 ? n : 1)) return -1;
     if (n == 0 || nrhs == 0) return 0;
     int info = 0;
-    dpotrs_("L", &n, &nrhs, L, &lda, B, &ldb, &info, 1);
+    double *l = stage(L, lda, n), *b = stage(B, ldb, nrhs);
+    if (!l || !b) { free(l); free(b); return 1; }
+    dpotrs_("L", &n, &nrhs, l, &lda, b, &ldb, &info, 1);
+    unstage(B, b, ldb, nrhs);
+    free(l); free(b);
     return info_code(info);
 }
 
@@ -57,7 +90,13 @@ int q2n_dense_tridiag_spd(int n, int nrhs, double *d, double *e, double *B, int 
     if (n < 0 || nrhs < 0 || ldb < (n > 1 ? n : 1)) return -1;
     if (n == 0 || nrhs == 0) return 0;
     int info = 0;
-    dptsv_(&n, &nrhs, d, e, B, &ldb, &info);
+    double *dd = stage(d, n, 1), *ee = stage(e, n - 1, 1), *b = stage(B, ldb, nrhs);
+    if (!dd || !ee || !b) { free(dd); free(ee); free(b); return 1; }
+    dptsv_(&n, &nrhs, dd, ee, b, &ldb, &info);
+    unstage(d, dd, n, 1);
+    unstage(e, ee, n - 1, 1);
+    unstage(B, b, ldb, nrhs);
+    free(dd); free(ee); free(b);
     return info_code(info);
 }
 
@@ -66,15 +105,16 @@ int q2n_dense_lstsq(int m, int n, int nrhs, double *A, int lda, double *B, int l
     if (m < 0 || n < 0 || nrhs < 0 || lda < (m > 1 ? m : 1) || ldb < (m > n ? m : n) || ldb < 1) return -1;
     if (n == 0 || nrhs == 0) { if (rank) *rank = 0; return 0; }
     int *jpvt = calloc((size_t)n, sizeof *jpvt), rk = 0, info = 0, lwork = -1;
-    double wq = 0.0;
-    if (!jpvt) return 1;
-    dgelsy_(&m, &n, &nrhs, A, &lda, B, &ldb, jpvt, &rcond, &rk, &wq, &lwork, &info);   /* workspace query */
+    double wq = 0.0, *a = stage(A, lda, n), *b = stage(B, ldb, nrhs);
+    if (!jpvt || !a || !b) { free(jpvt); free(a); free(b); return 1; }
+    dgelsy_(&m, &n, &nrhs, a, &lda, b, &ldb, jpvt, &rcond, &rk, &wq, &lwork, &info);   /* workspace query */
     lwork = info == 0 ? (int)wq : 0;
-    double *work = lwork > 0 ? malloc(sizeof(double) * (size_t)lwork) : NULL;
-    if (!work) { free(jpvt); return 1; }
-    dgelsy_(&m, &n, &nrhs, A, &lda, B, &ldb, jpvt, &rcond, &rk, work, &lwork, &info);
-    free(work);
-    free(jpvt);
+    double *work = lwork > 0 ? q2n_dense_alloc((size_t)lwork) : NULL;
+    if (!work) { free(jpvt); free(a); free(b); return 1; }
+    dgelsy_(&m, &n, &nrhs, a, &lda, b, &ldb, jpvt, &rcond, &rk, work, &lwork, &info);
+    unstage(A, a, lda, n);
+    unstage(B, b, ldb, nrhs);
+    free(work); free(jpvt); free(a); free(b);
     if (rank) *rank = rk;
     return info < 0 ? -1 : info > 0 ? 1 : 0;
 }
@@ -92,14 +132,14 @@ int q2n_dense_nullspace(int c, int n, const double *C, int ldc, int nrhs, const 
         return 0;
     }
     int mn = c < n ? c : n, lwork = -1, info = 0, ldu = c, ldvt = n;
-    double *a = malloc(sizeof(double) * (size_t)c * n), *s = malloc(sizeof(double) * (size_t)mn);
-    double *u = malloc(sizeof(double) * (size_t)c * mn), *vt = malloc(sizeof(double) * (size_t)n * n), wq = 0.0;
+    double *a = q2n_dense_alloc((size_t)c * n), *s = q2n_dense_alloc((size_t)mn);
+    double *u = q2n_dense_alloc((size_t)c * mn), *vt = q2n_dense_alloc((size_t)n * n), wq = 0.0;
     if (!a || !s || !u || !vt) { free(a); free(s); free(u); free(vt); return 1; }
     for (int j = 0; j < n; j++) memcpy(a + (size_t)j * c, C + (size_t)j * ldc, sizeof(double) * (size_t)c);
     /* C = U S V^T: U c x mn ("S"), V^T n x n ("A": the trailing rows span the null space) */
     dgesvd_("S", "A", &c, &n, a, &c, s, u, &ldu, vt, &ldvt, &wq, &lwork, &info, 1, 1);
     lwork = info == 0 ? (int)wq : 0;
-    double *work = lwork > 0 ? malloc(sizeof(double) * (size_t)lwork) : NULL;
+    double *work = lwork > 0 ? q2n_dense_alloc((size_t)lwork) : NULL;
     if (!work) { free(a); free(s); free(u); free(vt); return 1; }
     dgesvd_("S", "A", &c, &n, a, &c, s, u, &ldu, vt, &ldvt, work, &lwork, &info, 1, 1);
     free(work);

@@ -3,9 +3,25 @@
  * liblapack-dev; the Fortran routines dgelsy_, dgesvd_, dgesv_, dpotrf_, dpotrs_, dptsv_ called
  * from C).  Matrices are column-major (Fortran order) with a leading dimension, as LAPACK takes
  * them.  Functions return 0 on success, a negative value for a bad argument and a positive value
- * when out of memory or when LAPACK reports a failure. */
+ * when out of memory or when LAPACK reports a failure.
+ *
+ * Alignment.  Every array handed to LAPACK or BLAS starts on a Q2N_DENSE_ALIGN-byte boundary (the
+ * routines below stage their arguments; callers of BLAS use q2n_dense_alloc), because the BLAS
+ * may take alignment-dependent paths: ATLAS (Debian's libblas/liblapack where installed) returns
+ * two different last bits from dgesvd of one 12 x 1 matrix depending on whether the matrix starts
+ * at 0 mod 32 or at 16.  malloc only promises 16 bytes, and where an allocation lands depends on
+ * the heap's history, which worker threads make timing-dependent: a large mesh gave different
+ * output bytes from run to run until every LAPACK array was aligned (docs/fit.md, "Determinism").
+ * tests/test_dense.c checks it. */
 #ifndef Q2N_CORE_DENSE_H
 #define Q2N_CORE_DENSE_H
+
+#include <stddef.h>
+
+#define Q2N_DENSE_ALIGN 64
+
+/* n doubles on a Q2N_DENSE_ALIGN boundary (free with free()); NULL when out of memory. */
+double *q2n_dense_alloc(size_t n);
 
 /* min ||A X - B|| (Frobenius) for A m x n and B m x nrhs, by a rank-revealing complete orthogonal
  * factorisation (LAPACK dgelsy: QR with column pivoting; Golub & Van Loan, Matrix Computations

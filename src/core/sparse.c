@@ -1,13 +1,50 @@
 /* sparse.c — sparse SPD solves through CHOLMOD's supernodal Cholesky (sparse.h). */
 #include "core/sparse.h"
 
+#include <pthread.h>
+#include <stdlib.h>
 #include <string.h>
 #include <suitesparse/cholmod.h>
+
+#include "core/dense.h"
+
+/* CHOLMOD's supernodal factorisation hands its own arrays to the BLAS, whose results may depend on
+ * their alignment (core/dense.h, "Alignment"), and malloc's alignment depends on the heap's
+ * history.  SuiteSparse takes its allocator from SuiteSparse_config: malloc and calloc are
+ * replaced, once, by aligned ones whose blocks realloc and free accept as they are, so blocks
+ * allocated before the switch (or by another user of SuiteSparse in the process) stay valid. */
+static void *aligned_malloc(size_t n)
+{
+    size_t b = n ? n : 1;
+    if (b > (size_t)-1 - Q2N_DENSE_ALIGN) return NULL;
+    return aligned_alloc(Q2N_DENSE_ALIGN, (b + Q2N_DENSE_ALIGN - 1) / Q2N_DENSE_ALIGN * Q2N_DENSE_ALIGN);
+}
+
+static void *aligned_calloc(size_t n, size_t size)
+{
+    if (size && n > (size_t)-1 / size) return NULL;
+    void *p = aligned_malloc(n * size);
+    if (p) memset(p, 0, n * size);
+    return p;
+}
+
+static pthread_once_t alloc_once = PTHREAD_ONCE_INIT;
+static void use_aligned_alloc(void)
+{
+    SuiteSparse_config.malloc_func = aligned_malloc;
+    SuiteSparse_config.calloc_func = aligned_calloc;
+}
+
+void q2n_sparse_init(void)
+{
+    pthread_once(&alloc_once, use_aligned_alloc);
+}
 
 q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, const double *tv, int nrhs,
                                 const double *B, double *X, q2n_error *err)
 {
     if (n <= 0 || nrhs <= 0) return Q2N_OK;
+    q2n_sparse_init();
     cholmod_common c;
     cholmod_start(&c);
     c.print = 0;

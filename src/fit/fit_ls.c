@@ -10,6 +10,7 @@
 #include "fit/fit_policy.h"
 #include "core/ceres_shim.h"
 #include "core/dense.h"
+#include "core/sparse.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -172,6 +173,7 @@ q2n_status q2n_fit_ls_solve_ceres(q2n_fit_ls *ls, int threads, int dense, q2n_er
     ls->x = calloc(3 * (size_t)(ls->nvar > 0 ? ls->nvar : 1), sizeof(double));
     if (!ls->x) return q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory (solution)");
     char msg[256] = "";
+    q2n_sparse_init();   /* Ceres' sparse path factors with CHOLMOD */
     if (q2n_ceres_linear_ls(ls->nvar, ls->nrow, ls->row_start, ls->col, ls->val, ls->rhs, ls->x, threads,
                             dense, ls->nitem, ls->item_row, ls->item_var, msg, (int)sizeof msg))
         return q2n_error_set(err, Q2N_ERR_GEOMETRY, "fit: %s", msg);

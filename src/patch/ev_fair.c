@@ -39,6 +39,7 @@
 #include <cblas.h>
 #include <pthread.h>
 
+#include "core/dense.h"
 #include "core/sparse.h"
 #include "core/poly.h"
 #include "core/vec3.h"
@@ -484,7 +485,8 @@ static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P,
     cp_corner C = {0, malloc(sizeof(double) * 3 * 36 * CP_MAXW)};
     size_t np = (size_t)ng * ng;
     double *G = malloc(sizeof(double) * np * 7 * CP_MAXW);
-    double *A = malloc(sizeof(double) * np * 4 * (4 * EV_JS + CP_NBUB)), *A0 = malloc(sizeof(double) * np * 4 * 3);
+    /* BLAS arrays on an aligned boundary: core/dense.h, "Alignment" */
+    double *A = q2n_dense_alloc((size_t)np * 4 * (4 * EV_JS + CP_NBUB)), *A0 = q2n_dense_alloc((size_t)np * 4 * 3);
     q2n_status st = Q2N_OK;
     memset(F, 0, sizeof *F);
     if (!Jl || !Lu || !lst || !C.v || !G || !A || !A0) { st = Q2N_ERR_NOMEM; goto done; }
@@ -513,8 +515,11 @@ static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P,
     q2n_cp_grid(P, &C, bl, W, ng, gx, Lu, ng, gx, Lv, 3, 9, G);
     for (int t = 0; t < 2 && !st; t++) {
         int r0 = t ? 3 : 0, nr = t ? 4 : 3, nrow = 0;
-        F->K[t] = calloc((size_t)(nl ? nl : 1) * (nl ? nl : 1), sizeof(double));
-        F->r[t] = calloc((size_t)(nl ? nl : 1) * 3, sizeof(double));
+        size_t nk = (size_t)(nl ? nl : 1) * (nl ? nl : 1), nrr = (size_t)(nl ? nl : 1) * 3;
+        F->K[t] = q2n_dense_alloc(nk);
+        F->r[t] = q2n_dense_alloc(nrr);
+        if (F->K[t]) memset(F->K[t], 0, nk * sizeof(double));
+        if (F->r[t]) memset(F->r[t], 0, nrr * sizeof(double));
         if (!F->K[t] || !F->r[t]) { st = Q2N_ERR_NOMEM; break; }
         F->c[t] = 0;
         for (size_t p = 0; p < np; p++) {
