@@ -430,6 +430,12 @@ static void roundtrip(const char *what, const q2n_nurbs_model *m, int ncomp, int
     o.iges_plain = 0;
     CHECK(q2n_export_step_text(m, &o, &t1, &l1, &err) == Q2N_OK, "%s: STEP: %s", what, err.message);
     check_step(what, t1, m, ncomp, nclosed);
+    /* edges and faces formatted on 3 threads: the same bytes */
+    o.threads = 3;
+    CHECK(q2n_export_step_text(m, &o, &t2, &l2, &err) == Q2N_OK && t1 && t2 && l1 == l2 && memcmp(t1, t2, l1) == 0,
+          "%s: STEP on 3 threads = on one", what);
+    free(t2);
+    o.threads = 0;
     /* file output equals the text, twice (determinism), and leaves no temporary file */
     const char *path = chk_scratch("export_rt.step");
     CHECK(q2n_export_file(m, &o, path, &err) == Q2N_OK, "%s: write %s: %s", what, path, err.message);

@@ -127,6 +127,7 @@ q2n_status q2n_model_write_output(q2n_model *m, q2n_output *o, int tess, const q
     if (xopt) x = *xopt;
     if (!x.progress && m->opt.progress.fn) x.progress = &m->opt.progress;
     x.mesh_scale = m->opt.scale;
+    if (!x.threads) x.threads = m->fit_opt.threads;
     char name[72];
     if (!x.name && !strcmp(o->path, "-")) {   /* standard output: the product is named after the mesh */
         q2n_export_basename(m->mesh->name, name, sizeof name);

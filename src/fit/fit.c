@@ -213,8 +213,8 @@ static q2n_status measure_round(fit_ctx *c)
     snprintf(what, sizeof what, "round %d: measuring", c->round + 1);
     q2n_progress_emit(c->o.progress, "fit", what, 0, 0);
     meas_arg arg = {c, st, ev};
-    q2n_fit_par_for(m->nf, c->o.threads, measure_patch, &arg);
-    q2n_fit_par_for(m->ne, c->o.threads, measure_edge, &arg);
+    q2n_par_for(m->nf, c->o.threads, measure_patch, &arg);
+    q2n_par_for(m->ne, c->o.threads, measure_edge, &arg);
     c->rep->t_measure += q2n_now() - t0;
     q2n_status r = Q2N_OK;
     for (int k = 0; k < m->nf; k++) {

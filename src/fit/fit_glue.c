@@ -160,7 +160,7 @@ static q2n_status each_edge(fit_ctx *c, void (*fn)(void *, int))
     if (!st) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     double t0 = q2n_now();
     classify_arg arg = {c, st};
-    q2n_fit_par_for(ne, c->o.threads, fn, &arg);
+    q2n_par_for(ne, c->o.threads, fn, &arg);
     c->rep->t_sample += q2n_now() - t0;
     q2n_status r = Q2N_OK;
     char where[64];
@@ -509,7 +509,7 @@ q2n_status q2n_fit_rows_stage(fit_ctx *c, const int *edges, int n, int order)
      * blocks own disjoint sides and disjoint unknowns, so they are assembled in parallel */
     double t0 = q2n_now();
     rows_arg arg = {c, bl, order};
-    q2n_fit_par_for(n, c->o.threads, rows_one, &arg);
+    q2n_par_for(n, c->o.threads, rows_one, &arg);
     c->rep->t_sample += q2n_now() - t0;
     for (int l = 0; l < n && !st; l++)
         if (bl[l].st)

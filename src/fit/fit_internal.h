@@ -6,6 +6,7 @@
 #define Q2N_FIT_INTERNAL_H
 
 #include "core/error.h"
+#include "core/par.h"
 #include "fit/bspline.h"
 #include "fit/fit.h"
 #include "patch/surface.h"
@@ -80,11 +81,6 @@ q2n_status q2n_fit_ls_solve_ceres(q2n_fit_ls *ls, int threads, int dense, q2n_er
 /* With the solver the options name. */
 q2n_status q2n_fit_ls_solve(q2n_fit_ls *ls, int solver, int threads, q2n_error *err);
 
-/* ---- parallel loop (fit_par.c) ----
- * Run fn(arg, i) for i = 0..n-1 on `threads` workers (item i on worker i mod threads, so the
- * assignment does not depend on timing); falls back to the calling thread when a thread cannot be
- * started.  fn must only write data owned by item i. */
-void q2n_fit_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg);
 
 /* ---- measurement (fit_measure.c) ---- */
 

@@ -224,8 +224,8 @@ q2n_status q2n_fit_measure_model(const q2n_nurbs_model *model, const q2n_surface
     j.pd = mem; j.ps2 = mem + nf; j.pvd = mem + 2 * nf; j.pn = pn;
     for (int i = 0; i < 5; i++) j.eg[i] = mem + 3 * nf + i * ne;
     j.pst = sts; j.est = sts + nf;
-    q2n_fit_par_for(model->n, threads, measure_patch, &j);
-    q2n_fit_par_for(m->ne, threads, measure_edge, &j);
+    q2n_par_for(model->n, threads, measure_patch, &j);
+    q2n_par_for(m->ne, threads, measure_edge, &j);
     q2n_status st = Q2N_OK;
     for (size_t k = 0; k < nf && !st; k++)
         if (j.pst[k]) st = q2n_error_set(err, j.pst[k], "fit: face %zu: construction evaluation failed", k);

@@ -424,14 +424,14 @@ q2n_status q2n_fit_prepare(fit_ctx *c)
     }
     double t0 = q2n_now();
     prep_arg arg = {c, st, S};
-    q2n_fit_par_for(m->ne, c->o.threads, ends_one, &arg);
+    q2n_par_for(m->ne, c->o.threads, ends_one, &arg);
     q2n_status r = Q2N_OK;
     char where[64];
     for (int e = 0; e < m->ne && !r; e++)
         if (st[e]) r = q2n_error_set(c->err, st[e], "fit: edge %d (%s): evaluation at its ends %s", e, q2n_fit_edge_where(c, e, where, sizeof where),
                                      st[e] == Q2N_ERR_NUMERIC ? "not finite" : "failed");
     memset(st, 0, sizeof *st * (size_t)nmax);
-    if (!r) q2n_fit_par_for(m->nf, c->o.threads, jet_one, &arg);
+    if (!r) q2n_par_for(m->nf, c->o.threads, jet_one, &arg);
     for (int k = 0; k < m->nf && !r; k++)
         if (st[k]) r = q2n_error_set(c->err, st[k], "fit: face %d: corner derivatives %s", k,
                                      st[k] == Q2N_ERR_NUMERIC ? "not finite" : "cannot be evaluated");
@@ -637,7 +637,7 @@ static q2n_status stage_curves(fit_ctx *c, const int *list, int n)
     for (int l = 0; l < n; l++) cb[l].e = list[l];
     double t0 = q2n_now();
     curves_arg arg = {c, cb, st};
-    q2n_fit_par_for(n, c->o.threads, curve_one, &arg);
+    q2n_par_for(n, c->o.threads, curve_one, &arg);
     c->rep->t_sample += q2n_now() - t0;
     for (int l = 0; l < n && !r; l++)
         if (st[l]) r = q2n_error_set(c->err, st[l], "fit: edge %d: %s", list[l],
@@ -887,7 +887,7 @@ static q2n_status stage_interior(fit_ctx *c, const int *list, int nlist)
     }
     double t0 = q2n_now();
     sep_arg arg = {c, sp};
-    q2n_fit_par_for(nsp, c->o.threads, sep_one, &arg);
+    q2n_par_for(nsp, c->o.threads, sep_one, &arg);
     c->rep->t_sample += q2n_now() - t0;
     for (int l = 0; l < nsp; l++) {
         c->rep->samples += sp[l].evals;

@@ -15,6 +15,8 @@
  * every solid's normals point out. */
 #include "iges/export_internal.h"
 
+#include "core/par.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -294,6 +296,74 @@ static void step_root(step_out *o, const q2n_export_topo *t, const int *fid, int
     q2n_strbuf_printf(&o->b, "SHAPE_DEFINITION_REPRESENTATION(#%d,#%d);\n", pds, rep);
 }
 
+/* Edges and faces are formatted in chunks on opt->threads workers (core/par.h), each item into its
+ * own buffer starting at its own first entity id, and the buffers are appended in order: the ids
+ * an item takes are known in advance (an edge: its curve's points, the curve, the EDGE_CURVE; a
+ * face: its surface's points, the surface, four ORIENTED_EDGEs, the loop, the bound, the face), so
+ * the text is the one a single thread writes.  A chunk bounds the memory held at once. */
+#define STEP_CHUNK 256
+
+typedef struct step_items {
+    const q2n_nurbs_model *m;
+    const q2n_export_topo *t;
+    const int *vid, *eid;
+    int *out_id;         /* the EDGE_CURVE / ADVANCED_FACE id of each item */
+    int base, face;      /* first item of the chunk; 1: faces, 0: edges */
+    const int *first;    /* first entity id of each item of the chunk */
+    q2n_strbuf *buf;     /* each item's text */
+    int bad;             /* an item took another number of ids than counted (a writer defect) */
+} step_items;
+
+static int edge_ids(const q2n_export_topo *t, int e) { return t->edge_curve[e].ncp + 2; }
+static int face_ids(const q2n_nurbs_model *m, int f) { return m->patches[f].ncp_u * m->patches[f].ncp_v + 8; }
+
+static void step_item(void *arg, int i)
+{
+    step_items *J = arg;
+    int k = J->base + i;
+    q2n_export_locale loc = q2n_export_locale_begin();   /* per thread */
+    step_out o = {{NULL, 0, 0, 0, NULL}, J->first[i]};
+    if (J->face) {
+        J->out_id[k] = step_face(&o, J->m, J->t, J->eid, k);
+        if (o.next_id != J->first[i] + face_ids(J->m, k)) J->bad = 1;
+    } else {
+        int c = step_curve(&o, &J->t->edge_curve[k]);
+        J->out_id[k] = step_begin(&o);
+        q2n_strbuf_printf(&o.b, "EDGE_CURVE('',#%d,#%d,#%d,.T.);\n", J->vid[J->t->edge_v[2 * k]],
+                          J->vid[J->t->edge_v[2 * k + 1]], c);
+        if (o.next_id != J->first[i] + edge_ids(J->t, k)) J->bad = 1;
+    }
+    q2n_export_locale_end(loc);
+    J->buf[i] = o.b;
+}
+
+/* Items [0, n) (edges or faces) in chunks, appended to o in order; progress per chunk for faces. */
+static void step_items_run(step_out *o, step_items *J, int n, const q2n_export_options *opt)
+{
+    int first[STEP_CHUNK];
+    q2n_strbuf buf[STEP_CHUNK];
+    J->first = first;
+    J->buf = buf;
+    for (int k0 = 0; k0 < n && !o->b.oom; k0 += STEP_CHUNK) {
+        int cn = n - k0 < STEP_CHUNK ? n - k0 : STEP_CHUNK;
+        if (J->face && k0 % Q2N_EXPORT_PROGRESS_EVERY == 0)   /* a multiple of STEP_CHUNK */
+            q2n_progress_emit(opt->progress, "write", "STEP", k0, n);
+        for (int i = 0; i < cn; i++) {
+            first[i] = o->next_id;
+            o->next_id += J->face ? face_ids(J->m, k0 + i) : edge_ids(J->t, k0 + i);
+        }
+        J->base = k0;
+        q2n_par_for(cn, opt->threads, step_item, J);
+        for (int i = 0; i < cn; i++) {
+            if (buf[i].oom || J->bad) o->b.oom = 1;
+            else q2n_strbuf_putn(&o->b, buf[i].data, buf[i].len);
+            q2n_strbuf_free(&buf[i]);
+        }
+    }
+    J->first = NULL;
+    J->buf = NULL;
+}
+
 static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t, const q2n_export_options *opt,
                              const char *name, q2n_strbuf *out)
 {
@@ -313,16 +383,11 @@ static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
             vid[v] = step_begin(&o);
             q2n_strbuf_printf(&o.b, "VERTEX_POINT('',#%d);\n", p);
         }
-        for (int e = 0; e < t->ne && !o.b.oom; e++) {
-            int c = step_curve(&o, &t->edge_curve[e]);
-            eid[e] = step_begin(&o);
-            q2n_strbuf_printf(&o.b, "EDGE_CURVE('',#%d,#%d,#%d,.T.);\n", vid[t->edge_v[2 * e]],
-                              vid[t->edge_v[2 * e + 1]], c);
-        }
-        for (int f = 0; f < t->nf && !o.b.oom; f++) {
-            if (f % Q2N_EXPORT_PROGRESS_EVERY == 0) q2n_progress_emit(opt->progress, "write", "STEP", f, t->nf);
-            fid[f] = step_face(&o, m, t, eid, f);
-        }
+        step_items J = {m, t, vid, eid, eid, 0, 0, NULL, NULL, 0};
+        if (!o.b.oom) step_items_run(&o, &J, t->ne, opt);
+        J.face = 1;
+        J.out_id = fid;
+        if (!o.b.oom) step_items_run(&o, &J, t->nf, opt);
         if (!o.b.oom) step_root(&o, t, fid, shell, list, name, ctx, pds);
         q2n_strbuf_puts(&o.b, "ENDSEC;\nEND-ISO-10303-21;\n");
     } else {

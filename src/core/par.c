@@ -1,9 +1,9 @@
-/* fit_par.c — the one parallel loop of the fit stage (construction sampling, corner jets,
- * measurement): each thread takes the next undone item from a shared counter (items differ in cost
+/* par.c — the one parallel loop of the pipeline's stages (the fit's sampling, assembly and
+ * measurement, the STEP writer's faces; see par.h): each thread takes the next undone item from a shared counter (items differ in cost
  * by 100x: a regular patch against an extraordinary one with hundreds of spans, so a fixed deal left
  * one thread idle for a third of a stage); results are written per item and reduced by the caller
  * in index order, so the output does not depend on the thread count or on which thread did what. */
-#include "fit/fit_internal.h"
+#include "core/par.h"
 
 #include <pthread.h>
 #include <stdatomic.h>
@@ -26,17 +26,17 @@ static void *par_worker(void *p)
     return NULL;
 }
 
-void q2n_fit_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg)
+void q2n_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg)
 {
-    int T = threads < 1 ? 1 : threads > Q2N_FIT_MAX_THREADS ? Q2N_FIT_MAX_THREADS : threads;
+    int T = threads < 1 ? 1 : threads > Q2N_PAR_MAX_THREADS ? Q2N_PAR_MAX_THREADS : threads;
     if (T > n) T = n > 0 ? n : 1;
     par_job job;
     job.fn = fn;
     job.arg = arg;
     job.n = n;
     atomic_init(&job.next, 0);
-    pthread_t tid[Q2N_FIT_MAX_THREADS];
-    int started[Q2N_FIT_MAX_THREADS] = {0};
+    pthread_t tid[Q2N_PAR_MAX_THREADS];
+    int started[Q2N_PAR_MAX_THREADS] = {0};
     for (int w = 1; w < T; w++) started[w] = pthread_create(&tid[w], NULL, par_worker, &job) == 0;
     par_worker(&job);   /* the calling thread works too; a thread that failed to start leaves its share to the others */
     for (int w = 1; w < T; w++)
