@@ -15,6 +15,8 @@
  * the rest are physically dependent (status digits 3-4 = 01). */
 #include "iges/export_internal.h"
 
+#include "core/par.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,20 +41,54 @@ typedef struct iges_pw {
     int has_pending;
 } iges_pw;
 
+/* x as printf("%*d", width, x) into out (no terminating NUL); returns the length.  The writer
+ * formats a few million integers for a large model: printf's parsing was a tenth of its time. */
+static int fmt_int(char *out, int x, int width)
+{
+    char tmp[16];
+    int n = 0;
+    unsigned u = x < 0 ? 0u - (unsigned)x : (unsigned)x;
+    do {
+        tmp[n++] = (char)('0' + u % 10u);
+        u /= 10u;
+    } while (u);
+    if (x < 0) tmp[n++] = '-';
+    int len = n < width ? width : n, pad = len - n;
+    memset(out, ' ', (size_t)pad);
+    for (int i = 0; i < n; i++) out[pad + i] = tmp[n - 1 - i];
+    return len;
+}
+
+static const char blanks[IGES_PCOLS + 1] = "                                                                ";
+
+/* " %7dP%7d\n": the parameter record's directory pointer and sequence number */
+static int fmt_pd_suffix(char *out, int de, int seq)
+{
+    int n = 0;
+    out[n++] = ' ';
+    n += fmt_int(out + n, de, 7);
+    out[n++] = 'P';
+    n += fmt_int(out + n, seq, 7);
+    out[n++] = '\n';
+    return n;
+}
+
 static void pw_end_line(iges_pw *w)
 {
-    for (int i = w->line_len; i < IGES_PCOLS; i++) q2n_strbuf_putc(w->b, ' ');
-    q2n_strbuf_printf(w->b, " %7dP%7d\n", w->de, ++w->pseq);
+    char suf[40];
+    if (w->line_len < IGES_PCOLS) q2n_strbuf_putn(w->b, blanks, (size_t)(IGES_PCOLS - w->line_len));
+    q2n_strbuf_putn(w->b, suf, (size_t)fmt_pd_suffix(suf, w->de, ++w->pseq));
     w->line_len = 0;
 }
 
 static void pw_flush(iges_pw *w, char delim)
 {
     if (!w->has_pending) return;
-    int n = (int)strlen(w->pending) + 1;
+    size_t len = strlen(w->pending);
+    int n = (int)len + 1;
     if (w->line_len + n > IGES_PCOLS) pw_end_line(w);
-    q2n_strbuf_puts(w->b, w->pending);
-    q2n_strbuf_putc(w->b, delim);
+    w->pending[len] = delim;
+    q2n_strbuf_putn(w->b, w->pending, len + 1);
     w->line_len += n;
     w->has_pending = 0;
 }
@@ -60,14 +96,17 @@ static void pw_flush(iges_pw *w, char delim)
 static void pw_token(iges_pw *w, const char *s)
 {
     pw_flush(w, ',');
-    snprintf(w->pending, sizeof w->pending, "%s", s);
+    size_t n = strlen(s);
+    if (n > sizeof w->pending - 2) n = sizeof w->pending - 2;   /* never: tokens are reals and ints */
+    memcpy(w->pending, s, n);
+    w->pending[n] = '\0';
     w->has_pending = 1;
 }
 
 static void pw_int(iges_pw *w, int x)
 {
     char s[16];
-    snprintf(s, sizeof s, "%d", x);
+    s[fmt_int(s, x, 0)] = '\0';
     pw_token(w, s);
 }
 
@@ -187,13 +226,30 @@ static void write_global(q2n_strbuf *b, const q2n_export_options *opt, const cha
 
 static void write_directory(q2n_strbuf *b, const iges_ent *ents, int n)
 {
+    char line[200];
     for (int k = 0; k < n; k++) {
         const iges_ent *e = &ents[k];
-        /* status: blank 00, subordinate 00/01, entity use 00 (geometry) / 05 (2D parametric), hierarchy 00 */
-        q2n_strbuf_printf(b, "%8d%8d%8d%8d%8d%8d%8d%8d00%02d%02d00D%7d\n", e->type, e->pstart, 0, 0, 0, 0, 0, 0,
-                          e->dependent ? 1 : 0, e->use, 2 * k + 1);
-        q2n_strbuf_printf(b, "%8d%8d%8d%8d%8d%8s%8s%8s%8dD%7d\n", e->type, 0, 0, e->pcount, e->form, "", "", "", 0,
-                          2 * k + 2);
+        /* status: blank 00, subordinate 00/01, entity use 00 (geometry) / 05 (2D parametric), hierarchy 00;
+         * as printf("%8d%8d%8d%8d%8d%8d%8d%8d00%02d%02d00D%7d\n", type, pstart, 0, .., dependent, use, 2k+1) */
+        int m = 0;
+        const int f1[8] = {e->type, e->pstart, 0, 0, 0, 0, 0, 0};
+        for (int i = 0; i < 8; i++) m += fmt_int(line + m, f1[i], 8);
+        line[m++] = '0'; line[m++] = '0';
+        line[m++] = '0'; line[m++] = (char)('0' + (e->dependent ? 1 : 0));
+        line[m++] = (char)('0' + e->use / 10); line[m++] = (char)('0' + e->use % 10);
+        line[m++] = '0'; line[m++] = '0'; line[m++] = 'D';
+        m += fmt_int(line + m, 2 * k + 1, 7);
+        line[m++] = '\n';
+        /* printf("%8d%8d%8d%8d%8d%8s%8s%8s%8dD%7d\n", type, 0, 0, pcount, form, "", "", "", 0, 2k+2) */
+        const int f2[5] = {e->type, 0, 0, e->pcount, e->form};
+        for (int i = 0; i < 5; i++) m += fmt_int(line + m, f2[i], 8);
+        memset(line + m, ' ', 24);
+        m += 24;
+        m += fmt_int(line + m, 0, 8);
+        line[m++] = 'D';
+        m += fmt_int(line + m, 2 * k + 2, 7);
+        line[m++] = '\n';
+        q2n_strbuf_putn(b, line, (size_t)m);
     }
 }
 
@@ -227,17 +283,130 @@ static iges_layout layout(const q2n_export_topo *t, int plain)
 
 #define DE(k) (2 * (k) + 1)
 
-static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q2n_nurbs_model *m,
-                       const q2n_export_topo *t)
+/* ---- entities formatted on worker threads ----
+ * The parameter data of the many per-face and per-edge entities (128, 126, 110, 508, 510) are
+ * formatted on opt->threads workers (core/par.h), IGES_CHUNK at a time, each into its own buffer
+ * as if it were the file's first entity (P sequence numbers from 1); the buffers are appended in
+ * entity order with every record's sequence number rewritten to its place in the file, so the
+ * text is the one a single thread writes. */
+#define IGES_CHUNK 256
+
+typedef struct iges_items {
+    const q2n_nurbs_model *m;
+    const q2n_export_topo *t;
+    const iges_layout *L;
+    iges_ent *ents;
+    int kind;             /* 128, 126, 110, 508, 510 */
+    int plain;            /* 128s only (they are then independent) */
+    int base;             /* first item of the chunk */
+    q2n_strbuf *buf;      /* each item's records */
+    iges_ent *ent;        /* each item's entity (pstart relative to its own buffer) */
+} iges_items;
+
+static void format_item(const iges_items *J, iges_pw *w, iges_ent *en, int k)
 {
-    const q2n_mesh *me = m->mesh;
-    for (int e = 0; e < t->ne; e++) {
-        iges_ent *en = &ents[L->c126 + e];
+    const q2n_mesh *me = J->m->mesh;
+    const iges_layout *L = J->L;
+    switch (J->kind) {
+    case 128:
+        *en = (iges_ent){128, 0, !J->plain, 0, 0, 0};
+        pw_begin(w, en, DE(k));
+        write_128(w, &J->m->patches[k]);
+        break;
+    case 126:
         *en = (iges_ent){126, 0, 1, 0, 0, 0};
-        pw_begin(w, en, DE(L->c126 + e));
-        write_126(w, &t->edge_curve[e]);
-        pw_end(w, en);
+        pw_begin(w, en, DE(L->c126 + k));
+        write_126(w, &J->t->edge_curve[k]);
+        break;
+    case 110: {   /* side i of face f runs from corner i to corner i+1 of [0,1]^2 in (u,v,0), the loop's
+                   * direction (as OCCT's own B-rep writer does) */
+        const int(*corner)[2] = q2n_corner_uv;
+        int i = k & 3;
+        *en = (iges_ent){110, 0, 1, 0, 0, 5};
+        pw_begin(w, en, DE(L->c110 + k));
+        pw_real(w, corner[i][0]); pw_real(w, corner[i][1]); pw_real(w, 0.0);
+        pw_real(w, corner[(i + 1) & 3][0]); pw_real(w, corner[(i + 1) & 3][1]); pw_real(w, 0.0);
+        break;
     }
+    case 508:     /* per edge type 0, list, index, orientation (1 = along the curve), one isoparametric
+                   * p-curve (K = 1, ISOP = 1) */
+        *en = (iges_ent){508, 1, 1, 0, 0, 0};
+        pw_begin(w, en, DE(L->c508 + k));
+        pw_int(w, 4);
+        for (int i = 0; i < 4; i++) {
+            int h = q2n_face_he(me, k, i);
+            pw_int(w, 0); pw_int(w, DE(L->i504)); pw_int(w, me->he_edge[h] + 1);
+            pw_int(w, J->t->he_sense[h]); pw_int(w, 1); pw_int(w, 1); pw_int(w, DE(L->c110 + 4 * k + i));
+        }
+        break;
+    default:      /* 510: surface, one loop, outer-loop flag 1 */
+        *en = (iges_ent){510, 1, 1, 0, 0, 0};
+        pw_begin(w, en, DE(L->c510 + k));
+        pw_int(w, DE(k)); pw_int(w, 1); pw_int(w, 1); pw_int(w, DE(L->c508 + k));
+        break;
+    }
+    pw_end(w, en);
+}
+
+static void iges_item(void *arg, int i)
+{
+    iges_items *J = arg;
+    q2n_export_locale loc = q2n_export_locale_begin();   /* per thread */
+    J->buf[i] = (q2n_strbuf){NULL, 0, 0, 0, NULL};
+    iges_pw w = {&J->buf[i], 0, 0, 0, {0}, 0};
+    format_item(J, &w, &J->ent[i], J->base + i);
+    q2n_export_locale_end(loc);
+}
+
+/* Append src's records to w's stream with their sequence numbers (1, 2, .. in src) moved after
+ * w's last one. */
+static void append_records(iges_pw *w, const q2n_strbuf *src)
+{
+    const char *p = src->data, *end = src->data + src->len;
+    int r = 0;
+    while (p < end) {
+        const char *nl = memchr(p, '\n', (size_t)(end - p));
+        if (!nl) break;
+        char num[24];
+        int lr = fmt_int(num, ++r, 7) + 1, la = fmt_int(num, ++w->pseq, 7);   /* "%7d\n" */
+        num[la++] = '\n';
+        q2n_strbuf_putn(w->b, p, (size_t)(nl + 1 - p) - (size_t)lr);
+        q2n_strbuf_putn(w->b, num, (size_t)la);
+        p = nl + 1;
+    }
+}
+
+/* Items [0, n) of one kind into ents[first ..], on opt->threads workers, appended in order. */
+static void iges_items_run(iges_pw *w, iges_items *J, int first, int n, const q2n_export_options *opt)
+{
+    q2n_strbuf buf[IGES_CHUNK];
+    iges_ent ent[IGES_CHUNK];
+    J->buf = buf;
+    J->ent = ent;
+    for (int k0 = 0; k0 < n && !w->b->oom; k0 += IGES_CHUNK) {
+        int cn = n - k0 < IGES_CHUNK ? n - k0 : IGES_CHUNK;
+        if (J->kind == 128 && k0 % Q2N_EXPORT_PROGRESS_EVERY == 0)   /* a multiple of IGES_CHUNK */
+            q2n_progress_emit(opt->progress, "write", "IGES", k0, n);
+        J->base = k0;
+        q2n_par_for(cn, opt->threads, iges_item, J);
+        for (int i = 0; i < cn; i++) {
+            if (buf[i].oom) w->b->oom = 1;
+            iges_ent *en = &J->ents[first + k0 + i];
+            *en = ent[i];
+            en->pstart = w->pseq + 1;
+            if (!w->b->oom) append_records(w, &buf[i]);
+            q2n_strbuf_free(&buf[i]);
+        }
+    }
+    J->buf = NULL;
+    J->ent = NULL;
+}
+
+static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q2n_nurbs_model *m,
+                       const q2n_export_topo *t, const q2n_export_options *opt)
+{
+    iges_items J = {m, t, L, ents, 126, 0, 0, NULL, NULL};
+    iges_items_run(w, &J, L->c126, t->ne, opt);
     /* 502: all mesh vertices (index v+1); unused ones are harmless but keep the numbering simple */
     iges_ent *vl = &ents[L->i502];
     *vl = (iges_ent){502, 1, 1, 0, 0, 0};
@@ -256,41 +425,13 @@ static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q
         pw_int(w, DE(L->i502)); pw_int(w, t->edge_v[2 * e + 1] + 1);
     }
     pw_end(w, el);
-    /* 110 parameter-space lines (2D parametric use, §4.13): side i of face f runs from corner i
-     * to corner i+1 of [0,1]^2 in (u,v,0), the loop's direction (as OCCT's own B-rep writer does) */
-    const int(*corner)[2] = q2n_corner_uv;
-    for (int f = 0; f < t->nf; f++)
-        for (int i = 0; i < 4; i++) {
-            int k = L->c110 + 4 * f + i;
-            iges_ent *en = &ents[k];
-            *en = (iges_ent){110, 0, 1, 0, 0, 5};
-            pw_begin(w, en, DE(k));
-            pw_real(w, corner[i][0]); pw_real(w, corner[i][1]); pw_real(w, 0.0);
-            pw_real(w, corner[(i + 1) & 3][0]); pw_real(w, corner[(i + 1) & 3][1]); pw_real(w, 0.0);
-            pw_end(w, en);
-        }
-    /* 508 loops: per edge type 0, list, index, orientation (1 = along the curve), one
-     * isoparametric p-curve (K = 1, ISOP = 1) */
-    for (int f = 0; f < t->nf; f++) {
-        iges_ent *en = &ents[L->c508 + f];
-        *en = (iges_ent){508, 1, 1, 0, 0, 0};
-        pw_begin(w, en, DE(L->c508 + f));
-        pw_int(w, 4);
-        for (int i = 0; i < 4; i++) {
-            int h = q2n_face_he(me, f, i);
-            pw_int(w, 0); pw_int(w, DE(L->i504)); pw_int(w, me->he_edge[h] + 1);
-            pw_int(w, t->he_sense[h]); pw_int(w, 1); pw_int(w, 1); pw_int(w, DE(L->c110 + 4 * f + i));
-        }
-        pw_end(w, en);
-    }
-    /* 510 faces: surface, one loop, outer-loop flag 1 */
-    for (int f = 0; f < t->nf; f++) {
-        iges_ent *en = &ents[L->c510 + f];
-        *en = (iges_ent){510, 1, 1, 0, 0, 0};
-        pw_begin(w, en, DE(L->c510 + f));
-        pw_int(w, DE(f)); pw_int(w, 1); pw_int(w, 1); pw_int(w, DE(L->c508 + f));
-        pw_end(w, en);
-    }
+    /* 110 parameter-space lines (2D parametric use, §4.13), one per face side; 508 loops; 510 faces */
+    J.kind = 110;
+    iges_items_run(w, &J, L->c110, 4 * t->nf, opt);
+    J.kind = 508;
+    iges_items_run(w, &J, L->c508, t->nf, opt);
+    J.kind = 510;
+    iges_items_run(w, &J, L->c510, t->nf, opt);
     /* 514 shells per component (faces agree with their surfaces: flag 1, except in inward closed
      * components: 0); 186 for closed ones */
     int k186 = L->c186;
@@ -326,14 +467,9 @@ static q2n_status iges_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
     if (!ents) return Q2N_ERR_NOMEM;
     if (b.fp) pb.fp = tmpfile();
     iges_pw w = {&pb, 0, 0, 0, {0}, 0};
-    for (int f = 0; f < t->nf; f++) {
-        if (f % Q2N_EXPORT_PROGRESS_EVERY == 0) q2n_progress_emit(opt->progress, "write", "IGES", f, t->nf);
-        ents[f] = (iges_ent){128, 0, !opt->iges_plain, 0, 0, 0};
-        pw_begin(&w, &ents[f], DE(f));
-        write_128(&w, &m->patches[f]);
-        pw_end(&w, &ents[f]);
-    }
-    if (!opt->iges_plain) write_brep(&w, ents, &L, m, t);
+    iges_items J = {m, t, &L, ents, 128, opt->iges_plain, 0, NULL, NULL};
+    iges_items_run(&w, &J, 0, t->nf, opt);
+    if (!opt->iges_plain) write_brep(&w, ents, &L, m, t, opt);
 
     /* Start section: one line of free text */
     char start[80];
