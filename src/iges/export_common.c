@@ -79,19 +79,43 @@ void q2n_strbuf_free(q2n_strbuf *b)
 void q2n_export_fmt_real(char out[Q2N_REAL_CHARS], double x)
 {
     char tmp[Q2N_REAL_CHARS];
-    snprintf(tmp, sizeof tmp, "%.17g", x);
+    int n = snprintf(tmp, sizeof tmp, "%.17g", x);   /* at most 24 characters: "-1.2345678901234567e-308" */
+    if (n < 0) n = 0;
+    if (n >= (int)sizeof tmp) n = (int)sizeof tmp - 1;
     /* callers switch to the "C" numeric locale (q2n_export_locale_begin); should that have failed,
-     * a ',' decimal separator is still normalised here.  Then split mantissa / exponent. */
-    char mant[Q2N_REAL_CHARS], *e;
-    for (char *c = tmp; *c; c++)
-        if (*c == ',') *c = '.';
-    e = strpbrk(tmp, "eE");
-    size_t ml = e ? (size_t)(e - tmp) : strlen(tmp);
-    memcpy(mant, tmp, ml);
-    mant[ml] = '\0';
-    if (!strchr(mant, '.')) { mant[ml] = '.'; mant[ml + 1] = '\0'; }
-    if (e) snprintf(out, Q2N_REAL_CHARS, "%.30sE%.6s", mant, e + 1);
-    else snprintf(out, Q2N_REAL_CHARS, "%.38s", mant);
+     * a ',' decimal separator is still normalised here.  Then: the mantissa, a '.' if it has none,
+     * and 'E' with the exponent's digits (no printf: the writers format millions of reals). */
+    int ml = n, dot = 0, k = 0;
+    for (int i = 0; i < n; i++) {
+        if (tmp[i] == ',') tmp[i] = '.';
+        if (tmp[i] == '.') dot = 1;
+        if ((tmp[i] == 'e' || tmp[i] == 'E') && ml == n) ml = i;
+    }
+    memcpy(out, tmp, (size_t)ml);
+    k = ml;
+    if (!dot) out[k++] = '.';
+    if (ml < n) {
+        out[k++] = 'E';
+        memcpy(out + k, tmp + ml + 1, (size_t)(n - ml - 1));
+        k += n - ml - 1;
+    }
+    out[k] = '\0';
+}
+
+int q2n_export_fmt_int(char *out, int x, int width)
+{
+    char tmp[16];
+    int n = 0;
+    unsigned u = x < 0 ? 0u - (unsigned)x : (unsigned)x;
+    do {
+        tmp[n++] = (char)('0' + u % 10u);
+        u /= 10u;
+    } while (u);
+    if (x < 0) tmp[n++] = '-';
+    int len = n < width ? width : n, pad = len - n;
+    memset(out, ' ', (size_t)pad);
+    for (int i = 0; i < n; i++) out[pad + i] = tmp[n - 1 - i];
+    return len;
 }
 
 q2n_export_locale q2n_export_locale_begin(void)

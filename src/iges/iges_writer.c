@@ -41,24 +41,6 @@ typedef struct iges_pw {
     int has_pending;
 } iges_pw;
 
-/* x as printf("%*d", width, x) into out (no terminating NUL); returns the length.  The writer
- * formats a few million integers for a large model: printf's parsing was a tenth of its time. */
-static int fmt_int(char *out, int x, int width)
-{
-    char tmp[16];
-    int n = 0;
-    unsigned u = x < 0 ? 0u - (unsigned)x : (unsigned)x;
-    do {
-        tmp[n++] = (char)('0' + u % 10u);
-        u /= 10u;
-    } while (u);
-    if (x < 0) tmp[n++] = '-';
-    int len = n < width ? width : n, pad = len - n;
-    memset(out, ' ', (size_t)pad);
-    for (int i = 0; i < n; i++) out[pad + i] = tmp[n - 1 - i];
-    return len;
-}
-
 static const char blanks[IGES_PCOLS + 1] = "                                                                ";
 
 /* " %7dP%7d\n": the parameter record's directory pointer and sequence number */
@@ -66,9 +48,9 @@ static int fmt_pd_suffix(char *out, int de, int seq)
 {
     int n = 0;
     out[n++] = ' ';
-    n += fmt_int(out + n, de, 7);
+    n += q2n_export_fmt_int(out + n, de, 7);
     out[n++] = 'P';
-    n += fmt_int(out + n, seq, 7);
+    n += q2n_export_fmt_int(out + n, seq, 7);
     out[n++] = '\n';
     return n;
 }
@@ -106,7 +88,7 @@ static void pw_token(iges_pw *w, const char *s)
 static void pw_int(iges_pw *w, int x)
 {
     char s[16];
-    s[fmt_int(s, x, 0)] = '\0';
+    s[q2n_export_fmt_int(s, x, 0)] = '\0';
     pw_token(w, s);
 }
 
@@ -233,21 +215,21 @@ static void write_directory(q2n_strbuf *b, const iges_ent *ents, int n)
          * as printf("%8d%8d%8d%8d%8d%8d%8d%8d00%02d%02d00D%7d\n", type, pstart, 0, .., dependent, use, 2k+1) */
         int m = 0;
         const int f1[8] = {e->type, e->pstart, 0, 0, 0, 0, 0, 0};
-        for (int i = 0; i < 8; i++) m += fmt_int(line + m, f1[i], 8);
+        for (int i = 0; i < 8; i++) m += q2n_export_fmt_int(line + m, f1[i], 8);
         line[m++] = '0'; line[m++] = '0';
         line[m++] = '0'; line[m++] = (char)('0' + (e->dependent ? 1 : 0));
         line[m++] = (char)('0' + e->use / 10); line[m++] = (char)('0' + e->use % 10);
         line[m++] = '0'; line[m++] = '0'; line[m++] = 'D';
-        m += fmt_int(line + m, 2 * k + 1, 7);
+        m += q2n_export_fmt_int(line + m, 2 * k + 1, 7);
         line[m++] = '\n';
         /* printf("%8d%8d%8d%8d%8d%8s%8s%8s%8dD%7d\n", type, 0, 0, pcount, form, "", "", "", 0, 2k+2) */
         const int f2[5] = {e->type, 0, 0, e->pcount, e->form};
-        for (int i = 0; i < 5; i++) m += fmt_int(line + m, f2[i], 8);
+        for (int i = 0; i < 5; i++) m += q2n_export_fmt_int(line + m, f2[i], 8);
         memset(line + m, ' ', 24);
         m += 24;
-        m += fmt_int(line + m, 0, 8);
+        m += q2n_export_fmt_int(line + m, 0, 8);
         line[m++] = 'D';
-        m += fmt_int(line + m, 2 * k + 2, 7);
+        m += q2n_export_fmt_int(line + m, 2 * k + 2, 7);
         line[m++] = '\n';
         q2n_strbuf_putn(b, line, (size_t)m);
     }
@@ -368,7 +350,7 @@ static void append_records(iges_pw *w, const q2n_strbuf *src)
         const char *nl = memchr(p, '\n', (size_t)(end - p));
         if (!nl) break;
         char num[24];
-        int lr = fmt_int(num, ++r, 7) + 1, la = fmt_int(num, ++w->pseq, 7);   /* "%7d\n" */
+        int lr = q2n_export_fmt_int(num, ++r, 7) + 1, la = q2n_export_fmt_int(num, ++w->pseq, 7);   /* "%7d\n" */
         num[la++] = '\n';
         q2n_strbuf_putn(w->b, p, (size_t)(nl + 1 - p) - (size_t)lr);
         q2n_strbuf_putn(w->b, num, (size_t)la);

@@ -26,10 +26,22 @@ typedef struct step_out {
     int next_id;
 } step_out;
 
+/* pre, then "#id", then post (printf-free: the writer's most frequent output) */
+static void put_ref(q2n_strbuf *b, char pre, int id, char post)
+{
+    char s[24];
+    int n = 0;
+    if (pre) s[n++] = pre;
+    s[n++] = '#';
+    n += q2n_export_fmt_int(s + n, id, 0);
+    if (post) s[n++] = post;
+    q2n_strbuf_putn(b, s, (size_t)n);
+}
+
 static int step_begin(step_out *o)
 {
     int id = o->next_id++;
-    q2n_strbuf_printf(&o->b, "#%d=", id);
+    put_ref(&o->b, 0, id, '=');
     return id;
 }
 
@@ -55,7 +67,7 @@ static int step_point(step_out *o, const double p[3])
 static void put_id_list(q2n_strbuf *b, const int *ids, int n)
 {
     q2n_strbuf_putc(b, '(');
-    for (int i = 0; i < n; i++) q2n_strbuf_printf(b, i ? ",#%d" : "#%d", ids[i]);
+    for (int i = 0; i < n; i++) put_ref(b, i ? ',' : 0, ids[i], 0);
     q2n_strbuf_putc(b, ')');
 }
 
@@ -69,7 +81,10 @@ static int put_knots(q2n_strbuf *b, const double *knots, int n, int want_mults)
     q2n_strbuf_putc(b, '(');
     for (int i = 0; i < m; i++) {
         if (i) q2n_strbuf_putc(b, ',');
-        if (want_mults) q2n_strbuf_printf(b, "%d", mu[i]);
+        if (want_mults) {
+            char d[16];
+            q2n_strbuf_putn(b, d, (size_t)q2n_export_fmt_int(d, mu[i], 0));
+        }
         else put_real(b, kn[i]);
     }
     q2n_strbuf_putc(b, ')');
@@ -129,7 +144,7 @@ static int step_surface(step_out *o, const q2n_bspline_surface *s)
     for (int i = 0; i < s->ncp_u; i++) {
         q2n_strbuf_puts(b, i ? ",(" : "(");
         for (int j = 0; j < s->ncp_v; j++)
-            q2n_strbuf_printf(b, j ? ",#%d" : "#%d", pts[(size_t)j * (size_t)s->ncp_u + (size_t)i]);
+            put_ref(b, j ? ',' : 0, pts[(size_t)j * (size_t)s->ncp_u + (size_t)i], 0);
         q2n_strbuf_putc(b, ')');
     }
     q2n_strbuf_puts(b, rational ? "),.UNSPECIFIED.,.F.,.F.,.F.)B_SPLINE_SURFACE_WITH_KNOTS("
