@@ -32,7 +32,7 @@ void q2n_strbuf_printf(q2n_strbuf *b, const char *fmt, ...)
 void q2n_strbuf_free(q2n_strbuf *b);
 
 /* A real as %.17g (round-trips exactly), made valid for IGES and STEP: always a '.', exponent 'E'
- * (e.g. 1 -> "1.", 1e-05 -> "1.E-05", -0.25 -> "-0.25").  Independent of the C locale. */
+ * (e.g. 1 -> "1.", 2^-17 -> "7.62939453125E-06", -0.25 -> "-0.25").  Independent of the C locale. */
 #define Q2N_REAL_CHARS 40
 void q2n_export_fmt_real(char out[Q2N_REAL_CHARS], double x);
 
