@@ -12,8 +12,11 @@
  * is not NULL, writes one line of printable text into it (at most errlen bytes, NUL-terminated)
  * naming the file and line, or the element (face k, vertex v; 0-based), and the reason; on
  * failure no output file is left behind and *out pointers are NULL.  The library never prints,
- * never exits and keeps no global state: different models may be used from different threads at
- * the same time; one model is not to be used from two threads at once.  Lengths are model units:
+ * never exits and keeps no global state of its own: different models may be used from different
+ * threads at the same time; one model is not to be used from two threads at once.  (One process-wide
+ * setting is made, once: SuiteSparse's malloc and calloc hooks are pointed at 64-byte aligned
+ * versions, whose blocks free and realloc accept, so that CHOLMOD's BLAS calls give the same bits
+ * in every run; another SuiteSparse user in the process is unaffected otherwise.)  Lengths are model units:
  * the input's coordinates times q2n_options.scale (everything returned and written is in them;
  * the construction works internally at bounding-box diagonal 1 and maps back).
  *
@@ -220,7 +223,7 @@ typedef struct q2n_options {
     int max_spans;                 /* knot spans per patch direction, 1..1024 [64] */
     q2n_gluing gluing;             /* [exact] */
     q2n_solver solver;             /* [ceres] */
-    int threads;                   /* threads of the construction and the fit [1]; results do not depend on it */
+    int threads;                   /* threads of the construction, the fit and the STEP/IGES writers [1]; results do not depend on it */
     int tess;                      /* .obj tessellation points per patch side, >= 2 [9] */
     q2n_format format;             /* format of outputs whose name has no known extension, such as
                                       "-" (standard output) [none: refused] */
