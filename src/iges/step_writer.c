@@ -326,7 +326,7 @@ typedef struct step_items {
     int base, face;      /* first item of the chunk; 1: faces, 0: edges */
     const int *first;    /* first entity id of each item of the chunk */
     q2n_strbuf *buf;     /* each item's text */
-    int bad;             /* an item took another number of ids than counted (a writer defect) */
+    int *end;            /* each item's next free id after it (checked against the count) */
 } step_items;
 
 static int edge_ids(const q2n_export_topo *t, int e) { return t->edge_curve[e].ncp + 2; }
@@ -340,14 +340,13 @@ static void step_item(void *arg, int i)
     step_out o = {{NULL, 0, 0, 0, NULL}, J->first[i]};
     if (J->face) {
         J->out_id[k] = step_face(&o, J->m, J->t, J->eid, k);
-        if (o.next_id != J->first[i] + face_ids(J->m, k)) J->bad = 1;
     } else {
         int c = step_curve(&o, &J->t->edge_curve[k]);
         J->out_id[k] = step_begin(&o);
         q2n_strbuf_printf(&o.b, "EDGE_CURVE('',#%d,#%d,#%d,.T.);\n", J->vid[J->t->edge_v[2 * k]],
                           J->vid[J->t->edge_v[2 * k + 1]], c);
-        if (o.next_id != J->first[i] + edge_ids(J->t, k)) J->bad = 1;
     }
+    J->end[i] = o.next_id;
     q2n_export_locale_end(loc);
     J->buf[i] = o.b;
 }
@@ -355,10 +354,11 @@ static void step_item(void *arg, int i)
 /* Items [0, n) (edges or faces) in chunks, appended to o in order; progress per chunk for faces. */
 static void step_items_run(step_out *o, step_items *J, int n, const q2n_export_options *opt)
 {
-    int first[STEP_CHUNK];
+    int first[STEP_CHUNK], end[STEP_CHUNK];
     q2n_strbuf buf[STEP_CHUNK];
     J->first = first;
     J->buf = buf;
+    J->end = end;
     for (int k0 = 0; k0 < n && !o->b.oom; k0 += STEP_CHUNK) {
         int cn = n - k0 < STEP_CHUNK ? n - k0 : STEP_CHUNK;
         if (J->face && k0 % Q2N_EXPORT_PROGRESS_EVERY == 0)   /* a multiple of STEP_CHUNK */
@@ -370,13 +370,16 @@ static void step_items_run(step_out *o, step_items *J, int n, const q2n_export_o
         J->base = k0;
         q2n_par_for(cn, opt->threads, step_item, J);
         for (int i = 0; i < cn; i++) {
-            if (buf[i].oom || J->bad) o->b.oom = 1;
+            /* an item that took another number of ids than counted is a writer defect: no file */
+            int next = i + 1 < cn ? first[i + 1] : o->next_id;
+            if (buf[i].oom || end[i] != next) o->b.oom = 1;
             else q2n_strbuf_putn(&o->b, buf[i].data, buf[i].len);
             q2n_strbuf_free(&buf[i]);
         }
     }
     J->first = NULL;
     J->buf = NULL;
+    J->end = NULL;
 }
 
 static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t, const q2n_export_options *opt,
@@ -398,7 +401,7 @@ static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
             vid[v] = step_begin(&o);
             q2n_strbuf_printf(&o.b, "VERTEX_POINT('',#%d);\n", p);
         }
-        step_items J = {m, t, vid, eid, eid, 0, 0, NULL, NULL, 0};
+        step_items J = {m, t, vid, eid, eid, 0, 0, NULL, NULL, NULL};
         if (!o.b.oom) step_items_run(&o, &J, t->ne, opt);
         J.face = 1;
         J.out_id = fid;
