@@ -23,12 +23,16 @@ extern void dptsv_(const int *n, const int *nrhs, double *d, double *e, double *
 /* LAPACK's info: 0 success, < 0 a bad argument (-1 here), > 0 the matrix (1 here). */
 static int info_code(int info) { return info < 0 ? -1 : info > 0 ? 1 : 0; }
 
+void *q2n_aligned_alloc(size_t bytes)
+{
+    size_t b = bytes ? bytes : 1;
+    if (b > (size_t)-1 - Q2N_DENSE_ALIGN) return NULL;
+    return aligned_alloc(Q2N_DENSE_ALIGN, (b + Q2N_DENSE_ALIGN - 1) / Q2N_DENSE_ALIGN * Q2N_DENSE_ALIGN);
+}
+
 double *q2n_dense_alloc(size_t n)
 {
-    size_t b = (n ? n : 1) * sizeof(double);
-    if (b / sizeof(double) != (n ? n : 1) || b > (size_t)-1 - Q2N_DENSE_ALIGN) return NULL;
-    b = (b + Q2N_DENSE_ALIGN - 1) / Q2N_DENSE_ALIGN * Q2N_DENSE_ALIGN;
-    return aligned_alloc(Q2N_DENSE_ALIGN, b);
+    return n > (size_t)-1 / sizeof(double) ? NULL : q2n_aligned_alloc(n * sizeof(double));
 }
 
 /* An aligned copy of the ld x cols column-major array X (dense.h, "Alignment"), or NULL. */

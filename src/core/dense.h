@@ -20,7 +20,8 @@
 
 #define Q2N_DENSE_ALIGN 64
 
-/* n doubles on a Q2N_DENSE_ALIGN boundary (free with free()); NULL when out of memory. */
+/* bytes (n doubles) on a Q2N_DENSE_ALIGN boundary (free with free()); NULL when out of memory. */
+void *q2n_aligned_alloc(size_t bytes);
 double *q2n_dense_alloc(size_t n);
 
 /* min ||A X - B|| (Frobenius) for A m x n and B m x nrhs, by a rank-revealing complete orthogonal

@@ -1,7 +1,8 @@
 /* par.c — the one parallel loop of the pipeline's stages (the fit's sampling, assembly and
- * measurement, the STEP writer's faces; see par.h): each thread takes the next undone item from a shared counter (items differ in cost
- * by 100x: a regular patch against an extraordinary one with hundreds of spans, so a fixed deal left
- * one thread idle for a third of a stage); results are written per item and reduced by the caller
+ * measurement, the STEP and IGES writers' items; see par.h): each thread takes the next undone
+ * item from a shared counter (items differ in cost by 100x: a regular patch against an
+ * extraordinary one with hundreds of spans, so a fixed deal left one thread idle for a third of a
+ * stage); results are written per item and reduced by the caller
  * in index order, so the output does not depend on the thread count or on which thread did what. */
 #include "core/par.h"
 

@@ -13,17 +13,10 @@
  * history.  SuiteSparse takes its allocator from SuiteSparse_config: malloc and calloc are
  * replaced, once, by aligned ones whose blocks realloc and free accept as they are, so blocks
  * allocated before the switch (or by another user of SuiteSparse in the process) stay valid. */
-static void *aligned_malloc(size_t n)
-{
-    size_t b = n ? n : 1;
-    if (b > (size_t)-1 - Q2N_DENSE_ALIGN) return NULL;
-    return aligned_alloc(Q2N_DENSE_ALIGN, (b + Q2N_DENSE_ALIGN - 1) / Q2N_DENSE_ALIGN * Q2N_DENSE_ALIGN);
-}
-
 static void *aligned_calloc(size_t n, size_t size)
 {
     if (size && n > (size_t)-1 / size) return NULL;
-    void *p = aligned_malloc(n * size);
+    void *p = q2n_aligned_alloc(n * size);
     if (p) memset(p, 0, n * size);
     return p;
 }
@@ -31,7 +24,7 @@ static void *aligned_calloc(size_t n, size_t size)
 static pthread_once_t alloc_once = PTHREAD_ONCE_INIT;
 static void use_aligned_alloc(void)
 {
-    SuiteSparse_config.malloc_func = aligned_malloc;
+    SuiteSparse_config.malloc_func = q2n_aligned_alloc;
     SuiteSparse_config.calloc_func = aligned_calloc;
 }
 

@@ -7,15 +7,15 @@
 
 #include "core/error.h"
 
-/* Solve A X = B for nrhs right-hand sides: A is n x n symmetric positive definite, given by nnz
- * triplets (ti[k], tj[k], tv[k]) with ti[k] <= tj[k] (upper triangle; entries with the same
- * (i, j) are summed); B and X are column-major n x nrhs (X may alias B).  Q2N_ERR_GEOMETRY when A
- * is not positive definite (the message names the column where the factorisation stopped). */
 /* Point SuiteSparse's allocator at 64-byte aligned blocks (once; q2n_sparse_spd_solve does it
  * itself): callers that reach CHOLMOD through another library (Ceres' sparse solver) call it first,
  * so that CHOLMOD's BLAS calls see the same alignment in every run (core/dense.h, "Alignment"). */
 void q2n_sparse_init(void);
 
+/* Solve A X = B for nrhs right-hand sides: A is n x n symmetric positive definite, given by nnz
+ * triplets (ti[k], tj[k], tv[k]) with ti[k] <= tj[k] (upper triangle; entries with the same
+ * (i, j) are summed); B and X are column-major n x nrhs (X may alias B).  Q2N_ERR_GEOMETRY when A
+ * is not positive definite (the message names the column where the factorisation stopped). */
 q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, const double *tv, int nrhs,
                                 const double *B, double *X, q2n_error *err);
 

@@ -81,7 +81,6 @@ q2n_status q2n_fit_ls_solve_ceres(q2n_fit_ls *ls, int threads, int dense, q2n_er
 /* With the solver the options name. */
 q2n_status q2n_fit_ls_solve(q2n_fit_ls *ls, int solver, int threads, q2n_error *err);
 
-
 /* ---- measurement (fit_measure.c) ---- */
 
 /* Per-patch and per-edge results of a measurement (arrays may be NULL).  Deviation is measured at

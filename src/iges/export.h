@@ -52,8 +52,8 @@ typedef struct q2n_export_options {
     const q2n_progress_sink *progress; /* NULL: no reports ("write", one per 1024 faces) */
     double mesh_scale;        /* the patches are in the mesh's coordinates times this (0: 1); only
                                  vertices no face uses are taken from the mesh */
-    int threads;              /* STEP: faces and edges are formatted on this many threads (0: 1; the
-                                 bytes do not depend on it) */
+    int threads;              /* the faces' and edges' entities are formatted on this many threads
+                                 (0: 1; the bytes do not depend on it) */
 } q2n_export_options;
 
 /* Write an IGES 5.3 / STEP AP214 file (atomic). opts may be NULL (defaults). */

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "core/outfile.h"
+#include "core/par.h"
 #include "core/vec3.h"
 #include "iges/export_policy.h"
 
@@ -116,6 +117,47 @@ int q2n_export_fmt_int(char *out, int x, int width)
     memset(out, ' ', (size_t)pad);
     for (int i = 0; i < n; i++) out[pad + i] = tmp[n - 1 - i];
     return len;
+}
+
+/* ---------------------------------------------------------------- items on worker threads */
+
+#define Q2N_EXPORT_CHUNK 256   /* items formatted at once: bounds the text held in memory */
+_Static_assert(Q2N_EXPORT_PROGRESS_EVERY % Q2N_EXPORT_CHUNK == 0, "progress is emitted at chunk starts");
+
+typedef struct items_job {
+    void *ctx;
+    void (*fmt)(void *, int, q2n_strbuf *);
+    int base;
+    q2n_strbuf *buf;
+} items_job;
+
+static void items_one(void *arg, int i)
+{
+    items_job *J = arg;
+    q2n_export_locale loc = q2n_export_locale_begin();   /* per thread */
+    memset(&J->buf[i], 0, sizeof J->buf[i]);
+    J->fmt(J->ctx, J->base + i, &J->buf[i]);
+    q2n_export_locale_end(loc);
+}
+
+int q2n_export_items(int n, int threads, void *ctx, void (*fmt)(void *ctx, int k, q2n_strbuf *b),
+                     int (*put)(void *ctx, int k, const q2n_strbuf *b), const q2n_progress_sink *progress,
+                     const char *what)
+{
+    q2n_strbuf buf[Q2N_EXPORT_CHUNK];
+    items_job J = {ctx, fmt, 0, buf};
+    int bad = 0;
+    for (int k0 = 0; k0 < n && !bad; k0 += Q2N_EXPORT_CHUNK) {
+        int cn = n - k0 < Q2N_EXPORT_CHUNK ? n - k0 : Q2N_EXPORT_CHUNK;
+        if (what && k0 % Q2N_EXPORT_PROGRESS_EVERY == 0) q2n_progress_emit(progress, "write", what, k0, n);
+        J.base = k0;
+        q2n_par_for(cn, threads, items_one, &J);
+        for (int i = 0; i < cn; i++) {
+            if (!bad && (buf[i].oom || put(ctx, k0 + i, &buf[i]))) bad = 1;
+            q2n_strbuf_free(&buf[i]);
+        }
+    }
+    return bad;
 }
 
 q2n_export_locale q2n_export_locale_begin(void)

@@ -41,6 +41,17 @@ void q2n_export_fmt_real(char out[Q2N_REAL_CHARS], double x);
  * parsing was a tenth of their time. */
 int q2n_export_fmt_int(char *out, int x, int width);
 
+/* Items 0 .. n-1 of a writer (faces, edges, entities) formatted on `threads` workers
+ * (core/par.h), a chunk of them at a time: fmt(ctx, k, b) writes item k's text into a buffer of
+ * its own, in the thread's "C" numeric locale; then, on the calling thread and in item order,
+ * put(ctx, k, b) appends it to the file (nonzero: stop).  The text is the one a single thread
+ * writes as long as fmt writes only item k's own data.  Progress "write"/what is emitted every
+ * Q2N_EXPORT_PROGRESS_EVERY items when what is not NULL.  Returns 0, or 1 when a buffer ran out of
+ * memory or put stopped (nothing after that item is put). */
+int q2n_export_items(int n, int threads, void *ctx, void (*fmt)(void *ctx, int k, q2n_strbuf *b),
+                     int (*put)(void *ctx, int k, const q2n_strbuf *b), const q2n_progress_sink *progress,
+                     const char *what);
+
 /* Run the writers' number formatting in the "C" numeric locale of this thread only (uselocale;
  * no global state): begin returns the previous locale for end, which restores it. */
 typedef struct q2n_export_locale { void *c, *old; } q2n_export_locale;

@@ -15,8 +15,6 @@
  * the rest are physically dependent (status digits 3-4 = 01). */
 #include "iges/export_internal.h"
 
-#include "core/par.h"
-
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -267,12 +265,10 @@ static iges_layout layout(const q2n_export_topo *t, int plain)
 
 /* ---- entities formatted on worker threads ----
  * The parameter data of the many per-face and per-edge entities (128, 126, 110, 508, 510) are
- * formatted on opt->threads workers (core/par.h), IGES_CHUNK at a time, each into its own buffer
- * as if it were the file's first entity (P sequence numbers from 1); the buffers are appended in
- * entity order with every record's sequence number rewritten to its place in the file, so the
- * text is the one a single thread writes. */
-#define IGES_CHUNK 256
-
+ * formatted on opt->threads workers (q2n_export_items), each into its own buffer as if it were the
+ * file's first entity (P sequence numbers from 1); the buffers are appended in entity order with
+ * every record's sequence number rewritten to its place in the file, so the text is the one a
+ * single thread writes. */
 typedef struct iges_items {
     const q2n_nurbs_model *m;
     const q2n_export_topo *t;
@@ -280,9 +276,8 @@ typedef struct iges_items {
     iges_ent *ents;
     int kind;             /* 128, 126, 110, 508, 510 */
     int plain;            /* 128s only (they are then independent) */
-    int base;             /* first item of the chunk */
-    q2n_strbuf *buf;      /* each item's records */
-    iges_ent *ent;        /* each item's entity (pstart relative to its own buffer) */
+    int first;            /* entity index of item 0 */
+    iges_pw *w;           /* the parameter section being written */
 } iges_items;
 
 static void format_item(const iges_items *J, iges_pw *w, iges_ent *en, int k)
@@ -330,14 +325,11 @@ static void format_item(const iges_items *J, iges_pw *w, iges_ent *en, int k)
     pw_end(w, en);
 }
 
-static void iges_item(void *arg, int i)
+static void iges_item(void *arg, int k, q2n_strbuf *b)
 {
     iges_items *J = arg;
-    q2n_export_locale loc = q2n_export_locale_begin();   /* per thread */
-    J->buf[i] = (q2n_strbuf){NULL, 0, 0, 0, NULL};
-    iges_pw w = {&J->buf[i], 0, 0, 0, {0}, 0};
-    format_item(J, &w, &J->ent[i], J->base + i);
-    q2n_export_locale_end(loc);
+    iges_pw w = {b, 0, 0, 0, {0}, 0};
+    format_item(J, &w, &J->ents[J->first + k], k);   /* pstart relative to b, set when appended */
 }
 
 /* Append src's records to w's stream with their sequence numbers (1, 2, .. in src) moved after
@@ -358,36 +350,27 @@ static void append_records(iges_pw *w, const q2n_strbuf *src)
     }
 }
 
-/* Items [0, n) of one kind into ents[first ..], on opt->threads workers, appended in order. */
+static int iges_put(void *arg, int k, const q2n_strbuf *b)
+{
+    iges_items *J = arg;
+    J->ents[J->first + k].pstart = J->w->pseq + 1;
+    append_records(J->w, b);
+    return J->w->b->oom;
+}
+
+/* Items [0, n) of one kind into ents[first ..], appended in order. */
 static void iges_items_run(iges_pw *w, iges_items *J, int first, int n, const q2n_export_options *opt)
 {
-    q2n_strbuf buf[IGES_CHUNK];
-    iges_ent ent[IGES_CHUNK];
-    J->buf = buf;
-    J->ent = ent;
-    for (int k0 = 0; k0 < n && !w->b->oom; k0 += IGES_CHUNK) {
-        int cn = n - k0 < IGES_CHUNK ? n - k0 : IGES_CHUNK;
-        if (J->kind == 128 && k0 % Q2N_EXPORT_PROGRESS_EVERY == 0)   /* a multiple of IGES_CHUNK */
-            q2n_progress_emit(opt->progress, "write", "IGES", k0, n);
-        J->base = k0;
-        q2n_par_for(cn, opt->threads, iges_item, J);
-        for (int i = 0; i < cn; i++) {
-            if (buf[i].oom) w->b->oom = 1;
-            iges_ent *en = &J->ents[first + k0 + i];
-            *en = ent[i];
-            en->pstart = w->pseq + 1;
-            if (!w->b->oom) append_records(w, &buf[i]);
-            q2n_strbuf_free(&buf[i]);
-        }
-    }
-    J->buf = NULL;
-    J->ent = NULL;
+    J->first = first;
+    J->w = w;
+    if (q2n_export_items(n, opt->threads, J, iges_item, iges_put, opt->progress, J->kind == 128 ? "IGES" : NULL))
+        w->b->oom = 1;
 }
 
 static void write_brep(iges_pw *w, iges_ent *ents, const iges_layout *L, const q2n_nurbs_model *m,
                        const q2n_export_topo *t, const q2n_export_options *opt)
 {
-    iges_items J = {m, t, L, ents, 126, 0, 0, NULL, NULL};
+    iges_items J = {m, t, L, ents, 126, 0, 0, NULL};
     iges_items_run(w, &J, L->c126, t->ne, opt);
     /* 502: all mesh vertices (index v+1); unused ones are harmless but keep the numbering simple */
     iges_ent *vl = &ents[L->i502];
@@ -449,7 +432,7 @@ static q2n_status iges_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
     if (!ents) return Q2N_ERR_NOMEM;
     if (b.fp) pb.fp = tmpfile();
     iges_pw w = {&pb, 0, 0, 0, {0}, 0};
-    iges_items J = {m, t, &L, ents, 128, opt->iges_plain, 0, NULL, NULL};
+    iges_items J = {m, t, &L, ents, 128, opt->iges_plain, 0, NULL};
     iges_items_run(&w, &J, 0, t->nf, opt);
     if (!opt->iges_plain) write_brep(&w, ents, &L, m, t, opt);
 

@@ -15,8 +15,6 @@
  * every solid's normals point out. */
 #include "iges/export_internal.h"
 
-#include "core/par.h"
-
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -311,33 +309,29 @@ static void step_root(step_out *o, const q2n_export_topo *t, const int *fid, int
     q2n_strbuf_printf(&o->b, "SHAPE_DEFINITION_REPRESENTATION(#%d,#%d);\n", pds, rep);
 }
 
-/* Edges and faces are formatted in chunks on opt->threads workers (core/par.h), each item into its
- * own buffer starting at its own first entity id, and the buffers are appended in order: the ids
- * an item takes are known in advance (an edge: its curve's points, the curve, the EDGE_CURVE; a
- * face: its surface's points, the surface, four ORIENTED_EDGEs, the loop, the bound, the face), so
- * the text is the one a single thread writes.  A chunk bounds the memory held at once. */
-#define STEP_CHUNK 256
-
+/* Edges and faces are formatted on opt->threads workers (q2n_export_items), each item into its
+ * own buffer starting at its own first entity id, and appended in order: the ids an item takes
+ * are known in advance (an edge: its curve's points, the curve, the EDGE_CURVE; a face: its
+ * surface's points, the surface, four ORIENTED_EDGEs, the loop, the bound, the face), so the text
+ * is the one a single thread writes. */
 typedef struct step_items {
     const q2n_nurbs_model *m;
     const q2n_export_topo *t;
     const int *vid, *eid;
     int *out_id;         /* the EDGE_CURVE / ADVANCED_FACE id of each item */
-    int base, face;      /* first item of the chunk; 1: faces, 0: edges */
-    const int *first;    /* first entity id of each item of the chunk */
-    q2n_strbuf *buf;     /* each item's text */
-    int *end;            /* each item's next free id after it (checked against the count) */
+    int face;            /* 1: faces, 0: edges */
+    int *first;          /* n + 1: first entity id of each item, then the next free one */
+    int *end;            /* n: the next free id after each item as formatted (checked against first) */
+    step_out *o;
 } step_items;
 
 static int edge_ids(const q2n_export_topo *t, int e) { return t->edge_curve[e].ncp + 2; }
 static int face_ids(const q2n_nurbs_model *m, int f) { return m->patches[f].ncp_u * m->patches[f].ncp_v + 8; }
 
-static void step_item(void *arg, int i)
+static void step_item(void *arg, int k, q2n_strbuf *b)
 {
     step_items *J = arg;
-    int k = J->base + i;
-    q2n_export_locale loc = q2n_export_locale_begin();   /* per thread */
-    step_out o = {{NULL, 0, 0, 0, NULL}, J->first[i]};
+    step_out o = {*b, J->first[k]};
     if (J->face) {
         J->out_id[k] = step_face(&o, J->m, J->t, J->eid, k);
     } else {
@@ -346,40 +340,38 @@ static void step_item(void *arg, int i)
         q2n_strbuf_printf(&o.b, "EDGE_CURVE('',#%d,#%d,#%d,.T.);\n", J->vid[J->t->edge_v[2 * k]],
                           J->vid[J->t->edge_v[2 * k + 1]], c);
     }
-    J->end[i] = o.next_id;
-    q2n_export_locale_end(loc);
-    J->buf[i] = o.b;
+    J->end[k] = o.next_id;
+    *b = o.b;
 }
 
-/* Items [0, n) (edges or faces) in chunks, appended to o in order; progress per chunk for faces. */
+static int step_put(void *arg, int k, const q2n_strbuf *b)
+{
+    step_items *J = arg;
+    if (J->end[k] != J->first[k + 1]) return 1;   /* another number of ids than counted: a writer defect, no file */
+    q2n_strbuf_putn(&J->o->b, b->data, b->len);
+    return J->o->b.oom;
+}
+
+/* Items [0, n) (edges or faces), appended to o in order. */
 static void step_items_run(step_out *o, step_items *J, int n, const q2n_export_options *opt)
 {
-    int first[STEP_CHUNK], end[STEP_CHUNK];
-    q2n_strbuf buf[STEP_CHUNK];
-    J->first = first;
-    J->buf = buf;
-    J->end = end;
-    for (int k0 = 0; k0 < n && !o->b.oom; k0 += STEP_CHUNK) {
-        int cn = n - k0 < STEP_CHUNK ? n - k0 : STEP_CHUNK;
-        if (J->face && k0 % Q2N_EXPORT_PROGRESS_EVERY == 0)   /* a multiple of STEP_CHUNK */
-            q2n_progress_emit(opt->progress, "write", "STEP", k0, n);
-        for (int i = 0; i < cn; i++) {
-            first[i] = o->next_id;
-            o->next_id += J->face ? face_ids(J->m, k0 + i) : edge_ids(J->t, k0 + i);
+    J->first = malloc(sizeof(int) * ((size_t)n + 1));
+    J->end = malloc(sizeof(int) * ((size_t)n + 1));
+    J->o = o;
+    if (!J->first || !J->end) {
+        o->b.oom = 1;
+    } else {
+        for (int k = 0; k < n; k++) {
+            J->first[k] = o->next_id;
+            o->next_id += J->face ? face_ids(J->m, k) : edge_ids(J->t, k);
         }
-        J->base = k0;
-        q2n_par_for(cn, opt->threads, step_item, J);
-        for (int i = 0; i < cn; i++) {
-            /* an item that took another number of ids than counted is a writer defect: no file */
-            int next = i + 1 < cn ? first[i + 1] : o->next_id;
-            if (buf[i].oom || end[i] != next) o->b.oom = 1;
-            else q2n_strbuf_putn(&o->b, buf[i].data, buf[i].len);
-            q2n_strbuf_free(&buf[i]);
-        }
+        J->first[n] = o->next_id;
+        if (q2n_export_items(n, opt->threads, J, step_item, step_put, opt->progress, J->face ? "STEP" : NULL))
+            o->b.oom = 1;
     }
-    J->first = NULL;
-    J->buf = NULL;
-    J->end = NULL;
+    free(J->first);
+    free(J->end);
+    J->first = J->end = NULL;
 }
 
 static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t, const q2n_export_options *opt,
@@ -401,7 +393,7 @@ static q2n_status step_build(const q2n_nurbs_model *m, const q2n_export_topo *t,
             vid[v] = step_begin(&o);
             q2n_strbuf_printf(&o.b, "VERTEX_POINT('',#%d);\n", p);
         }
-        step_items J = {m, t, vid, eid, eid, 0, 0, NULL, NULL, NULL};
+        step_items J = {m, t, vid, eid, eid, 0, NULL, NULL, NULL};
         if (!o.b.oom) step_items_run(&o, &J, t->ne, opt);
         J.face = 1;
         J.out_id = fid;
