@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "mesh/mesh.h"
+#include "patch/surface.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -212,6 +213,45 @@ static inline q2n_mesh *mg_polar_star(int n, int rings, double aniso)
 #undef MG_RV
     fs[nf] = 4 * nf;
     return mg_finish(nv, pos, nf, fs, fv, "polar star");
+}
+
+/* Surface of a union of unit cubes ("polycube", CAD-like: flat faces, sharp convex and concave
+ * edges), one quad per exposed cube face, outward oriented: convex corners are valence-3 vertices,
+ * concave ones valence 5 or 6.  cells: ncell integer cube positions in 0..7. */
+static inline q2n_mesh *mg_polycube(int ncell, const int (*cell)[3], const char *name)
+{
+    int nf = 0, nv = 0, *key = (int *)malloc(729 * sizeof *key);
+    int *fs = (int *)malloc(((size_t)6 * ncell + 1) * sizeof *fs), *fv = (int *)malloc(24 * (size_t)ncell * sizeof *fv);
+    double *pos = (double *)malloc(3 * 729 * sizeof *pos);
+    for (int i = 0; i < 729; i++) key[i] = -1;
+    for (int c = 0; c < ncell; c++)
+        for (int d = 0; d < 3; d++)
+            for (int sg = -1; sg <= 1; sg += 2) {
+                int nb[3] = {cell[c][0], cell[c][1], cell[c][2]}, cov = 0;
+                nb[d] += sg;
+                for (int o = 0; o < ncell; o++) cov |= cell[o][0] == nb[0] && cell[o][1] == nb[1] && cell[o][2] == nb[2];
+                if (cov) continue;
+                int o[3] = {cell[c][0], cell[c][1], cell[c][2]}, a = (d + 1) % 3, b = (d + 2) % 3;
+                if (sg > 0) o[d]++;
+                /* corners o + u e_a + v e_b at the face corners' (u, v): counter-clockwise about +e_d */
+                fs[nf] = 4 * nf;
+                for (int k = 0; k < 4; k++) {
+                    int kk = sg > 0 ? k : (4 - k) % 4, p[3] = {o[0], o[1], o[2]};
+                    p[a] += q2n_corner_uv[kk][0];
+                    p[b] += q2n_corner_uv[kk][1];
+                    int id = (p[0] * 9 + p[1]) * 9 + p[2];
+                    if (key[id] < 0) {
+                        key[id] = nv;
+                        for (int q = 0; q < 3; q++) pos[3 * nv + q] = p[q];
+                        nv++;
+                    }
+                    fv[4 * nf + k] = key[id];
+                }
+                nf++;
+            }
+    fs[nf] = 4 * nf;
+    free(key);
+    return mg_finish(nv, pos, nf, fs, fv, name);
 }
 
 #endif

@@ -40,18 +40,18 @@ typedef struct fcase {
 static const fcase shared_cases[] = {
     {"osd_catmark_cube.obj", 0, {1.87, 1.87}, 76.5, 1},
     {"osd_catmark_gregory_test0.obj", 0, {0.3, 0.3}, 4.0, 1},
-    {"osd_catmark_gregory_test1.obj", 0, {2.7, 2.9}, 62.4, 0},
-    {"osd_catmark_gregory_test6.obj", 0, {1.7, 1.8}, 47, 0},
+    {"osd_catmark_gregory_test1.obj", 0, {1.4, 1.6}, 62.4, 0},
+    {"osd_catmark_gregory_test6.obj", 0, {1.26, 1.41}, 44.6, 0},
     {"osd_catmark_fvar_bound3.obj", 0, {1.75, 2.7}, 44.1, 0},
     {"osd_catmark_xord_boundary.obj", 0, {0.7, 0.7}, 37.8, 0},
-    {"osd_catmark_helmet.obj", 0, {5.4, 3.8}, 96, 0},
+    {"osd_catmark_helmet.obj", 0, {1.9, 2.1}, 78, 0},
     {"osd_catmark_pawn.obj", 0, {0.3, 0.3}, 5.19, 1},
     {"gismo_ev_valence3.obj", 0, {0.3, 0.3}, 1e-6, 1},
     {"gismo_ev_valence3_carpet.obj", 0, {0.8, 0.85}, 6.3, 0},
     {"gismo_ev_valence5_carpet.obj", 0, {2.0, 1.95}, 26.2, 0},
     {"gismo_ev_valence6_carpet.obj", 0, {2.15, 2.0}, 40.5, 0},
     {"gismo_ev_valence7_carpet.obj", 0, {1.7, 1.65}, 43.9, 0},
-    {"gismo_ev_valence8_carpet.obj", 0, {1.25, 1.3}, 52.2, 0},
+    {"gismo_ev_valence8_carpet.obj", 0, {1.02, 1.09}, 50.8, 0},
     {"gismo_cube_with_boundary.obj", 0, {0.69, 1.0}, 55.2, 1},
     {"gismo_octtorus_hole.obj", 0, {1.37, 1.37}, 239, 1},
     {"gismo_polycube.obj", 0, {0.5, 0.51}, 155, 0},
@@ -134,5 +134,23 @@ int main(void)
     generated("octahedron on a 3:1:0.5 ellipsoid", mg_octa_quad(3, 1, 0.5), 0.34, 0.45, 330);
     generated("valence 12, two rings", mg_polar_star(12, 3, 1), 0.3, 0.3, 5);
     generated("valence 7, sectors stretched 4:1", mg_polar_star(7, 3, 4), 0.5, 0.65, 6.5);
+    /* CAD-like blocks of unit cubes, one quad per cube face: flat faces, sharp edges, every vertex
+     * extraordinary (valence 3 at convex corners, 5 at concave ones).  With the fan charts taken
+     * from projected angles (until 2026-12) the G2 construction folded on four of them (Jacobian
+     * ratio 0.002 - 0.018 next to the concave edges).  acc-g1 (fairness.py): L 0.383 / 88.6,
+     * T 0.447 / 73.6, U 0.432 / 72.1, stairs 0.367 / 72.4, notched cube 0.389 / 57.9; energy
+     * bounds 3 x those (met), oscillation bounds 1.5 x acc-g1's where met (T and U in G2, U in G1),
+     * else the measured value + 30 % (L 0.650 / 0.685, T 0.801 in G1, stairs 0.593 / 0.741,
+     * notched cube 0.995 / 1.056: the ripple target is missed there). */
+    static const int cl[7][3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 0, 1}, {1, 0, 1}};
+    static const int ct[5][3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1, 0}, {1, 2, 0}};
+    static const int cu[5][3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {2, 1, 0}};
+    static const int cs[5][3] = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {2, 0, 1}, {2, 0, 2}};
+    static const int cn[7][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+    generated("unit cubes: L-block", mg_polycube(7, cl, "L-block"), 0.85, 0.9, 266);
+    generated("unit cubes: T-block", mg_polycube(5, ct, "T-block"), 0.67, 1.05, 221);
+    generated("unit cubes: U-block", mg_polycube(5, cu, "U-block"), 0.648, 0.648, 216);
+    generated("unit cubes: stairs", mg_polycube(5, cs, "stairs"), 0.78, 0.97, 217);
+    generated("unit cubes: notched cube", mg_polycube(7, cn, "notched cube"), 1.3, 1.38, 174);
     CHECK_DONE("test_ev_fairness");
 }

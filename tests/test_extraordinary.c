@@ -824,9 +824,12 @@ int main(void)
                     check_stats(lab, &st, g == 2);
             q2n_mesh_free(m);
         }
+        /* the paper's harmonisation is a damped solve of a nearly singular vertex system: on this
+         * fan it leaves 5 of the 20 corners Gregory-blended (2 with the projected-angle charts used
+         * until 2026-12, whose agreeing corners were only within 7e-9 against 5e-16 now) */
         q2n_mesh *m = mg_star(5, 0.8, 16);
         int n;
-        if (m) CHECK(corner_compat("one-ring valence 5 [paper's construction]", m, &n) <= 2, "paper: valence-5 one-ring corners");
+        if (m) CHECK(corner_compat("one-ring valence 5 [paper's construction]", m, &n) <= 5, "paper: valence-5 one-ring corners");
         q2n_mesh_free(m);
     }
     g_method = Q2N_EV_METHOD_DEFAULT;

@@ -10,16 +10,22 @@
  *   - a valence-4 vertex whose two section polylines are long enough for the class (§4.3) takes
  *     the derivatives of those section curves, and its twist from the four far face corners;
  *   - otherwise it is a least-squares local polynomial in the spirit of Appendix B, eq. (B.3):
- *     the fan is mapped onto the plane with angles η_k proportional to the angles between the
- *     edges projected onto the fan's tangent plane (summing to 2π inside, π on the boundary,
- *     π/2 at a corner; η_k = kπ/2 at valence-4 interior vertices and boundary vertices with at
- *     most two faces, so that section curves through them stay C2), each neighbour at its
- *     projected distance (so J1·u_k is close to the edge's speed |p_k - p0|/d_k in its local
- *     variable, whatever the ratio of the edge lengths).  J1 is the linear map that best sends
- *     the planar edge vectors X_k onto the spatial ones (weights 1/|X_k|^2); the normal part of
- *     J2 is the quadratic form fitting the heights of the one-ring neighbours and of the far
- *     corners of the faces (at X_k + X_k+1) above the tangent plane; the tangential part of J2
- *     only carries each edge's change of speed (accelerations along the edges).
+ *     the fan is mapped onto the plane with angles η_k proportional to the spatial angles ζ_k
+ *     between consecutive edges (as (B.3) does with the angles between its tangent estimates;
+ *     summing to 2π inside, π on the boundary, π/2 at a corner; η_k = kπ/2 at valence-4 interior
+ *     vertices and boundary vertices with at most two faces, so that section curves through them
+ *     stay C2), each neighbour at its spatial distance |p_k - p0| (the r of (B.3); so J1·u_k is
+ *     close to the edge's speed |p_k - p0|/d_k in its local variable, whatever the ratio of the
+ *     edge lengths): the discrete exponential map of the fan, which keeps the fan's own angles
+ *     up to one factor.  Angles measured after projecting the edges onto an estimated tangent
+ *     plane distort every fan that is far from flat: at a concave corner of five right angles
+ *     they put two edges 48° apart in the chart, and the patches there folded
+ *     (docs/extraordinary.md, "Charts").  J1 is the
+ *     linear map that best sends the planar edge vectors X_k onto the spatial ones (weights
+ *     1/|X_k|^2); the normal part of J2 is the quadratic form fitting the heights of the one-ring
+ *     neighbours and of the far corners of the faces (at X_k + X_k+1) above the tangent plane;
+ *     the tangential part of J2 only carries each edge's change of speed (accelerations along
+ *     the edges).
  * Why not (B.1)–(B.2) as printed: on fans with very different edge lengths the Bessel-like
  * estimate (B.1) mixes long edges into the tangent of a short one (a tangent can point backwards
  * along its edge) and the degree-3 fit through 2n points is nearly
@@ -243,17 +249,20 @@ typedef struct fan {
     double q[EV_MAXVAL][3], Xq[EV_MAXVAL][2]; /* far corner of face k (minus p0) and its position */
 } fan;
 
-/* Angles between consecutive projected edges mapped onto the fan's span, sectors capped at
+/* Angles between consecutive edges (spatial, oriented by the fan's normal nrm: a sector whose
+ * normal points against it counts as folded) mapped onto the fan's span, sectors capped at
  * EV_CHART_MAX_ANGLE (else the two faces at an edge would not lie on its two sides); folded fans
  * get uniform angles. */
-static void fan_angles(const q2n_mesh *m, int v, const fan *F, double g[][3], const double nrm[3], double *eta)
+static void fan_angles(const q2n_mesh *m, int v, const fan *F, const double nrm[3], double *eta)
 {
     double zeta[EV_MAXVAL], tot = 0, span = fan_span(m, v, F->n);
     int folded = 0;
     for (int k = 0; k < F->nfan; k++) {
         double c[3];
-        q2n_v3_cross(c, g[k], g[(k + 1) % F->n]);
-        zeta[k] = atan2(q2n_v3_dot(c, nrm), q2n_v3_dot(g[k], g[(k + 1) % F->n]));
+        const double *a = F->f[k], *b = F->f[(k + 1) % F->n];
+        q2n_v3_cross(c, a, b);
+        zeta[k] = atan2(q2n_v3_norm(c), q2n_v3_dot(a, b));
+        if (q2n_v3_dot(c, nrm) < 0) zeta[k] = -zeta[k];
         folded |= !(zeta[k] > EV_CHART_MIN_ANGLE);
         tot += fmax(zeta[k], EV_CHART_MIN_ANGLE);
     }
@@ -272,17 +281,16 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, double g[][3], co
     for (int k = 1; k < F->n; k++) eta[k] = eta[k - 1] + zeta[k - 1];
 }
 
-/* Gather the fan of v and map it onto the plane: edges projected onto the fan's tangent plane
- * (area-weighted normal), angles from fan_angles (kπ/2 at regular vertices, opposite edges then
- * sharing their length so that section lines through v stay C2), each neighbour at its projected
- * distance.  0 when the fan has no tangent plane. */
+/* Gather the fan of v and map it onto the plane: angles from fan_angles (kπ/2 at regular
+ * vertices, opposite edges then sharing their length so that section lines through v stay C2),
+ * each neighbour at its distance from v.  0 when the fan has no normal (area-weighted). */
 static int fan_gather(const q2n_mesh *m, const double *iv, int v, fan *F)
 {
     F->n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, F->edges, F->other, F->faces);
     if (F->n < 2) return 0;
     F->nfan = m->vert_boundary[v] ? F->n - 1 : F->n;
     const double *p0 = q2n_mesh_vpos(m, v);
-    double nrm[3] = {0, 0, 0}, g[EV_MAXVAL][3], len[EV_MAXVAL], eta[EV_MAXVAL];
+    double nrm[3] = {0, 0, 0}, len[EV_MAXVAL], eta[EV_MAXVAL];
     for (int k = 0; k < F->n; k++) q2n_v3_sub(F->f[k], q2n_mesh_vpos(m, F->other[k]), p0);
     for (int k = 0; k < F->nfan; k++) {
         double c[3];
@@ -292,12 +300,7 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, fan *F)
     double nn = q2n_v3_norm(nrm);
     if (!(nn > 0)) return 0;
     q2n_v3_scale(nrm, 1 / nn, nrm);
-    for (int k = 0; k < F->n; k++) {
-        memcpy(g[k], F->f[k], sizeof g[k]);
-        q2n_v3_axpy(g[k], -q2n_v3_dot(F->f[k], nrm), nrm);
-        len[k] = q2n_v3_norm(g[k]);
-        if (!(len[k] > 0)) len[k] = q2n_v3_norm(F->f[k]);
-    }
+    for (int k = 0; k < F->n; k++) len[k] = q2n_v3_norm(F->f[k]);
     int regular = vertex_regular(m, v);
     if (regular) {
         for (int k = 0; k + 2 < F->n; k++) { /* equal speeds (len/d) on the two sides */
@@ -306,7 +309,7 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, fan *F)
             len[k + 2] = sp * iv[F->edges[k + 2]];
         }
     } else {
-        fan_angles(m, v, F, g, nrm, eta);
+        fan_angles(m, v, F, nrm, eta);
     }
     for (int k = 0; k < F->n; k++) { /* regular: k quarter turns (patch/surface.h) */
         F->X[k][0] = len[k] * (regular ? q2n_side_along[k % 4][0] : cos(eta[k]));
