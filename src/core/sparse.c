@@ -33,6 +33,21 @@ void q2n_sparse_init(void)
     pthread_once(&alloc_once, use_aligned_alloc);
 }
 
+/* Column of the first pivot that is not positive, or -1.  The supernodal factorisation (large
+ * systems) is LL' and stops there (status CHOLMOD_NOT_POSDEF); the simplicial one CHOLMOD picks for
+ * small sparse systems is LDL', which runs through an indefinite matrix without complaint, so its
+ * D (the first entry of each column of L) is read. */
+static long first_bad_pivot(const cholmod_factor *L, const cholmod_common *c)
+{
+    if (c->status == CHOLMOD_NOT_POSDEF) return (long)L->minor;
+    if (L->is_super || L->is_ll) return -1;
+    const int *Lp = L->p;
+    const double *Lx = L->x;
+    for (size_t j = 0; j < L->n; j++)
+        if (!(Lx[Lp[j]] > 0)) return (long)j;
+    return -1;
+}
+
 q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, const double *tv, int nrhs,
                                 const double *B, double *X, q2n_error *err)
 {
@@ -63,9 +78,9 @@ q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, c
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
         goto done;
     }
-    if (c.status == CHOLMOD_NOT_POSDEF) {
-        st = q2n_error_set(err, Q2N_ERR_GEOMETRY, "sparse system not positive definite at column %d of %d",
-                           (int)L->minor, n);
+    long bad = first_bad_pivot(L, &c);
+    if (bad >= 0) {
+        st = q2n_error_set(err, Q2N_ERR_GEOMETRY, "sparse system not positive definite at column %ld of %d", bad, n);
         goto done;
     }
     b = cholmod_allocate_dense((size_t)n, (size_t)nrhs, (size_t)n, CHOLMOD_REAL, &c);
@@ -82,4 +97,69 @@ done:
     cholmod_free_triplet(&T, &c);
     cholmod_finish(&c);
     return st;
+}
+
+struct q2n_sparse_spd {
+    cholmod_common c;
+    cholmod_sparse *A;
+    cholmod_factor *L;
+    int n;
+};
+
+q2n_status q2n_sparse_spd_create(int n, const int *colptr, const int *rowind, q2n_sparse_spd **out, q2n_error *err)
+{
+    *out = NULL;
+    q2n_sparse_init();
+    q2n_sparse_spd *S = calloc(1, sizeof *S);
+    if (!S) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n);
+    cholmod_start(&S->c);
+    S->c.print = 0;
+    S->c.error_handler = NULL;
+    S->n = n;
+    size_t nnz = (size_t)colptr[n];
+    S->A = cholmod_allocate_sparse((size_t)n, (size_t)n, nnz, 1 /* sorted */, 1 /* packed */, 1 /* upper */, CHOLMOD_REAL,
+                                   &S->c);
+    if (!S->A) {
+        q2n_sparse_spd_free(S);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n);
+    }
+    memcpy(S->A->p, colptr, sizeof(int) * ((size_t)n + 1));
+    memcpy(S->A->i, rowind, sizeof(int) * nnz);
+    memset(S->A->x, 0, sizeof(double) * nnz);
+    *out = S;
+    return Q2N_OK;
+}
+
+double *q2n_sparse_spd_values(q2n_sparse_spd *S) { return S->A->x; }
+
+q2n_status q2n_sparse_spd_factor_solve(q2n_sparse_spd *S, int nrhs, const double *B, double *X, q2n_error *err)
+{
+    int n = S->n;
+    if (n <= 0 || nrhs <= 0) return Q2N_OK;
+    if (!S->L && !(S->L = cholmod_analyze(S->A, &S->c)))
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
+    if (!cholmod_factorize(S->A, S->L, &S->c))
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
+    long bad = first_bad_pivot(S->L, &S->c);
+    if (bad >= 0) return q2n_error_set(err, Q2N_ERR_GEOMETRY, "sparse system not positive definite at column %ld of %d", bad, n);
+    cholmod_dense *b = cholmod_allocate_dense((size_t)n, (size_t)nrhs, (size_t)n, CHOLMOD_REAL, &S->c), *x = NULL;
+    q2n_status st = Q2N_OK;
+    if (!b) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse solve)");
+    memcpy(b->x, B, sizeof(double) * (size_t)n * (size_t)nrhs);
+    if (!(x = cholmod_solve(CHOLMOD_A, S->L, b, &S->c)))
+        st = q2n_error_set(err, Q2N_ERR_NOMEM, "sparse solve failed (%d unknowns)", n);
+    else
+        memcpy(X, x->x, sizeof(double) * (size_t)n * (size_t)nrhs);
+    cholmod_free_dense(&x, &S->c);
+    cholmod_free_dense(&b, &S->c);
+    return st;
+}
+
+void q2n_sparse_spd_free(q2n_sparse_spd *S)
+{
+    if (!S) return;
+    cholmod_free_factor(&S->L, &S->c);
+    cholmod_free_sparse(&S->A, &S->c);
+    cholmod_finish(&S->c);
+    free(S);
 }

@@ -19,4 +19,18 @@ void q2n_sparse_init(void);
 q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, const double *tv, int nrhs,
                                 const double *B, double *X, q2n_error *err);
 
+/* A symmetric positive definite matrix of fixed pattern, analysed once (fill-reducing ordering,
+ * symbolic factorisation) and factorised for each set of values: callers that solve several
+ * systems of one pattern (the fair construction's two passes) pay the analysis once and need no
+ * triplets.  The pattern is the upper triangle in compressed columns: column j holds rows
+ * rowind[colptr[j] .. colptr[j+1] - 1], ascending, each <= j, the diagonal present. */
+typedef struct q2n_sparse_spd q2n_sparse_spd;
+q2n_status q2n_sparse_spd_create(int n, const int *colptr, const int *rowind, q2n_sparse_spd **out, q2n_error *err);
+/* The pattern's values, in its order (colptr[n] of them), to be filled before each solve. */
+double *q2n_sparse_spd_values(q2n_sparse_spd *S);
+/* Factorise the current values and solve A X = B (as q2n_sparse_spd_solve; the same bits as it
+ * gives for the same matrix entered as triplets in one per pattern entry). */
+q2n_status q2n_sparse_spd_factor_solve(q2n_sparse_spd *S, int nrhs, const double *B, double *X, q2n_error *err);
+void q2n_sparse_spd_free(q2n_sparse_spd *S);
+
 #endif

@@ -32,6 +32,7 @@
  * they would otherwise dictate the shape everywhere).  A small ridge towards the local estimates
  * of q2n_ev_vertex_jets keeps the problem definite.  One sparse SPD solve (CHOLMOD) per pass, shared
  * by x, y and z. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -428,43 +429,23 @@ static void face_scale(const q2n_mesh *m, int f, double *Lu, double *Lv)
     *Lv = 0.5 * (q2n_v3_dist(p[0], p[3]) + q2n_v3_dist(p[1], p[2]));
 }
 
-/* Growable triplet list of the upper triangle of the normal matrix. */
-typedef struct fe_trip {
-    size_t n, cap;
-    int *i, *j;
-    double *v;
-} fe_trip;
-
-static int trip_add(fe_trip *T, int i, int j, double v)
-{
-    if (T->n == T->cap) {
-        size_t cap = T->cap ? 2 * T->cap : 1 << 16;
-        int *a = realloc(T->i, cap * sizeof *a);
-        if (!a) return 0;
-        T->i = a;
-        int *b = realloc(T->j, cap * sizeof *b);
-        if (!b) return 0;
-        T->j = b;
-        double *c = realloc(T->v, cap * sizeof *c);
-        if (!c) return 0;
-        T->v = c;
-        T->cap = cap;
-    }
-    T->i[T->n] = i;
-    T->j[T->n] = j;
-    T->v[T->n++] = v;
-    return 1;
-}
-
 /* Per-face quadratic forms of the two energy terms in the face's unknowns (local numbering loc):
  * E_t(x) = Σ_xyz (xᵀ K_t x - 2 x·r_t + c_t), t = 0 bending, 1 curvature variation (unit weight;
- * K_t shared by x, y and z, upper triangle, row-major nl x nl). */
+ * K_t shared by x, y and z, its upper triangle packed by rows: entry (i, k >= i) at pk(nl, i, k)). */
 typedef struct fe_form {
     int nl;
     int loc[4 * EV_JS + CP_NBUB];
     double *K[2], *r[2];
     double c[2];
 } fe_form;
+
+static inline size_t pk(int nl, int i, int k) { return (size_t)i * (size_t)(2 * nl - i + 1) / 2 + (size_t)(k - i); }
+
+static int cmp_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return x < y ? -1 : x > y;
+}
 
 static void form_free(fe_form *F)
 {
@@ -536,6 +517,10 @@ static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P,
         if (nl > 0) {
             cblas_dsyrk(CblasRowMajor, CblasUpper, CblasTrans, nl, nrow, 1.0, A, nl, 0.0, F->K[t], nl);
             cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, nl, 3, nrow, -1.0, A, nl, A0, 3, 0.0, F->r[t], 3);
+            /* keep the upper triangle only, packed (in place: row i moves to a lower address) */
+            for (int i = 0; i < nl; i++) memmove(F->K[t] + pk(nl, i, i), F->K[t] + (size_t)i * nl + i, sizeof(double) * (size_t)(nl - i));
+            double *Kp = realloc(F->K[t], sizeof(double) * pk(nl, nl - 1, nl - 1) + sizeof(double));
+            if (Kp) F->K[t] = Kp;
         }
     }
 done:
@@ -571,16 +556,111 @@ static void *form_worker(void *arg)
     return NULL;
 }
 
+/* The normal matrix's pattern: the pairs of unknowns some face's forms couple (and every
+ * diagonal), upper triangle in compressed columns, and the sparse factorisation object that keeps
+ * its analysis for both passes. */
+typedef struct fe_sys {
+    int n;
+    int *colptr, *rowind;
+    q2n_sparse_spd *S;
+} fe_sys;
+
+static void sys_free(fe_sys *Y)
+{
+    free(Y->colptr);
+    free(Y->rowind);
+    q2n_sparse_spd_free(Y->S);
+}
+
+static q2n_status sys_build(int n, int nfaces, const fe_form *F, fe_sys *Y, q2n_error *err)
+{
+    memset(Y, 0, sizeof *Y);
+    Y->n = n;
+    /* faces of each unknown (compressed), then per column the union of their rows <= column */
+    int *fstart = calloc((size_t)n + 1, sizeof *fstart), *fl = NULL, *mark = malloc((size_t)(n ? n : 1) * sizeof *mark);
+    q2n_status st = Q2N_OK;
+    size_t cap = 0, nnz = 0;
+    if (!fstart || !mark || !(Y->colptr = malloc(((size_t)n + 1) * sizeof *Y->colptr))) { st = Q2N_ERR_NOMEM; goto done; }
+    for (int fi = 0; fi < nfaces; fi++)
+        for (int i = 0; i < F[fi].nl; i++) fstart[F[fi].loc[i] + 1]++;
+    for (int x = 0; x < n; x++) fstart[x + 1] += fstart[x];
+    if (!(fl = malloc(((size_t)fstart[n] + 1) * sizeof *fl))) { st = Q2N_ERR_NOMEM; goto done; }
+    for (int fi = 0; fi < nfaces; fi++)
+        for (int i = 0; i < F[fi].nl; i++) fl[fstart[F[fi].loc[i]]++] = fi;
+    for (int x = n; x > 0; x--) fstart[x] = fstart[x - 1];
+    fstart[0] = 0;
+    for (int x = 0; x < n; x++) mark[x] = -1;
+    for (int j = 0; j < n; j++) {
+        size_t c0 = nnz;
+        if (nnz + 1 > cap) {
+            size_t nc = cap ? 2 * cap : 1 << 16;
+            int *r = realloc(Y->rowind, nc * sizeof *r);
+            if (!r) { st = Q2N_ERR_NOMEM; goto done; }
+            Y->rowind = r;
+            cap = nc;
+        }
+        Y->colptr[j] = (int)nnz;
+        mark[j] = j;
+        Y->rowind[nnz++] = j;
+        for (int q = fstart[j]; q < fstart[j + 1]; q++) {
+            const fe_form *f = &F[fl[q]];
+            int ij = 0;
+            while (f->loc[ij] != j) ij++;
+            for (int i = 0; i < f->nl; i++) {
+                int r = f->loc[i];
+                if (r > j || mark[r] == j) continue;
+                size_t e = i < ij ? pk(f->nl, i, ij) : pk(f->nl, ij, i);
+                if (f->K[0][e] == 0 && f->K[1][e] == 0) continue; /* no coupling in this face */
+                mark[r] = j;
+                if (nnz + 1 > cap) {
+                    int *rr = realloc(Y->rowind, 2 * cap * sizeof *rr);
+                    if (!rr) { st = Q2N_ERR_NOMEM; goto done; }
+                    Y->rowind = rr;
+                    cap *= 2;
+                }
+                Y->rowind[nnz++] = r;
+            }
+        }
+        qsort(Y->rowind + c0, nnz - c0, sizeof *Y->rowind, cmp_int);
+        if (nnz > (size_t)INT_MAX) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "fair solve: %d unknowns give too many matrix entries", n); goto done; }
+    }
+    Y->colptr[n] = (int)nnz;
+    st = q2n_sparse_spd_create(n, Y->colptr, Y->rowind, &Y->S, err);
+done:
+    if (st == Q2N_ERR_NOMEM && !Y->S) q2n_error_set(err, st, "out of memory (fair solve, %d unknowns)", n);
+    free(fstart);
+    free(fl);
+    free(mark);
+    if (st) sys_free(Y), memset(Y, 0, sizeof *Y);
+    return st;
+}
+
+/* Position of entry (r <= c) in the pattern. */
+static size_t sys_at(const fe_sys *Y, int r, int c)
+{
+    int lo = Y->colptr[c], hi = Y->colptr[c + 1] - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (Y->rowind[mid] < r) lo = mid + 1;
+        else hi = mid;
+    }
+    return (size_t)lo;
+}
+
 /* Sum the forms with weights w_t (per face for the variation term), add the ridge, solve; X holds
- * the solution per unknown (3 per unknown). */
-static q2n_status fair_pass(const fe_build *B, int nfaces, const fe_form *F, const double *omega, double w3,
+ * the solution per unknown (3 per unknown).  The matrix is scaled symmetrically by its diagonal
+ * (the unknowns' scales differ by orders of magnitude); each entry is the sum, face by face and the
+ * ridge last, of its scaled contributions. */
+static q2n_status fair_pass(const fe_build *B, fe_sys *Y, int nfaces, const fe_form *F, const double *omega, double w3,
                             const double *x0, double *X, q2n_error *err)
 {
     int n = B->nvar;
-    fe_trip T = {0};
     double *rhs = calloc(3 * (size_t)n, sizeof *rhs), *diag = calloc((size_t)n, sizeof *diag), *Bm = NULL, *dg = NULL;
+    double *lam = malloc((size_t)(n ? n : 1) * sizeof *lam);
+    double *val = q2n_sparse_spd_values(Y->S);
     q2n_status st = Q2N_OK;
-    if (!rhs || !diag) { st = Q2N_ERR_NOMEM; goto done; }
+    if (!rhs || !diag || !lam) { st = Q2N_ERR_NOMEM; goto done; }
+    /* right-hand sides and the diagonal (which sets the ridge) */
     for (int fi = 0; fi < nfaces; fi++) {
         const fe_form *f = &F[fi];
         double w[2] = {1, w3 * (omega ? omega[fi] : 1)};
@@ -590,42 +670,49 @@ static q2n_status fair_pass(const fe_build *B, int nfaces, const fe_form *F, con
                 if (w[t] == 0) continue;
                 for (int c = 0; c < 3; c++) rhs[3 * gi + c] += w[t] * f->r[t][3 * i + c];
             }
-            for (int k = i; k < f->nl; k++) {
-                double v = f->K[0][i * f->nl + k] + (w[1] != 0 ? w[1] * f->K[1][i * f->nl + k] : 0);
-                if (v == 0) continue;
-                int gk = f->loc[k];
-                if (gi == gk) diag[gi] += v;
-                if (!trip_add(&T, gi < gk ? gi : gk, gi < gk ? gk : gi, v)) { st = Q2N_ERR_NOMEM; goto done; }
-            }
+            size_t q = pk(f->nl, i, i);
+            double v = f->K[0][q] + (w[1] != 0 ? w[1] * f->K[1][q] : 0);
+            diag[gi] += v;
         }
     }
     /* ridge towards x0: jets' first and second orders firmer than the rest */
+    dg = malloc((size_t)(n ? n : 1) * sizeof *dg);
+    Bm = malloc(3 * (size_t)(n ? n : 1) * sizeof *Bm);
+    if (!dg || !Bm) { st = Q2N_ERR_NOMEM; goto done; }
     for (int x = 0; x < n; x++) {
-        double lam = (B->ridge_low[x] ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
-        if (!(lam > 0)) lam = 1;
-        if (!trip_add(&T, x, x, lam)) { st = Q2N_ERR_NOMEM; goto done; }
-        for (int c = 0; c < 3; c++) rhs[3 * x + c] += lam * x0[3 * x + c];
+        lam[x] = (B->ridge_low[x] ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
+        if (!(lam[x] > 0)) lam[x] = 1;
+        for (int c = 0; c < 3; c++) rhs[3 * x + c] += lam[x] * x0[3 * x + c];
+        double d = diag[x] + lam[x];
+        dg[x] = d > 0 ? 1 / sqrt(d) : 1;
     }
-    /* symmetric diagonal scaling (the unknowns' scales differ by orders of magnitude), solve */
-    Bm = malloc(3 * (size_t)n * sizeof *Bm);
-    dg = calloc((size_t)n, sizeof *dg);
-    if (!Bm || !dg) { st = Q2N_ERR_NOMEM; goto done; }
-    for (size_t k = 0; k < T.n; k++)
-        if (T.i[k] == T.j[k]) dg[T.i[k]] += T.v[k];
-    for (int k = 0; k < n; k++) dg[k] = dg[k] > 0 ? 1 / sqrt(dg[k]) : 1;
-    for (size_t k = 0; k < T.n; k++) T.v[k] *= dg[T.i[k]] * dg[T.j[k]];
+    /* scaled entries */
+    memset(val, 0, sizeof(double) * (size_t)Y->colptr[n]);
+    for (int fi = 0; fi < nfaces; fi++) {
+        const fe_form *f = &F[fi];
+        double w1 = w3 * (omega ? omega[fi] : 1);
+        for (int i = 0; i < f->nl; i++) {
+            int gi = f->loc[i];
+            for (int k = i; k < f->nl; k++) {
+                size_t q = pk(f->nl, i, k);
+                double v = f->K[0][q] + (w1 != 0 ? w1 * f->K[1][q] : 0);
+                if (v == 0) continue;
+                int gk = f->loc[k], r = gi < gk ? gi : gk, c = gi < gk ? gk : gi;
+                val[sys_at(Y, r, c)] += v * (dg[r] * dg[c]);
+            }
+        }
+    }
+    for (int x = 0; x < n; x++) val[Y->colptr[x + 1] - 1] += lam[x] * (dg[x] * dg[x]); /* the diagonal ends its column */
     for (int k = 0; k < n; k++)
         for (int c = 0; c < 3; c++) Bm[(size_t)c * n + k] = rhs[3 * k + c] * dg[k];
-    if ((st = q2n_sparse_spd_solve(n, (long)T.n, T.i, T.j, T.v, 3, Bm, Bm, err))) goto done;
+    if ((st = q2n_sparse_spd_factor_solve(Y->S, 3, Bm, Bm, err))) goto done;
     for (int k = 0; k < n; k++)
         for (int c = 0; c < 3; c++) X[3 * k + c] = Bm[(size_t)c * n + k] * dg[k];
 done:
     if (st == Q2N_ERR_NOMEM) q2n_error_set(err, st, "out of memory (fair solve, %d unknowns)", n);
-    free(T.i);
-    free(T.j);
-    free(T.v);
     free(rhs);
     free(diag);
+    free(lam);
     free(Bm);
     free(dg);
     return st;
@@ -647,6 +734,7 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
     if (nt > Q2N_EV_MAX_THREADS) nt = Q2N_EV_MAX_THREADS;
     q2n_status st = Q2N_OK;
     if (nfaces <= 0 || n <= 0) return Q2N_OK;
+    fe_sys Y = {0};
     fe_form *F = calloc((size_t)nfaces, sizeof *F);
     fe_job *jobs = calloc((size_t)nt, sizeof *jobs);
     pthread_t *tid = calloc((size_t)nt, sizeof *tid);
@@ -663,13 +751,14 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
     for (int t = 0; t < nt && !st; t++)
         if (jobs[t].st) st = q2n_error_set(err, jobs[t].st, "out of memory (fair energy forms)");
     if (st) goto done;
+    if ((st = sys_build(n, nfaces, F, &Y, err))) goto done;
     /* x0: the current values (local estimates for the jets, zero bubbles) */
     for (int v = 0; v < m->nv; v++)
         for (int k = 0; k < EV_JS; k++) {
             int x = B->var[v * EV_JS + k];
             if (x >= 0) memcpy(x0 + 3 * x, B->jet[v][k], 3 * sizeof(double));
         }
-    if ((st = fair_pass(B, nfaces, F, NULL, 0, x0, X, err))) goto done;
+    if ((st = fair_pass(B, &Y, nfaces, F, NULL, 0, x0, X, err))) goto done;
     if (EV_FAIR_W3 > 0) {
         for (int fi = 0; fi < nfaces; fi++) { /* variation left by the bending-only pass */
             const fe_form *f = &F[fi];
@@ -678,14 +767,14 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
                 const double *xi = X + 3 * f->loc[i];
                 e -= 2 * q2n_v3_dot(xi, f->r[1] + 3 * i);
                 for (int k = i; k < f->nl; k++)
-                    e += (k == i ? 1 : 2) * f->K[1][i * f->nl + k] * q2n_v3_dot(xi, X + 3 * f->loc[k]);
+                    e += (k == i ? 1 : 2) * f->K[1][pk(f->nl, i, k)] * q2n_v3_dot(xi, X + 3 * f->loc[k]);
             }
             v3[fi] = srt[fi] = e;
         }
         qsort(srt, (size_t)nfaces, sizeof *srt, cmp_dbl);
         double cap = EV_FAIR_VAR_OUTLIER * srt[nfaces / 2];
         for (int fi = 0; fi < nfaces; fi++) v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
-        if ((st = fair_pass(B, nfaces, F, v3, EV_FAIR_W3, x0, X, err))) goto done;
+        if ((st = fair_pass(B, &Y, nfaces, F, v3, EV_FAIR_W3, x0, X, err))) goto done;
     }
     for (int v = 0; v < m->nv; v++)
         for (int k = 0; k < EV_JS; k++) {
@@ -695,6 +784,7 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
     for (int fi = 0; fi < nfaces; fi++)
         for (int b = 0; b < CP_NBUB; b++) memcpy(B->bub[fi][b], X + 3 * (B->bvar[fi] + b), 3 * sizeof(double));
 done:
+    sys_free(&Y);
     if (F)
         for (int fi = 0; fi < nfaces; fi++) form_free(&F[fi]);
     free(F);
