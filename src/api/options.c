@@ -147,15 +147,69 @@ double q2n_default_max_memory(void)
 
 /* Faces after the planned Catmull–Clark steps: the first step makes one quad per corner, each
  * later one four per quad.  The ACC path subdivides non-quad meshes once by itself. */
+static int planned_steps(const q2n_model *m)
+{
+    int s = m->opt.subdivide;
+    if (s == 0 && !m->mesh->all_quads && m->opt.method != Q2N_SURFACE_AUGMENTED) s = 1;
+    return s;
+}
+
 static long long planned_faces(const q2n_model *m)
 {
     const q2n_mesh *me = m->mesh;
-    int s = m->opt.subdivide;
-    if (s == 0 && !me->all_quads && m->opt.method != Q2N_SURFACE_AUGMENTED) s = 1;
+    int s = planned_steps(m);
     if (s == 0) return me->nf;
     double f = (double)me->nh;
     for (int i = 1; i < s; i++) f *= 4;
     return f > 9e18 ? (long long)9e18 : (long long)f;
+}
+
+/* Faces the extraordinary-vertex construction will build, from the mesh before subdivision:
+ * those whose grid of faces (the face and Q2N_MEM_EV_RINGS rings around it: the default class's
+ * support) reaches an extraordinary vertex — valence other than 4, other than 2 or 3 on the
+ * boundary — or, when the mesh is subdivided, the face point of a non-quad face.  One subdivision
+ * step makes those rings fine ones: the faces touching such a vertex bring all their children;
+ * further steps narrow the regions to Q2N_MEM_EV_REGION_PER_VALENCE fine faces per unit of valence.
+ * Zero for the ACC surfaces, which have no such solve. */
+static double planned_ev_faces(const q2n_model *m, int steps, double faces)
+{
+    const q2n_mesh *me = m->mesh;
+    if (m->opt.method != Q2N_SURFACE_AUGMENTED) return 0;
+    int *fc = calloc((size_t)me->nv + 1, sizeof *fc);
+    unsigned char *mk = calloc((size_t)me->nv + 1, 1), *nx = calloc((size_t)me->nv + 1, 1);
+    double fine = 0, around = 0;
+    if (!fc || !mk || !nx) { free(fc); free(mk); free(nx); return faces; }
+    for (int k = 0; k < me->nh; k++) fc[me->face_vert[k]]++;
+    for (int v = 0; v < me->nv; v++) {
+        int b = me->vert_boundary[v], val = fc[v] + b;
+        if (fc[v] > 0 && (b ? val != 2 && val != 3 : val != 4)) mk[v] = 1, around += Q2N_MEM_EV_REGION_PER_VALENCE * val;
+    }
+    for (int f = 0; steps > 0 && f < me->nf; f++) {
+        int n = me->face_start[f + 1] - me->face_start[f];
+        if (n == 4) continue;
+        around += Q2N_MEM_EV_REGION_PER_VALENCE * n;
+        for (int k = me->face_start[f]; k < me->face_start[f + 1]; k++) mk[me->face_vert[k]] = 1;
+    }
+    for (int r = 0; steps == 0 && r < Q2N_MEM_EV_RINGS; r++) { /* one ring of faces around the marked vertices */
+        memcpy(nx, mk, (size_t)me->nv);
+        for (int f = 0; f < me->nf; f++) {
+            int hit = 0;
+            for (int k = me->face_start[f]; k < me->face_start[f + 1]; k++) hit |= mk[me->face_vert[k]];
+            if (hit)
+                for (int k = me->face_start[f]; k < me->face_start[f + 1]; k++) nx[me->face_vert[k]] = 1;
+        }
+        memcpy(mk, nx, (size_t)me->nv);
+    }
+    for (int f = 0; f < me->nf; f++) {
+        int n = me->face_start[f + 1] - me->face_start[f], hit = 0;
+        for (int k = me->face_start[f]; k < me->face_start[f + 1]; k++) hit |= mk[me->face_vert[k]];
+        if (hit) fine += steps == 0 ? 1 : n * pow(4, steps - 1);
+    }
+    free(fc);
+    free(mk);
+    free(nx);
+    if (steps >= 2 && around < fine) fine = around;
+    return fine < faces ? fine : faces;
 }
 
 static int digits(double x)
@@ -169,12 +223,13 @@ void q2n_model_estimate(const q2n_model *m, const q2n_plan *plan, q2n_estimate *
 {
     memset(e, 0, sizeof *e);
     long long nf = planned_faces(m);
-    double faces = (double)nf, build = Q2N_MEM_BASE + faces * Q2N_MEM_BUILD_PER_FACE, peak = build;
+    double faces = (double)nf, ev = planned_ev_faces(m, planned_steps(m), faces);
+    double build = Q2N_MEM_BASE + faces * Q2N_MEM_BUILD_PER_FACE + ev * Q2N_MEM_BUILD_PER_EV_FACE, peak = build;
     e->faces = nf;
     e->peak_stage = "build";
     double cache = faces * Q2N_MEM_FIT_CACHE_PER_FACE;
     if (cache > Q2N_FIT_CACHE_BYTES) cache = Q2N_FIT_CACHE_BYTES;
-    double fit = faces * Q2N_MEM_FIT_PER_FACE + cache;
+    double fit = faces * Q2N_MEM_FIT_PER_FACE + ev * Q2N_MEM_FIT_PER_EV_FACE + cache;
     if (plan->fit && build + fit > peak) {
         peak = build + fit;
         e->peak_stage = "fit";

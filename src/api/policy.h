@@ -15,6 +15,18 @@
 #define Q2N_MEM_FIT_PER_FACE 3150.0
 /* The fit's construction caches (side and grid values) per face at one span per patch, up to
  * their budget (Q2N_FIT_CACHE_BYTES, fit/fit_policy.h). */
+/* Bytes per face of an extraordinary region, added to the above: the fair construction's
+ * per-face energy forms and its sparse factorisation (123 KB measured on a 11 022-face mesh whose
+ * every face is extraordinary, 121 KB on the subdivided spot's 638), and the fit's refined
+ * extraordinary patches (34 KB on the first: ~13 x 13 control points each). */
+#define Q2N_MEM_BUILD_PER_EV_FACE 125e3
+#define Q2N_MEM_FIT_PER_EV_FACE 35e3
+/* The extraordinary regions' extent: faces whose face and this many rings of faces around it (the
+ * default class's 6 x 6 vertex grid: 2) reach an extraordinary vertex; on a mesh subdivided twice
+ * or more, 9 fine faces per unit of the vertex's valence (the 6 x 6 block around a regular vertex
+ * is 9 x 4 faces). */
+#define Q2N_MEM_EV_RINGS 2
+#define Q2N_MEM_EV_REGION_PER_VALENCE 9.0
 #define Q2N_MEM_FIT_CACHE_PER_FACE 5750.0
 /* Output bytes per face at one span per patch (the fit may refine: again a lower bound). */
 #define Q2N_OUT_STEP_PER_FACE 5600.0
