@@ -132,6 +132,12 @@ q2n_status q2n_sparse_spd_create(int n, const int *colptr, const int *rowind, q2
 
 double *q2n_sparse_spd_values(q2n_sparse_spd *S) { return S->A->x; }
 
+void q2n_sparse_spd_pattern(const q2n_sparse_spd *S, const int **colptr, const int **rowind)
+{
+    *colptr = S->A->p;
+    *rowind = S->A->i;
+}
+
 q2n_status q2n_sparse_spd_factor_solve(q2n_sparse_spd *S, int nrhs, const double *B, double *X, q2n_error *err)
 {
     int n = S->n;

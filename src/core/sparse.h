@@ -28,6 +28,8 @@ typedef struct q2n_sparse_spd q2n_sparse_spd;
 q2n_status q2n_sparse_spd_create(int n, const int *colptr, const int *rowind, q2n_sparse_spd **out, q2n_error *err);
 /* The pattern's values, in its order (colptr[n] of them), to be filled before each solve. */
 double *q2n_sparse_spd_values(q2n_sparse_spd *S);
+/* The pattern as the object holds it (the caller's copy may be freed after create). */
+void q2n_sparse_spd_pattern(const q2n_sparse_spd *S, const int **colptr, const int **rowind);
 /* Factorise the current values and solve A X = B (as q2n_sparse_spd_solve; the same bits as it
  * gives for the same matrix entered as triplets in one per pattern entry). */
 q2n_status q2n_sparse_spd_factor_solve(q2n_sparse_spd *S, int nrhs, const double *B, double *X, q2n_error *err);

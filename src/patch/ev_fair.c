@@ -561,16 +561,11 @@ static void *form_worker(void *arg)
  * its analysis for both passes. */
 typedef struct fe_sys {
     int n;
-    int *colptr, *rowind;
+    const int *colptr, *rowind; /* the pattern, held by S */
     q2n_sparse_spd *S;
 } fe_sys;
 
-static void sys_free(fe_sys *Y)
-{
-    free(Y->colptr);
-    free(Y->rowind);
-    q2n_sparse_spd_free(Y->S);
-}
+static void sys_free(fe_sys *Y) { q2n_sparse_spd_free(Y->S); }
 
 static q2n_status sys_build(int n, int nfaces, const fe_form *F, fe_sys *Y, q2n_error *err)
 {
@@ -578,9 +573,10 @@ static q2n_status sys_build(int n, int nfaces, const fe_form *F, fe_sys *Y, q2n_
     Y->n = n;
     /* faces of each unknown (compressed), then per column the union of their rows <= column */
     int *fstart = calloc((size_t)n + 1, sizeof *fstart), *fl = NULL, *mark = malloc((size_t)(n ? n : 1) * sizeof *mark);
+    int *colptr = malloc(((size_t)n + 1) * sizeof *colptr), *rowind = NULL;
     q2n_status st = Q2N_OK;
     size_t cap = 0, nnz = 0;
-    if (!fstart || !mark || !(Y->colptr = malloc(((size_t)n + 1) * sizeof *Y->colptr))) { st = Q2N_ERR_NOMEM; goto done; }
+    if (!fstart || !mark || !colptr) { st = Q2N_ERR_NOMEM; goto done; }
     for (int fi = 0; fi < nfaces; fi++)
         for (int i = 0; i < F[fi].nl; i++) fstart[F[fi].loc[i] + 1]++;
     for (int x = 0; x < n; x++) fstart[x + 1] += fstart[x];
@@ -594,14 +590,14 @@ static q2n_status sys_build(int n, int nfaces, const fe_form *F, fe_sys *Y, q2n_
         size_t c0 = nnz;
         if (nnz + 1 > cap) {
             size_t nc = cap ? 2 * cap : 1 << 16;
-            int *r = realloc(Y->rowind, nc * sizeof *r);
+            int *r = realloc(rowind, nc * sizeof *r);
             if (!r) { st = Q2N_ERR_NOMEM; goto done; }
-            Y->rowind = r;
+            rowind = r;
             cap = nc;
         }
-        Y->colptr[j] = (int)nnz;
+        colptr[j] = (int)nnz;
         mark[j] = j;
-        Y->rowind[nnz++] = j;
+        rowind[nnz++] = j;
         for (int q = fstart[j]; q < fstart[j + 1]; q++) {
             const fe_form *f = &F[fl[q]];
             int ij = 0;
@@ -613,24 +609,26 @@ static q2n_status sys_build(int n, int nfaces, const fe_form *F, fe_sys *Y, q2n_
                 if (f->K[0][e] == 0 && f->K[1][e] == 0) continue; /* no coupling in this face */
                 mark[r] = j;
                 if (nnz + 1 > cap) {
-                    int *rr = realloc(Y->rowind, 2 * cap * sizeof *rr);
+                    int *rr = realloc(rowind, 2 * cap * sizeof *rr);
                     if (!rr) { st = Q2N_ERR_NOMEM; goto done; }
-                    Y->rowind = rr;
+                    rowind = rr;
                     cap *= 2;
                 }
-                Y->rowind[nnz++] = r;
+                rowind[nnz++] = r;
             }
         }
-        qsort(Y->rowind + c0, nnz - c0, sizeof *Y->rowind, cmp_int);
+        qsort(rowind + c0, nnz - c0, sizeof *rowind, cmp_int);
         if (nnz > (size_t)INT_MAX) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "fair solve: %d unknowns give too many matrix entries", n); goto done; }
     }
-    Y->colptr[n] = (int)nnz;
-    st = q2n_sparse_spd_create(n, Y->colptr, Y->rowind, &Y->S, err);
+    colptr[n] = (int)nnz;
+    if ((st = q2n_sparse_spd_create(n, colptr, rowind, &Y->S, err)) == Q2N_OK) q2n_sparse_spd_pattern(Y->S, &Y->colptr, &Y->rowind);
 done:
     if (st == Q2N_ERR_NOMEM && !Y->S) q2n_error_set(err, st, "out of memory (fair solve, %d unknowns)", n);
     free(fstart);
     free(fl);
     free(mark);
+    free(colptr);
+    free(rowind);
     if (st) sys_free(Y), memset(Y, 0, sizeof *Y);
     return st;
 }
