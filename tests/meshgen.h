@@ -254,4 +254,40 @@ static inline q2n_mesh *mg_polycube(int ncell, const int (*cell)[3], const char 
     return mg_finish(nv, pos, nf, fs, fv, name);
 }
 
+/* A cylinder of n sides and `rows` rows of quads, height h, closed by two flat n-gon caps, after
+ * one Catmull–Clark step (each cap becomes n kites around a valence-n vertex, its rim n
+ * valence-3 vertices). */
+static inline q2n_mesh *mg_capped_cylinder(int n, int rows, double h)
+{
+    int nv = n * (rows + 1), nf = n * rows + 2;
+    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = (int *)malloc(((size_t)nf + 1) * sizeof *fs), *fv = (int *)malloc((4 * (size_t)n * rows + 2 * (size_t)n) * sizeof *fv);
+    for (int r = 0; r <= rows; r++)
+        for (int k = 0; k < n; k++) {
+            double a = 2 * M_PI * k / n, *p = pos + 3 * (r * n + k);
+            p[0] = cos(a);
+            p[1] = sin(a);
+            p[2] = h * r / rows;
+        }
+    int f = 0, q = 0;
+    for (int r = 0; r < rows; r++)
+        for (int k = 0; k < n; k++, f++) {
+            fs[f] = q;
+            fv[q++] = r * n + k;
+            fv[q++] = r * n + (k + 1) % n;
+            fv[q++] = (r + 1) * n + (k + 1) % n;
+            fv[q++] = (r + 1) * n + k;
+        }
+    fs[f++] = q;
+    for (int k = n - 1; k >= 0; k--) fv[q++] = k;
+    fs[f++] = q;
+    for (int k = 0; k < n; k++) fv[q++] = rows * n + k;
+    fs[f] = q;
+    q2n_mesh *m = mg_finish(nv, pos, nf, fs, fv, "capped cylinder"), *sub = NULL;
+    q2n_error err;
+    if (m && q2n_mesh_subdivide(m, 1, &sub, &err)) fprintf(stderr, "capped cylinder: %s\n", err.message);
+    q2n_mesh_free(m);
+    return sub;
+}
+
 #endif
