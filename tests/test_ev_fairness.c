@@ -44,18 +44,18 @@ static const fcase shared_cases[] = {
     {"osd_catmark_gregory_test6.obj", 0, {1.26, 1.41}, 44.6, 0},
     {"osd_catmark_fvar_bound3.obj", 0, {1.75, 2.7}, 44.1, 0},
     {"osd_catmark_xord_boundary.obj", 0, {0.7, 0.7}, 37.8, 0},
-    {"osd_catmark_helmet.obj", 0, {1.9, 2.1}, 78, 0},
+    {"osd_catmark_helmet.obj", 0, {1.07, 1.07}, 52.5, 1},
     {"osd_catmark_pawn.obj", 0, {0.3, 0.3}, 5.19, 1},
     {"gismo_ev_valence3.obj", 0, {0.3, 0.3}, 1e-6, 1},
     {"gismo_ev_valence3_carpet.obj", 0, {0.8, 0.85}, 6.3, 0},
     {"gismo_ev_valence5_carpet.obj", 0, {2.0, 1.95}, 26.2, 0},
-    {"gismo_ev_valence6_carpet.obj", 0, {2.15, 2.0}, 40.5, 0},
-    {"gismo_ev_valence7_carpet.obj", 0, {1.7, 1.65}, 43.9, 0},
+    {"gismo_ev_valence6_carpet.obj", 0, {1.74, 1.75}, 35.9, 0},
+    {"gismo_ev_valence7_carpet.obj", 0, {1.42, 1.37}, 40.1, 0},
     {"gismo_ev_valence8_carpet.obj", 0, {1.02, 1.09}, 50.8, 0},
     {"gismo_cube_with_boundary.obj", 0, {0.69, 1.0}, 55.2, 1},
     {"gismo_octtorus_hole.obj", 0, {1.37, 1.37}, 239, 1},
     {"gismo_polycube.obj", 0, {0.5, 0.51}, 155, 0},
-    {"osd_catmark_righthanded.obj", 0, {1.25, 1.35}, 942, 0},
+    {"osd_catmark_righthanded.obj", 0, {0.69, 0.69}, 942, 1},
 };
 
 static void measure(const char *label, const q2n_mesh *m, const q2n_surface *s, double osc_bound, double e_bound,
@@ -129,9 +129,12 @@ int main(void)
      * sectors (x stretched 4:1); acc-g1 figures (fairness.py): 0.043 / 26.3, 0.181 / 110, -, 0.068 / 0.87 */
     generated("icosahedron split into quads", mg_icosa_quad(0, 1), 0.3, 0.3, 79);
     generated("the same, noisy", mg_icosa_quad(0.05, 3), 0.3, 0.3, 100);
-    /* G2 bound 0.34: the converged energy quadrature gives 0.312 there (8 Gauss points gave 0.397:
-     * the solve then minimised a mis-integrated energy; ev_policy.h EV_FAIR_GAUSS_G2) */
-    generated("octahedron on a 3:1:0.5 ellipsoid", mg_octa_quad(3, 1, 0.5), 0.34, 0.45, 330);
+    /* The ripple target is missed here in G2: 0.355 since the valence-4 vertices of extraordinary
+     * regions take the fan's own chart (0.284 with quarter turns and section curves, which made the
+     * helmet, righthanded and the carpets rougher; docs/extraordinary.md, "Charts"); bound + 30 %.
+     * The energy quadrature matters here too: 8 Gauss points gave 0.397 against 0.312 with 12
+     * (quarter-turn charts; ev_policy.h EV_FAIR_GAUSS_G2). */
+    generated("octahedron on a 3:1:0.5 ellipsoid *", mg_octa_quad(3, 1, 0.5), 0.46, 0.45, 330);
     generated("valence 12, two rings", mg_polar_star(12, 3, 1), 0.3, 0.3, 5);
     generated("valence 7, sectors stretched 4:1", mg_polar_star(7, 3, 4), 0.5, 0.65, 6.5);
     /* CAD-like blocks of unit cubes, one quad per cube face: flat faces, sharp edges, every vertex
@@ -153,11 +156,11 @@ int main(void)
     generated("unit cubes: stairs", mg_polycube(5, cs, "stairs"), 0.78, 0.97, 217);
     generated("unit cubes: notched cube", mg_polycube(7, cn, "notched cube"), 1.3, 1.38, 174);
     /* Flat n-gon caps (--subdivide 1: n thin kites around a valence-n vertex, a sharp rim).  With
-     * 12 sides the ripple target holds (0.298; acc-g1 0.050 / 9.5), the energy's does not (36.8
+     * 12 sides the ripple target holds (0.261; acc-g1 0.050 / 9.5), the energy's does not (33.7
      * against 28.5); with 40 the caps ripple one lobe per sector (docs/extraordinary.md, "Found and
-     * not fixed"; acc-g1 0.263 / 82.9 there): 1.99 / 236 measured.  Measured values + 30 %, so that
+     * not fixed"; acc-g1 0.263 / 82.9 there): 1.48 / 249 measured.  Measured values + 30 %, so that
      * neither gets worse unnoticed. */
-    generated("capped cylinder, 12 sides *", mg_capped_cylinder(12, 3, 2.0), 0.39, 0.39, 48);
-    generated("capped cylinder, 40 sides *", mg_capped_cylinder(40, 2, 1.0), 2.6, 1.65, 307);
+    generated("capped cylinder, 12 sides *", mg_capped_cylinder(12, 3, 2.0), 0.34, 0.34, 43.8);
+    generated("capped cylinder, 40 sides *", mg_capped_cylinder(40, 2, 1.0), 1.93, 1.49, 324);
     CHECK_DONE("test_ev_fairness");
 }

@@ -7,14 +7,17 @@
  *     derivatives divided by its edge intervals (Lemma 1 / eq. (15) of seed 003: at a corner the
  *     local parametrization functions have vanishing derivatives, so ∂u S = d ∂x S,
  *     ∂uv S = d e ∂xy S, ...), and the four edges get the directions (±1,0), (0,±1);
- *   - a valence-4 vertex whose two section polylines are long enough for the class (§4.3) takes
- *     the derivatives of those section curves, and its twist from the four far face corners;
+ *   - in the paper's construction (sections = 1), a valence-4 vertex whose two section polylines
+ *     are long enough for the class (§4.3) takes the derivatives of those section curves, and its
+ *     twist from the four far face corners; the fair construction gives such a vertex the fan's
+ *     own chart like any other (quarter turns forced a fan of corners near 154°, 154°, 90°, 90° onto
+ *     right angles and rippled its patches: docs/extraordinary.md, "Charts");
  *   - otherwise it is a least-squares local polynomial in the spirit of Appendix B, eq. (B.3):
  *     the fan is mapped onto the plane with angles η_k proportional to the spatial angles ζ_k
  *     between consecutive edges (as (B.3) does with the angles between its tangent estimates;
- *     summing to 2π inside, π on the boundary, π/2 at a corner; η_k = kπ/2 at valence-4 interior
- *     vertices and boundary vertices with at most two faces, so that section curves through them
- *     stay C2), each neighbour at its spatial distance |p_k - p0| (the r of (B.3); so J1·u_k is
+ *     summing to 2π inside, π on the boundary, π/2 at a corner; η_k = kπ/2 at boundary vertices
+ *     with at most two faces, and at valence-4 interior vertices in the paper's construction, so
+ *     that section curves through them stay C2), each neighbour at its spatial distance |p_k - p0| (the r of (B.3); so J1·u_k is
  *     close to the edge's speed |p_k - p0|/d_k in its local variable, whatever the ratio of the
  *     edge lengths): the discrete exponential map of the fan, which keeps the fan's own angles
  *     up to one factor.  Angles measured after projecting the edges onto an estimated tangent
@@ -169,12 +172,6 @@ void q2n_ev_jet_dn(const ev_vjet *J, const double a[2], double out[3])
     for (int c = 0; c < 3; c++) out[c] = -(J->J1[c][0] * s0 + J->J1[c][1] * s1);
 }
 
-static int vertex_regular(const q2n_mesh *m, int v)
-{
-    if (m->vert_boundary[v]) return m->vert_nfaces[v] <= 2;
-    return m->valence[v] == 4;
-}
-
 static void set_dir(const q2n_mesh *m, double (*dir)[2], int e, int v, double x, double y)
 {
     int end = q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1;
@@ -284,7 +281,7 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, const double nrm[
 /* Gather the fan of v and map it onto the plane: angles from fan_angles (kπ/2 at regular
  * vertices, opposite edges then sharing their length so that section lines through v stay C2),
  * each neighbour at its distance from v.  0 when the fan has no normal (area-weighted). */
-static int fan_gather(const q2n_mesh *m, const double *iv, int v, fan *F)
+static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, fan *F)
 {
     F->n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, F->edges, F->other, F->faces);
     if (F->n < 2) return 0;
@@ -301,7 +298,7 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, fan *F)
     if (!(nn > 0)) return 0;
     q2n_v3_scale(nrm, 1 / nn, nrm);
     for (int k = 0; k < F->n; k++) len[k] = q2n_v3_norm(F->f[k]);
-    int regular = vertex_regular(m, v);
+    int regular = m->vert_boundary[v] ? m->vert_nfaces[v] <= 2 : quarter && m->valence[v] == 4;
     if (regular) {
         for (int k = 0; k + 2 < F->n; k++) { /* equal speeds (len/d) on the two sides */
             double sp = 0.5 * (len[k] / iv[F->edges[k]] + len[k + 2] / iv[F->edges[k + 2]]);
@@ -406,11 +403,11 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
 }
 
 /* Least-squares local polynomial at v (Appendix B, adapted; see the file comment). */
-static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, double (*dir)[2])
+static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, double (*dir)[2], int quarter)
 {
     fan F;
     double nj[3];
-    if (!fan_gather(m, iv, v, &F) || !fit_first(&F, J) || !q2n_ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
+    if (!fan_gather(m, iv, v, quarter, &F) || !fit_first(&F, J) || !q2n_ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
         return 0;
     fit_tangential_second(&F, J);
     for (int k = 0; k < F.n; k++) {
@@ -514,7 +511,8 @@ static int jet_from_sections(const q2n_mesh *m, const double *iv, const q2n_spli
 }
 
 q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
-                          const q2n_spline_class *cls, ev_vjet *jets, double (*dir)[2], q2n_error *err)
+                              const q2n_spline_class *cls, int sections, ev_vjet *jets, double (*dir)[2],
+                              q2n_error *err)
 {
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
     char *need = calloc((size_t)m->nv, 1);
@@ -536,10 +534,11 @@ q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const dou
                 jet_from_regular(m, s, iv, v, faces[k], &jets[v], dir))
                 break;
     }
-    /* pass 2: section curves of the class through regular vertices, else Appendix B */
+    /* pass 2: section curves of the class through valence-4 vertices (the paper's construction),
+     * else Appendix B */
     for (int v = 0; v < m->nv; v++) {
         if (!need[v] || jets[v].source) continue;
-        if (!jet_from_sections(m, iv, cls, v, &jets[v], dir) && !jet_from_fit(m, iv, v, &jets[v], dir)) {
+        if (!(sections && jet_from_sections(m, iv, cls, v, &jets[v], dir)) && !jet_from_fit(m, iv, v, &jets[v], dir, sections)) {
             free(need);
             return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: vertex %d: derivative estimate failed (Appendix B)",
                                  m->name, v);

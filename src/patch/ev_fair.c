@@ -827,7 +827,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     B.unc = unc;
     for (int f = 0; f < m->nf; f++)
         if ((unc[f] = q2n_surface_kind(s, f) == Q2N_PATCH_UNCOVERED)) faces[nf++] = f;
-    if ((st = q2n_ev_vertex_jets(m, s, iv, cls, vj, dir, err))) goto done;
+    if ((st = q2n_ev_vertex_jets(m, s, iv, cls, 0, vj, dir, err))) goto done;
 
     /* jets: initial values (the local estimates; orders 3, 4 zero) and unknowns */
     for (int i = 0; i < m->nv * EV_JS; i++) B.var[i] = -1;
