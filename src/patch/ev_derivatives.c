@@ -278,9 +278,10 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, const double nrm[
     for (int k = 1; k < F->n; k++) eta[k] = eta[k - 1] + zeta[k - 1];
 }
 
-/* Gather the fan of v and map it onto the plane: angles from fan_angles (kπ/2 at regular
- * vertices, opposite edges then sharing their length so that section lines through v stay C2),
- * each neighbour at its distance from v.  0 when the fan has no normal (area-weighted). */
+/* Gather the fan of v and map it onto the plane: angles from fan_angles, or kπ/2 at boundary
+ * vertices with at most two faces and, when `quarter` (the paper's construction), at valence-4
+ * interior vertices — opposite edges then sharing their length so that section lines through v
+ * stay C2 — each neighbour at its distance from v.  0 when the fan has no normal (area-weighted). */
 static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, fan *F)
 {
     F->n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, F->edges, F->other, F->faces);
@@ -402,7 +403,8 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
         for (int c = 0; c < 3; c++) J->J2[c][q] += J->J1[c][0] * R[q] + J->J1[c][1] * R[3 + q];
 }
 
-/* Least-squares local polynomial at v (Appendix B, adapted; see the file comment). */
+/* Least-squares local polynomial at v (Appendix B, adapted; see the file comment); quarter: as
+ * fan_gather. */
 static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, double (*dir)[2], int quarter)
 {
     fan F;
