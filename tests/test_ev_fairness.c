@@ -8,7 +8,7 @@
  * Bounds.  Folds: every face's Jacobian ratio (min / median |Xu x Xv|) at least 0.1, or at least
  * 3/4 of that of the bilinear quad through its vertices where the mesh face itself is more
  * degenerate (osd_catmark_righthanded's face 59 is a near-triangle quad, edges 0.0027 and
- * 0.044–0.068: bilinear 0.074, construction 0.064).  Ripple and energy: the issue's targets — oscillation per EV-face
+ * 0.044–0.068: bilinear 0.074, construction 0.097, 0.064 before the fan charts).  Ripple and energy: the issue's targets — oscillation per EV-face
  * diagonal <= max(0.3, 1.5 x acc-g1's), bending energy on EV faces <= 3 x acc-g1's (acc-g1 figures
  * measured with fairness.py on the acc-g1 STEP files, docs/extraordinary.md) — where the
  * construction meets them; where it does not (docs/extraordinary.md explains each), the measured
