@@ -171,6 +171,13 @@ static long long planned_faces(const q2n_model *m)
  * step makes those rings fine ones: the faces touching such a vertex bring all their children;
  * further steps narrow the regions to Q2N_MEM_EV_REGION_PER_VALENCE fine faces per unit of valence.
  * Zero for the ACC surfaces, which have no such solve. */
+static int face_marked(const q2n_mesh *me, int f, const unsigned char *mk)
+{
+    int hit = 0;
+    for (int k = me->face_start[f]; k < me->face_start[f + 1]; k++) hit |= mk[me->face_vert[k]];
+    return hit;
+}
+
 static double planned_ev_faces(const q2n_model *m, int steps, double faces)
 {
     const q2n_mesh *me = m->mesh;
@@ -192,19 +199,13 @@ static double planned_ev_faces(const q2n_model *m, int steps, double faces)
     }
     for (int r = 0; steps == 0 && r < Q2N_MEM_EV_RINGS; r++) { /* one ring of faces around the marked vertices */
         memcpy(nx, mk, (size_t)me->nv);
-        for (int f = 0; f < me->nf; f++) {
-            int hit = 0;
-            for (int k = me->face_start[f]; k < me->face_start[f + 1]; k++) hit |= mk[me->face_vert[k]];
-            if (hit)
+        for (int f = 0; f < me->nf; f++)
+            if (face_marked(me, f, mk))
                 for (int k = me->face_start[f]; k < me->face_start[f + 1]; k++) nx[me->face_vert[k]] = 1;
-        }
         memcpy(mk, nx, (size_t)me->nv);
     }
-    for (int f = 0; f < me->nf; f++) {
-        int n = me->face_start[f + 1] - me->face_start[f], hit = 0;
-        for (int k = me->face_start[f]; k < me->face_start[f + 1]; k++) hit |= mk[me->face_vert[k]];
-        if (hit) fine += steps == 0 ? 1 : n * pow(4, steps - 1);
-    }
+    for (int f = 0; f < me->nf; f++)
+        if (face_marked(me, f, mk)) fine += steps == 0 ? 1 : (me->face_start[f + 1] - me->face_start[f]) * pow(4, steps - 1);
     free(fc);
     free(mk);
     free(nx);

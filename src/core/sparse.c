@@ -48,6 +48,27 @@ static long first_bad_pivot(const cholmod_factor *L, const cholmod_common *c)
     return -1;
 }
 
+/* Factorise A into L (analysed), refuse an indefinite matrix, solve A X = B (B, X column-major
+ * n x nrhs; X may alias B): the part both entry points share. */
+static q2n_status factor_solve(cholmod_common *c, cholmod_sparse *A, cholmod_factor *L, int n, int nrhs, const double *B,
+                               double *X, q2n_error *err)
+{
+    if (!cholmod_factorize(A, L, c)) return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
+    long bad = first_bad_pivot(L, c);
+    if (bad >= 0) return q2n_error_set(err, Q2N_ERR_GEOMETRY, "sparse system not positive definite at column %ld of %d", bad, n);
+    cholmod_dense *b = cholmod_allocate_dense((size_t)n, (size_t)nrhs, (size_t)n, CHOLMOD_REAL, c), *x = NULL;
+    if (!b) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse solve)");
+    q2n_status st = Q2N_OK;
+    memcpy(b->x, B, sizeof(double) * (size_t)n * (size_t)nrhs);
+    if (!(x = cholmod_solve(CHOLMOD_A, L, b, c)))
+        st = q2n_error_set(err, Q2N_ERR_NOMEM, "sparse solve failed (%d unknowns)", n);
+    else
+        memcpy(X, x->x, sizeof(double) * (size_t)n * (size_t)nrhs);
+    cholmod_free_dense(&x, c);
+    cholmod_free_dense(&b, c);
+    return st;
+}
+
 q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, const double *tv, int nrhs,
                                 const double *B, double *X, q2n_error *err)
 {
@@ -61,7 +82,6 @@ q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, c
     cholmod_triplet *T = cholmod_allocate_triplet((size_t)n, (size_t)n, (size_t)nnz, 1 /* upper */, CHOLMOD_REAL, &c);
     cholmod_sparse *A = NULL;
     cholmod_factor *L = NULL;
-    cholmod_dense *b = NULL, *x = NULL;
     if (!T) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n); goto done; }
     int *Ti = T->i, *Tj = T->j;
     double *Tx = T->x;
@@ -74,24 +94,9 @@ q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, c
     A = cholmod_triplet_to_sparse(T, (size_t)nnz, &c);
     if (!A) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n); goto done; }
     L = cholmod_analyze(A, &c);
-    if (!L || !cholmod_factorize(A, L, &c)) {
-        st = q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
-        goto done;
-    }
-    long bad = first_bad_pivot(L, &c);
-    if (bad >= 0) {
-        st = q2n_error_set(err, Q2N_ERR_GEOMETRY, "sparse system not positive definite at column %ld of %d", bad, n);
-        goto done;
-    }
-    b = cholmod_allocate_dense((size_t)n, (size_t)nrhs, (size_t)n, CHOLMOD_REAL, &c);
-    if (!b) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse solve)"); goto done; }
-    memcpy(b->x, B, sizeof(double) * (size_t)n * (size_t)nrhs);
-    x = cholmod_solve(CHOLMOD_A, L, b, &c);
-    if (!x) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "sparse solve failed (%d unknowns)", n); goto done; }
-    memcpy(X, x->x, sizeof(double) * (size_t)n * (size_t)nrhs);
+    if (!L) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n); goto done; }
+    st = factor_solve(&c, A, L, n, nrhs, B, X, err);
 done:
-    cholmod_free_dense(&x, &c);
-    cholmod_free_dense(&b, &c);
     cholmod_free_factor(&L, &c);
     cholmod_free_sparse(&A, &c);
     cholmod_free_triplet(&T, &c);
@@ -140,25 +145,10 @@ void q2n_sparse_spd_pattern(const q2n_sparse_spd *S, const int **colptr, const i
 
 q2n_status q2n_sparse_spd_factor_solve(q2n_sparse_spd *S, int nrhs, const double *B, double *X, q2n_error *err)
 {
-    int n = S->n;
-    if (n <= 0 || nrhs <= 0) return Q2N_OK;
+    if (S->n <= 0 || nrhs <= 0) return Q2N_OK;
     if (!S->L && !(S->L = cholmod_analyze(S->A, &S->c)))
-        return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
-    if (!cholmod_factorize(S->A, S->L, &S->c))
-        return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
-    long bad = first_bad_pivot(S->L, &S->c);
-    if (bad >= 0) return q2n_error_set(err, Q2N_ERR_GEOMETRY, "sparse system not positive definite at column %ld of %d", bad, n);
-    cholmod_dense *b = cholmod_allocate_dense((size_t)n, (size_t)nrhs, (size_t)n, CHOLMOD_REAL, &S->c), *x = NULL;
-    q2n_status st = Q2N_OK;
-    if (!b) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse solve)");
-    memcpy(b->x, B, sizeof(double) * (size_t)n * (size_t)nrhs);
-    if (!(x = cholmod_solve(CHOLMOD_A, S->L, b, &S->c)))
-        st = q2n_error_set(err, Q2N_ERR_NOMEM, "sparse solve failed (%d unknowns)", n);
-    else
-        memcpy(X, x->x, sizeof(double) * (size_t)n * (size_t)nrhs);
-    cholmod_free_dense(&x, &S->c);
-    cholmod_free_dense(&b, &S->c);
-    return st;
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", S->n);
+    return factor_solve(&S->c, S->A, S->L, S->n, nrhs, B, X, err);
 }
 
 void q2n_sparse_spd_free(q2n_sparse_spd *S)

@@ -10,25 +10,24 @@
  *   - in the paper's construction (sections = 1), a valence-4 vertex whose two section polylines
  *     are long enough for the class (§4.3) takes the derivatives of those section curves, and its
  *     twist from the four far face corners; the fair construction gives such a vertex the fan's
- *     own chart like any other (quarter turns forced a fan of corners near 154°, 154°, 90°, 90° onto
- *     right angles and rippled its patches: docs/extraordinary.md, "Charts");
+ *     own chart like any other (quarter turns forced a fan of corners near 154°, 154°, 90°, 90°
+ *     onto right angles and rippled its patches: docs/extraordinary.md, "Charts");
  *   - otherwise it is a least-squares local polynomial in the spirit of Appendix B, eq. (B.3):
  *     the fan is mapped onto the plane with angles η_k proportional to the spatial angles ζ_k
  *     between consecutive edges (as (B.3) does with the angles between its tangent estimates;
  *     summing to 2π inside, π on the boundary, π/2 at a corner; η_k = kπ/2 at boundary vertices
  *     with at most two faces, and at valence-4 interior vertices in the paper's construction, so
- *     that section curves through them stay C2), each neighbour at its spatial distance |p_k - p0| (the r of (B.3); so J1·u_k is
- *     close to the edge's speed |p_k - p0|/d_k in its local variable, whatever the ratio of the
- *     edge lengths): the discrete exponential map of the fan, which keeps the fan's own angles
- *     up to one factor.  Angles measured after projecting the edges onto an estimated tangent
- *     plane distort every fan that is far from flat: at a concave corner of five right angles
- *     they put two edges 48° apart in the chart, and the patches there folded
- *     (docs/extraordinary.md, "Charts").  J1 is the
- *     linear map that best sends the planar edge vectors X_k onto the spatial ones (weights
- *     1/|X_k|^2); the normal part of J2 is the quadratic form fitting the heights of the one-ring
- *     neighbours and of the far corners of the faces (at X_k + X_k+1) above the tangent plane;
- *     the tangential part of J2 only carries each edge's change of speed (accelerations along
- *     the edges).
+ *     that section curves through them stay C2), each neighbour at its spatial distance
+ *     |p_k - p0| (the r of (B.3); so J1·u_k is close to the edge's speed |p_k - p0|/d_k in its
+ *     local variable, whatever the ratio of the edge lengths): the discrete exponential map of the
+ *     fan, which keeps the fan's own angles up to one factor.  Angles measured after projecting
+ *     the edges onto an estimated tangent plane distort every fan that is far from flat: at a
+ *     concave corner of five right angles they put two edges 48° apart in the chart, and the
+ *     patches there folded (docs/extraordinary.md, "Charts").  J1 is the linear map that best
+ *     sends the planar edge vectors X_k onto the spatial ones (weights 1/|X_k|^2); the normal part
+ *     of J2 is the quadratic form fitting the heights of the one-ring neighbours and of the far
+ *     corners of the faces (at X_k + X_k+1) above the tangent plane; the tangential part of J2
+ *     only carries each edge's change of speed (accelerations along the edges).
  * Why not (B.1)–(B.2) as printed: on fans with very different edge lengths the Bessel-like
  * estimate (B.1) mixes long edges into the tangent of a short one (a tangent can point backwards
  * along its edge) and the degree-3 fit through 2n points is nearly

@@ -441,6 +441,9 @@ typedef struct fe_form {
 
 static inline size_t pk(int nl, int i, int k) { return (size_t)i * (size_t)(2 * nl - i + 1) / 2 + (size_t)(k - i); }
 
+/* Entry q of the face's weighted normal block: bending plus w1 times variation. */
+static inline double form_at(const fe_form *f, size_t q, double w1) { return f->K[0][q] + (w1 != 0 ? w1 * f->K[1][q] : 0); }
+
 static int cmp_int(const void *a, const void *b)
 {
     int x = *(const int *)a, y = *(const int *)b;
@@ -560,17 +563,27 @@ static void *form_worker(void *arg)
  * diagonal), upper triangle in compressed columns, and the sparse factorisation object that keeps
  * its analysis for both passes. */
 typedef struct fe_sys {
-    int n;
     const int *colptr, *rowind; /* the pattern, held by S */
     q2n_sparse_spd *S;
 } fe_sys;
 
 static void sys_free(fe_sys *Y) { q2n_sparse_spd_free(Y->S); }
 
+/* Room for `need` ints in *a (capacity *cap, doubled as it grows); 0 when out of memory. */
+static int grow_ints(int **a, size_t *cap, size_t need)
+{
+    if (need <= *cap) return 1;
+    size_t nc = *cap ? 2 * *cap : 1 << 16;
+    int *r = realloc(*a, nc * sizeof *r);
+    if (!r) return 0;
+    *a = r;
+    *cap = nc;
+    return 1;
+}
+
 static q2n_status sys_build(int n, int nfaces, const fe_form *F, fe_sys *Y, q2n_error *err)
 {
     memset(Y, 0, sizeof *Y);
-    Y->n = n;
     /* faces of each unknown (compressed), then per column the union of their rows <= column */
     int *fstart = calloc((size_t)n + 1, sizeof *fstart), *fl = NULL, *mark = malloc((size_t)(n ? n : 1) * sizeof *mark);
     int *colptr = malloc(((size_t)n + 1) * sizeof *colptr), *rowind = NULL;
@@ -588,13 +601,7 @@ static q2n_status sys_build(int n, int nfaces, const fe_form *F, fe_sys *Y, q2n_
     for (int x = 0; x < n; x++) mark[x] = -1;
     for (int j = 0; j < n; j++) {
         size_t c0 = nnz;
-        if (nnz + 1 > cap) {
-            size_t nc = cap ? 2 * cap : 1 << 16;
-            int *r = realloc(rowind, nc * sizeof *r);
-            if (!r) { st = Q2N_ERR_NOMEM; goto done; }
-            rowind = r;
-            cap = nc;
-        }
+        if (!grow_ints(&rowind, &cap, nnz + 1)) { st = Q2N_ERR_NOMEM; goto done; }
         colptr[j] = (int)nnz;
         mark[j] = j;
         rowind[nnz++] = j;
@@ -608,12 +615,7 @@ static q2n_status sys_build(int n, int nfaces, const fe_form *F, fe_sys *Y, q2n_
                 size_t e = i < ij ? pk(f->nl, i, ij) : pk(f->nl, ij, i);
                 if (f->K[0][e] == 0 && f->K[1][e] == 0) continue; /* no coupling in this face */
                 mark[r] = j;
-                if (nnz + 1 > cap) {
-                    int *rr = realloc(rowind, 2 * cap * sizeof *rr);
-                    if (!rr) { st = Q2N_ERR_NOMEM; goto done; }
-                    rowind = rr;
-                    cap *= 2;
-                }
+                if (!grow_ints(&rowind, &cap, nnz + 1)) { st = Q2N_ERR_NOMEM; goto done; }
                 rowind[nnz++] = r;
             }
         }
@@ -668,9 +670,7 @@ static q2n_status fair_pass(const fe_build *B, fe_sys *Y, int nfaces, const fe_f
                 if (w[t] == 0) continue;
                 for (int c = 0; c < 3; c++) rhs[3 * gi + c] += w[t] * f->r[t][3 * i + c];
             }
-            size_t q = pk(f->nl, i, i);
-            double v = f->K[0][q] + (w[1] != 0 ? w[1] * f->K[1][q] : 0);
-            diag[gi] += v;
+            diag[gi] += form_at(f, pk(f->nl, i, i), w[1]);
         }
     }
     /* ridge towards x0: jets' first and second orders firmer than the rest */
@@ -692,8 +692,7 @@ static q2n_status fair_pass(const fe_build *B, fe_sys *Y, int nfaces, const fe_f
         for (int i = 0; i < f->nl; i++) {
             int gi = f->loc[i];
             for (int k = i; k < f->nl; k++) {
-                size_t q = pk(f->nl, i, k);
-                double v = f->K[0][q] + (w1 != 0 ? w1 * f->K[1][q] : 0);
+                double v = form_at(f, pk(f->nl, i, k), w1);
                 if (v == 0) continue;
                 int gk = f->loc[k], r = gi < gk ? gi : gk, c = gi < gk ? gk : gi;
                 val[sys_at(Y, r, c)] += v * (dg[r] * dg[c]);
