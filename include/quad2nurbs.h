@@ -217,8 +217,10 @@ typedef struct q2n_options {
     q2n_units units;               /* unit of the CAD files [mm] */
     double tol;                    /* fit tolerance relative to the bounding-box diagonal, 1e-12..0.1 [1e-5] */
     double tol_abs;                /* fit tolerance in model units; > 0 replaces tol */
-    double angle_tol_deg;          /* G1 target: normal-angle jump across edges, degrees [0.01] */
-    double curvature_tol;          /* G2 target: curvature jump relative to the curvature [0.01] */
+    double angle_tol_deg;          /* G1 target: normal-angle jump across edges, degrees [0.01 at
+                                      tol <= 1e-5, x tol / 1e-5 above, at most 0.5] */
+    double curvature_tol;          /* G2 target: curvature jump relative to the curvature [0.01 at
+                                      tol <= 1e-5, x tol / 1e-5 above, at most 0.1] */
     q2n_continuity continuity;     /* what the fit imposes [the construction's] */
     int max_spans;                 /* knot spans per patch direction, 1..1024 [64] */
     q2n_gluing gluing;             /* [exact] */

@@ -401,6 +401,13 @@ def test_targets():
           'G1 fit: G2 should be no target, G1 and deviation held: %s' % (m,))
     text = q2n_report.targets_html(dict(audit, mesh={'max_vertex_dist_rel': 3e-6, 'vertices': 9}), None, {})
     check('✘' in text.split('<tr>')[-1], 'a mesh vertex 3e-6 x diagonal off the surface not missed')
+    # the run's own targets (--tol 1e-4 loosens the defaults; --angle-tol sets them): G1 0.05 deg is
+    # held against 0.1, missed against the 0.01 of a report that does not say
+    rep_loose = dict(rep, g1_max_deg=0.05, g1_tol_deg=0.1, g2_tol_rel=0.1)
+    m = marks(dict(audit, g1_max_deg=0.05, g2_max_rel=0.05), rep_loose, {})
+    check(m[1] == (True, False) and m[2] == (True, False), 'G1 0.05 / G2 0.05 against targets 0.1: %s' % (m[:3],))
+    m = marks(dict(audit, g1_max_deg=0.05, g2_max_rel=0.05), dict(rep, g1_max_deg=0.05), {})
+    check(m[1] == (False, True), 'G1 0.05 against the default 0.01: %s' % (m[1],))
 
 
 def test_units(mesh):

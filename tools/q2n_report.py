@@ -49,8 +49,16 @@ except ImportError:  # main() says what is missing
 
 # Policy (report): targets and sizes, each with why.
 TARGET_G0_REL = 1e-9      # watertight: the writers' resolution, 1e-9 x diagonal (docs/export.md)
-TARGET_G1_DEG = 0.01      # the fit's G1 acceptance, g1_met (docs/fit.md)
-TARGET_G2_REL = 0.01      # the fit's G2 acceptance, g2_met: 1 % in the report's measure (docs/fit.md)
+TARGET_G1_DEG = 0.01      # the fit's default G1 acceptance at --tol 1e-5, g1_met (docs/fit.md)
+TARGET_G2_REL = 0.01      # the fit's default G2 acceptance at --tol 1e-5, g2_met: 1 % in the report's measure
+
+
+def continuity_targets(rep):
+    """The run's G1 and G2 acceptance targets: the fit report's (they follow --tol, --angle-tol and
+    --curvature-tol), else the defaults at --tol 1e-5."""
+    if not rep:
+        return TARGET_G1_DEG, TARGET_G2_REL
+    return rep.get('g1_tol_deg') or TARGET_G1_DEG, rep.get('g2_tol_rel') or TARGET_G2_REL
 TARGET_VERTEX_REL = 1e-6  # vertices on the imported surface: OCCT's distToShape is good to ~1e-7 (tests use 1e-6)
 TESS_TRIANGLES = 240000   # whole-part tessellation: a few triangles per supersampled pixel at most
 TESS_MIN, TESS_MAX = 5, 25  # points per face side: coarse faces still curve, fine ones stay cheap
@@ -569,6 +577,7 @@ def summary_html(a, rep, units, path, extra):
 def targets_html(a, rep, extra):
     g2_on = rep is None or str(rep.get('continuity', 'G2')).upper() != 'G1'
     tol = rep.get('tol') if rep else None
+    t_g1, t_g2 = continuity_targets(rep)
     mesh = a.get('mesh')
     rows = []
 
@@ -585,10 +594,10 @@ def targets_html(a, rep, extra):
 
     row('G0 gap / diagonal', TARGET_G0_REL, None, report_get(rep, 'g0_max_rel') if rep else None,
         a['g0_max_rel'], 'g0_max_rel', None, 'g0_max_rel', 'watertight: shared edges')
-    row('G1 normal angle (deg)', TARGET_G1_DEG, report_get(rep, 'construction', 'g1_max_deg') if rep else None,
+    row('G1 normal angle (deg)', t_g1, report_get(rep, 'construction', 'g1_max_deg') if rep else None,
         report_get(rep, 'g1_max_deg') if rep else None, a['g1_max_deg'], 'g1_max_deg', 'construction.g1_max_deg',
         'g1_max_deg', 'largest over all shared edges')
-    row('G2 relative curvature jump', TARGET_G2_REL if g2_on else None,
+    row('G2 relative curvature jump', t_g2 if g2_on else None,
         report_get(rep, 'construction', 'g2_max_rel') if rep else None,
         report_get(rep, 'g2_max_rel') if rep else None, a['g2_max_rel'], 'g2_max_rel', 'construction.g2_max_rel',
         'g2_max_rel', 'jump ÷ largest |curvature| (≥ 1/diagonal)' + ('' if g2_on else '; a G1 fit'))
@@ -614,10 +623,10 @@ def targets_html(a, rep, extra):
     return '<table>%s%s</table>%s' % (head, ''.join(rows), flags)
 
 
-def worst_tables(detail, diag):
+def worst_tables(detail, diag, rep):
     out = []
-    cols = (('g0', 'G0 gap / diag', TARGET_G0_REL), ('g1_deg', 'G1 (deg)', TARGET_G1_DEG),
-            ('g2_rel', 'G2 rel', TARGET_G2_REL))
+    t_g1, t_g2 = continuity_targets(rep)
+    cols = (('g0', 'G0 gap / diag', TARGET_G0_REL), ('g1_deg', 'G1 (deg)', t_g1), ('g2_rel', 'G2 rel', t_g2))
     for key, label, target in cols:
         rows = sorted(detail, key=lambda d: -d[key])[:WORST_EDGES]
         trs = []
@@ -766,7 +775,7 @@ def build(args):
     ev_note = ('%d extraordinary %s; the close-up shows the one whose faces span the largest range of mean '
                'curvature (times their radius around it).' % (len(evs), 'vertex' if len(evs) == 1 else 'vertices')
                if evs else 'The part has no extraordinary vertex.')
-    imgs['hist'] = (histograms(a['edge_detail'], diag, (TARGET_G0_REL, TARGET_G1_DEG, TARGET_G2_REL))
+    imgs['hist'] = (histograms(a['edge_detail'], diag, (TARGET_G0_REL,) + continuity_targets(rep))
                     if a['edge_detail'] else None)
     imgs['poles'] = poles_views(wv, tess, datas)
     if dev is not None:
@@ -822,7 +831,7 @@ def page_html(path, a, rep, units, extra, imgs, ev_note, clock, args):
               '<h2 id="edges">4. Per-edge continuity</h2>']
     if imgs['hist']:
         parts += [img(imgs['hist'], 'per-edge histograms'), note(LEGEND_HIST),
-                  worst_tables(a['edge_detail'], a['bbox_diag'])]
+                  worst_tables(a['edge_detail'], a['bbox_diag'], rep)]
     else:
         parts.append(note('The part has no edge shared by two faces.'))
     parts += ['<h2 id="deviation">5. Deviation from the construction and weight of the file</h2>']

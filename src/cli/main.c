@@ -334,7 +334,7 @@ static void fmt_length(double v, q2n_units u, double mm, int utf8, char *out, si
         {1, "m", "m"}, {1e-3, "mm", "mm"}, {1e-6, "\xc2\xb5m", "um"}, {1e-9, "nm", "nm"}};
     int i = 0;
     while (i < 3 && fabs(m) < P[i].f) i++;
-    snprintf(out, n, "%.2g %s", m / P[i].f, utf8 ? P[i].s : P[i].a);
+    snprintf(out, n, "%.3g %s", m / P[i].f, utf8 ? P[i].s : P[i].a);
 }
 
 static void summary(const cli_options *o, const q2n_report *r, int fit, int utf8)
@@ -345,9 +345,12 @@ static void summary(const cli_options *o, const q2n_report *r, int fit, int utf8
     if (fit) {
         char abs[48];
         fmt_length(r->max_dev, r->units, r->unit_mm, utf8, abs, sizeof abs);
-        n += snprintf(line + n, sizeof line - (size_t)n, ", fit %.3f s (max dev %.2g %s diag = %s, G1 %.2g%s", r->t_fit,
-                      r->max_dev_rel, utf8 ? "\xc3\x97" : "x", abs, r->g1_max_deg, utf8 ? "\xc2\xb0" : " deg");
-        if (r->continuity == 2) n += snprintf(line + n, sizeof line - (size_t)n, ", G2 %.2g %%", 100 * r->g2_max_rel);
+        const char *deg = utf8 ? "\xc2\xb0" : " deg";
+        n += snprintf(line + n, sizeof line - (size_t)n, ", fit %.3f s (max dev %.2g %s diag = %s, G1 %.2g%s (target %.2g%s)",
+                      r->t_fit, r->max_dev_rel, utf8 ? "\xc3\x97" : "x", abs, r->g1_max_deg, deg, r->g1_tol_deg, deg);
+        if (r->continuity == 2)
+            n += snprintf(line + n, sizeof line - (size_t)n, ", G2 %.2g %% (target %.2g %%)", 100 * r->g2_max_rel,
+                          100 * r->g2_tol_rel);
         n += snprintf(line + n, sizeof line - (size_t)n, ", control points per face %d/%d/%d min/median/max",
                       r->cp_min, r->cp_median, r->cp_max);
         if (r->step_bytes)

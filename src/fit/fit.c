@@ -30,9 +30,13 @@ void q2n_fit_options_default(q2n_fit_options *o)
     o->solver = Q2N_FIT_SOLVER_CERES;
     o->max_spans = Q2N_FIT_MAX_SPANS_DEFAULT;
     o->max_rounds = Q2N_FIT_MAX_ROUNDS_DEFAULT;
-    o->g1_tol_deg = Q2N_FIT_G1_TARGET_DEFAULT;
-    o->g2_tol_rel = Q2N_FIT_G2_TARGET_DEFAULT;
     o->g1_weight = Q2N_FIT_G1_WEIGHT_DEFAULT;
+}
+
+double q2n_fit_default_target(double tol, double base, double cap)
+{
+    double f = tol > Q2N_FIT_TOL_DEFAULT ? tol / Q2N_FIT_TOL_DEFAULT : 1.0;
+    return base * f < cap ? base * f : cap;
 }
 
 static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
@@ -46,8 +50,6 @@ static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
     if (o->threads > Q2N_FIT_MAX_THREADS) o->threads = Q2N_FIT_MAX_THREADS;
     if (o->max_spans <= 0) o->max_spans = d.max_spans;
     if (o->max_rounds <= 0) o->max_rounds = d.max_rounds;
-    if (o->g1_tol_deg <= 0) o->g1_tol_deg = d.g1_tol_deg;
-    if (o->g2_tol_rel <= 0) o->g2_tol_rel = d.g2_tol_rel;
     if (o->g1_weight <= 0) o->g1_weight = d.g1_weight;
 }
 
@@ -436,6 +438,8 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     fill_defaults(&c.o, opt);
     c.diag = q2n_mesh_bbox_diag(m);
     if (c.o.tol_abs > 0 && c.diag > 0) c.o.tol = c.o.tol_abs / c.diag;
+    if (c.o.g1_tol_deg <= 0) c.o.g1_tol_deg = q2n_fit_default_target(c.o.tol, Q2N_FIT_G1_TARGET_DEFAULT, Q2N_FIT_G1_TARGET_CAP);
+    if (c.o.g2_tol_rel <= 0) c.o.g2_tol_rel = q2n_fit_default_target(c.o.tol, Q2N_FIT_G2_TARGET_DEFAULT, Q2N_FIT_G2_TARGET_CAP);
     q2n_fit_ls_init(&c.ls);
     double t0 = q2n_now();
     q2n_status st = nbez == m->nf ? q2n_fit_convert_bezier(s, m, &c.o, out, &rep, err) : fit_all(&c, out);

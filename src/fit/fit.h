@@ -31,11 +31,12 @@ typedef struct q2n_fit_options {
     int solver;            /* q2n_fit_solver [Q2N_FIT_SOLVER_CERES] */
     int max_spans;         /* cap on knot spans per patch direction [64] (--max-spans) */
     int max_rounds;        /* refinement rounds [12] */
-    double g1_tol_deg;     /* G1 acceptance: normal-angle jump across edges [0.01 degrees];
+    double g1_tol_deg;     /* G1 acceptance: normal-angle jump across edges [0.01 degrees at tol <=
+                              1e-5, times tol / 1e-5 above, at most 0.5: q2n_fit_default_target];
                               refinement aims at half of it */
-    double g2_tol_rel;     /* G2 acceptance: relative normal-curvature jump, G2 mode [0.01];
-                              refinement aims at half of it */
-    double g1_weight;      /* weight of least-squares gluing rows against sample fidelity [100] */
+    double g2_tol_rel;     /* G2 acceptance: relative normal-curvature jump, G2 mode [0.01 at tol <=
+                              1e-5, times tol / 1e-5 above, at most 0.1]; refinement aims at half of it */
+    double g1_weight;      /* weight of least-squares gluing rows against sample fidelity [10] */
     int no_exact;          /* 1: impose every gluing relation by least squares (no equality constraints) [0] */
     double tol_abs;        /* > 0: deviation tolerance in model units, replaces tol (tol = tol_abs /
                               bounding-box diagonal) */
@@ -79,6 +80,10 @@ typedef struct q2n_fit_report {
 } q2n_fit_report;
 
 void q2n_fit_options_default(q2n_fit_options *o);
+
+/* The default continuity target for relative tolerance tol: base at tol <= 1e-5, base * tol / 1e-5
+ * above, at most cap (fit_policy.h says why). */
+double q2n_fit_default_target(double tol, double base, double cap);
 
 /* Fit (or convert) every patch of s (one per face of m; all faces quads) into *out (free with
  * q2n_nurbs_model_free).  rep may be NULL.  Fails with Q2N_ERR_UNSUPPORTED for uncovered

@@ -10,6 +10,14 @@
 #define Q2N_FIT_MAX_ROUNDS_DEFAULT 12   /* bisection halves a span per round: 2^11 spans of refinement is far beyond the span cap */
 #define Q2N_FIT_G1_TARGET_DEFAULT 0.01  /* degrees of normal jump a CAD kernel still calls tangent-continuous (OCCT's angular tolerance is 0.01 rad; we stay far below) */
 #define Q2N_FIT_G2_TARGET_DEFAULT 0.01  /* relative curvature jump: 1 % is invisible in zebra stripes and curvature combs */
+/* The two defaults above hold at tol <= Q2N_FIT_TOL_DEFAULT; a looser tol loosens them in proportion
+ * (tol / Q2N_FIT_TOL_DEFAULT), up to the caps: a normal jump θ moves the surface by ~θ·h at distance h
+ * from the edge and a relative curvature jump ε by ~ε·κ·h²/2, both linear in the jump, so targets held
+ * fixed while the tolerance grows buy precision the user did not ask for (at --tol 1e-4 they set most
+ * of the spans on meshes with extraordinary vertices: docs/fit.md).  --angle-tol / --curvature-tol
+ * override. */
+#define Q2N_FIT_G1_TARGET_CAP 0.5       /* degrees: below OCCT's angular tolerance (0.01 rad = 0.57 deg), so edges still import as tangent */
+#define Q2N_FIT_G2_TARGET_CAP 0.1       /* a 10 % curvature jump starts to show in curvature combs: beyond it the surface is not G2 in any useful sense */
 #define Q2N_FIT_G1_WEIGHT_DEFAULT 10.0  /* least-squares gluing rows against fidelity rows: a row with one free point cannot satisfy both, and 100 cost deviation where refinement was about to make both hold */
 
 /* ---- refinement ---- */
