@@ -188,16 +188,24 @@ q2n_status q2n_model_read(const char *mesh_path, const q2n_model_options *opt, q
 }
 
 /* The augmented construction's extraordinary patches handle vertices of valence up to
- * Q2N_EV_MAX_VALENCE: a higher one is refused here, with the line of a face at it. */
+ * Q2N_EV_MAX_VALENCE, and interior vertices of at least 3 faces (two faces sharing two edges at an
+ * interior vertex have no tangent plane there to interpolate): others are refused here, with the line
+ * of a face at the vertex. */
 static q2n_status check_valence(const q2n_model *m, q2n_error *err)
 {
     const q2n_mesh *me = m->mesh;
     for (int v = 0; v < me->nv; v++) {
-        if (me->valence[v] <= Q2N_EV_MAX_VALENCE) continue;
+        int low = !me->vert_boundary[v] && me->valence[v] < 3 && me->valence[v] > 0;
+        if (me->valence[v] <= Q2N_EV_MAX_VALENCE && !low) continue;
         int f = me->vert_he[v] >= 0 ? me->he_face[me->vert_he[v]] : 0, line = me->face_line ? me->face_line[f] : 0;
         char where[300];
         if (line > 0) snprintf(where, sizeof where, "%s:%d", me->name, line);
         else snprintf(where, sizeof where, "%s: face %d", me->name, f);
+        if (low)
+            return q2n_error_set(err, Q2N_ERR_TOPOLOGY,
+                                 "%s: vertex %d (of this face) is an interior vertex of only %d faces: they share two "
+                                 "edges there and leave no tangent plane to interpolate (merge them into one face)",
+                                 where, v + 1, me->valence[v]);
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
                              "%s: vertex %d (of this face) has valence %d; the augmented construction handles at "
                              "most %d (--surface acc3 or acc-g1 have no limit)", where, v + 1, me->valence[v],
