@@ -239,6 +239,7 @@ static void tolerances(void)
                   strstr(d, "\"g1_met\": true") && strstr(d, "\"g2_met\": true") && strstr(err, "(target "),
               "--tol %s: default targets %g deg, %g in the report (expected %g, %g); '%s'", D[i].tol, jnum(d, "g1_tol_deg"),
               jnum(d, "g2_tol_rel"), D[i].g1, D[i].g2, err);
+        CHECK(jnum(d, "folded_faces") == 0 && jnum(d, "first_folded_face") == -1, "cube: folds in the report");
     }
     CHECK(rc == 0 && strstr(err, "max dev ") && strstr(err, "diag = ") && (strstr(err, " nm") || strstr(err, " um") ||
           strstr(err, " \xc2\xb5m") || strstr(err, " mm")) && (strstr(err, " deg") || strstr(err, "\xc2\xb0")) &&
@@ -509,6 +510,12 @@ int main(void)
     snprintf(args, sizeof args, "sample --grid 2 %s/dart.obj", dir);
     CHECK(run(args, err, sizeof err, NULL) == 0 && strstr(err, "warning: ") &&
           strstr(err, "dart.obj:21: face 4: the surface folds over"), "dart: %s", err);
+    /* and counted in the fit report, under the construction */
+    snprintf(args, sizeof args, "-q %s/dart.obj -o %s/dart.json", dir, dir);
+    char *dj = run(args, err, sizeof err, NULL) == 0 ? report("dart.json") : NULL;
+    CHECK(dj && jnum(dj, "folded_faces") >= 1 && strstr(dj, "\"first_folded_face\": 4}"), "dart report: %s",
+          dj ? dj : err);
+    free(dj);
     const char *torus = chk_shared_mesh("osd_catmark_torus.obj");
     if (torus) {
         snprintf(args, sizeof args, "sample --grid 4 %s", torus);

@@ -86,6 +86,7 @@ static q2n_status scan_patches(q2n_model *m, q2n_error *err)
     char where[320] = "";
     double fu = 0, fv = 0;
     m->folded = 0;
+    m->folded_face = -1;
     for (int k = 0; k < m->mesh->nf; k++) {
         if (q2n_surface_kind(m->surface, k) == Q2N_PATCH_UNCOVERED) continue;
         double area[3], u = 0, v = 0;
@@ -97,7 +98,7 @@ static q2n_status scan_patches(q2n_model *m, q2n_error *err)
             face_where(m, k, where, sizeof where);
             return q2n_error_set(err, st, "%s: the surface cannot be evaluated", where);
         }
-        if (folded && m->folded++ == 0) face_where(m, k, where, sizeof where), fu = u, fv = v;
+        if (folded && m->folded++ == 0) face_where(m, k, where, sizeof where), fu = u, fv = v, m->folded_face = k;
     }
     if (m->folded) {
         int len = snprintf(m->warning, sizeof m->warning, "%s: the surface folds over (at u %.3g, "
@@ -351,6 +352,8 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     q2n_nurbs_model_free(m->nurbs);
     m->nurbs = NULL;
     q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &m->nurbs, &m->fit, err);
+    m->fit.folded_faces = m->folded; /* the construction's scan, for the report */
+    m->fit.folded_face = m->folded_face;
     if (m->nurbs) { /* into output coordinates; relative figures stay */
         q2n_error e2;
         q2n_status st2 = map_nurbs(m, &e2);

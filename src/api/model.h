@@ -64,6 +64,7 @@ typedef struct q2n_model {
     int input_faces;           /* faces of the mesh as read (before any subdivision) */
     char warning[320];         /* e.g. the first face whose surface folds over; "" when none */
     int folded;                /* faces whose surface folds over (normal against the face's) */
+    int folded_face;           /* the first of them (-1: none) */
     q2n_fit_options fit_opt;   /* settings kept for later q2n_model_fit calls (public API) */
     q2n_export_options export_opt;
     int tess;                  /* public API: tessellation points per patch side */

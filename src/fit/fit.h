@@ -74,6 +74,8 @@ typedef struct q2n_fit_report {
     double g1_max_deg;         /* max normal-angle jump across interior edges (fitted) */
     double g2_max_rel;         /* max normal-curvature jump / local curvature (fitted) */
     double g1_construction_deg, g2_construction_rel;  /* the same on the construction itself */
+    int folded_faces, folded_face; /* faces whose construction folds over, the first (-1: none); set by
+                                      the caller that scanned it (q2n_model_fit), else 0 and -1 */
     double t_sample, t_build, t_solve, t_measure, t_total;  /* seconds per stage */
     long step_bytes, iges_bytes;   /* sizes of the CAD files written from this fit (0: none; set by the writer's caller) */
     int solver, threads;        /* threads: the number used */
