@@ -346,8 +346,9 @@ static void summary(const cli_options *o, const q2n_report *r, int fit, int utf8
         char abs[48];
         fmt_length(r->max_dev, r->units, r->unit_mm, utf8, abs, sizeof abs);
         const char *deg = utf8 ? "\xc2\xb0" : " deg";
-        n += snprintf(line + n, sizeof line - (size_t)n, ", fit %.3f s (max dev %.2g %s diag = %s, G1 %.2g%s (target %.2g%s)",
-                      r->t_fit, r->max_dev_rel, utf8 ? "\xc3\x97" : "x", abs, r->g1_max_deg, deg, r->g1_tol_deg, deg);
+        n += snprintf(line + n, sizeof line - (size_t)n,
+                      ", fit %.3f s (max dev %.2g %s diag = %s, G1 %.2g%s (target %.2g%s)", r->t_fit, r->max_dev_rel,
+                      utf8 ? "\xc3\x97" : "x", abs, r->g1_max_deg, deg, r->g1_tol_deg, deg);
         if (r->continuity == 2)
             n += snprintf(line + n, sizeof line - (size_t)n, ", G2 %.2g %% (target %.2g %%)", 100 * r->g2_max_rel,
                           100 * r->g2_tol_rel);

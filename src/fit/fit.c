@@ -438,8 +438,10 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     fill_defaults(&c.o, opt);
     c.diag = q2n_mesh_bbox_diag(m);
     if (c.o.tol_abs > 0 && c.diag > 0) c.o.tol = c.o.tol_abs / c.diag;
-    if (c.o.g1_tol_deg <= 0) c.o.g1_tol_deg = q2n_fit_default_target(c.o.tol, Q2N_FIT_G1_TARGET_DEFAULT, Q2N_FIT_G1_TARGET_CAP);
-    if (c.o.g2_tol_rel <= 0) c.o.g2_tol_rel = q2n_fit_default_target(c.o.tol, Q2N_FIT_G2_TARGET_DEFAULT, Q2N_FIT_G2_TARGET_CAP);
+    if (c.o.g1_tol_deg <= 0)
+        c.o.g1_tol_deg = q2n_fit_default_target(c.o.tol, Q2N_FIT_G1_TARGET_DEFAULT, Q2N_FIT_G1_TARGET_CAP);
+    if (c.o.g2_tol_rel <= 0)
+        c.o.g2_tol_rel = q2n_fit_default_target(c.o.tol, Q2N_FIT_G2_TARGET_DEFAULT, Q2N_FIT_G2_TARGET_CAP);
     q2n_fit_ls_init(&c.ls);
     double t0 = q2n_now();
     q2n_status st = nbez == m->nf ? q2n_fit_convert_bezier(s, m, &c.o, out, &rep, err) : fit_all(&c, out);
