@@ -7,7 +7,8 @@
  *    with the scaling Δ built from the mesh's edge intervals (eq. 7, 14);
  *  - the mean parametrization gives rectangles (tensor-product patches: δ constant);
  *  - the face parametrization of patch/surface.h (corner and side tables, side frames and their
- *    chain rule) against the table written out and finite differences. */
+ *    chain rule) against the table written out and finite differences;
+ *  - the exact corner hook (mixed partials up to ∂u²∂v²) against converging one-sided differences. */
 #include "check.h"
 #include "meshgen.h"
 #include "core/vec3.h"
@@ -265,6 +266,51 @@ static void check_mean_rectangles(const q2n_mesh *m)
     free(iv);
 }
 
+/* The exact corner hook (q2n_surface_corner_mixed): ∂u^a ∂v^b S, a, b = 1, 2, at every corner of
+ * every patch against one-sided second-order differences of the evaluated second derivatives
+ * (S_uv exact; S_uuv, S_uvv from S_uv by 3 points, S_uuvv from S_uu by 4), at h and h/2: the error
+ * must be the differences' own truncation (it falls ~4x when h halves), relative to |S_u| + |S_v|. */
+static void check_corner_hook(const char *label, const q2n_surface *s, int nf)
+{
+    double worst[2] = {0, 0};
+    int n = 0, bad = 0;
+    for (int k = 0; k < nf; k++) {
+        if (q2n_surface_kind(s, k) != Q2N_PATCH_AUGMENTED) continue;
+        for (int c = 0; c < 4; c++) {
+            int i = c & 1, j = c >> 1;
+            double X[2][2][2][3];
+            if (q2n_surface_corner_mixed(s, k, i, j, X) != Q2N_OK) { bad++; continue; }
+            if (memcmp(X[0], X[1], sizeof X[0])) bad++;
+            const double *H[4] = {X[0][0][0], X[0][1][0], X[0][0][1], X[0][1][1]};
+            for (int lev = 0; lev < 2; lev++) {
+                double h = lev ? 5e-4 : 1e-3, su = i ? -1 : 1, sv = j ? -1 : 1, o[6][Q2N_EVAL_MAX];
+                q2n_surface_eval(s, k, i, j, 2, o[0]);
+                q2n_surface_eval(s, k, i + su * h, j, 2, o[1]);
+                q2n_surface_eval(s, k, i + 2 * su * h, j, 2, o[2]);
+                q2n_surface_eval(s, k, i, j + sv * h, 2, o[3]);
+                q2n_surface_eval(s, k, i, j + 2 * sv * h, 2, o[4]);
+                q2n_surface_eval(s, k, i, j + 3 * sv * h, 2, o[5]);
+                double scale = q2n_v3_norm(o[0] + Q2N_EV_U) + q2n_v3_norm(o[0] + Q2N_EV_V), e = 0;
+                for (int q = 0; q < 3; q++) {
+                    double F[4] = {o[0][Q2N_EV_UV + q],
+                                   su * (-3 * o[0][Q2N_EV_UV + q] + 4 * o[1][Q2N_EV_UV + q] - o[2][Q2N_EV_UV + q]) / (2 * h),
+                                   sv * (-3 * o[0][Q2N_EV_UV + q] + 4 * o[3][Q2N_EV_UV + q] - o[4][Q2N_EV_UV + q]) / (2 * h),
+                                   (2 * o[0][Q2N_EV_UU + q] - 5 * o[3][Q2N_EV_UU + q] + 4 * o[4][Q2N_EV_UU + q] -
+                                    o[5][Q2N_EV_UU + q]) / (h * h)};
+                    for (int t = 0; t < 4; t++) e = fmax(e, fabs(H[t][q] - F[t]) / scale);
+                }
+                worst[lev] = fmax(worst[lev], e);
+            }
+            n++;
+        }
+    }
+    printf("  %s: corner hook at %d corners vs differences: %.2e (h 1e-3), %.2e (h 5e-4)\n", label, n, worst[0],
+           worst[1]);
+    CHECK(bad == 0 && n > 0, "%s: %d corners without the hook or with disagreeing sides", label, bad);
+    CHECK(worst[1] < 1e-3 && (worst[1] < 1e-9 || worst[1] < 0.35 * worst[0]),
+          "%s: corner hook vs differences %g (h) / %g (h/2): not converging to it", label, worst[0], worst[1]);
+}
+
 int main(void)
 {
     test_conventions();
@@ -304,8 +350,21 @@ int main(void)
         if (!m) continue;
         char label[64];
         snprintf(label, sizeof label, "perturbed torus #%u", seed);
-        for (const q2n_spline_class *const *c = q2n_spline_classes(); *c; c++)
+        for (const q2n_spline_class *const *c = q2n_spline_classes(); *c; c++) {
             check_mesh(label, m, (*c)->name, Q2N_PARAM_CENTRIPETAL, 1, &st);
+            double *iv = NULL;
+            q2n_surface *s = NULL;
+            q2n_param_options po = {Q2N_PARAM_CENTRIPETAL, 0.5};
+            q2n_augmented_options ao = {*c, po};
+            q2n_error err;
+            if (q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK && q2n_augmented_build(m, &ao, iv, &s, &err) == Q2N_OK) {
+                char l2[96];
+                snprintf(l2, sizeof l2, "%s, %s", label, (*c)->name);
+                check_corner_hook(l2, s, m->nf);
+            } else CHECK(0, "%s: build: %s", label, err.message);
+            q2n_surface_free(s);
+            free(iv);
+        }
         check_mesh(label, m, "D5C2P2S4", Q2N_PARAM_CHORDAL, 1, &st);
         check_mesh(label, m, "D5C2P2S4", Q2N_PARAM_MEAN, 1, &st);
         q2n_mesh_free(m);

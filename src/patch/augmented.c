@@ -422,6 +422,77 @@ void q2n_augmented_eval(const q2n_augmented_patch *p, double u, double v, int nd
     assemble(p, nder, F, Gv, out);
 }
 
+/* Mixed partials ∂u^a ∂v^b S (a, b <= 2) at (u, v): the same sum as q2n_augmented_eval with the full
+ * 3 x 3 table of the fundamental functions' partials (basis derivatives in the own variable, the
+ * coefficients' jets in the cross one) and Leibniz's rule over both factors of eq. (10):
+ *   S_ab = Σ_{a'<=a, b'<=b} C(a,a') C(b,b') Σ_j (Σ_i p_ij ψ_i^{a'b'}) φ_j^{(b-b')(a-a')},
+ * ψ^{a'b'} = ∂u^a' ∂v^b' ψ, φ^{cd} = ∂v^c ∂u^d φ. */
+static void augmented_mixed(const q2n_augmented_patch *p, double u, double v, double S[3][3][3])
+{
+    int w = p->w, nb = p->cls->nb;
+    q2n_jet Cu[Q2N_SPLINE_MAXB * MAXW], Cv[Q2N_SPLINE_MAXB * MAXW];
+    double Bu[4 * Q2N_SPLINE_MAXB], Bv[4 * Q2N_SPLINE_MAXB], Psi[3][3][MAXW], Phi[3][3][MAXW];
+    u_coeffs(p, v, Cu);
+    v_coeffs(p, u, Cv);
+    p->cls->basis(u, 2, Bu);
+    p->cls->basis(v, 2, Bv);
+    for (int a = 0; a <= 2; a++)
+        for (int b = 0; b <= 2; b++)
+            for (int i = 0; i < w; i++) {
+                double x = 0, y = 0;
+                for (int r = 0; r < nb; r++) {
+                    x += Bu[a * nb + r] * Cu[r * w + i].d[b];
+                    y += Bv[a * nb + r] * Cv[r * w + i].d[b];
+                }
+                Psi[a][b][i] = x;
+                Phi[a][b][i] = y;
+            }
+    double R[3][3][MAXW][3]; /* R[a'][b'][j] = Σ_i p_ij ψ_i^{a'b'} */
+    for (int a = 0; a <= 2; a++)
+        for (int b = 0; b <= 2; b++)
+            for (int j = 0; j < w; j++) {
+                const double *P = p->P + 3 * j * w;
+                double x = 0, y = 0, z = 0;
+                for (int i = 0; i < w; i++) {
+                    double f = Psi[a][b][i];
+                    x += f * P[3 * i];
+                    y += f * P[3 * i + 1];
+                    z += f * P[3 * i + 2];
+                }
+                R[a][b][j][0] = x, R[a][b][j][1] = y, R[a][b][j][2] = z;
+            }
+    for (int a = 0; a <= 2; a++)
+        for (int b = 0; b <= 2; b++) {
+            double x = 0, y = 0, z = 0;
+            for (int a1 = 0; a1 <= a; a1++)
+                for (int b1 = 0; b1 <= b; b1++) {
+                    double c = q2n_binom[a][a1] * q2n_binom[b][b1];
+                    const double *ph = Phi[b - b1][a - a1];
+                    for (int j = 0; j < w; j++) {
+                        double f = c * ph[j];
+                        x += f * R[a1][b1][j][0];
+                        y += f * R[a1][b1][j][1];
+                        z += f * R[a1][b1][j][2];
+                    }
+                }
+            S[a][b][0] = x, S[a][b][1] = y, S[a][b][2] = z;
+        }
+}
+
+/* The exact corner hook (q2n_surface_set_patch_corner): the patch is smooth at its corners, so both
+ * sides through one report the same partials. */
+static q2n_status corner_cb(const void *data, int i, int j, double out[2][2][2][3])
+{
+    q2n_augmented_patch p;
+    expand(data, &p);
+    double S[3][3][3];
+    augmented_mixed(&p, i, j, S);
+    for (int sd = 0; sd < 2; sd++)
+        for (int a = 1; a <= 2; a++)
+            for (int b = 1; b <= 2; b++) memcpy(out[sd][a - 1][b - 1], S[a][b], sizeof S[a][b]);
+    return Q2N_OK;
+}
+
 static q2n_status eval_cb(const void *data, double u, double v, int nder, double *out)
 {
     q2n_augmented_patch p;
@@ -586,6 +657,7 @@ q2n_status q2n_augmented_build(const q2n_mesh *m, const q2n_augmented_options *o
         pool->refs++;
         q2n_surface_set_patch(s, f, Q2N_PATCH_AUGMENTED, a, eval_cb, free_stored);
         q2n_surface_set_patch_grid(s, f, eval_grid_cb);
+        q2n_surface_set_patch_corner(s, f, corner_cb);
     }
     int failed = pool->n < 0;
     if (--pool->refs == 0) { free(pool->pts); free(pool); }
