@@ -246,8 +246,11 @@ double q2n_fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b)
 /* ------------------------------------------------------------------ setup */
 
 /* CGLS for min |M x - r| (M sparse: rows of 4 entries +-1 over edges), from x = 0: the minimum-norm
- * solution for a consistent system.  Returns the final max residual. */
-static double cgls(int n, int nrow, const int (*col)[4], const double (*val)[4], const double *r, double *x, int maxit)
+ * solution for a consistent system; it stops when every equation is met to within stop (checked every
+ * 10 iterations), when the normal equations' residual has fallen by 1e-30, or after maxit.  Returns the
+ * final max residual. */
+static double cgls(int n, int nrow, const int (*col)[4], const double (*val)[4], const double *r, double *x, int maxit,
+                   double stop)
 {
     double *res = malloc(sizeof(double) * (size_t)nrow), *s = calloc((size_t)n, sizeof(double));
     double *p = calloc((size_t)n, sizeof(double)), *q = malloc(sizeof(double) * (size_t)nrow);
@@ -262,6 +265,11 @@ static double cgls(int n, int nrow, const int (*col)[4], const double (*val)[4],
     for (int j = 0; j < n; j++) gamma += s[j] * s[j];
     g0 = gamma;
     for (int it = 0; it < maxit && gamma > 1e-30 * (g0 > 0 ? g0 : 1); it++) {
+        if (it % 10 == 0) {
+            double mr = 0.0;
+            for (int i = 0; i < nrow; i++) mr = fmax(mr, fabs(res[i]));
+            if (mr <= stop) break;
+        }
         double qq = 0.0;
         for (int i = 0; i < nrow; i++) {
             q[i] = 0.0;
@@ -341,7 +349,7 @@ q2n_status q2n_fit_target_setup(fit_ctx *c)
             row_e[nrow++] = e;
         }
         if (!nrow) break;
-        cgls(ne, nrow, (const int (*)[4])col, (const double (*)[4])val, r, x, Q2N_FIT_SPEED_ITER);
+        cgls(ne, nrow, (const int (*)[4])col, (const double (*)[4])val, r, x, Q2N_FIT_SPEED_ITER, Q2N_FIT_SPEED_STOP);
         int dropped = 0;
         for (int i = 0; i < nrow; i++) {
             double w = -r[i];
