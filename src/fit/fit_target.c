@@ -88,11 +88,11 @@ static void side_lin(const fit_ctx *c, int k, int i, double t, double *l, double
 /* alpha(x) and alpha'(x) of edge e at owner parameter x from the construction's frame derivatives
  * of both sides (d_s S_R(1 - x) = alpha d_s S_L(x); differentiating, -d_ts S_R = alpha' d_s S_L +
  * alpha d_ts S_L, projected on d_s S_L). */
-static q2n_status edge_alpha(const fit_ctx *c, int e, double x, double *al, double *dal)
+static q2n_status edge_alpha(const fit_ctx *c, int e, double x, double *al, double *dal, double DL[6][3],
+                             double DR[6][3])
 {
     const q2n_mesh *m = c->m;
     int h = m->edge_he[e], ht = m->he_twin[h], fL = m->he_face[h], fR = m->he_face[ht];
-    double DL[6][3], DR[6][3];
     q2n_status st = q2n_fit_frame_eval(c->s, fL, h - m->face_start[fL], x, 0.0, 2, DL);
     if (!st) st = q2n_fit_frame_eval(c->s, fR, ht - m->face_start[fR], 1.0 - x, 0.0, 2, DR);
     if (st) return st;
@@ -104,11 +104,15 @@ static q2n_status edge_alpha(const fit_ctx *c, int e, double x, double *al, doub
     return Q2N_OK;
 }
 
-/* Cross speed of side (k, i) at t: value and derivative. */
-static q2n_status side_lambda(const fit_ctx *c, int k, int i, double t, double *l, double *dl)
+/* Cross speed of side (k, i) at t: value and derivative.  Where it needs alpha (the side that absorbs
+ * its variation), the construction's frame of this side at tau_i(t) is evaluated on the way; it goes
+ * to D when D is given (*have = 1), the same bits q2n_fit_frame_eval gives there. */
+static q2n_status side_lambda(const fit_ctx *c, int k, int i, double t, double *l, double *dl, double D[6][3],
+                              int *have)
 {
     int own, e = side_edge(c, k, i, &own);
     const fit_edge *E = &c->e[e];
+    if (have) *have = 0;
     /* the side that absorbs alpha's variation: R (absorb 0) or L (absorb 1) */
     if (!E->rep || own != E->absorb) { side_lin(c, k, i, t, l, dl); return Q2N_OK; }
     const q2n_mesh *m = c->m;
@@ -117,8 +121,14 @@ static q2n_status side_lambda(const fit_ctx *c, int k, int i, double t, double *
     side_lin(c, fo, io, x, &lo, &dlo);
     double xe = own ? t : x;                         /* owner parameter of this point */
     tau_eval(speed(c, e), speed(c, e), xe, tau);
-    q2n_status st = edge_alpha(c, e, tau[0], &al, &dal);
+    double DL[6][3], DR[6][3];
+    q2n_status st = edge_alpha(c, e, tau[0], &al, &dal, DL, DR);
     if (st) return st;
+    /* this side's frame: L at tau_e(t) (owner), R at 1 - tau_e(1 - t) — side_tau's tau_i(t) */
+    if (D) {
+        memcpy(D, own ? DL : DR, sizeof DL);
+        *have = 1;
+    }
     if (!own) {   /* R: lambda_R(t) = A lambda_L(x) / alpha(tau(x)); d/dt = -d/dx */
         *l = E->A * lo / al;
         *dl = -E->A * (dlo / al - lo * dal * tau[1] / (al * al));
@@ -133,9 +143,10 @@ q2n_status q2n_fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][
 {
     if (!c->p[k].phi) return q2n_fit_frame_eval(c->s, k, i, t, 0.0, 2, D);
     double tau[3], l, dl, S[6][3];
+    int have = 0;
     side_tau(c, k, i, t, tau);
-    q2n_status st = side_lambda(c, k, i, t, &l, &dl);
-    if (!st) st = q2n_fit_frame_eval(c->s, k, i, tau[0], 0.0, 2, S);
+    q2n_status st = side_lambda(c, k, i, t, &l, &dl, S, &have);
+    if (!st && !have) st = q2n_fit_frame_eval(c->s, k, i, tau[0], 0.0, 2, S);
     if (st) return st;
     for (int q = 0; q < 3; q++) {
         D[0][q] = S[0][q];
@@ -207,14 +218,14 @@ q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int 
     for (int i = 0; i < nu && !st; i++) {
         side_tau(c, k, 0, us[i], d); tu0[i] = d[0];
         side_tau(c, k, 2, 1.0 - us[i], d); tu2[i] = d[0];
-        st = side_lambda(c, k, 0, us[i], &l0[i], &dl);
-        if (!st) st = side_lambda(c, k, 2, 1.0 - us[i], &l2[i], &dl);
+        st = side_lambda(c, k, 0, us[i], &l0[i], &dl, NULL, NULL);
+        if (!st) st = side_lambda(c, k, 2, 1.0 - us[i], &l2[i], &dl, NULL, NULL);
     }
     for (int j = 0; j < nv && !st; j++) {
         side_tau(c, k, 1, vs[j], d); tv1[j] = d[0];
         side_tau(c, k, 3, 1.0 - vs[j], d); tv3[j] = d[0];
-        st = side_lambda(c, k, 1, vs[j], &l1[j], &dl);
-        if (!st) st = side_lambda(c, k, 3, 1.0 - vs[j], &l3[j], &dl);
+        st = side_lambda(c, k, 1, vs[j], &l1[j], &dl, NULL, NULL);
+        if (!st) st = side_lambda(c, k, 3, 1.0 - vs[j], &l3[j], &dl, NULL, NULL);
     }
     double cs[4][2];
     corner_speeds(c, k, cs);
