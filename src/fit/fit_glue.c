@@ -72,9 +72,11 @@ typedef struct classify_arg {
 
 enum { NG = Q2N_FIT_GLUE_SAMPLES };
 
-/* The gluing functions of edge e at t_j = j / (NG - 1) from both sides' frame derivatives, either of
- * the construction itself (direct evaluation) or of the fit target (through the side caches). */
-static q2n_status edge_samples(fit_ctx *c, int e, int target, double DL[NG][6][3], double DR[NG][6][3], double g[NG][4])
+/* The gluing functions of edge e at t_j = j / (NG - 1) from both sides' frame derivatives, through
+ * the side caches: before q2n_fit_target_setup every patch has phi = id, so these are the
+ * construction's own frames (q2n_fit_glue_measure), and they stay cached for the patches that keep
+ * phi = id (the setup empties the others' caches); after it, the fit target's. */
+static q2n_status edge_samples(fit_ctx *c, int e, double DL[NG][6][3], double DR[NG][6][3], double g[NG][4])
 {
     fit_side L, R;
     q2n_fit_edge_sides(c, e, &L, &R);
@@ -83,15 +85,8 @@ static q2n_status edge_samples(fit_ctx *c, int e, int target, double DL[NG][6][3
         tl[j] = (double)j / (NG - 1);
         trs[j] = tl[j];
     }
-    q2n_status st = Q2N_OK;
-    if (target) {
-        if ((st = q2n_fit_side_values(c, L.k, L.i, NG, tl, &DL[0][0][0])) || (st = q2n_fit_side_values(c, R.k, R.i, NG, trs, &DRs[0][0][0])))
-            return st;
-    } else
-        for (int j = 0; j < NG && !st; j++) {
-            st = q2n_fit_frame_eval(c->s, L.k, L.i, tl[j], 0.0, 2, DL[j]);
-            if (!st) st = q2n_fit_frame_eval(c->s, R.k, R.i, trs[j], 0.0, 2, DRs[j]);
-        }
+    q2n_status st = q2n_fit_side_values(c, L.k, L.i, NG, tl, &DL[0][0][0]);
+    if (!st) st = q2n_fit_side_values(c, R.k, R.i, NG, trs, &DRs[0][0][0]);
     if (st) return st;
     for (int j = 0; j < NG; j++) memcpy(DR[j], DRs[NG - 1 - j], sizeof DR[j]);
     for (int j = 0; j < NG; j++) glue_at(DL[j], DR[j], g[j]);
@@ -122,7 +117,7 @@ static void measure_one(void *arg, int e)
     if (!q2n_fit_edge_sides(c, e, &L, &R)) { E->glue = E->glue2 = FIT_GLUE_BOUNDARY; return; }
     E->glue = E->glue2 = FIT_GLUE_LS;
     double DL[NG][6][3], DR[NG][6][3], g[NG][4];
-    if ((a->st[e] = edge_samples(c, e, 0, DL, DR, g))) return;
+    if ((a->st[e] = edge_samples(c, e, DL, DR, g))) return;
     /* the construction's own continuity at the interior samples */
     for (int j = 1; j + 1 < NG; j++) {
         double dl[18], dr[18], g1, g2;
@@ -180,7 +175,7 @@ static void classify_one(void *arg, int e)
     fit_edge *E = &c->e[e];
     if (E->glue == FIT_GLUE_BOUNDARY) return;
     double DL[NG][6][3], DR[NG][6][3], g[NG][4];
-    if ((a->st[e] = edge_samples(c, e, 1, DL, DR, g))) return;
+    if ((a->st[e] = edge_samples(c, e, DL, DR, g))) return;
     /* exact: alpha constant, beta = 0 (and gamma = delta = 0 for the G2 relation) */
     int exact = !c->o.no_exact;
     for (int j = 0; j < NG && exact; j++)

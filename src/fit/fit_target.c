@@ -386,6 +386,9 @@ q2n_status q2n_fit_target_setup(fit_ctx *c)
             int own, e = side_edge(c, k, i, &own);
             if (c->e[e].x != 0.0 || (c->e[e].rep && own == c->e[e].absorb && c->e[e].alpha_varies)) p->phi = 1;
         }
+        /* its sides' caches hold the construction's frames (q2n_fit_glue_measure): T's differ */
+        if (p->phi)
+            for (int i = 0; i < 4; i++) c->sc[4 * k + i].n = 0;
     }
     free(col); free(val); free(r); free(row_e); free(x); free(fixed); free(efix);
     return Q2N_OK;
