@@ -28,7 +28,7 @@ else ifeq ($(CONFIG),asan)
   OPT := -O1 -g
   SAN := -fsanitize=address,undefined -fno-omit-frame-pointer
 else
-  OPT := -O2 -g
+  OPT := -O3 -g
 endif
 CFLAGS   ?= $(OPT)
 CXXFLAGS ?= $(OPT)
