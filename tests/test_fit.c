@@ -276,7 +276,7 @@ static void solver_agreement(void)
             d2 = fmax(d2, fabs(a->cp[i] - c->cp[i]) / diag);
         }
     }
-    printf("solver agreement: Ceres DENSE_QR (2 threads) vs direct QR %.2e, Ceres SPARSE_NORMAL_CHOLESKY vs direct %.2e\n", d1, d2);
+    printf("solver agreement: Ceres per block (2 threads) vs direct QR %.2e, Ceres SPARSE_NORMAL_CHOLESKY vs direct %.2e\n", d1, d2);
     CHECK(d1 <= 1e-11, "Ceres dense vs direct: %g", d1);
     CHECK(d2 <= 1e-8, "Ceres sparse vs direct: %g", d2);
     for (int k = 0; k < 3; k++) q2n_nurbs_model_free(md[k]);

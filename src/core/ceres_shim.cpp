@@ -6,11 +6,12 @@
 // the exact least-squares solution.  Levenberg-Marquardt with an initial trust-region radius of
 // 1e16 makes its damping (diag/radius) negligible, so one iteration (max_num_iterations = 1) is
 // that step.  A stage holds many independent blocks (one per mesh edge or per patch).  Dense
-// path (the default): each block is its own DENSE_QR (Eigen) problem, blocks spread over worker
-// threads.  Ceres' cost there is mostly per Solve and per residual/parameter block, so a block
-// is ONE residual block (BlockCost: its rows as a dense matrix, which is also the Jacobian)
-// over ONE parameter block (its unknowns); small blocks solve x, y, z together, larger ones one
-// coordinate at a time, reusing the Problem for the three Solves.  Sparse path: batches of blocks
+// path (the default): each block is its own problem, blocks spread over worker threads; a block of
+// at most TINY_BLOCK unknowns (nearly all) goes to Ceres' TinySolver (one LM step, per coordinate),
+// a larger one to ceres::Solve with DENSE_QR (Eigen), whose cost is mostly per Solve and per
+// residual/parameter block, so such a block is ONE residual block (BlockCost: its rows as a dense
+// matrix, which is also the Jacobian) over ONE parameter block (its unknowns), one coordinate at a
+// time, reusing the Problem for the three Solves.  Sparse path: batches of blocks
 // in one SPARSE_NORMAL_CHOLESKY (SuiteSparse CHOLMOD) Solve each (solve_batched: one dense
 // residual block per block and coordinate; 11x faster than one residual block per row, which
 // remains for problems given without blocks); num_threads parallelises its Jacobian evaluation.
@@ -18,7 +19,9 @@
 #include "core/ceres_shim.h"
 
 #include <ceres/ceres.h>
+#include <ceres/tiny_solver.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <deque>
@@ -120,12 +123,45 @@ private:
     int m_ = 0, n_ = 0, dim_ = 1;
 };
 
-/* Blocks with at most this many unknowns are solved as 3-vectors in one Ceres problem (3m x 3n
- * Jacobian, 27x the QR flops of one coordinate); larger ones per coordinate (three Solves over
- * the same m x n Jacobian).  Measured per Solve here (Ceres 2.1, Eigen DENSE_QR): a fixed ~4.3 us
- * plus the QR; 3-vectors win up to n = 5 (m = 26: 19 us vs 3 x 6.8 us), tie at n = 6 (m = 30:
- * 23 us vs 3 x 7.4 us) and lose beyond (n = 8, m = 30: 32 us vs 3 x 7.9 us). */
+/* Blocks whose rows do not gather into one dense matrix (solve_rows: one residual block per row)
+ * with at most this many unknowns are solved as 3-vectors in one Ceres problem (3m x 3n Jacobian,
+ * 27x the QR flops of one coordinate); larger ones per coordinate.  Measured per Solve here (Ceres
+ * 2.1, Eigen DENSE_QR): a fixed ~4.3 us plus the QR; 3-vectors win up to n = 5 (m = 26: 19 us vs
+ * 3 x 6.8 us), tie at n = 6 and lose beyond (n = 8, m = 30: 32 us vs 3 x 7.9 us). */
 enum { SMALL_BLOCK = 5 };
+
+/* Blocks with at most this many unknowns go to Ceres' TinySolver (ceres/tiny_solver.h: Ceres'
+ * Levenberg-Marquardt for small dense problems, normal equations and LDLT, no Problem to build), one
+ * coordinate at a time; larger ones to ceres::Solve (DENSE_QR).  Why: a fit solves tens of thousands
+ * of such blocks (a 732-face mesh with many extraordinary vertices: 53 000, 99.7 % with at most 16
+ * unknowns) and ceres::Solve's fixed cost per call (problem, program, evaluator and solver set up
+ * anew, ~10-20 us) was most of the solve stage; B-spline least-squares blocks that small are well
+ * conditioned, so normal equations lose nothing the tolerance could see. */
+enum { TINY_BLOCK = 16 };
+
+/* One block and coordinate for TinySolver: r = A p - b, A row-major m x n (the Jacobian, which
+ * TinySolver wants column-major). */
+struct TinyCost {
+    typedef double Scalar;
+    enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = Eigen::Dynamic };
+    const double *A = nullptr, *b = nullptr;
+    int m = 0, n = 0;
+    int NumResiduals() const { return m; }
+    int NumParameters() const { return n; }
+    bool operator()(const double *p, double *r, double *J) const
+    {
+        for (int i = 0; i < m; i++) {
+            const double *a = A + (size_t)i * n;
+            double s = -b[i];
+            for (int j = 0; j < n; j++) s += a[j] * p[j];
+            r[i] = s;
+        }
+        if (J)
+            for (int j = 0; j < n; j++)
+                for (int i = 0; i < m; i++) J[(size_t)j * m + i] = A[(size_t)i * n + j];
+        return true;
+    }
+};
 
 /* One worker's reusable state for the dense per-block path. */
 struct BlockWorker {
@@ -233,13 +269,39 @@ static int solve_block(BlockWorker &w, int r0, int r1, int v0, int v1, const int
             if (solve_rows(r0, r1, d, small ? 3 : 1, row_start, col, val, rhs, x, w.opt, msg, msglen)) return 1;
         return 0;
     }
-    ceres::Problem problem(w.popt);
-    if (n <= SMALL_BLOCK) {
-        /* the unknowns' 3-vectors are contiguous in x: that is the parameter block */
-        w.cost.set(m, n, 3, w.A.data(), w.b.data());
-        problem.AddResidualBlock(&w.cost, nullptr, x + 3 * (size_t)v0);
-        return run_solve(w.opt, problem, msg, msglen);
+    if (n <= TINY_BLOCK) {
+        /* one Gauss-Newton step from the current values (the problem is linear): no damping to speak
+         * of, no tolerance that could skip or stop the step */
+        TinyCost tc;
+        tc.A = w.A.data();
+        tc.m = m;
+        tc.n = n;
+        std::vector<double> &bd = w.bd;
+        bd.resize((size_t)m);
+        tc.b = bd.data();
+        ceres::TinySolver<TinyCost> ts;
+        ts.options.max_num_iterations = 2;
+        ts.options.initial_trust_region_radius = 1e16;
+        ts.options.gradient_tolerance = 0;
+        ts.options.parameter_tolerance = 0;
+        ts.options.function_tolerance = 0;
+        ts.options.cost_threshold = 0;
+        Eigen::VectorXd p(n);
+        for (int d = 0; d < 3; d++) {
+            for (int i = 0; i < m; i++) bd[(size_t)i] = w.b[3 * (size_t)i + d];
+            for (int j = 0; j < n; j++) p[j] = x[3 * (size_t)(v0 + j) + d];
+            ts.Solve(tc, &p);
+            for (int j = 0; j < n; j++) {
+                if (!std::isfinite(p[j])) {
+                    std::snprintf(msg, (size_t)msglen, "ceres (tiny solver): non-finite solution (%d unknowns)", n);
+                    return 1;
+                }
+                x[3 * (size_t)(v0 + j) + d] = p[j];
+            }
+        }
+        return 0;
     }
+    ceres::Problem problem(w.popt);
     /* per coordinate: b and p hold coordinate d contiguously; one Problem, three Solves */
     std::vector<double> &p = w.p;
     p.resize((size_t)n);

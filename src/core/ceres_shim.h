@@ -9,8 +9,9 @@ extern "C" {
 
 /* Solve the sparse linear least-squares problem  min sum_r | sum_e val_e x[col_e] - rhs_r |^2 over
  * 3-vectors x[0..nvar-1] (row r has entries row_start[r] .. row_start[r+1]-1; same coefficients
- * for x, y, z).  dense == 0: one SPARSE_NORMAL_CHOLESKY solve of everything; dense != 0:
- * DENSE_QR solves per independent block of rows item_row[i] .. item_row[i+1]-1 whose unknowns
+ * for x, y, z).  dense == 0: one SPARSE_NORMAL_CHOLESKY solve of everything; dense != 0: one
+ * solve per independent block (Ceres' TinySolver up to 16 unknowns, ceres::Solve with DENSE_QR
+ * above) of rows item_row[i] .. item_row[i+1]-1 whose unknowns
  * are item_var[i] .. item_var[i+1]-1 (nitem blocks; block i on worker i mod threads, so the
  * result does not depend on threads).  A block's rows should use only its own unknowns, each at
  * least once: it is then one dense Ceres residual block (the fast path), else one residual

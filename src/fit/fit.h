@@ -18,7 +18,8 @@
 #include "patch/surface.h"
 
 typedef enum q2n_fit_solver {
-    Q2N_FIT_SOLVER_CERES = 0,    /* Ceres DENSE_QR per independent block, blocks over threads (default) */
+    Q2N_FIT_SOLVER_CERES = 0,    /* Ceres per independent block (TinySolver up to 16 unknowns, else DENSE_QR),
+                                    blocks over threads (default) */
     Q2N_FIT_SOLVER_CERES_SPARSE, /* Ceres SPARSE_NORMAL_CHOLESKY over batches of blocks (normal equations) */
     Q2N_FIT_SOLVER_DIRECT        /* LAPACK rank-revealing QR per block: the reference path */
 } q2n_fit_solver;

@@ -75,8 +75,8 @@ q2n_status q2n_fit_ls_dense_item(q2n_fit_ls *ls, int m, int n, const double *A, 
 
 /* Direct reference solver: LAPACK rank-revealing QR per item (3 right-hand sides). */
 q2n_status q2n_fit_ls_solve_direct(q2n_fit_ls *ls, q2n_error *err);
-/* Ceres (core/ceres_shim.cpp): dense != 0 DENSE_QR per item over `threads` workers, else one
- * SPARSE_NORMAL_CHOLESKY solve of everything. */
+/* Ceres (core/ceres_shim.cpp): dense != 0 one solve per item over `threads` workers (TinySolver up to
+ * 16 unknowns, DENSE_QR above), else one SPARSE_NORMAL_CHOLESKY solve of everything. */
 q2n_status q2n_fit_ls_solve_ceres(q2n_fit_ls *ls, int threads, int dense, q2n_error *err);
 /* With the solver the options name. */
 q2n_status q2n_fit_ls_solve(q2n_fit_ls *ls, int solver, int threads, q2n_error *err);

@@ -34,7 +34,7 @@ void q2n_fit_report_write_json_file(const q2n_fit_report *r, const char *units, 
 
 static void write_json(const q2n_fit_report *r, const char *units, FILE *f)
 {
-    static const char *solvers[] = {"ceres_dense_qr_per_block", "ceres_sparse_normal_cholesky", "lapack_qr_per_block"};
+    static const char *solvers[] = {"ceres_per_block", "ceres_sparse_normal_cholesky", "lapack_qr_per_block"};
     fprintf(f, "{\n  \"stage\": \"fit\",\n  \"faces\": %d,\n  \"edges\": %d,\n  \"interior_edges\": %d,\n",
             r->faces, r->edges, r->interior_edges);
     fprintf(f, "  \"mode\": \"%s\",\n  \"continuity\": \"G%d\",\n  \"tol\": %.17g,\n  \"tol_met\": %s,\n",
