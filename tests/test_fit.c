@@ -434,6 +434,53 @@ static void internals(void)
     for (int c = 0; c < 3; c++) e = fmax(e, fmax(fabs(ls.x[c] - X0[c]), fabs(ls.x[3 + c] - X1[c])));
     CHECK(e <= 1e-12, "Ceres solution error %g", e);
     q2n_fit_ls_free(&ls);
+
+    /* both Ceres paths of the shim: a block of 20 unknowns (ceres::Solve, DENSE_QR) and one of 2
+     * (TinySolver) whose two columns are equal (singular normal equations): consistent rows are met
+     * either way, and the singular block's two unknowns share what the rows fix (their sum) */
+    q2n_fit_ls_init(&ls);
+    q2n_fit_ls_item_begin(&ls);
+    int big[20];
+    for (int j = 0; j < 20; j++) q2n_fit_ls_new_var(&ls, &big[j]);
+    unsigned sd = 11;
+    double Xb[20][3];
+    for (int j = 0; j < 20; j++)
+        for (int c = 0; c < 3; c++) Xb[j][c] = frand(&sd);
+    double coef[60][20];
+    for (int r = 0; r < 60; r++) {
+        double rhs[3] = {0, 0, 0};
+        for (int j = 0; j < 20; j++) {
+            coef[r][j] = frand(&sd);
+            for (int c = 0; c < 3; c++) rhs[c] += coef[r][j] * Xb[j][c];
+        }
+        q2n_fit_ls_row(&ls, rhs);
+        for (int j = 0; j < 20; j++) q2n_fit_ls_entry(&ls, big[j], coef[r][j]);
+    }
+    q2n_fit_ls_item_end(&ls);
+    q2n_fit_ls_item_begin(&ls);
+    int s0, s1;
+    q2n_fit_ls_new_var(&ls, &s0);
+    q2n_fit_ls_new_var(&ls, &s1);
+    for (int r = 0; r < 4; r++) {
+        double rhs[3] = {2.0 * (r + 1), -1.0 * (r + 1), 0.5 * (r + 1)}; /* (r+1)(a + b) = rhs: a + b = (2, -1, 0.5) */
+        q2n_fit_ls_row(&ls, rhs);
+        q2n_fit_ls_entry(&ls, s0, r + 1.0);
+        q2n_fit_ls_entry(&ls, s1, r + 1.0);
+    }
+    q2n_fit_ls_item_end(&ls);
+    CHECK(q2n_fit_ls_solve_ceres(&ls, 2, 1, &err) == Q2N_OK, "ceres solve of the two blocks: %s", err.message);
+    e = 0;
+    for (int j = 0; j < 20; j++)
+        for (int c = 0; c < 3; c++) e = fmax(e, fabs(ls.x[3 * big[j] + c] - Xb[j][c]));
+    CHECK(e <= 1e-10, "Ceres (DENSE_QR block of 20) solution error %g", e);
+    static const double sum[3] = {2, -1, 0.5};
+    e = 0;
+    for (int c = 0; c < 3; c++) {
+        double a = ls.x[3 * s0 + c], b = ls.x[3 * s1 + c];
+        e = fmax(e, isfinite(a) && isfinite(b) ? fabs(a + b - sum[c]) : INFINITY);
+    }
+    CHECK(e <= 1e-9, "Ceres (singular block of 2): a + b off by %g", e);
+    q2n_fit_ls_free(&ls);
 }
 
 /* Knot insertion against evaluation; a vector that is not a refinement is refused. */

@@ -287,19 +287,23 @@ static int solve_block(BlockWorker &w, int r0, int r1, int v0, int v1, const int
         ts.options.function_tolerance = 0;
         ts.options.cost_threshold = 0;
         Eigen::VectorXd p(n);
-        for (int d = 0; d < 3; d++) {
+        std::vector<double> &out = w.p;
+        out.resize(3 * (size_t)n);
+        int finite = 1;
+        for (int d = 0; d < 3 && finite; d++) {
             for (int i = 0; i < m; i++) bd[(size_t)i] = w.b[3 * (size_t)i + d];
             for (int j = 0; j < n; j++) p[j] = x[3 * (size_t)(v0 + j) + d];
             ts.Solve(tc, &p);
             for (int j = 0; j < n; j++) {
-                if (!std::isfinite(p[j])) {
-                    std::snprintf(msg, (size_t)msglen, "ceres (tiny solver): non-finite solution (%d unknowns)", n);
-                    return 1;
-                }
-                x[3 * (size_t)(v0 + j) + d] = p[j];
+                finite = finite && std::isfinite(p[j]);
+                out[3 * (size_t)j + d] = p[j];
             }
         }
-        return 0;
+        if (finite) {
+            std::memcpy(x + 3 * (size_t)v0, out.data(), sizeof(double) * 3 * (size_t)n);
+            return 0;
+        }
+        /* a singular block (its normal equations have no Cholesky factor): ceres::Solve's QR below */
     }
     ceres::Problem problem(w.popt);
     /* per coordinate: b and p hold coordinate d contiguously; one Problem, three Solves */
