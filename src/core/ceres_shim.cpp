@@ -171,11 +171,23 @@ struct BlockWorker {
     BlockCost cost;
     std::vector<double> A, b, bd, p;
     std::vector<int> used;
+    /* small blocks: the solver keeps its matrices between blocks of one shape (TinySolver resizes
+     * only when the shape changes) */
+    ceres::TinySolver<TinyCost> tiny;
+    Eigen::VectorXd tp;
     BlockWorker()
     {
         ctx = ceres::Context::Create();
         popt.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
         popt.context = ctx;
+        /* one Gauss-Newton step from the current values (the problem is linear): no damping to
+         * speak of, no tolerance that could skip or stop the step */
+        tiny.options.max_num_iterations = 2;
+        tiny.options.initial_trust_region_radius = 1e16;
+        tiny.options.gradient_tolerance = 0;
+        tiny.options.parameter_tolerance = 0;
+        tiny.options.function_tolerance = 0;
+        tiny.options.cost_threshold = 0;
     }
     ~BlockWorker() { delete ctx; }
     BlockWorker(const BlockWorker &) = delete;
@@ -270,8 +282,6 @@ static int solve_block(BlockWorker &w, int r0, int r1, int v0, int v1, const int
         return 0;
     }
     if (n <= TINY_BLOCK) {
-        /* one Gauss-Newton step from the current values (the problem is linear): no damping to speak
-         * of, no tolerance that could skip or stop the step */
         TinyCost tc;
         tc.A = w.A.data();
         tc.m = m;
@@ -279,21 +289,15 @@ static int solve_block(BlockWorker &w, int r0, int r1, int v0, int v1, const int
         std::vector<double> &bd = w.bd;
         bd.resize((size_t)m);
         tc.b = bd.data();
-        ceres::TinySolver<TinyCost> ts;
-        ts.options.max_num_iterations = 2;
-        ts.options.initial_trust_region_radius = 1e16;
-        ts.options.gradient_tolerance = 0;
-        ts.options.parameter_tolerance = 0;
-        ts.options.function_tolerance = 0;
-        ts.options.cost_threshold = 0;
-        Eigen::VectorXd p(n);
+        Eigen::VectorXd &p = w.tp;
+        p.resize(n);
         std::vector<double> &out = w.p;
         out.resize(3 * (size_t)n);
         int finite = 1;
         for (int d = 0; d < 3 && finite; d++) {
             for (int i = 0; i < m; i++) bd[(size_t)i] = w.b[3 * (size_t)i + d];
             for (int j = 0; j < n; j++) p[j] = x[3 * (size_t)(v0 + j) + d];
-            ts.Solve(tc, &p);
+            w.tiny.Solve(tc, &p);
             for (int j = 0; j < n; j++) {
                 finite = finite && std::isfinite(p[j]);
                 out[3 * (size_t)j + d] = p[j];

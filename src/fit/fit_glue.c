@@ -80,13 +80,10 @@ static q2n_status edge_samples(fit_ctx *c, int e, double DL[NG][6][3], double DR
 {
     fit_side L, R;
     q2n_fit_edge_sides(c, e, &L, &R);
-    double tl[NG], trs[NG], DRs[NG][6][3];
-    for (int j = 0; j < NG; j++) {
-        tl[j] = (double)j / (NG - 1);
-        trs[j] = tl[j];
-    }
+    double tl[NG], DRs[NG][6][3]; /* both sides at t_j, R's reversed into DR below */
+    for (int j = 0; j < NG; j++) tl[j] = (double)j / (NG - 1);
     q2n_status st = q2n_fit_side_values(c, L.k, L.i, NG, tl, &DL[0][0][0]);
-    if (!st) st = q2n_fit_side_values(c, R.k, R.i, NG, trs, &DRs[0][0][0]);
+    if (!st) st = q2n_fit_side_values(c, R.k, R.i, NG, tl, &DRs[0][0][0]);
     if (st) return st;
     for (int j = 0; j < NG; j++) memcpy(DR[j], DRs[NG - 1 - j], sizeof DR[j]);
     for (int j = 0; j < NG; j++) glue_at(DL[j], DR[j], g[j]);
