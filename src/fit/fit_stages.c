@@ -284,21 +284,41 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
                 g->have[at] = 1;
             }
         *evals += (long)nu * nv;
-    } else if (missing) {       /* row by row, the missing points of each row */
-        for (int j = 0; !st && j < nv; j++) {
+    } else if (missing) {
+        /* a grid evaluation costs a line per parameter and a little per point: the rows missing
+         * entirely as one grid over all columns, the partly cached rows as one grid over the
+         * columns they miss (a point's value does not depend on the grid it is evaluated in) */
+        int *rows = malloc(sizeof(int) * (size_t)nv), *cols = malloc(sizeof(int) * (size_t)nu), nc = 0;
+        double *rv = malloc(sizeof(double) * (size_t)nv), *gbuf = NULL;
+        unsigned char *cm = calloc((size_t)nu, 1);
+        if (!rows || !cols || !rv || !cm) st = Q2N_ERR_NOMEM;
+        for (int pass = 0; pass < 2 && !st; pass++) { /* 0: full rows, 1: partial rows */
             int n = 0;
-            for (int i = 0; i < nu; i++)
-                if (!g->have[(size_t)iv[j] * g->nu + iu[i]]) ru[n++] = us[i];
-            if (!n) continue;
-            st = q2n_fit_target_grid(c, k, n, ru, 1, &vs[j], buf, 9);
-            for (int i = 0, q = 0; !st && i < nu; i++) {
-                size_t at = (size_t)iv[j] * g->nu + iu[i];
-                if (g->have[at]) continue;
-                memcpy(g->val + 3 * at, buf + 9 * (size_t)q++, 3 * sizeof(double));
-                g->have[at] = 1;
+            for (int j = 0; j < nv; j++) {
+                int miss = 0;
+                for (int i = 0; i < nu; i++) miss += !g->have[(size_t)iv[j] * g->nu + iu[i]];
+                if (!miss || (miss == nu) != (pass == 0)) continue;
+                rows[n] = j;
+                rv[n++] = vs[j];
+                if (pass)
+                    for (int i = 0; i < nu; i++) cm[i] |= !g->have[(size_t)iv[j] * g->nu + iu[i]];
             }
-            *evals += n;
+            if (!n) continue;
+            nc = 0;
+            for (int i = 0; i < nu; i++)
+                if (pass == 0 || cm[i]) { cols[nc] = i; ru[nc++] = us[i]; }
+            if (!(gbuf = realloc(gbuf, 9 * sizeof(double) * (size_t)nc * n))) { st = Q2N_ERR_NOMEM; break; }
+            st = q2n_fit_target_grid(c, k, nc, ru, n, rv, gbuf, 9);
+            for (int r = 0; !st && r < n; r++)
+                for (int q = 0; q < nc; q++) {
+                    size_t at = (size_t)iv[rows[r]] * g->nu + iu[cols[q]];
+                    if (g->have[at]) continue;
+                    memcpy(g->val + 3 * at, gbuf + 9 * ((size_t)r * nc + q), 3 * sizeof(double));
+                    g->have[at] = 1;
+                }
+            *evals += (long)nc * n;
         }
+        free(rows); free(cols); free(rv); free(cm); free(gbuf);
     }
     for (int j = 0; !st && j < nv; j++)
         for (int i = 0; i < nu; i++) {

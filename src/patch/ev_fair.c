@@ -61,8 +61,8 @@ typedef struct fe_side {
     double al[2], be[2]; /* α, β at the two ends */
 } fe_side;
 
-/* Side context of one patch (the Coons patch's ctx); lanes: const double *J[4], the W-wide jets
- * of the four corners (slot-major). */
+/* Side context of one patch (the Coons patch's ctx); lanes: fe_lanes, its constructed sides' fields
+ * as polynomials (fill_lanes, from the W-wide jets of the four corners). */
 typedef struct fe_ctx {
     int K, kb;
     double d0, d1, e0, e1; /* intervals of sides 0, 2 (u) and 3, 1 (v) */
@@ -73,8 +73,8 @@ typedef struct fe_ctx {
 /* ------------------------------------------------------------ side data (W lanes) */
 
 /* Hermite end data of a constructed side: the jet contractions at both ends, for γ (order 2K),
- * χ_F (2K - 1) and ξ_F (2K - 2).  They do not depend on the side parameter, so a patch computes them
- * once (fe_lanes.ends) and every evaluation only combines them with the Hermite basis. */
+ * χ_F (2K - 1) and ξ_F (2K - 2).  A patch turns them into its sides' polynomials once (fill_lanes,
+ * side_taylor); an evaluation is then a Horner sum. */
 typedef struct fe_ends {
     int W;
     double *e; /* [γ|χ|ξ][end][j <= 4][lane]: FE_END(E, p, end, j) */
@@ -82,12 +82,6 @@ typedef struct fe_ends {
 #define FE_END(E, p, end, j) ((E)->e + (size_t)((((p) * 2 + (end)) * 5) + (j)) * (E)->W)
 #define FE_END_SIZE(W) ((size_t)3 * 2 * 5 * (W))
 
-/* The lanes a fair patch's side function reads: the four corner jets (EV_JS x W each) and,
- * optionally, the sides' end data computed from them. */
-typedef struct fe_lanes {
-    const double *J[4];
-    const fe_ends *ends; /* [4] (sides), or NULL: computed on the fly */
-} fe_lanes;
 
 /* End data of side S: d^j s T_(j+p)[u^j, w^p] at both ends, j <= 2K - p, p <= K (s: the cross-edge
  * interval to the power p). */
@@ -105,69 +99,145 @@ static void side_ends(int K, const fe_side *S, const double *T0, const double *T
     }
 }
 
-/* The Hermite interpolant of order Kh of the end data of field p, t-derivatives 0..nq at s. */
-static void ends_hermite(int Kh, const fe_ends *E, int p, int W, double s, int nq, double out[][CP_MAXW])
+/* The sides' three fields as polynomials in s, expanded about both ends: FE_TC(T, b, e, k) is the
+ * coefficient of (s - e)^k in field b (γ, then the face's first and second cross derivatives), k <=
+ * deg[b].  An evaluation expands about the nearer end (|s - e| <= 1/2: no cancellation grows with the
+ * degree), and at the ends the coefficients are the end data themselves (divided by k!): the
+ * corner values are exact. */
+#define FE_TDEG 17 /* ξ_G of order K = 2: degree 2(2K + 1) + 4K - 1 */
+typedef struct fe_taylor {
+    int W, deg[3];
+    double *c;
+} fe_taylor;
+#define FE_TC(T, b, e, k) ((T)->c + (size_t)((((b) * 2 + (e)) * (FE_TDEG + 1)) + (k)) * (T)->W)
+#define FE_TAYLOR_SIZE(W) ((size_t)3 * 2 * (FE_TDEG + 1) * (W))
+
+/* Expansion about end e of the Hermite interpolant of order Kh of field p's end data (degree
+ * 2Kh + 1).  About 1, in σ = s - 1: H_{j,0}(1 + σ) = (-1)^j H_{j,1}(-σ), H_{j,1}(1 + σ) = (-1)^j H_{j,0}(-σ)
+ * (the basis is symmetric under s -> 1 - s). */
+static void hermite_taylor(int Kh, const fe_ends *E, int p, int e, int W, double *out)
 {
-    double H[Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1];
-    q2n_hermite_eval(Kh, s, nq, H);
-    for (int q = 0; q <= nq; q++) {
-        double *o = out[q];
-        memset(o, 0, sizeof(double) * W);
-        for (int j = 0; j <= Kh; j++) {
-            double h0 = H[j][0][q], h1 = H[j][1][q];
-            const double *e0 = FE_END(E, p, 0, j), *e1 = FE_END(E, p, 1, j);
-            for (int l = 0; l < W; l++) o[l] += h0 * e0[l] + h1 * e1[l];
+    int n = 2 * Kh + 1;
+    memset(out, 0, sizeof(double) * (size_t)(n + 1) * W);
+    for (int j = 0; j <= Kh; j++) {
+        const double *h0 = q2n_hermite_coef[Kh - 1][j][0], *h1 = q2n_hermite_coef[Kh - 1][j][1];
+        const double *e0 = FE_END(E, p, 0, j), *e1 = FE_END(E, p, 1, j);
+        for (int k = 0; k <= n; k++) {
+            double f0 = e ? h1[k] : h0[k], f1 = e ? h0[k] : h1[k];
+            if (e && ((j + k) & 1)) f0 = -f0, f1 = -f1;
+            if (f0 == 0 && f1 == 0) continue;
+            double *o = out + (size_t)k * W;
+            for (int l = 0; l < W; l++) o[l] += f0 * e0[l] + f1 * e1[l];
         }
     }
 }
 
+/* The smoothstep of order K from v0 to v1 (v0 + (v1 - v0) H_{0,1} = v1 - (v1 - v0) H_{0,0}) about end
+ * e: n + 1 = 2K + 2 coefficients. */
+static void smooth_taylor(int K, double v0, double v1, int e, double *out)
+{
+    const double *h = q2n_hermite_coef[K - 1][0][1];
+    int n = 2 * K + 1;
+    for (int k = 0; k <= n; k++) out[k] = e ? -(v1 - v0) * ((k & 1) ? -h[k] : h[k]) : (v1 - v0) * h[k];
+    out[0] = e ? v1 : v0;
+}
+
+/* out[k] += f Σ_i a[i] v[k - i] (a scalar polynomial of degree na times a lane polynomial of
+ * degree nv, shifted by dv derivatives: v[k] here is (k + dv)! / k! V[k + dv]). */
+static void conv_add(const double *a, int na, const double *V, int nv, int dv, int W, double f, double *out)
+{
+    for (int i = 0; i <= na; i++) {
+        if (a[i] == 0) continue;
+        for (int k = 0; k + dv <= nv; k++) {
+            double g = f * a[i];
+            for (int q = 1; q <= dv; q++) g *= (double)(k + q);
+            const double *v = V + (size_t)(k + dv) * W;
+            double *o = out + (size_t)(i + k) * W;
+            for (int l = 0; l < W; l++) o[l] += g * v[l];
+        }
+    }
+}
+
+/* The side's fields about both ends from its end data: γ (order 2K), χ (2K - 1), ξ (2K - 2) of the
+ * base face; a derived side's χ_G = α χ_F + β γ_t, ξ_G = α² ξ_F + 2αβ ∂t χ_F + β² γ_tt. */
+static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
+{
+    int Kc = 2 * K, W = T->W, ng = 2 * Kc + 1, nc = 2 * Kc - 1, nx = 2 * Kc - 3, ns = 2 * K + 1;
+    memset(T->c, 0, sizeof(double) * FE_TAYLOR_SIZE(W));
+    T->deg[0] = ng;
+    T->deg[1] = S->derived ? ns + ng - 1 : nc;
+    T->deg[2] = K < 2 ? 0 : S->derived ? 2 * ns + ng - 2 : nx;
+    for (int e = 0; e < 2; e++) {
+        hermite_taylor(Kc, E, 0, e, W, FE_TC(T, 0, e, 0));
+        if (!S->derived) {
+            hermite_taylor(Kc - 1, E, 1, e, W, FE_TC(T, 1, e, 0));
+            if (K >= 2) hermite_taylor(Kc - 2, E, 2, e, W, FE_TC(T, 2, e, 0));
+            continue;
+        }
+        double c[(FE_TDEG + 1) * CP_MAXW], x[(FE_TDEG + 1) * CP_MAXW];
+        double al[2 * Q2N_HERMITE_MAXK + 2], be[2 * Q2N_HERMITE_MAXK + 2];
+        hermite_taylor(Kc - 1, E, 1, e, W, c);
+        smooth_taylor(K, S->al[0], S->al[1], e, al);
+        smooth_taylor(K, S->be[0], S->be[1], e, be);
+        const double *g = FE_TC(T, 0, e, 0);
+        conv_add(al, ns, c, nc, 0, W, 1, FE_TC(T, 1, e, 0));
+        conv_add(be, ns, g, ng, 1, W, 1, FE_TC(T, 1, e, 0));
+        if (K < 2) continue;
+        double a2[2 * (2 * Q2N_HERMITE_MAXK + 2)], ab[2 * (2 * Q2N_HERMITE_MAXK + 2)], b2[2 * (2 * Q2N_HERMITE_MAXK + 2)];
+        for (int k = 0; k <= 2 * ns; k++) {
+            a2[k] = ab[k] = b2[k] = 0;
+            for (int i = 0; i <= k; i++)
+                if (i <= ns && k - i <= ns) {
+                    a2[k] += al[i] * al[k - i];
+                    ab[k] += 2 * al[i] * be[k - i];
+                    b2[k] += be[i] * be[k - i];
+                }
+        }
+        hermite_taylor(Kc - 2, E, 2, e, W, x);
+        conv_add(a2, 2 * ns, x, nx, 0, W, 1, FE_TC(T, 2, e, 0));
+        conv_add(ab, 2 * ns, c, nc, 1, W, 1, FE_TC(T, 2, e, 0));
+        conv_add(b2, 2 * ns, g, ng, 2, W, 1, FE_TC(T, 2, e, 0));
+    }
+}
+
+/* out[a] = a-th derivative at σ of the polynomial with coefficients c[0..n] (W lanes), a < na:
+ * repeated synthetic division (Horner), then a! */
+static void taylor_eval(const double *c, int n, int W, double x, int na, double out[][CP_MAXW])
+{
+    for (int a = 0; a < na; a++) memset(out[a], 0, sizeof(double) * W);
+    for (int k = n; k >= 0; k--) {
+        for (int a = na - 1; a >= 1; a--) {
+            double *d = out[a], *dp = out[a - 1];
+            for (int l = 0; l < W; l++) d[l] = d[l] * x + dp[l];
+        }
+        const double *ck = c + (size_t)k * W;
+        double *d = out[0];
+        for (int l = 0; l < W; l++) d[l] = d[l] * x + ck[l];
+    }
+    for (int a = 2; a < na; a++) {
+        double f = a == 2 ? 2 : 6;
+        for (int l = 0; l < W; l++) out[a][l] *= f;
+    }
+}
+
+/* The lanes a fair patch's side function reads: its sides' fields (fill_lanes). */
+typedef struct fe_lanes {
+    fe_taylor T[4];
+} fe_lanes;
+
 /* Parametric data of a constructed side at s: out[b][a] = ∂n^b ∂s^a with n the inward cross
  * parameter, b <= K, a < na (<= 4). */
-static void constructed(const fe_ctx *X, const fe_side *S, const fe_ends *E, int W, double s, int na,
-                        double out[3][CP_NA][CP_MAXW])
+static void constructed(int K, const fe_taylor *T, int W, double s, int na, double out[3][CP_NA][CP_MAXW])
 {
-    int K = X->K, Kc = 2 * K;
-    double g[6][CP_MAXW], c[5][CP_MAXW], x[4][CP_MAXW];
-    ends_hermite(Kc, E, 0, W, s, na + 1, g);                 /* γ */
-    ends_hermite(Kc - 1, E, 1, W, s, na, c);                 /* χ_F */
-    if (K >= 2) ends_hermite(Kc - 2, E, 2, W, s, na - 1, x); /* ξ_F */
-    for (int b = 0; b <= 2; b++)
-        for (int a = 0; a < na; a++) memset(out[b][a], 0, sizeof(double) * W);
-    for (int a = 0; a < na; a++) memcpy(out[0][a], g[a], sizeof(double) * W);
-    if (!S->derived) {
-        for (int a = 0; a < na; a++) {
-            memcpy(out[1][a], c[a], sizeof(double) * W);
-            if (K >= 2) memcpy(out[2][a], x[a], sizeof(double) * W);
+    int e = s > 0.5;
+    double x = s - e;
+    for (int b = 0; b < 3; b++) {
+        if (b > K) {
+            for (int a = 0; a < na; a++) memset(out[b][a], 0, sizeof(double) * W);
+            continue;
         }
-        return;
+        taylor_eval(FE_TC(T, b, e, 0), T->deg[b], W, x, na, out[b]);
     }
-    /* derived side: χ_G = α χ_F + β γ_t, ξ_G = α² ξ_F + 2αβ ∂t χ_F + β² γ_tt */
-    double H[Q2N_HERMITE_MAXK + 1][2][Q2N_HERMITE_MAXD + 1], al[4], be[4];
-    q2n_hermite_eval(K, s, 3, H); /* smoothstep of order K: H_{0,1} */
-    for (int q = 0; q < 4; q++) {
-        al[q] = (q == 0 ? S->al[0] : 0) + (S->al[1] - S->al[0]) * H[0][1][q];
-        be[q] = (q == 0 ? S->be[0] : 0) + (S->be[1] - S->be[0]) * H[0][1][q];
-    }
-    for (int a = 0; a < na; a++)
-        for (int i = 0; i <= a; i++) {
-            double fa = q2n_binom[a][i] * al[i], fb = q2n_binom[a][i] * be[i];
-            for (int l = 0; l < W; l++) out[1][a][l] += fa * c[a - i][l] + fb * g[a - i + 1][l];
-        }
-    if (K < 2) return;
-    double a2[4], ab[4], b2[4];
-    for (int q = 0; q < 4; q++) {
-        a2[q] = ab[q] = b2[q] = 0;
-        for (int i = 0; i <= q; i++) {
-            a2[q] += q2n_binom[q][i] * al[i] * al[q - i];
-            ab[q] += 2 * q2n_binom[q][i] * al[i] * be[q - i];
-            b2[q] += q2n_binom[q][i] * be[i] * be[q - i];
-        }
-    }
-    for (int a = 0; a < na; a++)
-        for (int i = 0; i <= a; i++) {
-            double f1 = q2n_binom[a][i] * a2[i], f2 = q2n_binom[a][i] * ab[i], f3 = q2n_binom[a][i] * b2[i];
-            for (int l = 0; l < W; l++) out[2][a][l] += f1 * x[a - i][l] + f2 * c[a - i + 1][l] + f3 * g[a - i + 2][l];
-        }
 }
 
 /* Regular side: local data of the neighbour (q2n_ev_side_eval, along derivatives <= 2; the third by
@@ -218,14 +288,7 @@ static void fe_side_fn(const void *ctx, const void *lanes, int W, int sd, double
     }
     const fe_lanes *L = lanes;
     double loc[3][CP_NA][CP_MAXW];
-    if (L->ends) {
-        constructed(X, S, &L->ends[sd], W, s, na, loc);
-    } else {
-        double buf[3 * 2 * 5 * CP_MAXW];
-        fe_ends E = {W, buf};
-        side_ends(X->K, S, L->J[S->c0], L->J[S->c1], &E);
-        constructed(X, S, &E, W, s, na, loc);
-    }
+    constructed(X->K, &L->T[sd], W, s, na, loc);
     double io = q2n_side_iota[sd]; /* inward -> axis direction */
     for (int a = 0; a < na; a++)
         for (int l = 0; l < W; l++) {
@@ -239,23 +302,25 @@ static void fe_side_fn(const void *ctx, const void *lanes, int W, int sd, double
 typedef struct fe_eval {
     cp_eval E;
     fe_ctx X;
-    double J[4][EV_JS][3];
     fe_lanes lanes;
-    fe_ends ends[4];
-    double endv[4][3 * 2 * 5 * 3];
+    double tayv[4][FE_TAYLOR_SIZE(3)];
 } fe_eval;
 
-/* The lanes of a patch whose corner jets are J (W lanes each, slot-major): the sides' end data
- * go to ends (4 sides, W lanes, storage endv of FE_END_SIZE(W) doubles per side). */
-static void fill_lanes(const fe_ctx *X, const double *const J[4], int W, fe_lanes *L, fe_ends ends[4], double *endv)
+/* The lanes of a patch whose corner jets are J (W lanes each, slot-major): the constructed sides'
+ * fields, in tayv (4 sides, FE_TAYLOR_SIZE(W) doubles each). */
+static void fill_lanes(const fe_ctx *X, const double *const J[4], int W, fe_lanes *L, double *tayv)
 {
-    for (int c = 0; c < 4; c++) L->J[c] = J[c];
+    double endv[FE_END_SIZE(CP_MAXW)];
+    fe_ends E = {W, endv};
     for (int sd = 0; sd < 4; sd++) {
-        ends[sd].W = W;
-        ends[sd].e = endv + FE_END_SIZE(W) * sd;
-        if (X->side[sd].kind == 0) side_ends(X->K, &X->side[sd], J[X->side[sd].c0], J[X->side[sd].c1], &ends[sd]);
+        fe_taylor *T = &L->T[sd];
+        T->W = W;
+        T->c = tayv + FE_TAYLOR_SIZE(W) * sd;
+        T->deg[0] = T->deg[1] = T->deg[2] = 0;
+        if (X->side[sd].kind != 0) continue;
+        side_ends(X->K, &X->side[sd], J[X->side[sd].c0], J[X->side[sd].c1], &E);
+        side_taylor(X->K, &X->side[sd], &E, T);
     }
-    L->ends = ends;
 }
 
 static void fe_eval_free(void *d) { free(d); }
@@ -488,14 +553,13 @@ static q2n_status face_form(const fe_build *B, int fi, int f, const cp_patch *P,
                           Lc / (Lsu * Lsu * Lsu), Lc * 1.7320508075688772 / (Lsu * Lsu * Lsv),
                           Lc * 1.7320508075688772 / (Lsu * Lsv * Lsv), Lc / (Lsv * Lsv * Lsv)};
     fe_lanes L;
-    fe_ends ends[4];
-    double *endv = malloc(sizeof(double) * 4 * FE_END_SIZE(W));
-    if (!endv) { st = Q2N_ERR_NOMEM; goto done; }
-    fill_lanes(P->ctx, J, W, &L, ends, endv);
+    double *tayv = malloc(sizeof(double) * 4 * FE_TAYLOR_SIZE(W));
+    if (!tayv) { st = Q2N_ERR_NOMEM; goto done; }
+    fill_lanes(P->ctx, J, W, &L, tayv);
     q2n_cp_corner_terms(P, &L, W, &C);
     for (int a = 0; a < ng; a++) q2n_cp_line_u(P, &L, W, gx[a], 4, &Lu[a]);
     for (int b = 0; b < ng; b++) q2n_cp_line_v(P, &L, W, gx[b], 4, &Lv[b]);
-    free(endv);
+    free(tayv);
     q2n_cp_grid(P, &C, bl, W, ng, gx, Lu, ng, gx, Lv, 3, 9, G);
     for (int t = 0; t < 2 && !st; t++) {
         int r0 = t ? 3 : 0, nr = t ? 4 : 3, nrow = 0;
@@ -885,11 +949,12 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
      * constructed data are jet contractions, and they involve only the fixed terms there) keep a
      * Gregory blend */
     for (int i = 0; i < nf; i++) {
-        double ctv[3 * 36 * 3];
+        double ctv[3 * 36 * 3], tayv[4 * FE_TAYLOR_SIZE(3)];
         cp_corner C = {3, ctv};
         const double *J[4];
-        fe_lanes L = {{NULL, NULL, NULL, NULL}, NULL};
-        for (int c = 0; c < 4; c++) L.J[c] = J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
+        fe_lanes L;
+        for (int c = 0; c < 4; c++) J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
+        fill_lanes(&X[i], J, 3, &L, tayv);
         q2n_cp_corner_terms(&CP[i], &L, 3, &C);
         for (int ci = 0; ci < 2; ci++)
             for (int cj = 0; cj < 2; cj++) {
@@ -916,11 +981,8 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
         E->E.P = CP[i];
         E->E.P.ctx = &E->X;
         const double *Jc[4];
-        for (int c = 0; c < 4; c++) {
-            memcpy(E->J[c], B.jet[m->face_vert[m->face_start[f] + c]], sizeof E->J[c]);
-            Jc[c] = &E->J[c][0][0];
-        }
-        fill_lanes(&E->X, Jc, 3, &E->lanes, E->ends, &E->endv[0][0]);
+        for (int c = 0; c < 4; c++) Jc[c] = &B.jet[m->face_vert[m->face_start[f] + c]][0][0];
+        fill_lanes(&E->X, Jc, 3, &E->lanes, &E->tayv[0][0]);
         E->E.lanes = &E->lanes;
         memcpy(E->E.bub, B.bub[i], sizeof E->E.bub);
         q2n_cp_eval_init(&E->E);
