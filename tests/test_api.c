@@ -151,6 +151,44 @@ static void test_arrays_match_file(void)
     unsetenv("SOURCE_DATE_EPOCH");
 }
 
+/* Fits run one after another in one process (and on one thread) do not see each other: the fit
+ * keeps per-thread memos of construction values, keyed by the fit.  The torus mirrored in z, then
+ * the torus, then the mirrored one again: the two mirrored files are the same bytes.  (Mirroring is
+ * exact and keeps every dot product, so both tori ask for the same edges at the same parameter
+ * bits: a memo keyed only by edge and parameter would answer the third fit with the second's
+ * frames.) */
+static long fit_write(const obj_arrays *a, const double *pos, const char *path, char **text)
+{
+    char err[512];
+    q2n_options o = {0};
+    o.threads = 1;
+    q2n_model *m = NULL;
+    long n = -1;
+    if (q2n_open_mesh((size_t)a->nv, pos, (size_t)a->nf, a->sizes, a->verts, &o, &m, err, sizeof err) == Q2N_OK &&
+        q2n_fit(m, err, sizeof err) == Q2N_OK && q2n_write(m, path, err, sizeof err) == Q2N_OK)
+        n = read_all(path, text);
+    q2n_close(m);
+    return n;
+}
+
+static void test_fits_in_sequence(void)
+{
+    static obj_arrays a;
+    static double st[3 * 1024]; /* the torus mirrored in z */
+    if (read_obj_arrays("data/demo_torus.obj", &a) != 0) { CHECK(0, "read demo torus"); return; }
+    for (int i = 0; i < a.nv; i++) st[3 * i] = a.pos[3 * i], st[3 * i + 1] = a.pos[3 * i + 1], st[3 * i + 2] = -a.pos[3 * i + 2];
+    setenv("SOURCE_DATE_EPOCH", "1700000000", 1);
+    char path[4096], *t1 = NULL, *t2 = NULL, *t3 = NULL;
+    snprintf(path, sizeof path, "%s", chk_scratch("sequence.step"));
+    long n1 = fit_write(&a, st, path, &t1), n2 = fit_write(&a, a.pos, path, &t2), n3 = fit_write(&a, st, path, &t3);
+    CHECK(n1 > 10000 && n2 > 10000 && n3 == n1 && !memcmp(t1, t3, (size_t)n1) && (n2 != n1 || memcmp(t1, t2, (size_t)n1)),
+          "mirrored torus, torus, mirrored torus: the two mirrored files are the same bytes (%ld, %ld, %ld)", n1, n2, n3);
+    free(t1);
+    free(t2);
+    free(t3);
+    unsetenv("SOURCE_DATE_EPOCH");
+}
+
 /* Bad arrays: the status and a message naming the element. */
 static void test_bad_arrays(void)
 {
@@ -408,6 +446,7 @@ int main(void)
     test_arrays_match_file();
     test_bad_arrays();
     test_fitted_result();
+    test_fits_in_sequence();
     char err[512];
     q2n_model *m = NULL;
     CHECK(strcmp(q2n_version(), QUAD2NURBS_VERSION) == 0, "version");

@@ -221,6 +221,22 @@ static void test_coeff_jets(void)
             }
         }
         CHECK(worst < 1e-6, "%s coefficient jets vs finite differences: %.3g", c->name, worst);
+        /* the values-only spelling (position evaluations) gives the jets' values bit for bit */
+        unsigned seed = 7 + (unsigned)ci;
+        int same = 1;
+        for (int rep = 0; rep < 200; rep++) {
+            q2n_jet d[Q2N_SPLINE_MAXW], C[Q2N_SPLINE_MAXB * Q2N_SPLINE_MAXW];
+            double dv[Q2N_SPLINE_MAXW], Cv[Q2N_SPLINE_MAXB * Q2N_SPLINE_MAXW];
+            double t = rnd(&seed);
+            for (int i = 0; i < w - 1; i++) {
+                d[i] = q2n_spline_blend(c->k, 0.05 + 3 * rnd(&seed), 0.05 + 3 * rnd(&seed), t);
+                dv[i] = d[i].d[0];
+            }
+            q2n_spline_coeffs(c, d, C);
+            q2n_spline_coeffs_value(c, dv, Cv);
+            for (int i = 0; i < c->nb * w; i++) same &= C[i].d[0] == Cv[i];
+        }
+        CHECK(same, "%s values-only coefficients equal the jets' values bit for bit", c->name);
     }
 }
 

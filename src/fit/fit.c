@@ -370,6 +370,8 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
     c->e = calloc((size_t)m->ne, sizeof *c->e);
     c->sc = calloc(4 * (size_t)m->nf, sizeof *c->sc);
     atomic_init(&c->cache_bytes, 0);
+    static atomic_ulong fit_ids;
+    c->id = atomic_fetch_add(&fit_ids, 1) + 1;
     if (!c->p || !c->e || !c->sc) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     for (int e = 0; e < m->ne; e++) c->e[e].fitted = -1;
     q2n_status st = q2n_fit_glue_measure(c);

@@ -106,6 +106,7 @@ typedef struct fit_ctx {
     fit_edge *e;             /* ne */
     fit_side_cache *sc;      /* 4 * nf: side i of patch k at 4k + i */
     atomic_long cache_bytes; /* bytes held by the side and grid caches (Q2N_FIT_CACHE_BYTES bounds them) */
+    unsigned long id;        /* distinct for every fit of the process (keys per-thread memos) */
     double (*jet)[4][4][3];  /* corner jets of the construction (patch, corner, jet_order), once per fit */
     double *vpos;            /* nv: patch corner point of every vertex */
     int round;

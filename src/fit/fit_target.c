@@ -33,6 +33,9 @@
  * so d_s T_R = A d_s T_L and d_ss T_R = A^2 d_ss T_L exactly; at the corners φ is separable to
  * order (2,2), so the mixed derivatives of T are those of S times s_t^a s_s^b.
  * Patches whose sides all have speed 1 and constant gluing keep φ = id (and the grid fast path). */
+#include <stdint.h>
+#include <string.h>
+
 #include "fit/fit_policy.h"
 #include "fit/fit_state.h"
 #include "core/hermite.h"
@@ -88,9 +91,33 @@ static void side_lin(const fit_ctx *c, int k, int i, double t, double *l, double
 /* alpha(x) and alpha'(x) of edge e at owner parameter x from the construction's frame derivatives
  * of both sides (d_s S_R(1 - x) = alpha d_s S_L(x); differentiating, -d_ts S_R = alpha' d_s S_L +
  * alpha d_ts S_L, projected on d_s S_L). */
+/* A sample grid asks for alpha at each of its side parameters, and the grids of one patch (rounds,
+ * cached and missing points, both faces of an edge at the owner's parameter) ask for the same ones
+ * again: a table per thread, direct-mapped on (fit, edge, bits of x), keeps recent results — the
+ * same numbers, two frame evaluations fewer. */
+#define ALPHA_MEMO_BITS 9
+typedef struct alpha_memo {
+    unsigned long id; /* the fit's id (0: empty) */
+    int e;
+    uint64_t xb;
+    double al, dal, DL[6][3], DR[6][3];
+} alpha_memo;
+static _Thread_local alpha_memo alpha_tab[1 << ALPHA_MEMO_BITS];
+
 static q2n_status edge_alpha(const fit_ctx *c, int e, double x, double *al, double *dal, double DL[6][3],
                              double DR[6][3])
 {
+    uint64_t xb;
+    memcpy(&xb, &x, sizeof xb);
+    uint64_t hk = (xb ^ (xb >> 29) ^ (uint64_t)(unsigned)e * 0x9e3779b97f4a7c15ull) * 0xff51afd7ed558ccdull;
+    alpha_memo *mo = &alpha_tab[hk >> (64 - ALPHA_MEMO_BITS)];
+    if (mo->id == c->id && mo->e == e && mo->xb == xb) {
+        *al = mo->al;
+        *dal = mo->dal;
+        memcpy(DL, mo->DL, sizeof mo->DL);
+        memcpy(DR, mo->DR, sizeof mo->DR);
+        return Q2N_OK;
+    }
     const q2n_mesh *m = c->m;
     int h = m->edge_he[e], ht = m->he_twin[h], fL = m->he_face[h], fR = m->he_face[ht];
     q2n_status st = q2n_fit_frame_eval(c->s, fL, h - m->face_start[fL], x, 0.0, 2, DL);
@@ -101,6 +128,13 @@ static q2n_status edge_alpha(const fit_ctx *c, int e, double x, double *al, doub
     double w[3];
     for (int q = 0; q < 3; q++) w[q] = -DR[4][q] - *al * DL[4][q];
     *dal = q2n_v3_dot(w, DL[2]) / nn;
+    mo->id = c->id;
+    mo->e = e;
+    mo->xb = xb;
+    mo->al = *al;
+    mo->dal = *dal;
+    memcpy(mo->DL, DL, sizeof mo->DL);
+    memcpy(mo->DR, DR, sizeof mo->DR);
     return Q2N_OK;
 }
 

@@ -288,12 +288,14 @@ int q2n_augmented_patch_get(const q2n_surface *s, int f, q2n_augmented_patch *ou
 
 /* Evaluations along a patch side keep one parameter fixed (v = 0 on side 0, ...), so the same
  * coefficients are asked for again and again: a few recent ones per thread, keyed by everything
- * they depend on (class, intervals, parameter bits), are copied instead of recomputed. */
+ * they depend on (class, intervals, parameter bits), are copied instead of recomputed.  An entry
+ * holds jets (order 2) or values only (order 0: positions need no cross derivatives); a jet entry
+ * answers a request for values too (its d[0] are the values, bit for bit). */
 #define COEF_MEMO_N 8
 typedef struct coef_memo {
     unsigned long used;                 /* last use (0: empty); the least recent is replaced */
     const q2n_spline_class *cls;
-    int w;
+    int w, order;
     uint64_t xbits;
     double d[2][MAXW];
     q2n_jet C[Q2N_SPLINE_MAXB * MAXW];
@@ -301,8 +303,10 @@ typedef struct coef_memo {
 static _Thread_local coef_memo coef_memo_tab[COEF_MEMO_N];
 static _Thread_local unsigned long coef_memo_clock;
 
-void q2n_augmented_coeffs(const q2n_spline_class *cls, int w, const double *d0, const double *d1, double x,
-                          q2n_jet *C)
+/* The coefficients at x of intervals blended from d0 to d1, as jets in x (order 2) or, order 0,
+ * values only (C[.].d[1], d[2] then undefined). */
+static void coeffs_memo(const q2n_spline_class *cls, int w, const double *d0, const double *d1, double x, int order,
+                        q2n_jet *C)
 {
     uint64_t xb;
     memcpy(&xb, &x, sizeof xb);
@@ -310,18 +314,27 @@ void q2n_augmented_coeffs(const q2n_spline_class *cls, int w, const double *d0, 
     coef_memo *m = NULL, *old = &coef_memo_tab[0];
     for (int i = 0; i < COEF_MEMO_N && !m; i++) {
         coef_memo *e = &coef_memo_tab[i];
-        if (e->used && e->cls == cls && e->w == w && e->xbits == xb && !memcmp(e->d[0], d0, nd) && !memcmp(e->d[1], d1, nd))
+        if (e->used && e->cls == cls && e->w == w && e->order >= order && e->xbits == xb && !memcmp(e->d[0], d0, nd) &&
+            !memcmp(e->d[1], d1, nd))
             m = e;
         else if (e->used < old->used)
             old = e;
     }
     if (!m) {
         m = old;
-        q2n_jet d[MAXW];
-        for (int i = 0; i < w - 1; i++) d[i] = q2n_spline_blend(cls->k, d0[i], d1[i], x);
-        q2n_spline_coeffs(cls, d, m->C);
+        if (order > 0) {
+            q2n_jet d[MAXW];
+            for (int i = 0; i < w - 1; i++) d[i] = q2n_spline_blend(cls->k, d0[i], d1[i], x);
+            q2n_spline_coeffs(cls, d, m->C);
+        } else {
+            double d[MAXW], Cv[Q2N_SPLINE_MAXB * MAXW];
+            for (int i = 0; i < w - 1; i++) d[i] = q2n_spline_blend(cls->k, d0[i], d1[i], x).d[0];
+            q2n_spline_coeffs_value(cls, d, Cv);
+            for (int i = 0; i < cls->nb * w; i++) m->C[i] = q2n_jet_const(Cv[i]);
+        }
         m->cls = cls;
         m->w = w;
+        m->order = order;
         m->xbits = xb;
         memcpy(m->d[0], d0, nd);
         memcpy(m->d[1], d1, nd);
@@ -330,15 +343,22 @@ void q2n_augmented_coeffs(const q2n_spline_class *cls, int w, const double *d0, 
     memcpy(C, m->C, nc);
 }
 
-/* Coefficients of the u-direction functions at v (jets in v) — eq. (8a) blended intervals. */
-static void u_coeffs(const q2n_augmented_patch *p, double v, q2n_jet *C)
+void q2n_augmented_coeffs(const q2n_spline_class *cls, int w, const double *d0, const double *d1, double x,
+                          q2n_jet *C)
 {
-    q2n_augmented_coeffs(p->cls, p->w, p->drow[0], p->drow[1], v, C);
+    coeffs_memo(cls, w, d0, d1, x, 2, C);
 }
 
-static void v_coeffs(const q2n_augmented_patch *p, double u, q2n_jet *C)
+/* Coefficients of the u-direction functions at v (jets in v; values only when order is 0) — eq. (8a)
+ * blended intervals. */
+static void u_coeffs(const q2n_augmented_patch *p, double v, int order, q2n_jet *C)
 {
-    q2n_augmented_coeffs(p->cls, p->w, p->ecol[0], p->ecol[1], u, C);
+    coeffs_memo(p->cls, p->w, p->drow[0], p->drow[1], v, order, C);
+}
+
+static void v_coeffs(const q2n_augmented_patch *p, double u, int order, q2n_jet *C)
+{
+    coeffs_memo(p->cls, p->w, p->ecol[0], p->ecol[1], u, order, C);
 }
 
 /* Fundamental functions and their partials in (own, cross) variables:
@@ -413,8 +433,8 @@ void q2n_augmented_eval(const q2n_augmented_patch *p, double u, double v, int nd
     int w = p->w, nb = p->cls->nb;
     q2n_jet Cu[Q2N_SPLINE_MAXB * MAXW], Cv[Q2N_SPLINE_MAXB * MAXW];
     double Bu[4 * Q2N_SPLINE_MAXB], Bv[4 * Q2N_SPLINE_MAXB], F[6][MAXW], Gv[6][MAXW];
-    u_coeffs(p, v, Cu);
-    v_coeffs(p, u, Cv);
+    u_coeffs(p, v, nder > 0 ? 2 : 0, Cu); /* positions need no cross derivatives */
+    v_coeffs(p, u, nder > 0 ? 2 : 0, Cv);
     p->cls->basis(u, nder, Bu);
     p->cls->basis(v, nder, Bv);
     combine(w, nb, Bu, Cu, nder, F);
@@ -432,8 +452,8 @@ static void augmented_mixed(const q2n_augmented_patch *p, double u, double v, do
     int w = p->w, nb = p->cls->nb;
     q2n_jet Cu[Q2N_SPLINE_MAXB * MAXW], Cv[Q2N_SPLINE_MAXB * MAXW];
     double Bu[4 * Q2N_SPLINE_MAXB], Bv[4 * Q2N_SPLINE_MAXB], Psi[3][3][MAXW], Phi[3][3][MAXW];
-    u_coeffs(p, v, Cu);
-    v_coeffs(p, u, Cv);
+    u_coeffs(p, v, 2, Cu);
+    v_coeffs(p, u, 2, Cv);
     p->cls->basis(u, 2, Bu);
     p->cls->basis(v, 2, Bv);
     for (int a = 0; a <= 2; a++)
@@ -582,7 +602,7 @@ static q2n_status eval_grid_cb(const void *data, int nu, const double *us, int n
         double Bu[4 * Q2N_SPLINE_MAXB];
         grid_cols *g = gc + a / QB;
         int q = a % QB;
-        v_coeffs(p, us[a], Cv);
+        v_coeffs(p, us[a], 2, Cv);
         p->cls->basis(us[a], 1, Bu);
         for (int r = 0; r < nb; r++) {
             g->B0[r][q] = Bu[r];
@@ -596,7 +616,7 @@ static q2n_status eval_grid_cb(const void *data, int nu, const double *us, int n
     for (int b = 0; b < nv; b++) {
         q2n_jet Cu[Q2N_SPLINE_MAXB * MAXW];
         double Bv[4 * Q2N_SPLINE_MAXB], T0[Q2N_SPLINE_MAXB][MAXW][3], T1[Q2N_SPLINE_MAXB][MAXW][3];
-        u_coeffs(p, vs[b], Cu);
+        u_coeffs(p, vs[b], 2, Cu);
         p->cls->basis(vs[b], 1, Bv);
         for (int r = 0; r < nb; r++)
             for (int j = 0; j < w; j++) {

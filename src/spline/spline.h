@@ -39,6 +39,8 @@ const q2n_spline_class *q2n_spline_class_find(const char *name);
 
 /* Coefficients C[r*w + i] (r < nb, i < w) for the local parameter vector d[0..w-2] (jets). */
 void q2n_spline_coeffs(const q2n_spline_class *c, const q2n_jet *d, q2n_jet *C);
+/* The same for values only (each jet's d[0]; the same numbers, bit for bit). */
+void q2n_spline_coeffs_value(const q2n_spline_class *c, const double *d, double *C);
 
 /* Fundamental functions on [0, D], D = d[w/2-1], at x, with x-derivatives up to nder (<= 3):
  * psi[q*w + i] = d^q/dx^q ψ_i(x; d), i = 0..w-1 standing for s-w/2+1 .. s+w/2. */

@@ -109,68 +109,6 @@ const q2n_spline_class *q2n_spline_class_find(const char *name)
     return NULL;
 }
 
-/* Derivatives of order 0..k at node c of the Lagrange basis on nodes X[lo..hi]:
- * W[a][i] = l_i^(a)(X_c).  Each l_i is expanded in y = x - X_c as a product of linear factors
- * (y + (X_c - X_m)), truncated at degree k, then divided by Π (X_i - X_m). */
-static void lagrange_node_derivs(const q2n_jet *X, int lo, int hi, int c, int k,
-                                 q2n_jet W[][Q2N_SPLINE_MAXW])
-{
-    for (int i = lo; i <= hi; i++) {
-        q2n_jet poly[4] = {q2n_jet_const(1), q2n_jet_const(0), q2n_jet_const(0), q2n_jet_const(0)};
-        q2n_jet den = q2n_jet_const(1);
-        for (int m = lo; m <= hi; m++) {
-            if (m == i) continue;
-            q2n_jet off = q2n_jet_sub(X[c], X[m]);
-            for (int p = k; p >= 0; p--) /* poly *= (y + off) */
-                poly[p] = q2n_jet_add(q2n_jet_mul(poly[p], off), p > 0 ? poly[p - 1] : q2n_jet_const(0));
-            den = q2n_jet_mul(den, q2n_jet_sub(X[i], X[m]));
-        }
-        q2n_jet inv = q2n_jet_inv(den);
-        double fact = 1;
-        for (int a = 0; a <= k; a++) {
-            if (a > 0) fact *= a;
-            W[a][i] = q2n_jet_scale(fact, q2n_jet_mul(poly[a], inv));
-        }
-    }
-}
-
-/* The 3-point parabola through x_{j-1}, x_j, x_{j+1} (formulas.md §3.3), with hm, hp the
- * intervals left and right of the knot: weights of f_{j-1}, f_j, f_{j+1} in d_j and s_j. */
-static void parabola_weights(q2n_jet hm, q2n_jet hp, q2n_jet W[3][Q2N_SPLINE_MAXW], int off)
-{
-    q2n_jet im = q2n_jet_inv(hm), ip = q2n_jet_inv(hp), is = q2n_jet_inv(q2n_jet_add(hm, hp));
-    q2n_jet a = q2n_jet_mul(im, is), b = q2n_jet_mul(im, ip), c = q2n_jet_mul(ip, is);
-    W[1][off] = q2n_jet_scale(-1, q2n_jet_mul(hp, a));
-    W[1][off + 1] = q2n_jet_mul(q2n_jet_sub(hp, hm), b);
-    W[1][off + 2] = q2n_jet_mul(hm, c);
-    W[2][off] = q2n_jet_scale(2, a);
-    W[2][off + 1] = q2n_jet_scale(-2, b);
-    W[2][off + 2] = q2n_jet_scale(2, c);
-}
-
-void q2n_spline_coeffs(const q2n_spline_class *c, const q2n_jet *d, q2n_jet *C)
-{
-    int w = c->w, h = w / 2, k = c->k, L = (c->nlagr - 1) / 2;
-    q2n_jet X[Q2N_SPLINE_MAXW];
-    X[0] = q2n_jet_const(0);
-    for (int i = 1; i < w; i++) X[i] = q2n_jet_add(X[i - 1], d[i - 1]);
-    for (int i = 0; i < c->nb * w; i++) C[i] = q2n_jet_const(0);
-    q2n_jet D = d[h - 1];
-    for (int e = 0; e < 2; e++) {
-        int knot = h - 1 + e;
-        q2n_jet W[4][Q2N_SPLINE_MAXW];
-        if (c->nlagr == 3 && k <= 2) parabola_weights(d[knot - 1], d[knot], W, knot - 1);
-        else lagrange_node_derivs(X, knot - L, knot + L, knot, k, W);
-        q2n_jet Da = q2n_jet_const(1);
-        for (int a = 0; a <= k; a++) {
-            int r = e * (k + 1) + a;
-            for (int i = knot - L; i <= knot + L; i++)
-                C[r * w + i] = a == 0 ? q2n_jet_const(i == knot) : q2n_jet_mul(Da, W[a][i]);
-            Da = q2n_jet_mul(Da, D);
-        }
-    }
-}
-
 void q2n_spline_fundamental(const q2n_spline_class *c, const double *d, double x, int nder,
                             double *psi)
 {
