@@ -332,12 +332,16 @@ static void free_round_state(fit_ctx *c)
     for (int e = 0; c->e && e < m->ne; e++) {
         free(c->e[e].spmax);
         c->e[e].spmax = NULL;
+        free(c->e[e].av);
+        c->e[e].av = NULL;
+        c->e[e].an = c->e[e].acap = 0;
     }
     for (int q = 0; c->sc && q < 4 * m->nf; q++) {
         free(c->sc[q].v);
         memset(&c->sc[q], 0, sizeof c->sc[q]);
     }
     atomic_store(&c->cache_bytes, 0);
+    atomic_store(&c->alpha_bytes, 0);
 }
 
 static void ctx_free(fit_ctx *c)
@@ -354,6 +358,7 @@ static void ctx_free(fit_ctx *c)
         q2n_fit_breaks_free(&c->e[e].K);
         free(c->e[e].cp);
     }
+    for (int e = 0; c->e && e < c->amu_n; e++) pthread_mutex_destroy(&c->e[e].amu);
     free(c->p);
     free(c->e);
     free(c->sc);
@@ -370,10 +375,13 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
     c->e = calloc((size_t)m->ne, sizeof *c->e);
     c->sc = calloc(4 * (size_t)m->nf, sizeof *c->sc);
     atomic_init(&c->cache_bytes, 0);
-    static atomic_ulong fit_ids;
-    c->id = atomic_fetch_add(&fit_ids, 1) + 1;
+    atomic_init(&c->alpha_bytes, 0);
     if (!c->p || !c->e || !c->sc) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
-    for (int e = 0; e < m->ne; e++) c->e[e].fitted = -1;
+    for (int e = 0; e < m->ne; e++) {
+        c->e[e].fitted = -1;
+        if (pthread_mutex_init(&c->e[e].amu, NULL)) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of resources (mutex)");
+        c->amu_n = e + 1;
+    }
     q2n_status st = q2n_fit_glue_measure(c);
     if (!st) st = q2n_fit_target_setup(c);
     if (!st) st = q2n_fit_prepare(c);

@@ -42,6 +42,9 @@
 #define Q2N_FIT_CONSTRAINT_RESID 1e-9   /* a constraint block whose best solution misses by more (relative) is inconsistent: fall back to least squares */
 
 /* ---- construction caches ---- */
+#ifndef Q2N_FIT_ALPHA_CACHE_BYTES
+#define Q2N_FIT_ALPHA_CACHE_BYTES 16e6  /* the reparametrized edges' alpha values (24 bytes per parameter) are kept up to this total, apart from the construction caches: large models fill those with samples, and every sample grid of a reparametrized patch asks for alpha again (a 2 400-face torus keeps ~1.5 MB) */
+#endif
 #ifndef Q2N_FIT_CACHE_BYTES
 #define Q2N_FIT_CACHE_BYTES 64e6        /* construction values (side and grid caches together) are kept for reuse by the later stages and rounds up to this total; beyond it they are evaluated when needed: large models stay near 3.7 KB per face plus this, small ones keep every value */
 #endif

@@ -12,6 +12,7 @@
 
 #include "fit/fit_internal.h"
 
+#include <pthread.h>
 #include <stdatomic.h>
 
 /* A sorted growable set of breakpoints in (0,1). */
@@ -62,7 +63,13 @@ typedef struct fit_edge {
     int g1_fails, g2_fails;  /* consecutive rounds this edge drove refinement for continuity */
     int kn_prev;             /* K.n at the previous refinement decision */
     int stalled;             /* bit 0: G1, bit 1: G2 — no longer drives refinement */
+    /* rep edges: alpha and alpha' at the owner parameters asked for so far (fit_target.c), sorted by
+     * parameter; both faces of the edge read and add them, under amu */
+    pthread_mutex_t amu;
+    int an, acap;
+    double *av;              /* an rows of FIT_AC_STRIDE: x, alpha, alpha' */
 } fit_edge;
+#define FIT_AC_STRIDE 3
 
 typedef struct fit_patch {
     fit_breaks I[2];         /* patch-interior breakpoints in u and v */
@@ -106,7 +113,8 @@ typedef struct fit_ctx {
     fit_edge *e;             /* ne */
     fit_side_cache *sc;      /* 4 * nf: side i of patch k at 4k + i */
     atomic_long cache_bytes; /* bytes held by the side and grid caches (Q2N_FIT_CACHE_BYTES bounds them) */
-    unsigned long id;        /* distinct for every fit of the process (keys per-thread memos) */
+    atomic_long alpha_bytes; /* bytes held by the edges' alpha caches (Q2N_FIT_ALPHA_CACHE_BYTES) */
+    int amu_n;               /* edges whose amu is initialised */
     double (*jet)[4][4][3];  /* corner jets of the construction (patch, corner, jet_order), once per fit */
     double *vpos;            /* nv: patch corner point of every vertex */
     int round;

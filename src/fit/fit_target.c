@@ -33,8 +33,7 @@
  * so d_s T_R = A d_s T_L and d_ss T_R = A^2 d_ss T_L exactly; at the corners φ is separable to
  * order (2,2), so the mixed derivatives of T are those of S times s_t^a s_s^b.
  * Patches whose sides all have speed 1 and constant gluing keep φ = id (and the grid fast path). */
-#include <stdint.h>
-#include <string.h>
+#include <pthread.h>
 
 #include "fit/fit_policy.h"
 #include "fit/fit_state.h"
@@ -91,33 +90,10 @@ static void side_lin(const fit_ctx *c, int k, int i, double t, double *l, double
 /* alpha(x) and alpha'(x) of edge e at owner parameter x from the construction's frame derivatives
  * of both sides (d_s S_R(1 - x) = alpha d_s S_L(x); differentiating, -d_ts S_R = alpha' d_s S_L +
  * alpha d_ts S_L, projected on d_s S_L). */
-/* A sample grid asks for alpha at each of its side parameters, and the grids of one patch (rounds,
- * cached and missing points, both faces of an edge at the owner's parameter) ask for the same ones
- * again: a table per thread, direct-mapped on (fit, edge, bits of x), keeps recent results — the
- * same numbers, two frame evaluations fewer. */
-#define ALPHA_MEMO_BITS 9
-typedef struct alpha_memo {
-    unsigned long id; /* the fit's id (0: empty) */
-    int e;
-    uint64_t xb;
-    double al, dal, DL[6][3], DR[6][3];
-} alpha_memo;
-static _Thread_local alpha_memo alpha_tab[1 << ALPHA_MEMO_BITS];
-
-static q2n_status edge_alpha(const fit_ctx *c, int e, double x, double *al, double *dal, double DL[6][3],
-                             double DR[6][3])
+/* alpha and its derivative across edge e at owner parameter x, and both sides' frames there. */
+static q2n_status alpha_compute(const fit_ctx *c, int e, double x, double *al, double *dal, double DL[6][3],
+                                double DR[6][3])
 {
-    uint64_t xb;
-    memcpy(&xb, &x, sizeof xb);
-    uint64_t hk = (xb ^ (xb >> 29) ^ (uint64_t)(unsigned)e * 0x9e3779b97f4a7c15ull) * 0xff51afd7ed558ccdull;
-    alpha_memo *mo = &alpha_tab[hk >> (64 - ALPHA_MEMO_BITS)];
-    if (mo->id == c->id && mo->e == e && mo->xb == xb) {
-        *al = mo->al;
-        *dal = mo->dal;
-        memcpy(DL, mo->DL, sizeof mo->DL);
-        memcpy(DR, mo->DR, sizeof mo->DR);
-        return Q2N_OK;
-    }
     const q2n_mesh *m = c->m;
     int h = m->edge_he[e], ht = m->he_twin[h], fL = m->he_face[h], fR = m->he_face[ht];
     q2n_status st = q2n_fit_frame_eval(c->s, fL, h - m->face_start[fL], x, 0.0, 2, DL);
@@ -128,20 +104,75 @@ static q2n_status edge_alpha(const fit_ctx *c, int e, double x, double *al, doub
     double w[3];
     for (int q = 0; q < 3; q++) w[q] = -DR[4][q] - *al * DL[4][q];
     *dal = q2n_v3_dot(w, DL[2]) / nn;
-    mo->id = c->id;
-    mo->e = e;
-    mo->xb = xb;
-    mo->al = *al;
-    mo->dal = *dal;
-    memcpy(mo->DL, DL, sizeof mo->DL);
-    memcpy(mo->DR, DR, sizeof mo->DR);
+    return Q2N_OK;
+}
+
+/* Index of x in edge e's alpha cache (binary search, under amu); -1 when absent, *pos the insertion point. */
+static int ac_find(const fit_edge *E, double x, int *pos)
+{
+    int lo = 0, hi = E->an;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (E->av[FIT_AC_STRIDE * (size_t)mid] < x) lo = mid + 1;
+        else hi = mid;
+    }
+    *pos = lo;
+    return lo < E->an && E->av[FIT_AC_STRIDE * (size_t)lo] == x ? lo : -1;
+}
+
+/* alpha_compute through edge e's cache: every sample grid asks for alpha at its side parameters, the
+ * grids of a patch (rounds, missing points, measurement) and the two faces of the edge (at the same
+ * owner parameter) ask for the same ones again.  The cache keeps alpha and alpha' (the same numbers);
+ * beyond its budget (Q2N_FIT_ALPHA_CACHE_BYTES) values are computed and not kept.  *frames is 1 when
+ * DL, DR were evaluated on the way (a miss), 0 when the cache answered. */
+static q2n_status edge_alpha(fit_ctx *c, int e, double x, double *al, double *dal, double DL[6][3], double DR[6][3],
+                             int *frames)
+{
+    fit_edge *E = &c->e[e];
+    int pos, at;
+    *frames = 0;
+    pthread_mutex_lock(&E->amu);
+    if ((at = ac_find(E, x, &pos)) >= 0) {
+        *al = E->av[FIT_AC_STRIDE * (size_t)at + 1];
+        *dal = E->av[FIT_AC_STRIDE * (size_t)at + 2];
+        pthread_mutex_unlock(&E->amu);
+        return Q2N_OK;
+    }
+    pthread_mutex_unlock(&E->amu);
+    q2n_status st = alpha_compute(c, e, x, al, dal, DL, DR);
+    if (st) return st;
+    *frames = 1;
+    pthread_mutex_lock(&E->amu);
+    if (ac_find(E, x, &pos) < 0) { /* the other face may have added it meanwhile */
+        if (E->an == E->acap) {
+            int nc = E->acap ? 2 * E->acap : 16;
+            long add = (long)(nc - E->acap) * FIT_AC_STRIDE * (long)sizeof(double);
+            if ((double)(atomic_fetch_add(&c->alpha_bytes, add) + add) <= Q2N_FIT_ALPHA_CACHE_BYTES) {
+                double *nv = realloc(E->av, sizeof(double) * FIT_AC_STRIDE * (size_t)nc);
+                if (nv) E->av = nv, E->acap = nc;
+                else atomic_fetch_sub(&c->alpha_bytes, add);
+            } else {
+                atomic_fetch_sub(&c->alpha_bytes, add);
+            }
+        }
+        if (E->an < E->acap) {
+            double *r = E->av + FIT_AC_STRIDE * (size_t)pos;
+            memmove(r + FIT_AC_STRIDE, r, sizeof(double) * FIT_AC_STRIDE * (size_t)(E->an - pos));
+            r[0] = x;
+            r[1] = *al;
+            r[2] = *dal;
+            E->an++;
+        }
+    }
+    pthread_mutex_unlock(&E->amu);
     return Q2N_OK;
 }
 
 /* Cross speed of side (k, i) at t: value and derivative.  Where it needs alpha (the side that absorbs
- * its variation), the construction's frame of this side at tau_i(t) is evaluated on the way; it goes
- * to D when D is given (*have = 1), the same bits q2n_fit_frame_eval gives there. */
-static q2n_status side_lambda(const fit_ctx *c, int k, int i, double t, double *l, double *dl, double D[6][3],
+ * its variation) and alpha is not cached, the construction's frame of this side at tau_i(t) is
+ * evaluated on the way; it goes to D when D is given (*have = 1), the same bits q2n_fit_frame_eval
+ * gives there. */
+static q2n_status side_lambda(fit_ctx *c, int k, int i, double t, double *l, double *dl, double D[6][3],
                               int *have)
 {
     int own, e = side_edge(c, k, i, &own);
@@ -156,10 +187,11 @@ static q2n_status side_lambda(const fit_ctx *c, int k, int i, double t, double *
     double xe = own ? t : x;                         /* owner parameter of this point */
     tau_eval(speed(c, e), speed(c, e), xe, tau);
     double DL[6][3], DR[6][3];
-    q2n_status st = edge_alpha(c, e, tau[0], &al, &dal, DL, DR);
+    int frames;
+    q2n_status st = edge_alpha(c, e, tau[0], &al, &dal, DL, DR, &frames);
     if (st) return st;
     /* this side's frame: L at tau_e(t) (owner), R at 1 - tau_e(1 - t) — side_tau's tau_i(t) */
-    if (D) {
+    if (D && frames) {
         memcpy(D, own ? DL : DR, sizeof DL);
         *have = 1;
     }
