@@ -228,15 +228,18 @@ static void test_coeff_jets(void)
             q2n_jet d[Q2N_SPLINE_MAXW], C[Q2N_SPLINE_MAXB * Q2N_SPLINE_MAXW];
             double dv[Q2N_SPLINE_MAXW], Cv[Q2N_SPLINE_MAXB * Q2N_SPLINE_MAXW];
             double t = rnd(&seed);
+            double h = q2n_spline_blend_weight(c->k, t);
             for (int i = 0; i < w - 1; i++) {
-                d[i] = q2n_spline_blend(c->k, 0.05 + 3 * rnd(&seed), 0.05 + 3 * rnd(&seed), t);
-                dv[i] = d[i].d[0];
+                double a = 0.05 + 3 * rnd(&seed), b = 0.05 + 3 * rnd(&seed);
+                d[i] = q2n_spline_blend(c->k, a, b, t);
+                dv[i] = a + (b - a) * h;
+                same &= dv[i] == d[i].d[0];
             }
             q2n_spline_coeffs(c, d, C);
             q2n_spline_coeffs_value(c, dv, Cv);
             for (int i = 0; i < c->nb * w; i++) same &= C[i].d[0] == Cv[i];
         }
-        CHECK(same, "%s values-only coefficients equal the jets' values bit for bit", c->name);
+        CHECK(same, "%s values-only blend and coefficients equal the jets' values bit for bit", c->name);
     }
 }
 

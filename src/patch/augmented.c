@@ -327,8 +327,8 @@ static void coeffs_memo(const q2n_spline_class *cls, int w, const double *d0, co
             for (int i = 0; i < w - 1; i++) d[i] = q2n_spline_blend(cls->k, d0[i], d1[i], x);
             q2n_spline_coeffs(cls, d, m->C);
         } else {
-            double d[MAXW], Cv[Q2N_SPLINE_MAXB * MAXW];
-            for (int i = 0; i < w - 1; i++) d[i] = q2n_spline_blend(cls->k, d0[i], d1[i], x).d[0];
+            double d[MAXW], Cv[Q2N_SPLINE_MAXB * MAXW], h = q2n_spline_blend_weight(cls->k, x);
+            for (int i = 0; i < w - 1; i++) d[i] = d0[i] + (d1[i] - d0[i]) * h;
             q2n_spline_coeffs_value(cls, d, Cv);
             for (int i = 0; i < cls->nb * w; i++) m->C[i] = q2n_jet_const(Cv[i]);
         }

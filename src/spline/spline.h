@@ -57,6 +57,8 @@ int q2n_spline_curve_eval(const q2n_spline_class *c, int n, int dim, const doubl
 /* Local parametrization function of degree 2k+1 (eq. 7): δ(0)=a, δ(1)=b, derivatives of order
  * 1..k vanish at 0 and 1.  Returns the jet of δ at t (value, first and second derivative). */
 q2n_jet q2n_spline_blend(int k, double a, double b, double t);
+/* Its value only, as the weight h(t) of δ = a + (b - a) h(t): the same bits as the jet's value. */
+double q2n_spline_blend_weight(int k, double t);
 /* The same with derivatives up to 3: out[0..3]. */
 void q2n_spline_blend_derivs(int k, double a, double b, double t, double out[4]);
 

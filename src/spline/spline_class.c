@@ -172,6 +172,18 @@ void q2n_spline_blend_derivs(int k, double a, double b, double t, double out[4])
     }
 }
 
+double q2n_spline_blend_weight(int k, double t)
+{
+    static const double linear[8] = {0, 1, 0, 0, 0, 0, 0, 0};
+    const double *c = k <= 0 ? linear : q2n_hermite_coef[(k > 3 ? 3 : k) - 1][0][1];
+    double pw = 1, acc = 0;
+    for (int p = 0; p < 8; p++) {
+        acc += c[p] * FALL[p][0] * pw;
+        pw *= t;
+    }
+    return acc;
+}
+
 q2n_jet q2n_spline_blend(int k, double a, double b, double t)
 {
     double o[4];
