@@ -105,9 +105,11 @@ static void side_ends(int K, const fe_side *S, const double *T0, const double *T
  * degree), and at the ends the coefficients are the end data themselves (divided by k!): the
  * corner values are exact. */
 #define FE_TDEG 17 /* ξ_G of order K = 2: degree 2(2K + 1) + 4K - 1 */
+#define FE_TRUNS 8  /* runs of nonzero lanes an evaluation visits (more: all lanes) */
 typedef struct fe_taylor {
     int W, deg[3];
     double *c;
+    int nrun, run[FE_TRUNS][2]; /* the lanes [run[r][0], run[r][1]) hold every nonzero coefficient */
 } fe_taylor;
 #define FE_TC(T, b, e, k) ((T)->c + (size_t)((((b) * 2 + (e)) * (FE_TDEG + 1)) + (k)) * (T)->W)
 #define FE_TAYLOR_SIZE(W) ((size_t)3 * 2 * (FE_TDEG + 1) * (W))
@@ -200,30 +202,48 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
     }
 }
 
-/* out[a] = a-th derivative at σ of the polynomial with coefficients c[0..n] (W lanes), a < na:
- * repeated synthetic division (Horner), then a! */
-static void taylor_eval(const double *c, int n, int W, double x, int na, double out[][CP_MAXW])
+/* The runs of lanes where some coefficient of T is nonzero: a side's fields involve the fixed lanes
+ * and the unknowns of its two end vertices only, about half of an assembly's lanes. */
+static void taylor_runs(fe_taylor *T)
 {
-    for (int a = 0; a < na; a++) memset(out[a], 0, sizeof(double) * W);
-    for (int k = n; k >= 0; k--) {
-        for (int a = na - 1; a >= 1; a--) {
-            double *d = out[a], *dp = out[a - 1];
-            for (int l = 0; l < W; l++) d[l] = d[l] * x + dp[l];
+    int W = T->W, n = 0, in = 0;
+    for (int l = 0; l <= W; l++) {
+        int nz = 0;
+        for (int b = 0; l < W && b < 3 && !nz; b++)
+            for (int e = 0; e < 2 && !nz; e++)
+                for (int k = 0; k <= T->deg[b] && !nz; k++) nz = FE_TC(T, b, e, k)[l] != 0;
+        if (nz && !in) {
+            if (n == FE_TRUNS) { n = 1, T->run[0][0] = 0, T->run[0][1] = W; break; }
+            T->run[n][0] = l, in = 1;
+        } else if (!nz && in) {
+            T->run[n++][1] = l, in = 0;
         }
-        const double *ck = c + (size_t)k * W;
-        double *d = out[0];
-        for (int l = 0; l < W; l++) d[l] = d[l] * x + ck[l];
     }
-    for (int a = 2; a < na; a++) {
-        double f = a == 2 ? 2 : 6;
-        for (int l = 0; l < W; l++) out[a][l] *= f;
-    }
+    T->nrun = n;
 }
 
-/* The lanes a fair patch's side function reads: its sides' fields (fill_lanes). */
-typedef struct fe_lanes {
-    fe_taylor T[4];
-} fe_lanes;
+/* out[a] = a-th derivative at σ of the polynomial with coefficients c[0..n] (W lanes, nonzero only
+ * in T's runs), a < na: repeated synthetic division (Horner), then a! */
+static void taylor_eval(const fe_taylor *T, const double *c, int n, int W, double x, int na, double out[][CP_MAXW])
+{
+    for (int a = 0; a < na; a++) memset(out[a], 0, sizeof(double) * W);
+    for (int r = 0; r < T->nrun; r++) {
+        int l0 = T->run[r][0], l1 = T->run[r][1];
+        for (int k = n; k >= 0; k--) {
+            for (int a = na - 1; a >= 1; a--) {
+                double *d = out[a], *dp = out[a - 1];
+                for (int l = l0; l < l1; l++) d[l] = d[l] * x + dp[l];
+            }
+            const double *ck = c + (size_t)k * W;
+            double *d = out[0];
+            for (int l = l0; l < l1; l++) d[l] = d[l] * x + ck[l];
+        }
+        for (int a = 2; a < na; a++) {
+            double f = a == 2 ? 2 : 6;
+            for (int l = l0; l < l1; l++) out[a][l] *= f;
+        }
+    }
+}
 
 /* Parametric data of a constructed side at s: out[b][a] = ∂n^b ∂s^a with n the inward cross
  * parameter, b <= K, a < na (<= 4). */
@@ -236,9 +256,14 @@ static void constructed(int K, const fe_taylor *T, int W, double s, int na, doub
             for (int a = 0; a < na; a++) memset(out[b][a], 0, sizeof(double) * W);
             continue;
         }
-        taylor_eval(FE_TC(T, b, e, 0), T->deg[b], W, x, na, out[b]);
+        taylor_eval(T, FE_TC(T, b, e, 0), T->deg[b], W, x, na, out[b]);
     }
 }
+
+/* The lanes a fair patch's side function reads: its sides' fields (fill_lanes). */
+typedef struct fe_lanes {
+    fe_taylor T[4];
+} fe_lanes;
 
 /* Regular side: local data of the neighbour (q2n_ev_side_eval, along derivatives <= 2; the third by
  * central differences of the second, only the energy asks for it) times the local
@@ -320,6 +345,7 @@ static void fill_lanes(const fe_ctx *X, const double *const J[4], int W, fe_lane
         if (X->side[sd].kind != 0) continue;
         side_ends(X->K, &X->side[sd], J[X->side[sd].c0], J[X->side[sd].c1], &E);
         side_taylor(X->K, &X->side[sd], &E, T);
+        taylor_runs(T);
     }
 }
 
