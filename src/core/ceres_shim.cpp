@@ -25,6 +25,7 @@
 #include <cstdio>
 #include <cstring>
 #include <deque>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -181,12 +182,15 @@ struct BlockWorker {
         popt.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
         popt.context = ctx;
         /* one Gauss-Newton step from the current values (the problem is linear): no damping to
-         * speak of, no tolerance that could skip or stop the step */
+         * speak of, no tolerance that could skip the step; an infinite function tolerance ends the
+         * solve as soon as the step is accepted, before TinySolver re-evaluates the Jacobian and
+         * J^T J at the new point for a next iteration there is none of (x is the same bits: that
+         * evaluation only fed the summary, which is not read) */
         tiny.options.max_num_iterations = 2;
         tiny.options.initial_trust_region_radius = 1e16;
         tiny.options.gradient_tolerance = 0;
         tiny.options.parameter_tolerance = 0;
-        tiny.options.function_tolerance = 0;
+        tiny.options.function_tolerance = std::numeric_limits<double>::infinity();
         tiny.options.cost_threshold = 0;
     }
     ~BlockWorker() { delete ctx; }
