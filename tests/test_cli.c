@@ -439,6 +439,33 @@ static void resources(void)
     }
 }
 
+/* A BLAS that is not safe for concurrent calls (OpenBLAS' serial build, README "Dependencies") is
+ * found at run time and the run drops to one thread, saying so: simulated by preloading a library
+ * that answers openblas_get_parallel() = 0, as that build does.  The report's "threads" says what
+ * the fit used; without the stand-in the same command runs on two threads and says nothing. */
+static void test_serial_blas(void)
+{
+    char err[2048];
+    write_file("blas0.c", "int openblas_get_parallel(void) { return 0; }\n");
+    if (run_sh("cc -shared -fPIC -o blas0.so blas0.c", err, sizeof err) != 0) {
+        SKIP("no C compiler for the serial-BLAS stand-in: %s", err);
+        return;
+    }
+    write_torus_nm("t384.obj", 24, 16);
+    /* (an ASan build checks that its runtime comes first; the stand-in may come before it) */
+    int rc = run_sh("ASAN_OPTIONS=\"$ASAN_OPTIONS:verify_asan_link_order=0\" LD_PRELOAD=$PWD/blas0.so $Q t384.obj --threads 2 -o s1.json",
+                    err, sizeof err);
+    char *js = report("s1.json");
+    CHECK(rc == 0 && strstr(err, "OpenBLAS' serial build") && strstr(err, "run on 1 thread") && jnum(js, "threads") == 1,
+          "serial OpenBLAS: the run drops to 1 thread (report %g) and warns: %d '%s'", jnum(js, "threads"), rc, err);
+    free(js);
+    rc = run_sh("$Q t384.obj --threads 2 -o s2.json", err, sizeof err);
+    js = report("s2.json");
+    CHECK(rc == 0 && !strstr(err, "OpenBLAS") && jnum(js, "threads") == 2, "any other BLAS: 2 threads (report %g), no warning: %d '%s'",
+          jnum(js, "threads"), rc, err);
+    free(js);
+}
+
 int main(void)
 {
     EXE = chk_exe();
@@ -482,6 +509,7 @@ int main(void)
     expect_error("too large", "huge.obj", "v 0 0 0\nv 1e308 0 0\nv 1e308 1e308 0\nv 0 1e308 0\nf 1 2 3 4\n",
                  NULL, "huge.obj: the bounding box is too large");
     write_file("quad.obj", quad);
+    test_serial_blas();
     expect_error("bad --grid", "quad.obj", NULL, "--tess x", "--tess");
     expect_error("bad class", "quad.obj", NULL, "--class D9", "D9");
     expect_error("bad extension", "quad.obj", NULL, "-o x.xyz", "xyz");

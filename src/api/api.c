@@ -12,6 +12,7 @@
 
 #include "api/model.h"
 #include "api/policy.h"
+#include "core/blas.h"
 #include "patch/extraordinary.h"
 
 static q2n_status fail(q2n_status st, const q2n_error *e, char *buf, size_t len)
@@ -143,6 +144,12 @@ static q2n_status open_model(const char *path, q2n_mesh *mesh, const q2n_options
     st = path ? q2n_model_read(path, &mo, &m, &e) : q2n_model_take_mesh(mesh, &mo, &m, &e);
     if (st) return fail(st, &e, errbuf, errlen);
     if ((st = write_options(o, m, errbuf, errlen))) { q2n_model_free(m); return st; }
+    if ((m->opt.threads > 1 || m->fit_opt.threads > 1) && q2n_blas_thread_unsafe()) {
+        m->opt.threads = m->fit_opt.threads = 1;
+        q2n_model_warn(m, "the system BLAS is OpenBLAS' serial build, which is not safe for calls from several threads "
+                          "at once: the construction and the fit run on 1 thread (select another BLAS with "
+                          "update-alternatives --config libblas.so.3-x86_64-linux-gnu)");
+    }
     *out = m;
     return Q2N_OK;
 }
