@@ -245,6 +245,23 @@ static void taylor_eval(const fe_taylor *T, const double *c, int n, int W, doubl
     }
 }
 
+/* taylor_eval for the production patches' three lanes (x, y, z), the fit's hot path: the same
+ * operations in the same order, the lanes held in registers instead of a loop of three. */
+static void taylor_eval3(const double *c, int n, double x, int na, double out[][CP_MAXW])
+{
+    double d[CP_NA][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    for (int k = n; k >= 0; k--) {
+        for (int a = na - 1; a >= 1; a--)
+            for (int l = 0; l < 3; l++) d[a][l] = d[a][l] * x + d[a - 1][l];
+        const double *ck = c + 3 * (size_t)k;
+        for (int l = 0; l < 3; l++) d[0][l] = d[0][l] * x + ck[l];
+    }
+    for (int a = 0; a < na; a++) {
+        double f = a < 2 ? 1 : a == 2 ? 2 : 6;
+        for (int l = 0; l < 3; l++) out[a][l] = a < 2 ? d[a][l] : d[a][l] * f;
+    }
+}
+
 /* Parametric data of a constructed side at s: out[b][a] = ∂n^b ∂s^a with n the inward cross
  * parameter, b <= K, a < na (<= 4). */
 static void constructed(int K, const fe_taylor *T, int W, double s, int na, double out[3][CP_NA][CP_MAXW])
@@ -256,7 +273,8 @@ static void constructed(int K, const fe_taylor *T, int W, double s, int na, doub
             for (int a = 0; a < na; a++) memset(out[b][a], 0, sizeof(double) * W);
             continue;
         }
-        taylor_eval(T, FE_TC(T, b, e, 0), T->deg[b], W, x, na, out[b]);
+        if (W == 3 && T->nrun == 1 && T->run[0][0] == 0 && T->run[0][1] == 3) taylor_eval3(FE_TC(T, b, e, 0), T->deg[b], x, na, out[b]);
+        else taylor_eval(T, FE_TC(T, b, e, 0), T->deg[b], W, x, na, out[b]);
     }
 }
 
