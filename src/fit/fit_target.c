@@ -89,8 +89,7 @@ static void side_lin(const fit_ctx *c, int k, int i, double t, double *l, double
 
 /* alpha(x) and alpha'(x) of edge e at owner parameter x from the construction's frame derivatives
  * of both sides (d_s S_R(1 - x) = alpha d_s S_L(x); differentiating, -d_ts S_R = alpha' d_s S_L +
- * alpha d_ts S_L, projected on d_s S_L). */
-/* alpha and its derivative across edge e at owner parameter x, and both sides' frames there. */
+ * alpha d_ts S_L, projected on d_s S_L), and both sides' frames there. */
 static q2n_status alpha_compute(const fit_ctx *c, int e, double x, double *al, double *dal, double DL[6][3],
                                 double DR[6][3])
 {
