@@ -317,9 +317,30 @@ static void eval_line(const cp_eval *E, int dir, double t, int na, cp_line *L)
     memcpy(L->H, m->H, sizeof m->H);
 }
 
+/* On a side the patch interpolates that side's data (the Boolean sum's corrections cancel there when
+ * the corners agree, and the bubbles vanish with K derivatives on every side), so a point on a side
+ * with nder <= K is the side function itself: one side evaluation instead of two lines and the sum.
+ * Not where a corner keeps a Gregory blend.  out as q2n_cp_eval_point's. */
+static int side_point(const cp_eval *E, double u, double v, int nder, double *out)
+{
+    const cp_patch *P = &E->P;
+    if (nder > P->K || nder > 2 || P->greg[0] || P->greg[1] || P->greg[2] || P->greg[3]) return 0;
+    int sd = v == 0 ? 0 : v == 1 ? 2 : u == 0 ? 3 : u == 1 ? 1 : -1;
+    if (sd < 0) return 0;
+    int along_u = sd == 0 || sd == 2, nout = nder == 0 ? 1 : nder == 1 ? 3 : 6;
+    double F[3][CP_NA][CP_MAXW];
+    P->side(P->ctx, E->lanes, 3, sd, along_u ? u : v, nder + 1, F); /* F[cross order][along order] */
+    for (int o = 0; o < nout; o++) {
+        int a = q2n_eval_order[o][0], b = q2n_eval_order[o][1]; /* ∂u^a ∂v^b */
+        memcpy(out + 3 * o, along_u ? F[b][a] : F[a][b], 3 * sizeof(double));
+    }
+    return 1;
+}
+
 q2n_status q2n_cp_eval_point(const void *data, double u, double v, int nder, double *out)
 {
     const cp_eval *E = data;
+    if (side_point(E, u, v, nder, out)) return Q2N_OK;
     double su[CP_LINE_SIZE(3)], sv[CP_LINE_SIZE(3)];
     cp_line Lu = {3, su, {{{0}}}}, Lv = {3, sv, {{{0}}}};
     int na = nder < 2 ? 2 : 3;
