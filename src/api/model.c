@@ -198,10 +198,8 @@ static q2n_status check_valence(const q2n_model *m, q2n_error *err)
     for (int v = 0; v < me->nv; v++) {
         int low = !me->vert_boundary[v] && me->valence[v] < 3 && me->valence[v] > 0;
         if (me->valence[v] <= Q2N_EV_MAX_VALENCE && !low) continue;
-        int f = me->vert_he[v] >= 0 ? me->he_face[me->vert_he[v]] : 0, line = me->face_line ? me->face_line[f] : 0;
         char where[300];
-        if (line > 0) snprintf(where, sizeof where, "%s:%d", me->name, line);
-        else snprintf(where, sizeof where, "%s: face %d", me->name, f);
+        q2n_mesh_vertex_where(me, v, where, sizeof where);
         if (low)
             return q2n_error_set(err, Q2N_ERR_TOPOLOGY,
                                  "%s: vertex %d (of this face) is an interior vertex of only %d faces: they share two "

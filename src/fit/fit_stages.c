@@ -119,17 +119,10 @@ q2n_status q2n_fit_frame_eval(const q2n_surface *surf, int k, int i, double t, d
 
 /* ------------------------------------------------------------------ construction caches */
 
-/* Index of t in the side cache (binary search); -1 when absent, *pos the insertion point. */
+/* Index of t in the side cache; -1 when absent, *pos the insertion point. */
 static int sc_find(const fit_side_cache *sc, double t, int *pos)
 {
-    int lo = 0, hi = sc->n;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (sc->v[FIT_SC_STRIDE * (size_t)mid] < t) lo = mid + 1;
-        else hi = mid;
-    }
-    *pos = lo;
-    return lo < sc->n && sc->v[FIT_SC_STRIDE * (size_t)lo] == t ? lo : -1;
+    return q2n_fit_sorted_find(sc->v, sc->n, FIT_SC_STRIDE, t, pos);
 }
 
 /* Reserve add bytes of the construction caches' budget; 0 (nothing reserved) when it would be exceeded. */
@@ -224,8 +217,8 @@ static q2n_status grid_uncached(fit_ctx *c, int k, int nu, const double *us, int
 }
 
 /* Positions of the construction's patch k on the grid us x vs (sorted, distinct) into out
- * (3 per point, u fastest), from the patch's grid cache; missing points are evaluated row by row
- * with the grid fast path (a whole grid at once when nothing is cached). */
+ * (3 per point, u fastest), from the patch's grid cache; missing points are evaluated with the
+ * grid fast path, in at most two grids (below). */
 static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
                               long *evals)
 {
@@ -271,55 +264,44 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
     if (!iu || !iv || !ru || !buf) { free(iu); free(iv); free(ru); free(buf); return Q2N_ERR_NOMEM; }
     for (int i = 0, a = 0; i < nu; i++) { while (g->u[a] != us[i]) a++; iu[i] = a; }
     for (int j = 0, b = 0; j < nv; j++) { while (g->v[b] != vs[j]) b++; iv[j] = b; }
-    int missing = 0;
-    for (int j = 0; j < nv; j++)
-        for (int i = 0; i < nu; i++) missing += !g->have[(size_t)iv[j] * g->nu + iu[i]];
+    /* A grid evaluation costs a line per parameter and a little per point: the rows missing entirely
+     * are evaluated as one grid over all columns (nothing cached: the whole grid), the partly cached
+     * rows as one grid over the columns they miss (a point's value does not depend on the grid it is
+     * evaluated in). */
     q2n_status st = Q2N_OK;
-    if (missing == nu * nv) {   /* nothing cached: one grid */
-        st = q2n_fit_target_grid(c, k, nu, us, nv, vs, buf, 9);
-        for (int j = 0; !st && j < nv; j++)
-            for (int i = 0; i < nu; i++) {
-                size_t at = (size_t)iv[j] * g->nu + iu[i];
-                memcpy(g->val + 3 * at, buf + 9 * ((size_t)j * nu + i), 3 * sizeof(double));
+    int *rows = malloc(sizeof(int) * (size_t)nv), *miss = malloc(sizeof(int) * (size_t)nv);
+    int *cols = malloc(sizeof(int) * (size_t)nu), missing = 0;
+    double *rv = malloc(sizeof(double) * (size_t)nv);
+    unsigned char *cm = calloc((size_t)nu, 1);
+    if (!rows || !miss || !cols || !rv || !cm) st = Q2N_ERR_NOMEM;
+    for (int j = 0; !st && j < nv; j++) {
+        miss[j] = 0;
+        for (int i = 0; i < nu; i++) miss[j] += !g->have[(size_t)iv[j] * g->nu + iu[i]];
+        missing += miss[j];
+    }
+    for (int pass = 0; pass < 2 && !st && missing; pass++) { /* 0: rows missing entirely, 1: the others */
+        int n = 0, nc = 0;
+        for (int j = 0; j < nv; j++) {
+            if (!miss[j] || (miss[j] == nu) != (pass == 0)) continue;
+            rows[n] = j;
+            rv[n++] = vs[j];
+            if (pass)
+                for (int i = 0; i < nu; i++) cm[i] |= !g->have[(size_t)iv[j] * g->nu + iu[i]];
+        }
+        if (!n) continue;
+        for (int i = 0; i < nu; i++)
+            if (pass == 0 || cm[i]) { cols[nc] = i; ru[nc++] = us[i]; }
+        st = q2n_fit_target_grid(c, k, nc, ru, n, rv, buf, 9);
+        for (int r = 0; !st && r < n; r++)
+            for (int q = 0; q < nc; q++) {
+                size_t at = (size_t)iv[rows[r]] * g->nu + iu[cols[q]];
+                if (g->have[at]) continue;
+                memcpy(g->val + 3 * at, buf + 9 * ((size_t)r * nc + q), 3 * sizeof(double));
                 g->have[at] = 1;
             }
-        *evals += (long)nu * nv;
-    } else if (missing) {
-        /* a grid evaluation costs a line per parameter and a little per point: the rows missing
-         * entirely as one grid over all columns, the partly cached rows as one grid over the
-         * columns they miss (a point's value does not depend on the grid it is evaluated in) */
-        int *rows = malloc(sizeof(int) * (size_t)nv), *cols = malloc(sizeof(int) * (size_t)nu), nc = 0;
-        double *rv = malloc(sizeof(double) * (size_t)nv), *gbuf = NULL;
-        unsigned char *cm = calloc((size_t)nu, 1);
-        if (!rows || !cols || !rv || !cm) st = Q2N_ERR_NOMEM;
-        for (int pass = 0; pass < 2 && !st; pass++) { /* 0: full rows, 1: partial rows */
-            int n = 0;
-            for (int j = 0; j < nv; j++) {
-                int miss = 0;
-                for (int i = 0; i < nu; i++) miss += !g->have[(size_t)iv[j] * g->nu + iu[i]];
-                if (!miss || (miss == nu) != (pass == 0)) continue;
-                rows[n] = j;
-                rv[n++] = vs[j];
-                if (pass)
-                    for (int i = 0; i < nu; i++) cm[i] |= !g->have[(size_t)iv[j] * g->nu + iu[i]];
-            }
-            if (!n) continue;
-            nc = 0;
-            for (int i = 0; i < nu; i++)
-                if (pass == 0 || cm[i]) { cols[nc] = i; ru[nc++] = us[i]; }
-            if (!(gbuf = realloc(gbuf, 9 * sizeof(double) * (size_t)nc * n))) { st = Q2N_ERR_NOMEM; break; }
-            st = q2n_fit_target_grid(c, k, nc, ru, n, rv, gbuf, 9);
-            for (int r = 0; !st && r < n; r++)
-                for (int q = 0; q < nc; q++) {
-                    size_t at = (size_t)iv[rows[r]] * g->nu + iu[cols[q]];
-                    if (g->have[at]) continue;
-                    memcpy(g->val + 3 * at, gbuf + 9 * ((size_t)r * nc + q), 3 * sizeof(double));
-                    g->have[at] = 1;
-                }
-            *evals += (long)nc * n;
-        }
-        free(rows); free(cols); free(rv); free(cm); free(gbuf);
+        *evals += (long)nc * n;
     }
+    free(rows); free(miss); free(cols); free(rv); free(cm);
     for (int j = 0; !st && j < nv; j++)
         for (int i = 0; i < nu; i++) {
             const double *x = g->val + 3 * ((size_t)iv[j] * g->nu + iu[i]);

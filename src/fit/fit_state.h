@@ -129,6 +129,21 @@ void q2n_fit_breaks_free(fit_breaks *b);
 
 void q2n_fit_patch_free_reversed(fit_patch *p);              /* kur, kvr (not ku, kv) */
 
+/* Row of key t in rows sorted by their first entry (n rows of stride doubles; binary search): its
+ * index, or -1 when absent with *pos the insertion point.  The side caches and the edges' alpha
+ * caches are kept this way. */
+static inline int q2n_fit_sorted_find(const double *v, int n, size_t stride, double t, int *pos)
+{
+    int lo = 0, hi = n;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (v[stride * (size_t)mid] < t) lo = mid + 1;
+        else hi = mid;
+    }
+    *pos = lo;
+    return lo < n && v[stride * (size_t)lo] == t ? lo : -1;
+}
+
 /* ---- frames and construction access (fit_stages.c) ---- */
 fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i);
 int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js);   /* grid index of (t index, s index) */

@@ -106,17 +106,10 @@ static q2n_status alpha_compute(const fit_ctx *c, int e, double x, double *al, d
     return Q2N_OK;
 }
 
-/* Index of x in edge e's alpha cache (binary search, under amu); -1 when absent, *pos the insertion point. */
+/* Index of x in edge e's alpha cache (under amu); -1 when absent, *pos the insertion point. */
 static int ac_find(const fit_edge *E, double x, int *pos)
 {
-    int lo = 0, hi = E->an;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (E->av[FIT_AC_STRIDE * (size_t)mid] < x) lo = mid + 1;
-        else hi = mid;
-    }
-    *pos = lo;
-    return lo < E->an && E->av[FIT_AC_STRIDE * (size_t)lo] == x ? lo : -1;
+    return q2n_fit_sorted_find(E->av, E->an, FIT_AC_STRIDE, x, pos);
 }
 
 /* alpha_compute through edge e's cache: every sample grid asks for alpha at its side parameters, the

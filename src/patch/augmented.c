@@ -381,6 +381,22 @@ static void combine(int w, int nb, const double *B, const q2n_jet *C, int nder, 
     }
 }
 
+/* R[j] = Σ_i p_ij f[i]: the control net's rows summed with the fundamental functions' values f. */
+static void row_sums(const q2n_augmented_patch *p, const double *f, double R[][3])
+{
+    int w = p->w;
+    for (int j = 0; j < w; j++) {
+        const double *P = p->P + 3 * j * w;
+        double x = 0, y = 0, z = 0;
+        for (int i = 0; i < w; i++) {
+            x += f[i] * P[3 * i];
+            y += f[i] * P[3 * i + 1];
+            z += f[i] * P[3 * i + 2];
+        }
+        R[j][0] = x, R[j][1] = y, R[j][2] = z;
+    }
+}
+
 /* S and partials from ψ (u-direction, F[.] in (u,v)) and φ (v-direction, G[.] in (v,u)):
  * first the row sums R_q[j] = Σ_i p_ij ψ_q,i for every partial q of ψ, then Leibniz's rule
  * S_ab = Σ C(a,a')C(b,b') Σ_j R_{a'b'}[j] φ_{a-a',b-b'}[j]. */
@@ -389,18 +405,7 @@ static void assemble(const q2n_augmented_patch *p, int nder, double F[6][MAXW], 
 {
     int w = p->w, nout = nder == 0 ? 1 : nder == 1 ? 3 : 6;
     double R[6][MAXW][3];
-    for (int q = 0; q < nout; q++)
-        for (int j = 0; j < w; j++) {
-            const double *P = p->P + 3 * j * w;
-            double x = 0, y = 0, z = 0;
-            for (int i = 0; i < w; i++) {
-                double f = F[q][i];
-                x += f * P[3 * i];
-                y += f * P[3 * i + 1];
-                z += f * P[3 * i + 2];
-            }
-            R[q][j][0] = x, R[q][j][1] = y, R[q][j][2] = z;
-        }
+    for (int q = 0; q < nout; q++) row_sums(p, F[q], R[q]);
     /* partials of φ in (u,v) order: φ, φ_u, φ_v, φ_uu, φ_uv, φ_vv */
     const double *phi[6] = {Gv[0], Gv[2], Gv[1], Gv[5], Gv[4], Gv[3]};
     static const int terms[6][4][3] = {
@@ -469,18 +474,7 @@ static void augmented_mixed(const q2n_augmented_patch *p, double u, double v, do
             }
     double R[3][3][MAXW][3]; /* R[a'][b'][j] = Σ_i p_ij ψ_i^{a'b'} */
     for (int a = 0; a <= 2; a++)
-        for (int b = 0; b <= 2; b++)
-            for (int j = 0; j < w; j++) {
-                const double *P = p->P + 3 * j * w;
-                double x = 0, y = 0, z = 0;
-                for (int i = 0; i < w; i++) {
-                    double f = Psi[a][b][i];
-                    x += f * P[3 * i];
-                    y += f * P[3 * i + 1];
-                    z += f * P[3 * i + 2];
-                }
-                R[a][b][j][0] = x, R[a][b][j][1] = y, R[a][b][j][2] = z;
-            }
+        for (int b = 0; b <= 2; b++) row_sums(p, Psi[a][b], R[a][b]);
     for (int a = 0; a <= 2; a++)
         for (int b = 0; b <= 2; b++) {
             double x = 0, y = 0, z = 0;

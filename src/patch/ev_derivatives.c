@@ -541,12 +541,10 @@ q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const dou
         if (!need[v] || jets[v].source) continue;
         if (!(sections && jet_from_sections(m, iv, cls, v, &jets[v], dir)) && !jet_from_fit(m, iv, v, &jets[v], dir, sections)) {
             free(need);
-            int f = m->vert_he[v] >= 0 ? m->he_face[m->vert_he[v]] : 0, line = m->face_line ? m->face_line[f] : 0;
-            if (line > 0)
-                return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s:%d: vertex %d (of this face): no local surface fits its "
-                                     "neighbours (Appendix B): a degenerate fan?", m->name, line, v + 1);
-            return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: face %d: its vertex %d: no local surface fits its "
-                                 "neighbours (Appendix B): a degenerate fan?", m->name, f, v + 1);
+            char where[300];
+            q2n_mesh_vertex_where(m, v, where, sizeof where);
+            return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: vertex %d (of this face): no local surface fits its "
+                                 "neighbours (Appendix B): a degenerate fan?", where, v + 1);
         }
     }
     free(need);

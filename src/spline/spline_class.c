@@ -157,11 +157,16 @@ int q2n_spline_curve_eval(const q2n_spline_class *c, int n, int dim, const doubl
 }
 
 /* Smoothstep polynomials of degree 2k+1 with vanishing derivatives of order 1..k at 0 and 1: t for
- * k = 0, else the Hermite function H_{0,1} of order k (core/hermite.h). */
-void q2n_spline_blend_derivs(int k, double a, double b, double t, double out[4])
+ * k = 0, else the Hermite function H_{0,1} of order k (core/hermite.h); power coefficients t^0..t^7. */
+static const double *blend_coef(int k)
 {
     static const double linear[8] = {0, 1, 0, 0, 0, 0, 0, 0};
-    const double *c = k <= 0 ? linear : q2n_hermite_coef[(k > 3 ? 3 : k) - 1][0][1];
+    return k <= 0 ? linear : q2n_hermite_coef[(k > 3 ? 3 : k) - 1][0][1];
+}
+
+void q2n_spline_blend_derivs(int k, double a, double b, double t, double out[4])
+{
+    const double *c = blend_coef(k);
     double pw[8];
     pw[0] = 1;
     for (int p = 1; p < 8; p++) pw[p] = pw[p - 1] * t;
@@ -174,8 +179,7 @@ void q2n_spline_blend_derivs(int k, double a, double b, double t, double out[4])
 
 double q2n_spline_blend_weight(int k, double t)
 {
-    static const double linear[8] = {0, 1, 0, 0, 0, 0, 0, 0};
-    const double *c = k <= 0 ? linear : q2n_hermite_coef[(k > 3 ? 3 : k) - 1][0][1];
+    const double *c = blend_coef(k);
     double pw = 1, acc = 0;
     for (int p = 0; p < 8; p++) {
         acc += c[p] * FALL[p][0] * pw;
