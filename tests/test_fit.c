@@ -15,6 +15,7 @@
 #include "fit_check.h"
 #include "fit/fit.h"
 #include "fit/fit_internal.h"
+#include "fit/fit_state.h"
 #include "core/dense.h"
 #include "mesh/mesh.h"
 #include "patch/surface.h"
@@ -407,6 +408,43 @@ static void internals(void)
                 diff += memcmp(o, G + 3 * (j * 7 + i), sizeof o) != 0;
             }
         CHECK(diff == 0, "grid evaluation differs from the pointwise one at %d of 35 points", diff);
+    }
+
+    /* the measurement's side evaluation (q2n_fit_side_spline: the along basis and the first three
+     * rows of control points) against the general evaluation turned into each side's frame, on
+     * non-uniform knots in both directions */
+    {
+        double ku2[15], kv2[14], kur[15], kvr[14], cp2[3 * 9 * 8];
+        const double bu[3] = {0.15, 0.4, 0.8}, bv[2] = {0.3, 0.35};
+        q2n_fit_knots_from_breaks(3, bu, ku2);
+        q2n_fit_knots_from_breaks(2, bv, kv2);
+        for (int q = 0; q < 15; q++) kur[q] = 1.0 - ku2[14 - q];
+        for (int q = 0; q < 14; q++) kvr[q] = 1.0 - kv2[13 - q];
+        for (int i = 0; i < 3 * 72; i++) cp2[i] = frand(&seed);
+        fit_patch fp;
+        memset(&fp, 0, sizeof fp);
+        fp.nu = 9; fp.nv = 8; fp.mu = 4; fp.mv = 3;
+        fp.ku = ku2; fp.kv = kv2; fp.kur = kur; fp.kvr = kvr; fp.cp = cp2;
+        fit_ctx fc;
+        memset(&fc, 0, sizeof fc);
+        fc.p = &fp;
+        q2n_bspline_surface b2 = {5, 5, 9, 8, ku2, kv2, cp2, NULL};
+        double smax = 0;
+        for (int i = 0; i < 4; i++) {
+            fit_side sd = q2n_fit_make_side(&fc, 0, i);
+            double Ns[3][Q2N_FIT_DEG + 1];
+            q2n_fit_basis(Q2N_FIT_DEG, sd.ks, 0.0, 2, Ns);
+            for (int q = 0; q <= 20; q++) {
+                double t = q == 20 ? 0.4 : q / 19.0, u, v, o[18], D[6][3], F[6][3];
+                q2n_side_uv(i, t, 0.0, &u, &v);
+                q2n_fit_surface_eval(&b2, u, v, 2, o);
+                q2n_side_derivs(i, 2, o, D);
+                q2n_fit_side_spline(&fc, &sd, Ns, t, F);
+                for (int r = 0; r < 6; r++)
+                    for (int c = 0; c < 3; c++) smax = fmax(smax, fabs(F[r][c] - D[r][c]) / (1 + fabs(D[r][c])));
+            }
+        }
+        CHECK(smax <= 1e-12, "side evaluation vs the general one in the side's frame: %g", smax);
     }
 
     q2n_fit_ls ls;

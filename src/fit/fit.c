@@ -166,14 +166,13 @@ static void measure_edge(void *arg, int e)
     for (int x = 0; x < 1 + two; x++) q2n_fit_basis(Q2N_FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
     int sp = 0;
     for (int q = 0; !st && q < n; q++) {
-        double f[2][Q2N_EVAL_MAX], row = 0.0;
+        /* the fitted sides in their own frames (S, ∂t, ∂s, ∂tt, ∂ts, ∂ss): a rotation of the
+         * patches' (u, v), so normals and normal curvatures are those of q2n_fit_measure */
+        double f[2][6][3], row = 0.0;
         for (int x = 0; x < 1 + two; x++) {
-            double tx = x ? 1.0 - t[q] : t[q], u, v, F[6][3];
-            q2n_side_uv(sd[x].i, tx, 0.0, &u, &v);
-            q2n_bspline_surface b = patch_view(&c->p[sd[x].k]);
-            q2n_fit_surface_eval(&b, u, v, 2, f[x]);
+            double (*F)[3] = f[x];
+            q2n_fit_side_spline(c, &sd[x], Ns[x], x ? 1.0 - t[q] : t[q], F);
             const double *D = x ? DR + 18 * (size_t)(n - 1 - q) : DL + 18 * (size_t)q;
-            q2n_side_derivs(sd[x].i, 2, f[x], F); /* F[2] = ∂s, F[5] = ∂ss of the fitted side */
             double ds[3], dss[3];
             for (int r = 0; r < 3; r++) {
                 ds[r] = F[2][r] - D[6 + r];
@@ -186,15 +185,14 @@ static void measure_edge(void *arg, int e)
         /* the span of K the check point lies in (a point on a knot belongs to the span after it;
          * the check parameters ascend, so the span only moves forward) */
         while (sp < E->K.n && E->K.t[sp] <= t[q]) sp++;
-        double dev = q2n_v3_dist(f[0], DL + 18 * (size_t)q) / c->diag, rdev = row / c->diag;
+        double dev = q2n_v3_dist(f[0][0], DL + 18 * (size_t)q) / c->diag, rdev = row / c->diag;
         double *mx = E->spmax + 2 * (size_t)sp;
         if (dev > mx[0]) mx[0] = dev;
         if (rdev > mx[1]) mx[1] = rdev;
         if (two) {   /* the tangent of the fitted side, as q2n_fit_measure and the audit use */
-            double F[6][3], j1, j2;
-            q2n_side_derivs(sd[0].i, 1, f[0], F);
-            q2n_fit_jumps(f[0], f[1], F[1], c->diag, &j1, &j2);
-            double gap = q2n_v3_dist(f[0], f[1]) / c->diag;
+            double j1, j2;
+            q2n_fit_jumps(f[0][0], f[1][0], f[0][1], c->diag, &j1, &j2);
+            double gap = q2n_v3_dist(f[0][0], f[1][0]) / c->diag;
             if (gap > E->g0) E->g0 = gap;
             if (!(j1 <= E->g1)) E->g1 = j1;
             if (!(j2 <= E->g2)) E->g2 = j2;

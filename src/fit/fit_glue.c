@@ -230,23 +230,25 @@ static double *block_row(row_block *bl, int constraint, double **rhs)
     return row;
 }
 
-/* Side sd's spline bases at (t, 0): the span of t and the along basis with two derivatives there,
- * the across basis at s = 0 (the same for every t of the side: computed once per block). */
+/* Side sd's spline bases at (t, 0): the span of t and the along basis with nder <= 2 derivatives
+ * there (rows that use only values along the side ask for none: a third of the basis' cost), the
+ * across basis at s = 0 (the same for every t of the side: computed once per block). */
 typedef struct side_at {
     int span;
     double Nt[3][Q2N_FIT_DEG + 1];
     double (*Ns)[Q2N_FIT_DEG + 1];
 } side_at;
 
-static void side_at_t(const fit_side *sd, double (*Ns)[Q2N_FIT_DEG + 1], double t, side_at *A)
+static void side_at_t(const fit_side *sd, double (*Ns)[Q2N_FIT_DEG + 1], double t, int nder, side_at *A)
 {
     A->span = q2n_fit_span(sd->nt, sd->kt, t);
-    q2n_fit_basis(A->span, sd->kt, t, 2, A->Nt);
+    q2n_fit_basis(A->span, sd->kt, t, nder, A->Nt);
     A->Ns = Ns;
 }
 
-/* row += scale * d^a/dt^a d^b/ds^b S(t, 0) of side sd's spline (bases A at t): fixed control
- * points go to rhs (subtracted), the block's unknowns (p->var) to the row. */
+/* row += scale * d^a/dt^a d^b/ds^b S(t, 0) of side sd's spline (bases A at t, computed with at
+ * least a derivatives): fixed control points go to rhs (subtracted), the block's unknowns (p->var)
+ * to the row. */
 static int add_deriv(fit_ctx *c, double *row, double *rhs, const fit_side *sd, const side_at *A, int a, int b, double scale)
 {
     const fit_patch *p = &c->p[sd->k];
@@ -345,7 +347,7 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
             if (!row) { st = Q2N_ERR_NOMEM; goto out; }
             q2n_v3_scale(rhs, sc, D + 18 * (size_t)q + 3 * (order == 1 ? 2 : 5));
             side_at A;
-            side_at_t(&sd[x], Ns[x], ts[x][q], &A);
+            side_at_t(&sd[x], Ns[x], ts[x][q], 0, &A);
             if (add_deriv(c, row, rhs, &sd[x], &A, 0, order, sc)) { st = Q2N_ERR_ARG; goto out; }
         }
     }
@@ -367,8 +369,8 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
                 if (!row) { st = Q2N_ERR_NOMEM; break; }
                 rhs[0] = rhs[1] = rhs[2] = 0.0;
                 side_at A0, A1;
-                side_at_t(&sd[1], Ns[1], 1.0 - t, &A1);
-                side_at_t(&sd[0], Ns[0], t, &A0);
+                side_at_t(&sd[1], Ns[1], 1.0 - t, 0, &A1);
+                side_at_t(&sd[0], Ns[0], t, 0, &A0);
                 if (add_deriv(c, row, rhs, &sd[1], &A1, 0, order, w1) ||
                     add_deriv(c, row, rhs, &sd[0], &A0, 0, order, -al * w1)) {
                     st = Q2N_ERR_ARG;
@@ -398,8 +400,8 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
             if (!row) { st = Q2N_ERR_NOMEM; break; }
             rhs[0] = rhs[1] = rhs[2] = 0.0;
             side_at A0, A1;
-            side_at_t(&sd[1], Ns[1], 1.0 - t, &A1);
-            side_at_t(&sd[0], Ns[0], t, &A0);
+            side_at_t(&sd[1], Ns[1], 1.0 - t, 0, &A1);
+            side_at_t(&sd[0], Ns[0], t, order, &A0);
             int bad;
             if (order == 1)   /* d_s S_R - alpha d_s S_L - beta d_t S_L = 0 */
                 bad = add_deriv(c, row, rhs, &sd[1], &A1, 0, 1, w) || add_deriv(c, row, rhs, &sd[0], &A0, 0, 1, -g[0] * w) ||

@@ -81,10 +81,27 @@ fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i)
     return sd;
 }
 
-int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js)
+void q2n_fit_side_spline(const fit_ctx *c, const fit_side *sd, const double Ns[3][Q2N_FIT_DEG + 1], double t,
+                         double F[6][3])
 {
-    int a = sd->ox + it * sd->tx + js * sd->sx, b = sd->oy + it * sd->ty + js * sd->sy;
-    return b * c->p[sd->k].nu + a;
+    const fit_patch *p = &c->p[sd->k];
+    double Nt[3][Q2N_FIT_DEG + 1], R[3][3][3];   /* R[j][a]: d^a/dt^a of control row j's curve */
+    int span = q2n_fit_span(sd->nt, sd->kt, t);
+    q2n_fit_basis(span, sd->kt, t, 2, Nt);
+    for (int j = 0; j < 3; j++)
+        for (int a = 0; a + j < 3; a++) {
+            double *r = R[j][a];
+            r[0] = r[1] = r[2] = 0.0;
+            for (int q = 0; q <= Q2N_FIT_DEG; q++)
+                q2n_v3_axpy(r, Nt[a][q], p->cp + 3 * (size_t)q2n_fit_side_g(c, sd, span - Q2N_FIT_DEG + q, j));
+        }
+    /* d^a/dt^a d^b/ds^b S(t, 0) = sum_{j <= b} N_j^(b)(0) R[j][a] (the across basis of a clamped
+     * knot vector has N_j^(b)(0) = 0 for j > b); the slots in q2n_eval_order with (t, s) for (u, v) */
+    for (int o = 0; o < 6; o++) {
+        int a = q2n_eval_order[o][0], b = q2n_eval_order[o][1];
+        F[o][0] = F[o][1] = F[o][2] = 0.0;
+        for (int j = 0; j <= b; j++) q2n_v3_axpy(F[o], Ns[b][j], R[j][a]);
+    }
 }
 
 const char *q2n_fit_edge_where(const fit_ctx *c, int e, char *buf, size_t n)
@@ -794,30 +811,37 @@ static q2n_status sep_prepare(fit_ctx *c, sep_patch *sp)
     q2n_status st = grid_values(c, sp->k, Nu, us, Nv, vs, S, &sp->evals);
     if (st) { free(us); free(vs); free(S); return st; }
     double B[3][Q2N_FIT_DEG + 1];
+    /* first control index of each sample's support (Q2N_FIT_DEG + 1 basis functions from there) */
+    int *a0 = malloc(sizeof(int) * (size_t)(Nu + Nv)), *b0 = a0 ? a0 + Nu : NULL;
+    if (!a0) { free(us); free(vs); free(S); return Q2N_ERR_NOMEM; }
     for (int i = 0; i < Nu; i++) {
         int su = q2n_fit_span(p->nu, p->ku, us[i]);
         q2n_fit_basis(su, p->ku, us[i], 0, B);
+        a0[i] = su - Q2N_FIT_DEG;
         for (int a = 0; a <= Q2N_FIT_DEG; a++) sp->Bu[(size_t)i * p->nu + su - Q2N_FIT_DEG + a] = B[0][a];
     }
     for (int j = 0; j < Nv; j++) {
         int sv = q2n_fit_span(p->nv, p->kv, vs[j]);
         q2n_fit_basis(sv, p->kv, vs[j], 0, B);
+        b0[j] = sv - Q2N_FIT_DEG;
         for (int b = 0; b <= Q2N_FIT_DEG; b++) sp->Bv[(size_t)j * p->nv + sv - Q2N_FIT_DEG + b] = B[0][b];
     }
+    /* R = S - (the fixed control points' part), over each sample's support only (outside it
+     * every weight is zero) */
     for (int j = 0; j < Nv; j++)
         for (int i = 0; i < Nu; i++) {
             double *r = sp->R + 3 * ((size_t)j * Nu + i);
             memcpy(r, S + 3 * ((size_t)j * Nu + i), 3 * sizeof(double));
-            for (int b = 0; b < p->nv; b++) {
+            for (int b = b0[j]; b <= b0[j] + Q2N_FIT_DEG; b++) {
                 double wv = sp->Bv[(size_t)j * p->nv + b];
                 if (wv == 0.0) continue;
-                for (int a = 0; a < p->nu; a++) {
+                for (int a = a0[i]; a <= a0[i] + Q2N_FIT_DEG; a++) {
                     double w = sp->Bu[(size_t)i * p->nu + a] * wv;
                     if (w != 0.0 && p->fixed[b * p->nu + a]) q2n_v3_axpy(r, -w, p->cp + 3 * ((size_t)b * p->nu + a));
                 }
             }
         }
-    free(us); free(vs); free(S);
+    free(a0); free(us); free(vs); free(S);
     return Q2N_OK;
 }
 

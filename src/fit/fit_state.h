@@ -146,10 +146,22 @@ static inline int q2n_fit_sorted_find(const double *v, int n, size_t stride, dou
 
 /* ---- frames and construction access (fit_stages.c) ---- */
 fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i);
-int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js);   /* grid index of (t index, s index) */
+/* Grid index of control point (t index, s index) of side sd (inline: the row assembly asks for it
+ * in its innermost loops). */
+static inline int q2n_fit_side_g(const fit_ctx *c, const fit_side *sd, int it, int js)
+{
+    int a = sd->ox + it * sd->tx + js * sd->sx, b = sd->oy + it * sd->ty + js * sd->sy;
+    return b * c->p[sd->k].nu + a;
+}
 /* The sides of edge e: L = owner half-edge's face (its t is the edge's t), R = the twin's
  * (t_R = 1 - t); returns 0 (R unset) on boundary edges. */
 int q2n_fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R);
+/* The fitted spline of side sd (its current control points) at (t, 0) in the side's frame, the
+ * layout of q2n_side_derivs (S, d_t, d_s, d_tt, d_ts, d_ss): the along basis at t and the across
+ * basis Ns at s = 0 (the same for every t of a side: the caller computes it once), so only the
+ * first nder + 1 rows of control points are read — a third of a general evaluation's work. */
+void q2n_fit_side_spline(const fit_ctx *c, const fit_side *sd, const double Ns[3][Q2N_FIT_DEG + 1], double t,
+                         double F[6][3]);
 /* "face F" or "between face F and face G" for messages about edge e; returns buf. */
 const char *q2n_fit_edge_where(const fit_ctx *c, int e, char *buf, size_t n);
 /* Exact construction derivatives of patch k in the frame of its side i at (t, s) (see
