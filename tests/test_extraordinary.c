@@ -191,6 +191,12 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
         ng++;
         double us[3] = {0, 0.37, 1}, vs[2] = {0.2, 0.9}, g[9 * 6], e[Q2N_EVAL_MAX], d = 0;
         CHECK(q2n_surface_eval_grid(S, f, 3, us, 2, vs, g) == Q2N_OK, "%s: grid evaluation", label);
+        /* the positions-only grid (the fit's samples) gives the same bits as the full one */
+        double gp[3 * 6];
+        CHECK(q2n_surface_eval_grid_pos(S, f, 3, us, 2, vs, gp) == Q2N_OK, "%s: positions grid", label);
+        int same = 1;
+        for (int q = 0; q < 6; q++) same &= memcmp(gp + 3 * q, g + 9 * q, 3 * sizeof(double)) == 0;
+        CHECK(same, "%s: face %d: positions-only grid differs from the grid's positions", label, f);
         for (int b = 0; b < 2; b++)
             for (int a = 0; a < 3; a++) {
                 q2n_surface_eval(S, f, us[a], vs[b], 1, e);

@@ -220,16 +220,12 @@ static long grid_cache_bytes(int nu, int nv)
 static q2n_status grid_uncached(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
                                 long *evals)
 {
-    double *buf = malloc(9 * sizeof(double) * (size_t)nu * nv);
-    if (!buf) return Q2N_ERR_NOMEM;
-    q2n_status st = q2n_fit_target_grid(c, k, nu, us, nv, vs, buf, 9);
+    q2n_status st = q2n_fit_target_grid(c, k, nu, us, nv, vs, out, 3);
     for (size_t q = 0; !st && q < (size_t)nu * nv; q++) {
-        const double *x = buf + 9 * q;
+        const double *x = out + 3 * q;
         if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) st = Q2N_ERR_NUMERIC;
-        memcpy(out + 3 * q, x, 3 * sizeof(double));
     }
     *evals += (long)nu * nv;
-    free(buf);
     return st;
 }
 
@@ -277,7 +273,7 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
         free(nv_t);
     }
     int *iu = malloc(sizeof(int) * (size_t)nu), *iv = malloc(sizeof(int) * (size_t)nv);
-    double *ru = malloc(sizeof(double) * (size_t)nu), *buf = malloc(9 * sizeof(double) * (size_t)nu * nv);
+    double *ru = malloc(sizeof(double) * (size_t)nu), *buf = malloc(3 * sizeof(double) * (size_t)nu * nv);
     if (!iu || !iv || !ru || !buf) { free(iu); free(iv); free(ru); free(buf); return Q2N_ERR_NOMEM; }
     for (int i = 0, a = 0; i < nu; i++) { while (g->u[a] != us[i]) a++; iu[i] = a; }
     for (int j = 0, b = 0; j < nv; j++) { while (g->v[b] != vs[j]) b++; iv[j] = b; }
@@ -308,12 +304,12 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
         if (!n) continue;
         for (int i = 0; i < nu; i++)
             if (pass == 0 || cm[i]) { cols[nc] = i; ru[nc++] = us[i]; }
-        st = q2n_fit_target_grid(c, k, nc, ru, n, rv, buf, 9);
+        st = q2n_fit_target_grid(c, k, nc, ru, n, rv, buf, 3);
         for (int r = 0; !st && r < n; r++)
             for (int q = 0; q < nc; q++) {
                 size_t at = (size_t)iv[rows[r]] * g->nu + iu[cols[q]];
                 if (g->have[at]) continue;
-                memcpy(g->val + 3 * at, buf + 9 * ((size_t)r * nc + q), 3 * sizeof(double));
+                memcpy(g->val + 3 * at, buf + 3 * ((size_t)r * nc + q), 3 * sizeof(double));
                 g->have[at] = 1;
             }
         *evals += (long)nc * n;

@@ -258,11 +258,11 @@ static void corner_speeds(const fit_ctx *c, int k, double cs[4][2])
 q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride)
 {
     if (!c->p[k].phi) {
-        double *buf = stride == 9 ? out : malloc(9 * sizeof(double) * (size_t)nu * nv);
+        double *buf = stride == 3 ? out : malloc(3 * sizeof(double) * (size_t)nu * nv);
         if (!buf) return Q2N_ERR_NOMEM;
-        q2n_status st = q2n_surface_eval_grid(c->s, k, nu, us, nv, vs, buf);
+        q2n_status st = q2n_surface_eval_grid_pos(c->s, k, nu, us, nv, vs, buf);
         if (buf != out) {
-            for (size_t q = 0; !st && q < (size_t)nu * nv; q++) memcpy(out + (size_t)stride * q, buf + 9 * q, 3 * sizeof(double));
+            for (size_t q = 0; !st && q < (size_t)nu * nv; q++) memcpy(out + (size_t)stride * q, buf + 3 * q, 3 * sizeof(double));
             free(buf);
         }
         return st;

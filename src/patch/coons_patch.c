@@ -350,10 +350,12 @@ q2n_status q2n_cp_eval_point(const void *data, double u, double v, int nder, dou
     return Q2N_OK;
 }
 
-q2n_status q2n_cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out)
+/* The grid with first derivatives (nder 1: S, Su, Sv, 9 doubles per point) or positions only
+ * (nder 0: 3 per point, lines without along derivatives, the sum's first output). */
+static q2n_status eval_grid(const cp_eval *E, int nder, int nu, const double *us, int nv, const double *vs, double *out)
 {
-    const cp_eval *E = data;
     int greg = E->P.greg[0] || E->P.greg[1] || E->P.greg[2] || E->P.greg[3], nl = nu + (greg ? 1 : nv);
+    int na = nder + 1, nout = nder ? 3 : 1;
     cp_line *Lu = malloc((size_t)nl * sizeof *Lu);
     double *st = malloc((size_t)nl * CP_LINE_SIZE(3) * sizeof *st);
     if (!Lu || !st) {
@@ -362,23 +364,34 @@ q2n_status q2n_cp_eval_grid(const void *data, int nu, const double *us, int nv, 
         return Q2N_ERR_NOMEM;
     }
     for (int k = 0; k < nl; k++) Lu[k].s = st + (size_t)k * CP_LINE_SIZE(3);
-    for (int a = 0; a < nu; a++) q2n_cp_line_u(&E->P, E->lanes, 3, us[a], 2, &Lu[a]);
+    for (int a = 0; a < nu; a++) q2n_cp_line_u(&E->P, E->lanes, 3, us[a], na, &Lu[a]);
     if (!greg) { /* constant corner terms: the tensor form (S, Su, Sv are q2n_cp_grid's orders 0..2) */
         cp_line *Lv = Lu + nu;
-        for (int b = 0; b < nv; b++) q2n_cp_line_v(&E->P, E->lanes, 3, vs[b], 2, &Lv[b]);
-        q2n_cp_grid(&E->P, &E->C, &E->bub[0][0], 3, nu, us, Lu, nv, vs, Lv, 0, 2, out);
+        for (int b = 0; b < nv; b++) q2n_cp_line_v(&E->P, E->lanes, 3, vs[b], na, &Lv[b]);
+        q2n_cp_grid(&E->P, &E->C, &E->bub[0][0], 3, nu, us, Lu, nv, vs, Lv, 0, nout - 1, out);
         free(Lu);
         free(st);
         return Q2N_OK;
     }
     for (int b = 0; b < nv; b++) {
         cp_line *Lv = &Lu[nu];
-        q2n_cp_line_v(&E->P, E->lanes, 3, vs[b], 2, Lv);
-        for (int a = 0; a < nu; a++) q2n_cp_sum(&E->P, &E->C, &E->bub[0][0], 3, us[a], vs[b], 1, &Lu[a], Lv, out + 9 * ((size_t)b * nu + a));
+        q2n_cp_line_v(&E->P, E->lanes, 3, vs[b], na, Lv);
+        for (int a = 0; a < nu; a++)
+            q2n_cp_sum(&E->P, &E->C, &E->bub[0][0], 3, us[a], vs[b], nder, &Lu[a], Lv, out + 3 * nout * ((size_t)b * nu + a));
     }
     free(Lu);
     free(st);
     return Q2N_OK;
+}
+
+q2n_status q2n_cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out)
+{
+    return eval_grid(data, 1, nu, us, nv, vs, out);
+}
+
+q2n_status q2n_cp_eval_grid_pos(const void *data, int nu, const double *us, int nv, const double *vs, double *out)
+{
+    return eval_grid(data, 0, nu, us, nv, vs, out);
 }
 
 q2n_status q2n_cp_eval_corner(const void *data, int i, int j, double out[2][2][2][3])

@@ -93,6 +93,8 @@ typedef struct cp_eval {
 void q2n_cp_eval_init(cp_eval *E);
 q2n_status q2n_cp_eval_point(const void *data, double u, double v, int nder, double *out);
 q2n_status q2n_cp_eval_grid(const void *data, int nu, const double *us, int nv, const double *vs, double *out);
+/* Positions only (3 per point): lines without along derivatives and the sum's first output. */
+q2n_status q2n_cp_eval_grid_pos(const void *data, int nu, const double *us, int nv, const double *vs, double *out);
 q2n_status q2n_cp_eval_corner(const void *data, int i, int j, double out[2][2][2][3]);
 
 #endif

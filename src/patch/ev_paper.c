@@ -166,6 +166,7 @@ q2n_status q2n_ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *i
             goto done;
         }
         q2n_surface_set_patch_grid(s, f, q2n_cp_eval_grid);
+        q2n_surface_set_patch_grid_pos(s, f, q2n_cp_eval_grid_pos);
         q2n_surface_set_patch_corner(s, f, q2n_cp_eval_corner);
         patches[f] = NULL;
     }

@@ -16,6 +16,7 @@ typedef struct patch {
     q2n_patch_eval_fn eval;
     void (*free_data)(void *);
     q2n_patch_grid_fn grid; /* optional fast grid evaluator */
+    q2n_patch_grid_fn grid_pos; /* optional fast grid evaluator, positions only */
     q2n_patch_corner_fn corner; /* optional exact mixed corner partials */
     int du, dv;  /* Bézier degrees */
     double *cp;  /* Bézier control points */
@@ -190,6 +191,24 @@ q2n_status q2n_surface_eval_grid(const q2n_surface *s, int k, int nu, const doub
     return Q2N_OK;
 }
 
+q2n_status q2n_surface_eval_grid_pos(const q2n_surface *s, int k, int nu, const double *us, int nv,
+                                     const double *vs, double *out)
+{
+    if (k < 0 || k >= s->n) return Q2N_ERR_ARG;
+    const patch *p = &s->p[k];
+    size_t n = (size_t)nu * nv;
+    if (p->grid_pos && p->kind != Q2N_PATCH_UNCOVERED) {
+        q2n_status st = p->grid_pos(p->data, nu, us, nv, vs, out);
+        return st ? st : all_finite(out, 3 * n);
+    }
+    double *buf = malloc(9 * sizeof(double) * (n ? n : 1));
+    if (!buf) return Q2N_ERR_NOMEM;
+    q2n_status st = q2n_surface_eval_grid(s, k, nu, us, nv, vs, buf);
+    for (size_t q = 0; !st && q < n; q++) memcpy(out + 3 * q, buf + 9 * q, 3 * sizeof(double));
+    free(buf);
+    return st;
+}
+
 int q2n_surface_first_nonfinite(const double *out, int npoints)
 {
     for (int p = 0; p < npoints; p++)
@@ -269,6 +288,14 @@ q2n_status q2n_surface_set_patch_grid(q2n_surface *s, int k, q2n_patch_grid_fn g
     if (k < 0 || k >= s->n || s->p[k].kind == Q2N_PATCH_UNCOVERED || s->p[k].kind == Q2N_PATCH_BEZIER)
         return Q2N_ERR_ARG;
     s->p[k].grid = grid;
+    return Q2N_OK;
+}
+
+q2n_status q2n_surface_set_patch_grid_pos(q2n_surface *s, int k, q2n_patch_grid_fn grid_pos)
+{
+    if (k < 0 || k >= s->n || s->p[k].kind == Q2N_PATCH_UNCOVERED || s->p[k].kind == Q2N_PATCH_BEZIER)
+        return Q2N_ERR_ARG;
+    s->p[k].grid_pos = grid_pos;
     return Q2N_OK;
 }
 

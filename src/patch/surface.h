@@ -101,6 +101,12 @@ double q2n_surface_project(const q2n_surface *s, int k, const double P[3], int m
 q2n_status q2n_surface_eval_grid(const q2n_surface *s, int k, int nu, const double *us, int nv,
                                  const double *vs, double *out);
 
+/* The same grid, positions only: out has 3 doubles per point (the fit's samples and check points
+ * need no derivatives; a patch with a positions-only fast path skips them, any other gets its
+ * grid evaluation's positions).  Q2N_ERR_NUMERIC as above. */
+q2n_status q2n_surface_eval_grid_pos(const q2n_surface *s, int k, int nu, const double *us, int nv,
+                                     const double *vs, double *out);
+
 /* Index of the first of npoints grid points (9 doubles each) with a non-finite value, or -1. */
 int q2n_surface_first_nonfinite(const double *out, int npoints);
 
@@ -126,6 +132,8 @@ const void *q2n_surface_patch_data(const q2n_surface *s, int k);
 typedef q2n_status (*q2n_patch_grid_fn)(const void *data, int nu, const double *us, int nv,
                                         const double *vs, double *out);
 q2n_status q2n_surface_set_patch_grid(q2n_surface *s, int k, q2n_patch_grid_fn grid);
+/* Optional fast path for q2n_surface_eval_grid_pos (3 doubles per point). */
+q2n_status q2n_surface_set_patch_grid_pos(q2n_surface *s, int k, q2n_patch_grid_fn grid_pos);
 
 /* Mixed corner partials ∂u^a ∂v^b S (a, b = 1, 2) of patch k at its corner (i, j) in {0,1}^2, as
  * the two sides through the corner give them: out[0][a-1][b-1] from the side v = j, out[1][..]
