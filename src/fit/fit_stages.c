@@ -823,7 +823,7 @@ static q2n_status sep_prepare(fit_ctx *c, sep_patch *sp)
         for (int b = 0; b <= Q2N_FIT_DEG; b++) sp->Bv[(size_t)j * p->nv + sv - Q2N_FIT_DEG + b] = B[0][b];
     }
     /* R = S - (the fixed control points' part), over each sample's support only (outside it
-     * every weight is zero) */
+     * every weight is zero), stepping over a tensor block's free points (none of them is fixed) */
     for (int j = 0; j < Nv; j++)
         for (int i = 0; i < Nu; i++) {
             double *r = sp->R + 3 * ((size_t)j * Nu + i);
@@ -831,7 +831,12 @@ static q2n_status sep_prepare(fit_ctx *c, sep_patch *sp)
             for (int b = b0[j]; b <= b0[j] + Q2N_FIT_DEG; b++) {
                 double wv = sp->Bv[(size_t)j * p->nv + b];
                 if (wv == 0.0) continue;
+                int free_row = sp->tensor && b >= sp->lv && b <= sp->hv;
                 for (int a = a0[i]; a <= a0[i] + Q2N_FIT_DEG; a++) {
+                    if (free_row && a >= sp->lu && a <= sp->hu) {
+                        a = sp->hu;
+                        continue;
+                    }
                     double w = sp->Bu[(size_t)i * p->nu + a] * wv;
                     if (w != 0.0 && p->fixed[b * p->nu + a]) q2n_v3_axpy(r, -w, p->cp + 3 * ((size_t)b * p->nu + a));
                 }

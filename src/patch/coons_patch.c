@@ -241,7 +241,11 @@ void q2n_cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W
         for (int a = 0; a < nu; a++) {
             const cp_line *U = &Lu[a];
             double ph[CP_NBUB][10];
-            if (Ua) bubbles_from_axes((const double (*)[4])Ua[a], (const double (*)[4])Vb, ph);
+            /* the bubble weights of the requested orders only (the same products as
+             * bubbles_from_axes) */
+            if (Ua)
+                for (int bb = 0; bb < CP_NBUB; bb++)
+                    for (int o = omin; o <= omax; o++) ph[bb][o] = Ua[a][bb & 1][ord[o][0]] * Vb[(bb >> 1) & 1][ord[o][1]];
             else if (bub) q2n_cp_bubbles(K, us[a], vs[b], ph);
             for (int o = omin; o <= omax; o++) {
                 int p = ord[o][0], q = ord[o][1];
