@@ -36,6 +36,23 @@ int q2n_bspline_span(int n, int p, const double *knots, double t)
  * difference (a repeated knot) contributes nothing, as the convention 0/0 = 0 of eq. (2.5) says. */
 void q2n_bspline_basis(int i, int p, const double *knots, double t, int nder, double *ders)
 {
+    if (nder == 0) {   /* A2.2: the same recurrence on one row (the same operations, so the same bits) */
+        double left[Q2N_BSPLINE_MAX_DEG + 1], right[Q2N_BSPLINE_MAX_DEG + 1];
+        ders[0] = 1.0;
+        for (int j = 1; j <= p; j++) {
+            left[j] = t - knots[i + 1 - j];
+            right[j] = knots[i + j] - t;
+            double saved = 0.0;
+            for (int r = 0; r < j; r++) {
+                double den = right[r + 1] + left[j - r];
+                double tmp = den != 0.0 ? ders[r] / den : 0.0;
+                ders[r] = saved + right[r + 1] * tmp;
+                saved = left[j - r] * tmp;
+            }
+            ders[j] = saved;
+        }
+        return;
+    }
     double ndu[Q2N_BSPLINE_MAX_DEG + 1][Q2N_BSPLINE_MAX_DEG + 1], a[2][Q2N_BSPLINE_MAX_DEG + 1];
     double left[Q2N_BSPLINE_MAX_DEG + 1], right[Q2N_BSPLINE_MAX_DEG + 1];
     const int w = p + 1;

@@ -822,26 +822,34 @@ static q2n_status sep_prepare(fit_ctx *c, sep_patch *sp)
         b0[j] = sv - Q2N_FIT_DEG;
         for (int b = 0; b <= Q2N_FIT_DEG; b++) sp->Bv[(size_t)j * p->nv + sv - Q2N_FIT_DEG + b] = B[0][b];
     }
-    /* R = S - (the fixed control points' part), over each sample's support only (outside it
-     * every weight is zero), stepping over a tensor block's free points (none of them is fixed) */
+    /* R = S - (the fixed control points' part), separably: T[b][i], control row b's fixed points
+     * summed with sample column i's u-basis (its support only, stepping over a tensor block's free
+     * points, none of which is fixed), then each sample's v-sum of the six rows it reaches */
+    double *T = calloc(3 * (size_t)p->nv * Nu, sizeof(double));
+    if (!T) { free(a0); free(us); free(vs); free(S); return Q2N_ERR_NOMEM; }
+    for (int b = 0; b < p->nv; b++) {
+        int free_row = sp->tensor && b >= sp->lv && b <= sp->hv;
+        for (int i = 0; i < Nu; i++) {
+            double *t = T + 3 * ((size_t)b * Nu + i);
+            for (int a = a0[i]; a <= a0[i] + Q2N_FIT_DEG; a++) {
+                if (free_row && a >= sp->lu && a <= sp->hu) {
+                    a = sp->hu;
+                    continue;
+                }
+                if (p->fixed[b * p->nu + a]) q2n_v3_axpy(t, sp->Bu[(size_t)i * p->nu + a], p->cp + 3 * ((size_t)b * p->nu + a));
+            }
+        }
+    }
     for (int j = 0; j < Nv; j++)
         for (int i = 0; i < Nu; i++) {
             double *r = sp->R + 3 * ((size_t)j * Nu + i);
             memcpy(r, S + 3 * ((size_t)j * Nu + i), 3 * sizeof(double));
             for (int b = b0[j]; b <= b0[j] + Q2N_FIT_DEG; b++) {
                 double wv = sp->Bv[(size_t)j * p->nv + b];
-                if (wv == 0.0) continue;
-                int free_row = sp->tensor && b >= sp->lv && b <= sp->hv;
-                for (int a = a0[i]; a <= a0[i] + Q2N_FIT_DEG; a++) {
-                    if (free_row && a >= sp->lu && a <= sp->hu) {
-                        a = sp->hu;
-                        continue;
-                    }
-                    double w = sp->Bu[(size_t)i * p->nu + a] * wv;
-                    if (w != 0.0 && p->fixed[b * p->nu + a]) q2n_v3_axpy(r, -w, p->cp + 3 * ((size_t)b * p->nu + a));
-                }
+                if (wv != 0.0) q2n_v3_axpy(r, -wv, T + 3 * ((size_t)b * Nu + i));
             }
         }
+    free(T);
     free(a0); free(us); free(vs); free(S);
     return Q2N_OK;
 }
