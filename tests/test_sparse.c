@@ -14,6 +14,7 @@
 #include "core/dense.h"
 #include "core/sparse.h"
 
+#include <dlfcn.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -93,6 +94,26 @@ int main(void)
     q2n_status st1 = q2n_sparse_spd_factor_solve(S, 3, B, X2, &err);
     CHECK(st1 == Q2N_ERR_GEOMETRY && strstr(err.message, "not positive definite"),
           "indefinite matrix accepted (%d: %s)", st1, err.message);
+    /* the factorisation trims CHOLMOD's OpenMP teams (sparse.c) for its own thread only: the
+     * caller's setting is back afterwards, whichever it was */
+    void *self = dlopen(NULL, RTLD_LAZY);
+    int (*get_dyn)(void) = NULL;
+    void (*set_dyn)(int) = NULL;
+    if (self) {
+        *(void **)&get_dyn = dlsym(self, "omp_get_dynamic");
+        *(void **)&set_dyn = dlsym(self, "omp_set_dynamic");
+    }
+    if (get_dyn && set_dyn) {
+        values(colptr, rowind, 11, 2.0, val, dense);
+        for (int want = 0; want < 2; want++) {
+            set_dyn(want);
+            memcpy(q2n_sparse_spd_values(S), val, sizeof(double) * (size_t)nnz);
+            CHECK(q2n_sparse_spd_factor_solve(S, 3, B, X2, &err) == Q2N_OK, "dynamic %d: %s", want, err.message);
+            CHECK(get_dyn() == want, "the caller's OpenMP dynamic setting %d came back as %d", want, get_dyn());
+        }
+    } else
+        printf("no OpenMP runtime in the process (CHOLMOD built without it): nothing to restore\n");
+    if (self) dlclose(self);
     q2n_sparse_spd_free(S);
     CHECK_DONE("test_sparse");
 }
