@@ -240,6 +240,31 @@ void q2n_cp_grid(const cp_patch *P, const cp_corner *C, const double *bub, int W
                 }
         for (int a = 0; a < nu; a++) {
             const cp_line *U = &Lu[a];
+            if (omax == 0 && W == 3 && (Ua || !bub)) {
+                /* positions of the three production lanes (the fit's samples): the loop below for
+                 * o = 0 with its lane loops written out — the same operations in the same order */
+                double r0 = 0.0, r1 = 0.0, r2 = 0.0;
+                for (int i = 0; i < 2; i++)
+                    for (int k = 0; k <= K; k++) {
+                        double hu = U->H[k][i][0], hv = L->H[k][i][0];
+                        const double *d = Dv[i][k][0], *f = CP_LS(U, i, k, 0);
+                        r0 += hu * d[0] + hv * f[0];
+                        r1 += hu * d[1] + hv * f[1];
+                        r2 += hu * d[2] + hv * f[2];
+                    }
+                for (int bb = 0; bub && bb < CP_NBUB; bb++) {
+                    double f = Ua[a][bb & 1][0] * Vb[(bb >> 1) & 1][0]; /* bubbles_from_axes' order 0 */
+                    const double *c = bub + (size_t)bb * 3;
+                    r0 += f * c[0];
+                    r1 += f * c[1];
+                    r2 += f * c[2];
+                }
+                double *r = out + (size_t)(b * nu + a) * 3;
+                r[0] = r0;
+                r[1] = r1;
+                r[2] = r2;
+                continue;
+            }
             double ph[CP_NBUB][10];
             /* the bubble weights of the requested orders only (the same products as
              * bubbles_from_axes) */
