@@ -74,12 +74,14 @@ static void direction_shares(fit_ctx *c, int k, double u, double v, double share
         double x0 = (d ? v : u) - 3 * h[d];
         if (x0 < 0) x0 = 0;
         if (x0 + 6 * h[d] > 1) x0 = 1 - 6 * h[d];
-        double acc[3] = {0, 0, 0};
-        for (int q = 0; q < 7; q++) {
-            double S[3], x = x0 + q * h[d];
-            if (q2n_fit_target_point(c, k, d ? u : x, d ? x : v, S)) { share[0] = share[1] = 0.5; return; }
-            q2n_v3_axpy(acc, bin[q], S);
+        double acc[3] = {0, 0, 0}, xs[7], S[7][3];
+        for (int q = 0; q < 7; q++) xs[q] = x0 + q * h[d];
+        /* the seven points as a 7 x 1 (1 x 7) grid: one line across, seven along */
+        if (d ? q2n_fit_target_grid(c, k, 1, &u, 7, xs, &S[0][0], 3) : q2n_fit_target_grid(c, k, 7, xs, 1, &v, &S[0][0], 3)) {
+            share[0] = share[1] = 0.5;
+            return;
         }
+        for (int q = 0; q < 7; q++) q2n_v3_axpy(acc, bin[q], S[q]);
         e6[d] = q2n_v3_norm(acc);
     }
     double tot = e6[0] + e6[1];

@@ -185,7 +185,6 @@ q2n_status q2n_fit_target_setup(fit_ctx *c);   /* edge speeds and which patches 
 q2n_status q2n_fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][3]);
 /* Positions of T on the grid us x vs into out (stride doubles per point, u fastest). */
 q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride);
-q2n_status q2n_fit_target_point(fit_ctx *c, int k, double u, double v, double out[3]);
 /* Factor turning the construction's mixed derivative d_t^a d_s^b at corner i of patch k into T's. */
 double q2n_fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b);
 

@@ -298,11 +298,6 @@ q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int 
     return st;
 }
 
-q2n_status q2n_fit_target_point(fit_ctx *c, int k, double u, double v, double out[3])
-{
-    return q2n_fit_target_grid(c, k, 1, &u, 1, &v, out, 3);
-}
-
 /* Mixed corner derivatives of T from those of S (φ is separable to order (2, 2) at the corners):
  * d_t^a d_s^b T = s_t^a s_s^b d_t^a d_s^b S for corner i of patch k (side i's frame). */
 double q2n_fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b)
