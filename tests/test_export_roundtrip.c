@@ -311,6 +311,8 @@ static int step_parse(const char *text, step_ent *E, int cap)
     return n;
 }
 
+static int cmp_str(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
+
 static int step_is(const step_ent *e, const char *type)
 {
     size_t k = strlen(type);
@@ -357,7 +359,7 @@ static void check_step(const char *what, const char *text, const q2n_nurbs_model
     int *use = calloc((size_t)n + 1, sizeof(int)), *fwd = calloc((size_t)n + 1, sizeof(int)), ok = 1;
     for (int i = 1; i <= n; i++)
         if (step_is(&E[i], "ORIENTED_EDGE")) {
-            int r;
+            int r = 0;
             step_refs(&E[i], &r, 1);
             use[r]++;
             fwd[r] += E[i].len > 5 && memcmp(E[i].body + E[i].len - 5, ",.T.)", 5) == 0;
@@ -373,6 +375,21 @@ static void check_step(const char *what, const char *text, const q2n_nurbs_model
     CHECK(ok && nint == nint_mesh, "%s: %d shared EDGE_CURVEs used twice in opposite senses (mesh: %d)", what, nint, nint_mesh);
     free(use);
     free(fwd);
+    /* every coordinate triple is one CARTESIAN_POINT (the placement's origin apart): a boundary row
+     * that is its edge curve bit for bit, and the curve's ends where they are the vertices, are the
+     * same entities; fewer points than the patches' and curves' control points together */
+    int dup = 0, npt = 0, ncp = 0;
+    for (int f = 0; f < me->nf; f++) ncp += m->patches[f].ncp_u * m->patches[f].ncp_v;
+    for (int e = 0; e < me->ne; e++) ncp += m->edges ? m->edges[e].ncp : 0;
+    char **pb = malloc(sizeof(char *) * ((size_t)n + 1));
+    for (int i = 1; pb && i <= n; i++)
+        if (step_is(&E[i], "CARTESIAN_POINT")) pb[npt++] = strndup(E[i].body, (size_t)E[i].len);
+    if (pb) qsort(pb, (size_t)npt, sizeof *pb, cmp_str);
+    for (int i = 1; pb && i < npt; i++) dup += strcmp(pb[i - 1], pb[i]) == 0;
+    for (int i = 0; pb && i < npt; i++) free(pb[i]);
+    free(pb);
+    CHECK(dup <= 1, "%s: %d CARTESIAN_POINTs repeat another's coordinates", what, dup);
+    CHECK(npt < ncp, "%s: %d CARTESIAN_POINTs for %d control points: no boundary shared", what, npt, ncp);
     /* surfaces in face order: control points (u-outer lists) and weights, exactly */
     const char *stype = rational ? "(BOUNDED_SURFACE()B_SPLINE_SURFACE" : "B_SPLINE_SURFACE_WITH_KNOTS";
     int f = 0, exact = 1;
