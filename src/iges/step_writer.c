@@ -377,8 +377,7 @@ static void step_items_run(step_out *o, step_items *J, int n, const q2n_export_o
 /* ---- shared CARTESIAN_POINTs ---- */
 
 typedef struct point_set {
-    const double **key;  /* cap slots: a coordinate triple, or NULL */
-    int *id;             /* cap slots: its entity id */
+    int *slot;           /* cap slots: 1 + the index in uniq of the triple hashed there, or 0 */
     size_t cap;
 } point_set;
 
@@ -391,19 +390,19 @@ static size_t point_hash(const double *p)
     return h;
 }
 
-/* The id of triple p: the id of an earlier triple with the same bits, else *next (then ++*next and
- * p is appended to uniq). */
-static int point_id(point_set *S, const double *p, int *next, const double **uniq, int *nuniq)
+/* The entity id of triple p: that of an earlier triple with the same bits, else the next one (p is
+ * appended to uniq; the ids of uniq[u] is first + u). */
+static int point_id(point_set *S, const double *p, int first, const double **uniq, int *nuniq)
 {
     size_t i = point_hash(p) & (S->cap - 1);
-    while (S->key[i]) {
-        if (memcmp(S->key[i], p, 3 * sizeof(double)) == 0) return S->id[i];
+    while (S->slot[i]) {
+        int u = S->slot[i] - 1;
+        if (memcmp(uniq[u], p, 3 * sizeof(double)) == 0) return first + u;
         i = (i + 1) & (S->cap - 1);
     }
-    S->key[i] = p;
-    S->id[i] = (*next)++;
-    uniq[(*nuniq)++] = p;
-    return S->id[i];
+    uniq[*nuniq] = p;
+    S->slot[i] = ++*nuniq;
+    return first + *nuniq - 1;
 }
 
 typedef struct points_job {
@@ -445,28 +444,28 @@ static void step_points(step_out *o, const q2n_nurbs_model *m, const q2n_export_
     pat[ni] = n;
     size_t total = n + (size_t)t->nv, cap = 16;
     while (cap < 2 * total) cap *= 2;
-    point_set S = {calloc(cap, sizeof(double *)), malloc(sizeof(int) * cap), cap};
+    point_set S = {calloc(cap, sizeof(int)), cap};
     int *pid = malloc(sizeof(int) * (n ? n : 1));
     const double **uniq = malloc(sizeof(double *) * (total ? total : 1));
-    if (!S.key || !S.id || !pid || !uniq) {
+    if (!S.slot || !pid || !uniq) {
         o->b.oom = 1;
-        free(S.key); free(S.id); free(pid); free(uniq); free(pat);
+        free(S.slot); free(pid); free(uniq); free(pat);
         return;
     }
-    int first = o->next_id, next = first, nu = 0;
+    int first = o->next_id, nu = 0;
     for (int v = 0; v < t->nv; v++)
-        if (t->vused[v]) vpt[v] = point_id(&S, t->vpos + 3 * v, &next, uniq, &nu);
+        if (t->vused[v]) vpt[v] = point_id(&S, t->vpos + 3 * v, first, uniq, &nu);
     for (int e = 0; e < t->ne; e++)
-        for (int i = 0; i < t->edge_curve[e].ncp; i++) pid[pat[e] + i] = point_id(&S, t->edge_curve[e].cp + 3 * i, &next, uniq, &nu);
+        for (int i = 0; i < t->edge_curve[e].ncp; i++) pid[pat[e] + i] = point_id(&S, t->edge_curve[e].cp + 3 * i, first, uniq, &nu);
     for (int f = 0; f < t->nf; f++) {
         const q2n_bspline_surface *p = &m->patches[f];
-        for (int i = 0; i < p->ncp_u * p->ncp_v; i++) pid[pat[t->ne + f] + i] = point_id(&S, p->cp + 3 * i, &next, uniq, &nu);
+        for (int i = 0; i < p->ncp_u * p->ncp_v; i++) pid[pat[t->ne + f] + i] = point_id(&S, p->cp + 3 * i, first, uniq, &nu);
     }
     points_job J = {uniq, first, nu, o};
     if (q2n_export_items((nu + POINTS_PER_ITEM - 1) / POINTS_PER_ITEM, opt->threads, &J, points_item, points_put, NULL, NULL))
         o->b.oom = 1;
-    o->next_id = next;
-    free(S.key); free(S.id); free(uniq);
+    o->next_id = first + nu;
+    free(S.slot); free(uniq);
     *pid_out = pid;
     *pat_out = pat;
 }
