@@ -37,11 +37,11 @@ void q2n_sparse_init(void)
 /* CHOLMOD's supernodal factorisation runs some of its loops as OpenMP teams of a size fixed when it
  * was built (CHOLMOD_OMP_NUM_THREADS, 4 in Debian's build), whatever the machine has: on 2 cores the
  * team outnumbers them and its wake-ups cost more than the loops save (a quarter of a construction's
- * time on a 732-face model: docs/extraordinary.md, "The solve").  OpenMP's dynamic adjustment lets the runtime trim
- * a team to the cores that are free; those loops' iterations are independent, so the factor does
- * not depend on the team (the same bytes with teams of 1, 2 and 4).  It is set for the factorising
- * thread only and restored after; the two OpenMP calls are looked up at run time, since a CHOLMOD
- * built without OpenMP brings no OpenMP runtime. */
+ * time on a 732-face model: docs/extraordinary.md, "The solve").  OpenMP's dynamic adjustment lets
+ * the runtime trim a team to the cores that are free; those loops' iterations are independent, so
+ * the factor does not depend on the team (the same bytes with teams of 1, 2 and 4).  It is set for
+ * the factorising thread only and restored after; the two OpenMP calls are looked up at run time,
+ * since a CHOLMOD built without OpenMP brings no OpenMP runtime. */
 typedef struct omp_calls {
     int (*get_dynamic)(void);
     void (*set_dynamic)(int);

@@ -77,7 +77,7 @@ static void direction_shares(fit_ctx *c, int k, double u, double v, double share
         double acc[3] = {0, 0, 0}, xs[7], S[7][3];
         for (int q = 0; q < 7; q++) xs[q] = x0 + q * h[d];
         /* the seven points as a 7 x 1 (1 x 7) grid: one line across, seven along */
-        if (d ? q2n_fit_target_grid(c, k, 1, &u, 7, xs, &S[0][0], 3) : q2n_fit_target_grid(c, k, 7, xs, 1, &v, &S[0][0], 3)) {
+        if (d ? q2n_fit_target_grid(c, k, 1, &u, 7, xs, &S[0][0]) : q2n_fit_target_grid(c, k, 7, xs, 1, &v, &S[0][0])) {
             share[0] = share[1] = 0.5;
             return;
         }

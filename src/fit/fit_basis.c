@@ -94,6 +94,15 @@ int q2n_fit_curve_refine(int n, const double *kv, const double *cp, int dim, int
     return ok ? 0 : -1;
 }
 
+/* One control row's u-sum: t = sum_a bu[a] P[a] (P: six consecutive control points).  The positions
+ * of q2n_fit_surface_eval and q2n_fit_surface_grid are v-sums of these, in the same order, so the
+ * two give the same bits. */
+static inline void row_sum(double t[3], const double *bu, const double *P)
+{
+    t[0] = t[1] = t[2] = 0.0;
+    for (int a = 0; a <= Q2N_FIT_DEG; a++) q2n_v3_axpy(t, bu[a], P + 3 * a);
+}
+
 void q2n_fit_surface_eval(const q2n_bspline_surface *s, double u, double v, int nder, double *out)
 {
     double Bu[3][Q2N_FIT_DEG + 1], Bv[3][Q2N_FIT_DEG + 1];
@@ -104,8 +113,8 @@ void q2n_fit_surface_eval(const q2n_bspline_surface *s, double u, double v, int 
         out[0] = out[1] = out[2] = 0.0;
         for (int b = 0; b <= Q2N_FIT_DEG; b++) {
             const double *P = s->cp + 3 * ((size_t)(sv - Q2N_FIT_DEG + b) * s->ncp_u + (su - Q2N_FIT_DEG));
-            double t[3] = {0.0, 0.0, 0.0};
-            for (int a = 0; a <= Q2N_FIT_DEG; a++) q2n_v3_axpy(t, Bu[0][a], P + 3 * a);
+            double t[3];
+            row_sum(t, Bu[0], P);
             q2n_v3_axpy(out, Bv[0][b], t);
         }
         return;
@@ -155,10 +164,7 @@ int q2n_fit_surface_grid(const q2n_bspline_surface *s, int nu, const double *us,
     if (!T) { free(su); free(Bu); return -1; }
     for (int r = 0; r < s->ncp_v; r++)
         for (int i = 0; i < nu; i++) {
-            const double *P = s->cp + 3 * ((size_t)r * s->ncp_u + (su[i] - Q2N_FIT_DEG)), *bu = Bu + P1 * (size_t)i;
-            double *t = T + 3 * ((size_t)r * nu + i);
-            t[0] = t[1] = t[2] = 0.0;
-            for (int a = 0; a <= Q2N_FIT_DEG; a++) q2n_v3_axpy(t, bu[a], P + 3 * a);
+            row_sum(T + 3 * ((size_t)r * nu + i), Bu + P1 * (size_t)i, s->cp + 3 * ((size_t)r * s->ncp_u + (su[i] - Q2N_FIT_DEG)));
         }
     for (int j = 0; j < nv; j++)
         for (int i = 0; i < nu; i++) {

@@ -220,7 +220,7 @@ static long grid_cache_bytes(int nu, int nv)
 static q2n_status grid_uncached(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
                                 long *evals)
 {
-    q2n_status st = q2n_fit_target_grid(c, k, nu, us, nv, vs, out, 3);
+    q2n_status st = q2n_fit_target_grid(c, k, nu, us, nv, vs, out);
     for (size_t q = 0; !st && q < (size_t)nu * nv; q++) {
         const double *x = out + 3 * q;
         if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) st = Q2N_ERR_NUMERIC;
@@ -304,7 +304,7 @@ static q2n_status grid_values(fit_ctx *c, int k, int nu, const double *us, int n
         if (!n) continue;
         for (int i = 0; i < nu; i++)
             if (pass == 0 || cm[i]) { cols[nc] = i; ru[nc++] = us[i]; }
-        st = q2n_fit_target_grid(c, k, nc, ru, n, rv, buf, 3);
+        st = q2n_fit_target_grid(c, k, nc, ru, n, rv, buf);
         for (int r = 0; !st && r < n; r++)
             for (int q = 0; q < nc; q++) {
                 size_t at = (size_t)iv[rows[r]] * g->nu + iu[cols[q]];

@@ -183,8 +183,8 @@ q2n_status q2n_fit_patch_grid(fit_ctx *c, int k, int nu, const double *us, int n
 q2n_status q2n_fit_target_setup(fit_ctx *c);   /* edge speeds and which patches are reparametrized */
 /* Side-frame derivatives of T (nder 2) at (t, 0) of side i of patch k. */
 q2n_status q2n_fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][3]);
-/* Positions of T on the grid us x vs into out (stride doubles per point, u fastest). */
-q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride);
+/* Positions of T on the grid us x vs into out (3 doubles per point, u fastest). */
+q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out);
 /* Factor turning the construction's mixed derivative d_t^a d_s^b at corner i of patch k into T's. */
 double q2n_fit_target_jet_scale(const fit_ctx *c, int k, int i, int a, int b);
 

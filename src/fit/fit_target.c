@@ -255,18 +255,9 @@ static void corner_speeds(const fit_ctx *c, int k, double cs[4][2])
     cs[3][0] = s2; cs[3][1] = s3;
 }
 
-q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out, int stride)
+q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out)
 {
-    if (!c->p[k].phi) {
-        double *buf = stride == 3 ? out : malloc(3 * sizeof(double) * (size_t)nu * nv);
-        if (!buf) return Q2N_ERR_NOMEM;
-        q2n_status st = q2n_surface_eval_grid_pos(c->s, k, nu, us, nv, vs, buf);
-        if (buf != out) {
-            for (size_t q = 0; !st && q < (size_t)nu * nv; q++) memcpy(out + (size_t)stride * q, buf + 3 * q, 3 * sizeof(double));
-            free(buf);
-        }
-        return st;
-    }
+    if (!c->p[k].phi) return q2n_surface_eval_grid_pos(c->s, k, nu, us, nv, vs, out);
     /* side data at the grid's parameters */
     double *a = malloc(sizeof(double) * 4 * (size_t)(nu + nv));
     if (!a) return Q2N_ERR_NOMEM;
@@ -292,7 +283,7 @@ q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int 
             double uv[2], S[Q2N_EVAL_MAX];
             coons_phi(us[i], vs[j], tu0[i], tu2[i], tv1[j], tv3[j], l0[i], l1[j], l2[i], l3[j], cs, uv);
             st = q2n_surface_eval(c->s, k, uv[0], uv[1], 0, S);
-            memcpy(out + (size_t)stride * ((size_t)j * nu + i), S, 3 * sizeof(double));
+            memcpy(out + 3 * ((size_t)j * nu + i), S, 3 * sizeof(double));
         }
     free(a);
     return st;

@@ -12,7 +12,7 @@
  * Control points and vertices are CARTESIAN_POINTs written once per distinct coordinate triple
  * (the same bits) and referenced by every curve, surface and vertex that has them: a boundary row
  * that is its edge curve bit for bit (docs/fit.md, "Exactness") is the same entities in both faces
- * and the curve, so shared boundaries are shared in the file, and the file is 10-40 % smaller.
+ * and the curve, so shared boundaries are shared in the file (8-41 % fewer bytes: docs/export.md).
  * The face loop runs v0 -> v1 -> v2 -> v3, counter-clockwise about Su x Sv, so every face keeps
  * the surface's sense and the mesh orientation becomes the shell orientation — except in a closed
  * component oriented inwards (negative enclosed volume), whose faces are written reversed so that
@@ -391,7 +391,7 @@ static size_t point_hash(const double *p)
 }
 
 /* The entity id of triple p: that of an earlier triple with the same bits, else the next one (p is
- * appended to uniq; the ids of uniq[u] is first + u). */
+ * appended to uniq; the id of uniq[u] is first + u). */
 static int point_id(point_set *S, const double *p, int first, const double **uniq, int *nuniq)
 {
     size_t i = point_hash(p) & (S->cap - 1);
