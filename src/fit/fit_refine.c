@@ -111,12 +111,27 @@ static int split_span(fit_ctx *c, int id, int d, double a, double b, int lv, spl
 static int add_edge(fit_ctx *c, int e, int d, double t) { (void)d; return bisect_edge(c, e, t); }
 static int add_patch(fit_ctx *c, int k, int d, double t) { return bisect_patch(c, k, d, t); }
 
+/* Is span (iu, iv) of patch p within `reach` spans of a side whose edge is being split over a
+ * range overlapping it (lo[i], hi[i]: side i's split range in the patch's u or v; empty when
+ * lo > hi)?  Sides: 0 v = 0, 1 u = 1, 2 v = 1, 3 u = 0. */
+static int near_split(const fit_patch *p, int iu, int iv, int reach, const double *lo, const double *hi)
+{
+    double u0 = p->ku[5 + iu], u1 = p->ku[6 + iu], v0 = p->kv[5 + iv], v1 = p->kv[6 + iv];
+    return (iv < reach && u1 > lo[0] && u0 < hi[0]) || (iu >= p->mu - reach && v1 > lo[1] && v0 < hi[1]) ||
+           (iv >= p->mv - reach && u1 > lo[2] && u0 < hi[2]) || (iu < reach && v1 > lo[3] && v0 < hi[3]);
+}
+
 int q2n_fit_refine(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
     double tol = c->o.tol;
     int added = 0;
     for (int k = 0; k < m->nf; k++) c->p[k].pending[0] = c->p[k].pending[1] = 0;
+    /* edges refined in this round: their curve and cross rows are refitted on the new knots, so
+     * the cells those rows reach are judged again next round, not now (below) */
+    double *eref = malloc(sizeof(double) * 2 * ((size_t)m->ne + 1));   /* split range [lo, hi], owner side */
+    if (!eref) return 0;
+    for (int e = 0; e < m->ne; e++) eref[2 * e] = 1.0, eref[2 * e + 1] = 0.0;
     /* edges: curve, rows, continuity */
     for (int e = 0; e < m->ne; e++) {
         fit_edge *E = &c->e[e];
@@ -153,7 +168,14 @@ int q2n_fit_refine(fit_ctx *c)
             int l = cont;
             if (r0 > 1 && split_levels(r0, 6.0) > l) l = split_levels(r0, 6.0);
             if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
-            if (l) added += split_span(c, e, 0, br[sp], br[sp + 1], l, add_edge);
+            if (l) {
+                int a = split_span(c, e, 0, br[sp], br[sp + 1], l, add_edge);
+                added += a;
+                if (a) {
+                    eref[2 * e] = fmin(eref[2 * e], br[sp]);
+                    eref[2 * e + 1] = fmax(eref[2 * e + 1], br[sp + 1]);
+                }
+            }
         }
         free(br);
     }
@@ -171,7 +193,28 @@ int q2n_fit_refine(fit_ctx *c)
             p->spiky = ratio <= Q2N_FIT_SPIKE_RATIO ? 1 : 2;
             if (p->spiky == 2) continue;
         }
-        /* per span and direction, the worst cell ratio decides the split levels */
+        /* per span and direction, the worst cell ratio decides the split levels.  A patch whose
+         * failing cells all lie next to sides whose edges were just split there — within the reach
+         * of the rows those edges fix (rows 0..C, C the continuity order: row r of a side is zero
+         * beyond its first r + 1 spans) — waits for the refitted edges instead: such cells show
+         * that edge's error (a boundary curve one level coarser than its neighbours shows in the
+         * cells next to it), which the edge's own refinement removes; bisecting the patch as well
+         * doubled the spans of patches whose interior already met the tolerance. */
+        double lo[4], hi[4];  /* per side: the range its edge is splitting, in the patch's u or v */
+        for (int i = 0; i < 4; i++) {
+            int h = m->face_start[k] + i, e = m->he_edge[h];
+            double a = eref[2 * e], b = eref[2 * e + 1];
+            if (m->edge_he[e] != h) { double t = 1.0 - b; b = 1.0 - a; a = t; }  /* owner -> this side */
+            if (i >= 2) { double t = 1.0 - b; b = 1.0 - a; a = t; }            /* side -> u or v */
+            lo[i] = a, hi[i] = b;
+        }
+        int reach = c->o.continuity + 1, wait = 1;
+        for (int j = 0; j < p->ncv && wait; j++)
+            for (int i = 0; i < p->ncu && wait; i++)
+                if (p->cell[(size_t)j * p->ncu + i] > tol &&
+                    !near_split(p, i / Q2N_FIT_SAMPLES_PER_SPAN, j / Q2N_FIT_SAMPLES_PER_SPAN, reach, lo, hi))
+                    wait = 0;
+        if (wait) continue;
         double *ru = calloc((size_t)p->mu, sizeof(double)), *rv = calloc((size_t)p->mv, sizeof(double));
         if (!ru || !rv) { free(ru); free(rv); continue; }
         for (int j = 0; j < p->ncv; j++)
@@ -190,6 +233,7 @@ int q2n_fit_refine(fit_ctx *c)
             if (rv[sp] > 1) added += split_span(c, k, 1, p->kv[5 + sp], p->kv[6 + sp], split_levels(rv[sp], 6.0), add_patch);
         free(ru); free(rv);
     }
+    free(eref);
     return added;
 }
 
