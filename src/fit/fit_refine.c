@@ -6,7 +6,9 @@
  * knot spans where the error is, so the knots grade towards it and never travel:
  *  - a cell over the tolerance bisects its patch's span(s) in the direction(s) that limit it (6th
  *    differences of the construction around the worst cell: the quintic error term is
- *    ~ h^6 |d^6 S| per direction) — an interior knot of that patch only;
+ *    ~ h^6 |d^6 S| per direction) — an interior knot of that patch only; unless every failing
+ *    cell of the patch lies next to a side whose edge is being split there this round (then the
+ *    patch waits for the refitted edge: near_split);
  *  - an edge whose curve or cross rows are off bisects that span of the edge's own knots, which
  *    both neighbours (and only they) take up;
  *  - an edge whose G1 or G2 relation is least squares and misses half its target, where the
