@@ -201,7 +201,8 @@ int q2n_fit_refine(fit_ctx *c)
          * beyond its first r + 1 spans) — waits for the refitted edges instead: such cells show
          * that edge's error (a boundary curve one level coarser than its neighbours shows in the
          * cells next to it), which the edge's own refinement removes; bisecting the patch as well
-         * doubled the spans of patches whose interior already met the tolerance. */
+         * doubled the spans of patches whose interior already met the tolerance.  The refinement
+         * before the last round does not wait. */
         double lo[4], hi[4];  /* per side: the range its edge is splitting, in the patch's u or v */
         for (int i = 0; i < 4; i++) {
             int h = m->face_start[k] + i, e = m->he_edge[h];
@@ -210,7 +211,8 @@ int q2n_fit_refine(fit_ctx *c)
             if (i >= 2) { double t = 1.0 - b; b = 1.0 - a; a = t; }            /* side -> u or v */
             lo[i] = a, hi[i] = b;
         }
-        int reach = c->o.continuity + 1, wait = 1;
+        /* the refinement before the last round cannot wait: no round after it judges the cells */
+        int reach = c->o.continuity + 1, wait = c->round + 2 < c->o.max_rounds;
         for (int j = 0; j < p->ncv && wait; j++)
             for (int i = 0; i < p->ncu && wait; i++)
                 if (p->cell[(size_t)j * p->ncu + i] > tol &&
