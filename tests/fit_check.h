@@ -170,4 +170,92 @@ static inline double fit_random_angle(const q2n_nurbs_model *md, int n)
     return worst;
 }
 
+/* Position and first and second partials of a (non-rational) B-spline patch at (u, v): D[0] S,
+ * D[1] Su, D[2] Sv, D[3] Suu, D[4] Suv, D[5] Svv, from bspline.c's basis. */
+static inline void fck_eval2(const q2n_bspline_surface *s, double u, double v, double D[6][3])
+{
+    double Bu[3 * (Q2N_BSPLINE_MAX_DEG + 1)], Bv[3 * (Q2N_BSPLINE_MAX_DEG + 1)];
+    int su = q2n_bspline_span(s->ncp_u, s->deg_u, s->knots_u, u), sv = q2n_bspline_span(s->ncp_v, s->deg_v, s->knots_v, v);
+    q2n_bspline_basis(su, s->deg_u, s->knots_u, u, 2, Bu);
+    q2n_bspline_basis(sv, s->deg_v, s->knots_v, v, 2, Bv);
+    static const int du[6] = {0, 1, 0, 2, 1, 0}, dv[6] = {0, 0, 1, 0, 1, 2};
+    memset(D, 0, 18 * sizeof(double));
+    for (int b = 0; b <= s->deg_v; b++)
+        for (int a = 0; a <= s->deg_u; a++) {
+            const double *P = s->cp + 3 * ((size_t)(sv - s->deg_v + b) * s->ncp_u + (size_t)(su - s->deg_u + a));
+            for (int o = 0; o < 6; o++) {
+                double w = Bu[du[o] * (s->deg_u + 1) + a] * Bv[dv[o] * (s->deg_v + 1) + b];
+                for (int c = 0; c < 3; c++) D[o][c] += w * P[c];
+            }
+        }
+}
+
+/* Unit normal and the normal curvature in the direction of the 3-vector w (projected on the
+ * tangent plane: w = a Su + b Sv in the least-squares sense): II(a, b) / I(a, b). */
+static inline double fck_normal_curvature(const double D[6][3], const double n[3], const double w[3])
+{
+    double E = 0, F = 0, G = 0, wu = 0, wv = 0, L = 0, M = 0, N = 0;
+    for (int c = 0; c < 3; c++) {
+        E += D[1][c] * D[1][c]; F += D[1][c] * D[2][c]; G += D[2][c] * D[2][c];
+        wu += w[c] * D[1][c]; wv += w[c] * D[2][c];
+        L += D[3][c] * n[c]; M += D[4][c] * n[c]; N += D[5][c] * n[c];
+    }
+    double det = E * G - F * F, a = (G * wu - F * wv) / det, b = (E * wv - F * wu) / det;
+    return (a * a * L + 2 * a * b * M + b * b * N) / (a * a * E + 2 * a * b * F + b * b * G);
+}
+
+/* Continuity of a model across every interior edge at n equally spaced interior points per edge,
+ * independent of the fit's own measurement (which checks 4 points per knot span): the largest
+ * normal-angle jump in degrees (*g1) and the largest jump of normal curvature in the directions
+ * along the edge, across it and between them, over the larger of the two sides' curvatures and
+ * 1/diag (*g2) — the report's definitions (docs/fit.md). */
+static inline void fit_dense_continuity(const q2n_nurbs_model *md, int n, double diag, double *g1, double *g2)
+{
+    const q2n_mesh *m = md->mesh;
+    *g1 = *g2 = 0;
+    for (int e = 0; e < m->ne; e++) {
+        int h = m->edge_he[e], ht = m->he_twin[h];
+        if (ht < 0) continue;
+        int f[2] = {m->he_face[h], m->he_face[ht]}, sd[2] = {h - m->face_start[f[0]], ht - m->face_start[f[1]]};
+        for (int q = 1; q < n; q++) {
+            double t = (double)q / n, D[2][6][3], nrm[2][3];
+            for (int x = 0; x < 2; x++) {
+                double u, v;
+                q2n_side_uv(sd[x], x ? 1 - t : t, 0, &u, &v);
+                fck_eval2(&md->patches[f[x]], u, v, D[x]);
+                const double *a = D[x][1], *b = D[x][2];
+                nrm[x][0] = a[1] * b[2] - a[2] * b[1];
+                nrm[x][1] = a[2] * b[0] - a[0] * b[2];
+                nrm[x][2] = a[0] * b[1] - a[1] * b[0];
+                double l = sqrt(nrm[x][0] * nrm[x][0] + nrm[x][1] * nrm[x][1] + nrm[x][2] * nrm[x][2]);
+                for (int c = 0; c < 3; c++) nrm[x][c] /= l;
+            }
+            double cx[3] = {nrm[0][1] * nrm[1][2] - nrm[0][2] * nrm[1][1], nrm[0][2] * nrm[1][0] - nrm[0][0] * nrm[1][2],
+                            nrm[0][0] * nrm[1][1] - nrm[0][1] * nrm[1][0]};
+            double dot = nrm[0][0] * nrm[1][0] + nrm[0][1] * nrm[1][1] + nrm[0][2] * nrm[1][2];
+            *g1 = fmax(*g1, atan2(sqrt(cx[0] * cx[0] + cx[1] * cx[1] + cx[2] * cx[2]), dot) * 180 / 3.14159265358979323846);
+            /* the tangent along the edge (side orientation of the first patch), the perpendicular in its tangent plane */
+            double tan[3], du[2];
+            q2n_side_uv(sd[0], 1, 0, &du[0], &du[1]);
+            double u0, v0;
+            q2n_side_uv(sd[0], 0, 0, &u0, &v0);
+            for (int c = 0; c < 3; c++) tan[c] = (du[0] - u0) * D[0][1][c] + (du[1] - v0) * D[0][2][c];
+            double lt = sqrt(tan[0] * tan[0] + tan[1] * tan[1] + tan[2] * tan[2]);
+            for (int c = 0; c < 3; c++) tan[c] /= lt;
+            double per[3] = {nrm[0][1] * tan[2] - nrm[0][2] * tan[1], nrm[0][2] * tan[0] - nrm[0][0] * tan[2],
+                             nrm[0][0] * tan[1] - nrm[0][1] * tan[0]};
+            double jmax = 0, kmax = 1 / diag;
+            for (int k = 0; k < 3; k++) {
+                double w[3];
+                for (int c = 0; c < 3; c++) w[c] = k == 0 ? tan[c] : k == 1 ? per[c] : (tan[c] + per[c]) / sqrt(2.0);
+                double kl = fck_normal_curvature((const double (*)[3])D[0], nrm[0], w);
+                double kr = fck_normal_curvature((const double (*)[3])D[1], nrm[1], w);
+                jmax = fmax(jmax, fabs(kl - kr));
+                kmax = fmax(kmax, fmax(fabs(kl), fabs(kr)));
+            }
+            *g2 = fmax(*g2, jmax / kmax);
+        }
+    }
+}
+
 #endif
