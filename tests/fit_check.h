@@ -170,21 +170,21 @@ static inline double fit_random_angle(const q2n_nurbs_model *md, int n)
     return worst;
 }
 
-/* Position and first and second partials of a (non-rational) B-spline patch at (u, v): D[0] S,
- * D[1] Su, D[2] Sv, D[3] Suu, D[4] Suv, D[5] Svv, from bspline.c's basis. */
+/* Position and first and second partials of a (non-rational) B-spline patch at (u, v) in the
+ * order of q2n_eval_order (D[0] S, D[1] Su, D[2] Sv, D[3] Suu, D[4] Suv, D[5] Svv), from
+ * bspline.c's basis. */
 static inline void fck_eval2(const q2n_bspline_surface *s, double u, double v, double D[6][3])
 {
     double Bu[3 * (Q2N_BSPLINE_MAX_DEG + 1)], Bv[3 * (Q2N_BSPLINE_MAX_DEG + 1)];
     int su = q2n_bspline_span(s->ncp_u, s->deg_u, s->knots_u, u), sv = q2n_bspline_span(s->ncp_v, s->deg_v, s->knots_v, v);
     q2n_bspline_basis(su, s->deg_u, s->knots_u, u, 2, Bu);
     q2n_bspline_basis(sv, s->deg_v, s->knots_v, v, 2, Bv);
-    static const int du[6] = {0, 1, 0, 2, 1, 0}, dv[6] = {0, 0, 1, 0, 1, 2};
     memset(D, 0, 18 * sizeof(double));
     for (int b = 0; b <= s->deg_v; b++)
         for (int a = 0; a <= s->deg_u; a++) {
             const double *P = s->cp + 3 * ((size_t)(sv - s->deg_v + b) * s->ncp_u + (size_t)(su - s->deg_u + a));
             for (int o = 0; o < 6; o++) {
-                double w = Bu[du[o] * (s->deg_u + 1) + a] * Bv[dv[o] * (s->deg_v + 1) + b];
+                double w = Bu[q2n_eval_order[o][0] * (s->deg_u + 1) + a] * Bv[q2n_eval_order[o][1] * (s->deg_v + 1) + b];
                 for (int c = 0; c < 3; c++) D[o][c] += w * P[c];
             }
         }

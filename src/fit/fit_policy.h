@@ -22,7 +22,7 @@
 
 /* ---- refinement ---- */
 #define Q2N_FIT_SAMPLES_PER_SPAN 4      /* fit samples per knot span and direction: 4 per new unknown keeps every block well overdetermined */
-#define Q2N_FIT_REFINE_AIM 0.5          /* continuity refinement aims at this fraction of the acceptance target: between the check points (4 per span) the jumps reach up to 1.46x what those see (64 per edge, osd_catmark_rook), so edges left at up to 0.8 of the target broke it there (test_fit_construction) */
+#define Q2N_FIT_REFINE_AIM 0.5          /* continuity refinement aims at this fraction of the acceptance target: between the check points (4 per span) the jumps reach up to 1.46x what those see (64 per edge on the shared meshes; docs/fit.md), so edges left at up to 0.8 of the target broke it between them (test_fit_construction) */
 #define Q2N_FIT_EDGE_SHARE 0.5          /* share of the tolerance the edge curve may use (the rest is the cross rows' and interior's) */
 #define Q2N_FIT_ROW_SHARE 0.25          /* share of the tolerance a cross-derivative row may cost in position terms */
 #define Q2N_FIT_SPLIT_LEVELS 3         /* a span is split into at most 2^3 parts per round: the error model (h^6, h^5, h^4) is only asymptotic */
