@@ -50,7 +50,8 @@ typedef struct fit_edge {
     int rep;                 /* the construction's gluing is a scale alpha(t): reparametrized to constant */
     int alpha_varies;        /* alpha(t) is not constant on the construction */
     int absorb;              /* rep: which side's cross speed absorbs alpha's variation (0 R, 1 L) */
-    double x;                /* log of the end speed of the edge's reparametrization (fit_target.c) */
+    double x[2];             /* log of the end speeds of the edge's reparametrization at its owner's start
+                                and end vertex (fit_target.c) */
     double A;                /* rep: the constant gluing scale after reparametrization */
     double alpha;            /* FIT_GLUE_EXACT: d_s S_R(1-t) = alpha d_s S_L(t), d_ss S_R = alpha^2 d_ss S_L
                                 (formulas.md §4.2 with beta = gamma = delta = 0) */
