@@ -137,6 +137,23 @@ static inline double fit_random_distance(const q2n_nurbs_model *md, const q2n_su
     return worst;
 }
 
+/* Unit normal du x dv / |du x dv|. */
+static inline void fck_unit_normal(const double du[3], const double dv[3], double n[3])
+{
+    n[0] = du[1] * dv[2] - du[2] * dv[1];
+    n[1] = du[2] * dv[0] - du[0] * dv[2];
+    n[2] = du[0] * dv[1] - du[1] * dv[0];
+    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int c = 0; c < 3; c++) n[c] /= l;
+}
+
+/* Angle between unit vectors a and b in degrees (atan2 of |a x b| and a . b: accurate near 0). */
+static inline double fck_angle_deg(const double a[3], const double b[3])
+{
+    double cx = a[1] * b[2] - a[2] * b[1], cy = a[2] * b[0] - a[0] * b[2], cz = a[0] * b[1] - a[1] * b[0];
+    return atan2(sqrt(cx * cx + cy * cy + cz * cz), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * 180 / 3.14159265358979323846;
+}
+
 /* Largest normal-angle jump (degrees) across interior edges at n pseudo-random edge points, from
  * bspline.c's first derivatives. */
 static inline double fit_random_angle(const q2n_nurbs_model *md, int n)
@@ -155,16 +172,9 @@ static inline double fit_random_angle(const q2n_nurbs_model *md, int n)
                 double tt = x ? 1 - t : t, p[3], du[3], dv[3], u, v;
                 q2n_side_uv(sd[x], tt, 0, &u, &v);
                 q2n_bspline_eval(&md->patches[f[x]], u, v, p, du, dv);
-                nrm[x][0] = du[1] * dv[2] - du[2] * dv[1];
-                nrm[x][1] = du[2] * dv[0] - du[0] * dv[2];
-                nrm[x][2] = du[0] * dv[1] - du[1] * dv[0];
-                double l = sqrt(nrm[x][0] * nrm[x][0] + nrm[x][1] * nrm[x][1] + nrm[x][2] * nrm[x][2]);
-                for (int c = 0; c < 3; c++) nrm[x][c] /= l;
+                fck_unit_normal(du, dv, nrm[x]);
             }
-            double dot = nrm[0][0] * nrm[1][0] + nrm[0][1] * nrm[1][1] + nrm[0][2] * nrm[1][2];
-            double cx = nrm[0][1] * nrm[1][2] - nrm[0][2] * nrm[1][1], cy = nrm[0][2] * nrm[1][0] - nrm[0][0] * nrm[1][2],
-                   cz = nrm[0][0] * nrm[1][1] - nrm[0][1] * nrm[1][0];
-            worst = fmax(worst, atan2(sqrt(cx * cx + cy * cy + cz * cz), dot) * 180 / 3.14159265358979323846);
+            worst = fmax(worst, fck_angle_deg(nrm[0], nrm[1]));
         }
     }
     return worst;
@@ -223,23 +233,13 @@ static inline void fit_dense_continuity(const q2n_nurbs_model *md, int n, double
                 double u, v;
                 q2n_side_uv(sd[x], x ? 1 - t : t, 0, &u, &v);
                 fck_eval2(&md->patches[f[x]], u, v, D[x]);
-                const double *a = D[x][1], *b = D[x][2];
-                nrm[x][0] = a[1] * b[2] - a[2] * b[1];
-                nrm[x][1] = a[2] * b[0] - a[0] * b[2];
-                nrm[x][2] = a[0] * b[1] - a[1] * b[0];
-                double l = sqrt(nrm[x][0] * nrm[x][0] + nrm[x][1] * nrm[x][1] + nrm[x][2] * nrm[x][2]);
-                for (int c = 0; c < 3; c++) nrm[x][c] /= l;
+                fck_unit_normal(D[x][1], D[x][2], nrm[x]);
             }
-            double cx[3] = {nrm[0][1] * nrm[1][2] - nrm[0][2] * nrm[1][1], nrm[0][2] * nrm[1][0] - nrm[0][0] * nrm[1][2],
-                            nrm[0][0] * nrm[1][1] - nrm[0][1] * nrm[1][0]};
-            double dot = nrm[0][0] * nrm[1][0] + nrm[0][1] * nrm[1][1] + nrm[0][2] * nrm[1][2];
-            *g1 = fmax(*g1, atan2(sqrt(cx[0] * cx[0] + cx[1] * cx[1] + cx[2] * cx[2]), dot) * 180 / 3.14159265358979323846);
+            *g1 = fmax(*g1, fck_angle_deg(nrm[0], nrm[1]));
             /* the tangent along the edge (side orientation of the first patch), the perpendicular in its tangent plane */
-            double tan[3], du[2];
-            q2n_side_uv(sd[0], 1, 0, &du[0], &du[1]);
-            double u0, v0;
-            q2n_side_uv(sd[0], 0, 0, &u0, &v0);
-            for (int c = 0; c < 3; c++) tan[c] = (du[0] - u0) * D[0][1][c] + (du[1] - v0) * D[0][2][c];
+            const int *dir = q2n_side_along[sd[0]];
+            double tan[3];
+            for (int c = 0; c < 3; c++) tan[c] = dir[0] * D[0][1][c] + dir[1] * D[0][2][c];
             double lt = sqrt(tan[0] * tan[0] + tan[1] * tan[1] + tan[2] * tan[2]);
             for (int c = 0; c < 3; c++) tan[c] /= lt;
             double per[3] = {nrm[0][1] * tan[2] - nrm[0][2] * tan[1], nrm[0][2] * tan[0] - nrm[0][0] * tan[2],

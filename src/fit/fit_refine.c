@@ -201,8 +201,7 @@ int q2n_fit_refine(fit_ctx *c)
          * beyond its first r + 1 spans) — waits for the refitted edges instead: such cells show
          * that edge's error (a boundary curve one level coarser than its neighbours shows in the
          * cells next to it), which the edge's own refinement removes; bisecting the patch as well
-         * doubled the spans of patches whose interior already met the tolerance.  The refinement
-         * before the last round does not wait. */
+         * doubled the spans of patches whose interior already met the tolerance. */
         double lo[4], hi[4];  /* per side: the range its edge is splitting, in the patch's u or v */
         for (int i = 0; i < 4; i++) {
             int h = m->face_start[k] + i, e = m->he_edge[h];

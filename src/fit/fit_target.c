@@ -23,7 +23,7 @@
  * of every edge: fewer systems are consistent and the speeds it finds are larger — on the shared
  * meshes 5 835 exact edges instead of 5 960, docs/fit.md.)  (2) Along such an edge the
  * cross speed of side L is lambda_L(t) = smoothstep between its end speeds and that of side R is
- * lambda_R = A lambda_L / alpha(tau(t)), A = alpha(0) s_fR0 / s_fL0, so that the new gluing
+ * lambda_R = A lambda_L / alpha(tau(t)), A = alpha(0) s_fR0(v0) / s_fL0(v0), so that the new gluing
  * lambda_R alpha / lambda_L is the constant A (or side L absorbs alpha's variation instead, when R
  * must keep phi = id); every other side's cross speed is the smoothstep.  Patches with a side whose
  * gluing is not a scale (extraordinary regions) keep phi = id and their edges speed 1: those
@@ -79,13 +79,18 @@ static double corner_speed(const fit_ctx *c, int k, int i, int j)
     return speed_at(c, side_edge(c, k, i, &own), c->m->face_vert[c->m->face_start[k] + (j & 3)]);
 }
 
+/* tau_e of edge e (owner orientation) at x, from its speeds at both ends. */
+static void edge_tau(const fit_ctx *c, int e, double x, double d[3])
+{
+    tau_eval(exp(c->e[e].x[0]), exp(c->e[e].x[1]), x, d);
+}
+
 /* tau of side (k, i) in the side's orientation at t: tau_i(t) = tau_e(t) (owner) or 1 - tau_e(1 - t). */
 static void side_tau(const fit_ctx *c, int k, int i, double t, double d[3])
 {
     int own, e = side_edge(c, k, i, &own);
-    double s0 = exp(c->e[e].x[0]), s1 = exp(c->e[e].x[1]);
-    if (own) { tau_eval(s0, s1, t, d); return; }
-    tau_eval(s0, s1, 1.0 - t, d);
+    if (own) { edge_tau(c, e, t, d); return; }
+    edge_tau(c, e, 1.0 - t, d);
     d[0] = 1.0 - d[0];
     d[2] = -d[2];
 }
@@ -191,7 +196,7 @@ static q2n_status side_lambda(fit_ctx *c, int k, int i, double t, double *l, dou
     double x = 1.0 - t, lo, dlo, tau[3], al, dal;   /* x: the other side's parameter, x = 1 - t */
     side_lin(c, fo, io, x, &lo, &dlo);
     double xe = own ? t : x;                         /* owner parameter of this point */
-    tau_eval(exp(E->x[0]), exp(E->x[1]), xe, tau);
+    edge_tau(c, e, xe, tau);
     double DL[6][3], DR[6][3];
     int frames;
     q2n_status st = edge_alpha(c, e, tau[0], &al, &dal, DL, DR, &frames);
