@@ -158,7 +158,13 @@ int main(void)
      * tolerance.  Measured: gregory_test6 3038 -> 2327 control points, fvar_bound3 1974 -> 1430. */
     const fit_case g6 = {"osd_catmark_gregory_test6.obj", 0, 0}, fb3 = {"osd_catmark_fvar_bound3.obj", 0, 0};
     if (run(&g6, 1e-5, &r5)) CHECK(r5.cp_total <= 2500, "gregory_test6: %ld control points (2327 expected)", r5.cp_total);
-    if (run(&fb3, 1e-5, &r5)) CHECK(r5.cp_total <= 1600, "fvar_bound3: %ld control points (1430 expected)", r5.cp_total);
+    /* continuity refinement judges the jumps between the check points too (fit.c, dense_jumps) and so
+     * aims at 0.9 of the targets instead of half: fvar_bound3 1430 -> 1014 control points (every
+     * patch 8 x 8 spans), xord_boundary 3794 -> 3042; the jumps at 64 points per edge stay within the
+     * targets (fit_dense_continuity, every run of this test) */
+    const fit_case xb = {"osd_catmark_xord_boundary.obj", 0, 0};
+    if (run(&fb3, 1e-5, &r5)) CHECK(r5.cp_total <= 1100, "fvar_bound3: %ld control points (1014 expected)", r5.cp_total);
+    if (run(&xb, 1e-5, &r5)) CHECK(r5.cp_total <= 3300, "xord_boundary: %ld control points (3042 expected)", r5.cp_total);
     /* the reparametrization of scale-glued edges has a speed per edge end (fit_target.c): more speed
      * systems are consistent and the speeds are smaller than with one speed per edge (measured:
      * octtorus_hole 13 -> 25 exact edges; tent, every edge exact either way, 1190 -> 973 control points) */

@@ -131,6 +131,37 @@ static void measure_patch(void *arg, int k)
     a->st[k] = st;
 }
 
+/* The fitted jumps of edge E between its check points: Q2N_FIT_JUMP_SAMPLES points per span of the
+ * union of both sides' knots along the edge, the knots included (the fitted sides only: no
+ * construction values).  The check points (4 per span of the edge's knots, the points an importer's
+ * audit samples) miss the maxima by up to ~1.5 x (docs/fit.md); these see them. */
+static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2])
+{
+    int nb = 0, n0 = sd[0].nt - 4, n1 = sd[1].nt - 4;    /* breakpoints incl. 0 and 1 */
+    double *brk = malloc(sizeof(double) * (size_t)(n0 + n1));
+    if (!brk) return Q2N_ERR_NOMEM;
+    for (int i = 0, j = 0; i < n0 || j < n1;) {
+        double a = i < n0 ? sd[0].kt[5 + i] : 2.0, b = j < n1 ? 1.0 - sd[1].kt[sd[1].nt - j] : 2.0, x = a <= b ? a : b;
+        if (a <= b) i++;
+        if (b <= a) j++;
+        if (!nb || brk[nb - 1] != x) brk[nb++] = x;
+    }
+    double Ns[2][3][Q2N_FIT_DEG + 1];
+    for (int x = 0; x < 2; x++) q2n_fit_basis(Q2N_FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
+    for (int s = 0; s + 1 < nb; s++)
+        for (int q = 0; q <= Q2N_FIT_JUMP_SAMPLES; q++) {
+            if (q == Q2N_FIT_JUMP_SAMPLES && s + 2 < nb) continue;   /* the next span's first point */
+            double t = brk[s] + (brk[s + 1] - brk[s]) * q / Q2N_FIT_JUMP_SAMPLES, f[2][6][3], j1, j2;
+            q2n_fit_side_spline(c, &sd[0], Ns[0], t, f[0]);
+            q2n_fit_side_spline(c, &sd[1], Ns[1], 1.0 - t, f[1]);
+            q2n_fit_jumps(f[0][0], f[1][0], f[0][1], c->diag, &j1, &j2);
+            if (!(j1 <= E->g1d)) E->g1d = j1;
+            if (!(j2 <= E->g2d)) E->g2d = j2;
+        }
+    free(brk);
+    return Q2N_OK;
+}
+
 /* Edge e: at the check points of its owner side, the curve's deviation, both cross rows' deviation
  * in position terms (a first-row error df moves the surface by at most ~0.41 df / N_1'(0), the
  * peak of the first Bernstein function times the row's offset; likewise the second row with
@@ -200,6 +231,9 @@ static void measure_edge(void *arg, int e)
             if (!(j2 <= E->g2)) E->g2 = j2;
         }
     }
+    E->g1d = E->g1;
+    E->g2d = E->g2;
+    if (!st && two) st = dense_jumps(c, E, sd);
     free(t); free(tr); free(DL); free(DR);
     a->st[c->m->nf + e] = st;
 }

@@ -144,10 +144,10 @@ int q2n_fit_refine(fit_ctx *c)
         /* stalling is judged only in the asymptotic range (a coarse edge's jumps may not fall
          * until its rows resolve the construction) */
         int refined = E->K.n > E->kn_prev && E->kn_prev + 1 >= Q2N_FIT_STALL_SPANS;
-        if (c1 && stall_update(E->g1, E->g1_prev, &E->g1_fails, E->g1 > aim1, refined)) { E->stalled |= 1; c1 = 0; }
-        if (c2 && stall_update(E->g2, E->g2_prev, &E->g2_fails, E->g2 > aim2, refined)) { E->stalled |= 2; c2 = 0; }
-        E->g1_prev = E->g1;
-        E->g2_prev = E->g2;
+        if (c1 && stall_update(E->g1d, E->g1_prev, &E->g1_fails, E->g1d > aim1, refined)) { E->stalled |= 1; c1 = 0; }
+        if (c2 && stall_update(E->g2d, E->g2_prev, &E->g2_fails, E->g2d > aim2, refined)) { E->stalled |= 2; c2 = 0; }
+        E->g1_prev = E->g1d;
+        E->g2_prev = E->g2d;
         E->kn_prev = E->K.n;
         /* split levels per span of the knots as measured: the curve and the rows where they miss
          * their share of the tolerance; a least-squares gluing relation that misses its aim splits
@@ -161,7 +161,7 @@ int q2n_fit_refine(fit_ctx *c)
         br[nsp] = 1.0;
         /* split_levels grows with the ratio: the per-edge jump maxima and the per-span deviation
          * maxima decide */
-        double r2 = c1 ? E->g1 / aim1 : 0.0, r3 = c2 ? E->g2 / aim2 : 0.0;
+        double r2 = c1 ? E->g1d / aim1 : 0.0, r3 = c2 ? E->g2d / aim2 : 0.0;
         if (r2 > 1) cont = split_levels(r2, 5.0);
         if (r3 > 1 && split_levels(r3, 4.0) > cont) cont = split_levels(r3, 4.0);
         for (int sp = 0; sp < nsp; sp++) {
@@ -251,9 +251,9 @@ void q2n_fit_accept(fit_ctx *c)
     for (int e = 0; e < m->ne; e++) {
         const fit_edge *E = &c->e[e];
         if (E->glue == FIT_GLUE_BOUNDARY) continue;
-        if (E->g1 > c->o.g1_tol_deg && E->g1c <= aim1 && (worst_e1 < 0 || E->g1 > c->e[worst_e1].g1)) worst_e1 = e;
-        if (c->o.continuity == 2 && E->g2 > c->o.g2_tol_rel && E->g2c <= aim2 &&
-            (worst_e2 < 0 || E->g2 > c->e[worst_e2].g2))
+        if (E->g1d > c->o.g1_tol_deg && E->g1c <= aim1 && (worst_e1 < 0 || E->g1d > c->e[worst_e1].g1d)) worst_e1 = e;
+        if (c->o.continuity == 2 && E->g2d > c->o.g2_tol_rel && E->g2c <= aim2 &&
+            (worst_e2 < 0 || E->g2d > c->e[worst_e2].g2d))
             worst_e2 = e;
     }
     rep->dev_met = worst_f < 0;
@@ -267,7 +267,7 @@ void q2n_fit_accept(fit_ctx *c)
         snprintf(rep->note, sizeof rep->note,
                  "edge %d (faces %d, %d): normal jump %.3g deg, curvature jump %.3g (targets %.3g deg, %.3g; "
                  "the construction's own: %.3g deg, %.3g) not reached", e, m->he_face[m->edge_he[e]],
-                 m->he_face[m->he_twin[m->edge_he[e]]], E->g1, E->g2, c->o.g1_tol_deg, c->o.g2_tol_rel, E->g1c,
+                 m->he_face[m->he_twin[m->edge_he[e]]], E->g1d, E->g2d, c->o.g1_tol_deg, c->o.g2_tol_rel, E->g1c,
                  E->g2c);
     }
 }

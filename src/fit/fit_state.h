@@ -60,6 +60,8 @@ typedef struct fit_edge {
     double *spmax;           /* 2 per span of K at the last measurement: the largest curve deviation and
                                 cross-row deviation (position terms) / diag over its check points */
     double g0, g1, g2;       /* last measured fitted gap / diag and jumps (maxima over the check points) */
+    double g1d, g2d;         /* the jumps' maxima over the check points and the dense jump samples
+                                between them (what refinement and acceptance judge) */
     double g1_prev, g2_prev; /* the round before, for the stall rule */
     int g1_fails, g2_fails;  /* consecutive rounds this edge drove refinement for continuity */
     int kn_prev;             /* K.n at the previous refinement decision */
