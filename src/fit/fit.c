@@ -131,9 +131,9 @@ static void measure_patch(void *arg, int k)
     a->st[k] = st;
 }
 
-/* The fitted jumps of edge E between its check points: Q2N_FIT_JUMP_SAMPLES points per span of the
- * union of both sides' knots along the edge, the knots included (the fitted sides only: no
- * construction values).  The check points (4 per span of the edge's knots, the points an importer's
+/* The fitted jumps of edge E between its check points: Q2N_FIT_JUMP_SAMPLES evenly spaced points per
+ * span of the union of both sides' knots along the edge, the knots included (the fitted sides only:
+ * no construction values).  The check points (4 per span of the edge's knots, the points an importer's
  * audit samples) miss the maxima by up to ~1.5 x (docs/fit.md); these see them. */
 static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2])
 {
@@ -233,7 +233,8 @@ static void measure_edge(void *arg, int e)
     }
     E->g1d = E->g1;
     E->g2d = E->g2;
-    if (!st && two) st = dense_jumps(c, E, sd);
+    /* exact relations hold to rounding everywhere: only least-squares ones vary between the points */
+    if (!st && two && (E->glue == FIT_GLUE_LS || (c->o.continuity == 2 && E->glue2 == FIT_GLUE_LS))) st = dense_jumps(c, E, sd);
     free(t); free(tr); free(DL); free(DR);
     a->st[c->m->nf + e] = st;
 }

@@ -22,8 +22,8 @@
 
 /* ---- refinement ---- */
 #define Q2N_FIT_SAMPLES_PER_SPAN 4      /* fit samples per knot span and direction: 4 per new unknown keeps every block well overdetermined */
-#define Q2N_FIT_REFINE_AIM 0.9          /* continuity refinement aims at this fraction of the acceptance target, judged on the jumps at the check points and the dense jump samples between them: those see the true maxima to ~1 % (rook --subdivide 1: 0.904 % at 256 points per edge where the fit held 0.9 %); the rest is margin for an importer's own evaluation.  At 0.5 on the check points alone (4 per span, which miss the maxima by up to 1.46x) the files were 6 % heavier (docs/fit.md) */
-#define Q2N_FIT_JUMP_SAMPLES 8          /* jump samples per span of an edge's union knots (with the check points): the jumps vary smoothly within a span, 8 intervals see their maxima to ~1 % */
+#define Q2N_FIT_REFINE_AIM 0.9          /* continuity refinement aims at this fraction of the acceptance target, judged on the jumps at the check points and the dense jump samples between them: those see the true maxima to ~1 % (256 points per edge on the shared meshes: 0.904 % where the fit held 0.9 %); the rest is margin for an importer's own evaluation.  At 0.5 on the check points alone (4 per span, which miss the maxima by up to 1.46x) the files were 6 % heavier (docs/fit.md) */
+#define Q2N_FIT_JUMP_SAMPLES 4          /* jump samples per span of an edge's union knots, at the knots and halfway between the check points (4 per span, the odd eighths): with them 8 evenly spaced per span, which see the maxima of the smoothly varying jumps to ~1 % (8 more per span changed the control points of one shared mesh, by 0.03 %) */
 #define Q2N_FIT_EDGE_SHARE 0.5          /* share of the tolerance the edge curve may use (the rest is the cross rows' and interior's) */
 #define Q2N_FIT_ROW_SHARE 0.25          /* share of the tolerance a cross-derivative row may cost in position terms */
 #define Q2N_FIT_SPLIT_LEVELS 3         /* a span is split into at most 2^3 parts per round: the error model (h^6, h^5, h^4) is only asymptotic */
