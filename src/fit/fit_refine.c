@@ -9,8 +9,8 @@
  *    ~ h^6 |d^6 S| per direction) — an interior knot of that patch only; unless every failing
  *    cell of the patch lies next to a side whose edge is being split there this round (then the
  *    patch waits for the refitted edge: near_split);
- *  - an edge whose curve or cross rows are off bisects that span of the edge's own knots, which
- *    both neighbours (and only they) take up;
+ *  - an edge whose curve, or whose cross rows where its gluing is exact, are off bisects that span
+ *    of the edge's own knots, which both neighbours (and only they) take up;
  *  - an edge whose G1 or G2 relation is least squares and misses half its target, where the
  *    construction itself meets that, splits every span of its knots (that converges; grading
  *    towards the worst point did not next to extraordinary corners);
@@ -166,7 +166,10 @@ int q2n_fit_refine(fit_ctx *c)
         if (r3 > 1 && split_levels(r3, 4.0) > cont) cont = split_levels(r3, 4.0);
         for (int sp = 0; sp < nsp; sp++) {
             const double *mx = E->spmax + 2 * (size_t)sp;
-            double r0 = mx[0] / (Q2N_FIT_EDGE_SHARE * tol), r1 = mx[1] / (Q2N_FIT_ROW_SHARE * tol);
+            /* the rows of a least-squares-glued edge are a compromise between the construction's cross
+             * derivatives and the gluing, so their distance from those derivatives is not a position
+             * error: the cells beside the edge judge it (and refine that patch alone) */
+            double r0 = mx[0] / (Q2N_FIT_EDGE_SHARE * tol), r1 = lsg1 || lsg2 ? 0.0 : mx[1] / (Q2N_FIT_ROW_SHARE * tol);
             int l = cont;
             if (r0 > 1 && split_levels(r0, 6.0) > l) l = split_levels(r0, 6.0);
             if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
