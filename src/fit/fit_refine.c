@@ -11,9 +11,10 @@
  *    patch waits for the refitted edge: near_split);
  *  - an edge whose curve, or whose cross rows where its gluing is exact, are off bisects that span
  *    of the edge's own knots, which both neighbours (and only they) take up;
- *  - an edge whose G1 or G2 relation is least squares and misses half its target, where the
- *    construction itself meets that, splits every span of its knots (that converges; grading
- *    towards the worst point did not next to extraordinary corners);
+ *  - an edge whose G1 or G2 relation is least squares and misses Q2N_FIT_REFINE_AIM of its target
+ *    (at its check points or between them: fit.c), where the construction itself meets that,
+ *    splits every span of its knots (that converges; grading towards the worst point did not next
+ *    to extraordinary corners);
  * all within max_spans per patch direction.  A bisection halves h: the deviation falls ~64x, the
  * normal jump ~32x, the curvature jump ~16x per round where the construction is smooth; a span
  * whose error needs more is split into 4 or 8 at once (split_levels). */
