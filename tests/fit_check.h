@@ -30,6 +30,39 @@ static inline double fck_dist(const double *a, const double *b)
     return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
+/* Edges whose curve lacks an interior knot that every patch side along it has (both sides of an
+ * interior edge, the one side of a boundary edge): the fit gives an edge the breakpoints its sides
+ * share, so that its sides' boundary rows are its own control points (fit_refine.c).  Knots in the
+ * edge's owner orientation (sides 2 and 3 run against u or v; the twin runs against the owner). */
+static inline int fit_unshared_knots(const q2n_nurbs_model *md)
+{
+    const q2n_mesh *m = md->mesh;
+    int bad = 0;
+    for (int e = 0; md->edges && e < m->ne; e++) {
+        int h[2] = {m->edge_he[e], m->he_twin[m->edge_he[e]]};
+        const q2n_bspline_curve *E = &md->edges[e];
+        const q2n_bspline_surface *P0 = &md->patches[m->he_face[h[0]]];
+        int i0 = h[0] - m->face_start[m->he_face[h[0]]], n0 = (i0 & 1) ? P0->ncp_v : P0->ncp_u;
+        const double *k0 = (i0 & 1) ? P0->knots_v : P0->knots_u;
+        for (int q = 6; q < n0; q++) {   /* interior knots of the owner side */
+            double t = i0 < 2 ? k0[q] : 1.0 - k0[q], in_twin = 1;
+            if (h[1] >= 0) {
+                const q2n_bspline_surface *P1 = &md->patches[m->he_face[h[1]]];
+                int i1 = h[1] - m->face_start[m->he_face[h[1]]], n1 = (i1 & 1) ? P1->ncp_v : P1->ncp_u;
+                const double *k1 = (i1 & 1) ? P1->knots_v : P1->knots_u;
+                double x = i1 < 2 ? 1.0 - t : t;   /* the twin's side runs the other way */
+                in_twin = 0;
+                for (int r = 6; r < n1 && !in_twin; r++) in_twin = k1[r] == x;
+            }
+            if (!in_twin) continue;
+            int in_edge = 0;
+            for (int r = 6; r < E->ncp && !in_edge; r++) in_edge = E->knots[r] == t;
+            if (!in_edge) { bad++; break; }
+        }
+    }
+    return bad;
+}
+
 /* Watertightness of a model: along every edge, both patch boundaries (reversed on the twin) and
  * the model's edge curve (when it has them) coincide; returns the largest gap at 33 points per
  * edge, and counts in *nsame / *nsides the patch sides with the edge curve's own number of

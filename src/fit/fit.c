@@ -131,9 +131,18 @@ static void measure_patch(void *arg, int k)
     a->st[k] = st;
 }
 
-/* The fitted jumps of edge E between its check points: Q2N_FIT_JUMP_SAMPLES evenly spaced points per
- * span of the union of both sides' knots along the edge, the knots included (the fitted sides only:
- * no construction values).  The check points (4 per span of the edge's knots, the points an importer's
+/* Is the side frame F (S, d_t, d_s, ...) far enough from singular for its normal and curvature to
+ * mean something: the angle between its tangents at least Q2N_FIT_JUMP_MIN_SIN (sine)? */
+static int fit_regular_frame(const double F[6][3])
+{
+    double n[3];
+    q2n_v3_cross(n, F[1], F[2]);
+    return q2n_v3_norm(n) >= Q2N_FIT_JUMP_MIN_SIN * q2n_v3_norm(F[1]) * q2n_v3_norm(F[2]);
+}
+
+/* The fitted jumps of edge E between its check points: at least Q2N_FIT_JUMP_SAMPLES evenly spaced
+ * points per span of the union of both sides' knots along the edge and Q2N_FIT_JUMP_SAMPLES_EDGE per
+ * unit of its parameter, the knots included (the fitted sides only: no construction values).  The check points (4 per span of the edge's knots, the points an importer's
  * audit samples) miss the maxima by up to ~1.5 x (docs/fit.md); these see them. */
 static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2])
 {
@@ -148,16 +157,20 @@ static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2
     }
     double Ns[2][3][Q2N_FIT_DEG + 1];
     for (int x = 0; x < 2; x++) q2n_fit_basis(Q2N_FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
-    for (int s = 0; s + 1 < nb; s++)
-        for (int q = 0; q <= Q2N_FIT_JUMP_SAMPLES; q++) {
-            if (q == Q2N_FIT_JUMP_SAMPLES && s + 2 < nb) continue;   /* the next span's first point */
-            double t = brk[s] + (brk[s + 1] - brk[s]) * q / Q2N_FIT_JUMP_SAMPLES, f[2][6][3], j1, j2;
+    for (int s = 0; s + 1 < nb; s++) {
+        int ns = (int)ceil(Q2N_FIT_JUMP_SAMPLES_EDGE * (brk[s + 1] - brk[s]));
+        if (ns < Q2N_FIT_JUMP_SAMPLES) ns = Q2N_FIT_JUMP_SAMPLES;
+        for (int q = 0; q <= ns; q++) {
+            if (q == ns && s + 2 < nb) continue;   /* the next span's first point */
+            double t = brk[s] + (brk[s + 1] - brk[s]) * q / ns, f[2][6][3], j1, j2;
             q2n_fit_side_spline(c, &sd[0], Ns[0], t, f[0]);
             q2n_fit_side_spline(c, &sd[1], Ns[1], 1.0 - t, f[1]);
+            if (!fit_regular_frame(f[0]) || !fit_regular_frame(f[1])) continue;
             q2n_fit_jumps(f[0][0], f[1][0], f[0][1], c->diag, &j1, &j2);
             if (!(j1 <= E->g1d)) E->g1d = j1;
             if (!(j2 <= E->g2d)) E->g2d = j2;
         }
+    }
     free(brk);
     return Q2N_OK;
 }

@@ -124,6 +124,66 @@ static int near_split(const fit_patch *p, int iu, int iv, int reach, const doubl
            (iv >= p->mv - reach && u1 > lo[2] && u0 < hi[2]) || (iu < reach && v1 > lo[3] && v0 < hi[3]);
 }
 
+static int cmp_dbl(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Breakpoints of side (k, i) in the owner orientation of its edge, sorted; returns their number. */
+static int side_set(const fit_ctx *c, int k, int i, double *out)
+{
+    const q2n_mesh *m = c->m;
+    int h = m->face_start[k] + i, e = m->he_edge[h], own = m->edge_he[e] == h;
+    int n = q2n_fit_patch_breaks(c, k, i & 1, out);
+    for (int q = 0; q < n; q++) {
+        double t = i < 2 ? out[q] : 1.0 - out[q];
+        out[q] = own ? t : 1.0 - t;
+    }
+    qsort(out, (size_t)n, sizeof *out, cmp_dbl);
+    return n;
+}
+
+/* An edge takes up the breakpoints both its sides have (one side: a boundary edge) — the patches'
+ * own knots or their other edges': its curve is then fitted on the knots its sides' boundary rows
+ * have, and those rows are the curve itself, point for point (the STEP file shares them), at no
+ * cost in the patches' control points; returns the number added. */
+static int promote(fit_ctx *c)
+{
+    const q2n_mesh *m = c->m;
+    int added = 0;
+    for (int e = 0; e < m->ne; e++) {
+        fit_edge *E = &c->e[e];
+        int h[2] = {m->edge_he[e], m->he_twin[m->edge_he[e]]}, n[2] = {0, 0};
+        double *s[2] = {NULL, NULL};
+        int ok = 1;
+        for (int x = 0; x < 2 && ok; x++) {
+            if (h[x] < 0) continue;
+            int k = m->he_face[h[x]];
+            const fit_patch *p = &c->p[k];
+            int cap = 0;
+            for (int i = 0; i < 4; i++) cap += c->e[m->he_edge[4 * k + i]].K.n;
+            cap += p->I[0].n + p->I[1].n + 1;
+            s[x] = malloc(sizeof(double) * (size_t)cap);
+            if (!s[x]) ok = 0;
+            else n[x] = side_set(c, k, h[x] - m->face_start[k], s[x]);
+        }
+        if (ok) {
+            int i = 0, j = 0, two = h[1] >= 0;
+            while (i < n[0] && (!two || j < n[1])) {
+                if (two && s[1][j] < s[0][i]) { j++; continue; }
+                if (two && s[1][j] > s[0][i]) { i++; continue; }
+                int r = q2n_fit_breaks_add(&E->K, s[0][i]);
+                if (r > 0) { E->ver++; added++; }
+                i++;
+                if (two) j++;
+            }
+        }
+        free(s[0]); free(s[1]);
+    }
+    return added;
+}
+
 int q2n_fit_refine(fit_ctx *c)
 {
     const q2n_mesh *m = c->m;
@@ -185,6 +245,41 @@ int q2n_fit_refine(fit_ctx *c)
         }
         free(br);
     }
+    /* edges beside failing cells: a cell in the first row along a side that misses the tolerance,
+     * where the side's edge curve itself uses more than Q2N_FIT_EDGE_ASSIST of it in that span,
+     * splits that span of the edge too — the patch's own knots cannot remove its boundary's error */
+    for (int k = 0; k < m->nf; k++) {
+        const fit_patch *p = &c->p[k];
+        if (!(p->dev > tol) || !p->cell) continue;
+        for (int j = 0; j < p->ncv; j++)
+            for (int i = 0; i < p->ncu; i++) {
+                if (!(p->cell[(size_t)j * p->ncu + i] > tol)) continue;
+                int sides[2], ns = 0;
+                if (j == 0) sides[ns++] = 0;
+                if (j == p->ncv - 1) sides[ns++] = 2;
+                if (i == 0 && ns < 2) sides[ns++] = 3;
+                if (i == p->ncu - 1 && ns < 2) sides[ns++] = 1;
+                for (int q = 0; q < ns; q++) {
+                    int sd = sides[q], a = sd & 1 ? j : i;
+                    const double *kv = sd & 1 ? p->kv : p->ku;
+                    double x = kv[5 + a / Q2N_FIT_SAMPLES_PER_SPAN] + (kv[6 + a / Q2N_FIT_SAMPLES_PER_SPAN] - kv[5 + a / Q2N_FIT_SAMPLES_PER_SPAN]) *
+                                                                         (2 * (a % Q2N_FIT_SAMPLES_PER_SPAN) + 1) / (2.0 * Q2N_FIT_SAMPLES_PER_SPAN);
+                    int h = m->face_start[k] + sd, e = m->he_edge[h];
+                    double t = sd < 2 ? x : 1.0 - x;                 /* side orientation */
+                    if (m->edge_he[e] != h) t = 1.0 - t;             /* owner orientation */
+                    fit_edge *E = &c->e[e];
+                    if (!E->spmax) continue;
+                    int sp = 0;
+                    while (sp < E->K.n && E->K.t[sp] <= t) sp++;
+                    double lo = sp ? E->K.t[sp - 1] : 0.0, hi = sp < E->K.n ? E->K.t[sp] : 1.0;
+                    if (!(E->spmax[2 * (size_t)sp] > Q2N_FIT_EDGE_ASSIST * tol)) continue;
+                    if (eref[2 * e] < hi && eref[2 * e + 1] > lo) continue;   /* being split there */
+                    int add = split_span(c, e, 0, lo, hi, 1, add_edge);
+                    added += add;
+                    if (add) eref[2 * e] = fmin(eref[2 * e], lo), eref[2 * e + 1] = fmax(eref[2 * e + 1], hi);
+                }
+            }
+    }
     /* patches: cells over the tolerance, in the limiting direction(s) */
     for (int k = 0; k < m->nf; k++) {
         fit_patch *p = &c->p[k];
@@ -240,6 +335,7 @@ int q2n_fit_refine(fit_ctx *c)
             if (rv[sp] > 1) added += split_span(c, k, 1, p->kv[5 + sp], p->kv[6 + sp], split_levels(rv[sp], 6.0), add_patch);
         free(ru); free(rv);
     }
+    added += promote(c);
     free(eref);
     return added;
 }

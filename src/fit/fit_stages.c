@@ -491,7 +491,7 @@ static int cmp_double(const void *a, const void *b)
 }
 
 /* The union knot vector of patch k in direction d (0 u, 1 v) into br (sorted distinct); returns nb. */
-static int patch_breaks(const fit_ctx *c, int k, int d, double *br)
+int q2n_fit_patch_breaks(const fit_ctx *c, int k, int d, double *br)
 {
     int n = 0, h0 = c->m->face_start[k];
     n = side_breaks(c, h0 + d, d, br, n);
@@ -535,7 +535,7 @@ static q2n_status patch_knots(fit_ctx *c, int k)
                    c->e[m->he_edge[4 * k + 3]].K.n) + p->I[0].n + p->I[1].n + 2;
     double *bu = malloc(sizeof(double) * (size_t)cap), *bv = malloc(sizeof(double) * (size_t)cap);
     if (!bu || !bv) { free(bu); free(bv); return Q2N_ERR_NOMEM; }
-    int nbu = patch_breaks(c, k, 0, bu), nbv = patch_breaks(c, k, 1, bv);
+    int nbu = q2n_fit_patch_breaks(c, k, 0, bu), nbv = q2n_fit_patch_breaks(c, k, 1, bv);
     int same = p->cp && nbu + 6 == p->nu && nbv + 6 == p->nv &&
                !memcmp(bu, p->ku + 6, sizeof(double) * (size_t)nbu) && !memcmp(bv, p->kv + 6, sizeof(double) * (size_t)nbv);
     p->knots_changed = !same;

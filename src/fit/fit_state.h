@@ -131,6 +131,9 @@ int q2n_fit_breaks_add(fit_breaks *b, double t);            /* 1 added, 0 presen
 void q2n_fit_breaks_free(fit_breaks *b);
 
 void q2n_fit_patch_free_reversed(fit_patch *p);              /* kur, kvr (not ku, kv) */
+/* Interior breakpoints of patch k in direction d (0 u, 1 v): its two d-edges' knots and its own,
+ * sorted and distinct, into br (room for both edges' and its own); returns their number. */
+int q2n_fit_patch_breaks(const fit_ctx *c, int k, int d, double *br);
 
 /* Row of key t in rows sorted by their first entry (n rows of stride doubles; binary search): its
  * index, or -1 when absent with *pos the insertion point.  The side caches and the edges' alpha
