@@ -246,8 +246,13 @@ static void measure_edge(void *arg, int e)
     }
     E->g1d = E->g1;
     E->g2d = E->g2;
-    /* exact relations hold to rounding everywhere: only least-squares ones vary between the points */
-    if (!st && two && (E->glue == FIT_GLUE_LS || (c->o.continuity == 2 && E->glue2 == FIT_GLUE_LS))) st = dense_jumps(c, E, sd);
+    /* exact relations hold to rounding everywhere: only least-squares ones vary between the points,
+     * and only those whose check points come near the aim need the samples between them */
+    double near1 = Q2N_FIT_JUMP_DENSE_FROM * Q2N_FIT_REFINE_AIM * c->o.g1_tol_deg;
+    double near2 = Q2N_FIT_JUMP_DENSE_FROM * Q2N_FIT_REFINE_AIM * c->o.g2_tol_rel;
+    if (!st && two && (E->glue == FIT_GLUE_LS || (c->o.continuity == 2 && E->glue2 == FIT_GLUE_LS)) &&
+        (E->g1 > near1 || (c->o.continuity == 2 && E->g2 > near2)))
+        st = dense_jumps(c, E, sd);
     free(t); free(tr); free(DL); free(DR);
     a->st[c->m->nf + e] = st;
 }
