@@ -195,6 +195,7 @@ static void measure_edge(void *arg, int e)
     double *DL = malloc(18 * sizeof(double) * (size_t)n), *DR = malloc(18 * sizeof(double) * (size_t)n);
     free(E->spmax);
     E->spmax = calloc(2 * (size_t)(E->K.n + 1), sizeof(double));
+    E->nspmax = E->spmax ? E->K.n + 1 : 0;
     if (!t || !tr || !DL || !DR || !E->spmax || !kv) {
         free(t); free(tr); free(DL); free(DR); free(kv);
         a->st[e] = Q2N_ERR_NOMEM;

@@ -268,7 +268,7 @@ int q2n_fit_refine(fit_ctx *c)
                     double t = sd < 2 ? x : 1.0 - x;                 /* side orientation */
                     if (m->edge_he[e] != h) t = 1.0 - t;             /* owner orientation */
                     fit_edge *E = &c->e[e];
-                    if (!E->spmax) continue;
+                    if (!E->spmax || E->nspmax != E->K.n + 1) continue;   /* split this round already */
                     int sp = 0;
                     while (sp < E->K.n && E->K.t[sp] <= t) sp++;
                     double lo = sp ? E->K.t[sp - 1] : 0.0, hi = sp < E->K.n ? E->K.t[sp] : 1.0;

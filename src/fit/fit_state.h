@@ -59,6 +59,7 @@ typedef struct fit_edge {
     int nchk;                /* check points of the last measurement (owner side's check parameters) */
     double *spmax;           /* 2 per span of K at the last measurement: the largest curve deviation and
                                 cross-row deviation (position terms) / diag over its check points */
+    int nspmax;              /* spans spmax holds (K.n + 1 at that measurement) */
     double g0, g1, g2;       /* last measured fitted gap / diag and jumps (maxima over the check points) */
     double g1d, g2d;         /* the jumps' maxima over the check points and the dense jump samples
                                 between them (what refinement and acceptance judge) */
