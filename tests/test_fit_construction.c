@@ -93,8 +93,8 @@ static int run(const fit_case *fc, double tol, q2n_fit_report *rep)
     if (o.continuity == 2) CHECK(rep->g2_max_rel <= t2, "%s: G2 %g > %g", fc->file, rep->g2_max_rel, t2);
     /* the targets hold between the fit's check points too (64 points per edge, this file's own
      * curvature code): the fit's acceptance samples 4 points per knot span, and the true maximum lies
-     * up to ~1.5x above what they see where an edge is coarse (measured: osd_catmark_rook) — the
-     * refinement's aim at half the targets is what keeps it inside */
+     * up to ~3x above what they see where an edge is coarse (measured: osd_catmark_rook) — the fit's
+     * own samples between them (fit.c, dense_jumps) are what keep it inside */
     double dg1 = 0, dg2 = 0;
     if (md) fit_dense_continuity(md, 64, diag, &dg1, &dg2);
     printf("    dense (64 per edge): G1 %.2e deg, G2 %.2e\n", dg1, dg2);

@@ -142,8 +142,9 @@ static int fit_regular_frame(const double F[6][3])
 
 /* The fitted jumps of edge E between its check points: at least Q2N_FIT_JUMP_SAMPLES evenly spaced
  * points per span of the union of both sides' knots along the edge and Q2N_FIT_JUMP_SAMPLES_EDGE per
- * unit of its parameter, the knots included (the fitted sides only: no construction values).  The check points (4 per span of the edge's knots, the points an importer's
- * audit samples) miss the maxima by up to ~1.5 x (docs/fit.md); these see them. */
+ * unit of its parameter, the knots included (the fitted sides only: no construction values).  The
+ * check points (4 per span of the edge's knots, the points an importer's audit samples) miss the
+ * maxima by up to ~3 x (docs/fit.md); these see them. */
 static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2])
 {
     int nb = 0, n0 = sd[0].nt - 4, n1 = sd[1].nt - 4;    /* breakpoints incl. 0 and 1 */
@@ -251,8 +252,7 @@ static void measure_edge(void *arg, int e)
      * and only those whose check points come near the aim need the samples between them */
     double near1 = Q2N_FIT_JUMP_DENSE_FROM * Q2N_FIT_REFINE_AIM * c->o.g1_tol_deg;
     double near2 = Q2N_FIT_JUMP_DENSE_FROM * Q2N_FIT_REFINE_AIM * c->o.g2_tol_rel;
-    if (!st && two && (E->glue == FIT_GLUE_LS || (c->o.continuity == 2 && E->glue2 == FIT_GLUE_LS)) &&
-        (E->g1 > near1 || (c->o.continuity == 2 && E->g2 > near2)))
+    if (!st && two && q2n_fit_edge_ls(c, E) && (E->g1 > near1 || (c->o.continuity == 2 && E->g2 > near2)))
         st = dense_jumps(c, E, sd);
     free(t); free(tr); free(DL); free(DR);
     a->st[c->m->nf + e] = st;

@@ -46,10 +46,7 @@ int q2n_fit_sample_params(int n, const double *kv, int per_span, double *out)
 int q2n_fit_check_params(int n, const double *kv, int per_span, double *out)
 {
     int c = 0;
-    for (int i = Q2N_FIT_DEG; i < n; i++) {
-        double a = kv[i], b = kv[i + 1];
-        for (int j = 0; j < per_span; j++) out[c++] = a + (b - a) * (2 * j + 1) / (2 * per_span);
-    }
+    for (; c < (n - Q2N_FIT_DEG) * per_span; c++) out[c] = q2n_fit_check_param(kv, per_span, c);
     return c;
 }
 

@@ -31,6 +31,13 @@ static inline void q2n_fit_basis(int i, const double *kv, double t, int nder, do
  * nspans * per_span for checks). */
 int q2n_fit_sample_params(int n, const double *kv, int per_span, double *out);
 int q2n_fit_check_params(int n, const double *kv, int per_span, double *out);
+/* Check parameter c of those (the (2 (c % per_span) + 1)-th odd fraction of span c / per_span): the
+ * same value q2n_fit_check_params writes there. */
+static inline double q2n_fit_check_param(const double *kv, int per_span, int c)
+{
+    double a = kv[5 + c / per_span], b = kv[6 + c / per_span];
+    return a + (b - a) * (2 * (c % per_span) + 1) / (2 * per_span);
+}
 /* Knot insertion (Boehm; NURBS Book A5.4): the degree-5 curve (n control points of dim doubles
  * each, knots kv) re-expressed on kv2 (n2 control points), which must contain every knot of kv;
  * returns 0, or -1 when kv2 is not a refinement of kv. */

@@ -124,12 +124,6 @@ static int near_split(const fit_patch *p, int iu, int iv, int reach, const doubl
            (iv >= p->mv - reach && u1 > lo[2] && u0 < hi[2]) || (iu < reach && v1 > lo[3] && v0 < hi[3]);
 }
 
-static int cmp_dbl(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* Breakpoints of side (k, i) in the owner orientation of its edge, sorted; returns their number. */
 static int side_set(const fit_ctx *c, int k, int i, double *out)
 {
@@ -140,7 +134,8 @@ static int side_set(const fit_ctx *c, int k, int i, double *out)
         double t = i < 2 ? out[q] : 1.0 - out[q];
         out[q] = own ? t : 1.0 - t;
     }
-    qsort(out, (size_t)n, sizeof *out, cmp_dbl);
+    if ((i >= 2) == own)   /* the map reversed the order */
+        for (int q = 0; q < n / 2; q++) { double t = out[q]; out[q] = out[n - 1 - q]; out[n - 1 - q] = t; }
     return n;
 }
 
@@ -230,7 +225,7 @@ int q2n_fit_refine(fit_ctx *c)
             /* the rows of a least-squares-glued edge are a compromise between the construction's cross
              * derivatives and the gluing, so their distance from those derivatives is not a position
              * error: the cells beside the edge judge it (and refine that patch alone) */
-            double r0 = mx[0] / (Q2N_FIT_EDGE_SHARE * tol), r1 = lsg1 || lsg2 ? 0.0 : mx[1] / (Q2N_FIT_ROW_SHARE * tol);
+            double r0 = mx[0] / (Q2N_FIT_EDGE_SHARE * tol), r1 = q2n_fit_edge_ls(c, E) ? 0.0 : mx[1] / (Q2N_FIT_ROW_SHARE * tol);
             int l = cont;
             if (r0 > 1 && split_levels(r0, 6.0) > l) l = split_levels(r0, 6.0);
             if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
@@ -254,16 +249,15 @@ int q2n_fit_refine(fit_ctx *c)
         for (int j = 0; j < p->ncv; j++)
             for (int i = 0; i < p->ncu; i++) {
                 if (!(p->cell[(size_t)j * p->ncu + i] > tol)) continue;
-                int sides[2], ns = 0;
+                int sides[2], ns = 0;   /* a corner cell is beside two sides */
                 if (j == 0) sides[ns++] = 0;
                 if (j == p->ncv - 1) sides[ns++] = 2;
-                if (i == 0 && ns < 2) sides[ns++] = 3;
-                if (i == p->ncu - 1 && ns < 2) sides[ns++] = 1;
+                if (i == 0) sides[ns++] = 3;
+                if (i == p->ncu - 1) sides[ns++] = 1;
                 for (int q = 0; q < ns; q++) {
-                    int sd = sides[q], a = sd & 1 ? j : i;
-                    const double *kv = sd & 1 ? p->kv : p->ku;
-                    double x = kv[5 + a / Q2N_FIT_SAMPLES_PER_SPAN] + (kv[6 + a / Q2N_FIT_SAMPLES_PER_SPAN] - kv[5 + a / Q2N_FIT_SAMPLES_PER_SPAN]) *
-                                                                         (2 * (a % Q2N_FIT_SAMPLES_PER_SPAN) + 1) / (2.0 * Q2N_FIT_SAMPLES_PER_SPAN);
+                    int sd = sides[q];
+                    double x = sd & 1 ? q2n_fit_check_param(p->kv, Q2N_FIT_SAMPLES_PER_SPAN, j)
+                                      : q2n_fit_check_param(p->ku, Q2N_FIT_SAMPLES_PER_SPAN, i);
                     int h = m->face_start[k] + sd, e = m->he_edge[h];
                     double t = sd < 2 ? x : 1.0 - x;                 /* side orientation */
                     if (m->edge_he[e] != h) t = 1.0 - t;             /* owner orientation */

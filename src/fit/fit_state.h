@@ -135,6 +135,11 @@ void q2n_fit_patch_free_reversed(fit_patch *p);              /* kur, kvr (not ku
 /* Interior breakpoints of patch k in direction d (0 u, 1 v): its two d-edges' knots and its own,
  * sorted and distinct, into br (room for both edges' and its own); returns their number. */
 int q2n_fit_patch_breaks(const fit_ctx *c, int k, int d, double *br);
+/* Does edge e glue by least squares in an order the fit imposes (G1, or G2 in G2 mode)? */
+static inline int q2n_fit_edge_ls(const fit_ctx *c, const fit_edge *E)
+{
+    return E->glue == FIT_GLUE_LS || (c->o.continuity == 2 && E->glue2 == FIT_GLUE_LS);
+}
 
 /* Row of key t in rows sorted by their first entry (n rows of stride doubles; binary search): its
  * index, or -1 when absent with *pos the insertion point.  The side caches and the edges' alpha
