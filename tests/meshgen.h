@@ -254,6 +254,23 @@ static inline q2n_mesh *mg_polycube(int ncell, const int (*cell)[3], const char 
     return mg_finish(nv, pos, nf, fs, fv, name);
 }
 
+/* The surface of a 2 x 2 x 2 block of unit cubes (every corner valence 3, 24 quads) with its corner
+ * (2, 2, 2) (and with both != 0 the opposite corner too) moved away from the centre to `pull` times
+ * its distance: a spike whose tip faces are long, skewed quads and whose tip's three edges are nearly
+ * parallel. */
+static inline q2n_mesh *mg_spike_cube(double pull, int both)
+{
+    static const int cells[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+    q2n_mesh *m = mg_polycube(8, cells, both ? "cube with two spikes" : "cube with a spike");
+    for (int v = 0; m && v < m->nv; v++) {
+        double *p = m->pos + 3 * (size_t)v;
+        int tip = p[0] == 2 && p[1] == 2 && p[2] == 2, far = both && p[0] == 0 && p[1] == 0 && p[2] == 0;
+        if (tip || far)
+            for (int q = 0; q < 3; q++) p[q] = 1 + pull * (p[q] - 1);
+    }
+    return m;
+}
+
 /* A cylinder of n sides and `rows` rows of quads, height h, closed by two flat n-gon caps, after
  * one Catmull–Clark step (each cap becomes n kites around a valence-n vertex, its rim n
  * valence-3 vertices). */

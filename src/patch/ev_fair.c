@@ -425,7 +425,7 @@ typedef struct fe_build {
     int *var;                   /* per vertex and slot: unknown index or -1 (fixed) */
     int *bvar;                  /* per face of the list: first of its CP_NBUB bubble unknowns */
     double (*bub)[CP_NBUB][3];  /* per face of the list: bubble values */
-    char *ridge_low;            /* per unknown: a first- or second-order jet term (firmer ridge) */
+    char *ridge_low;            /* per unknown: 1 a first- or second-order jet term (firmer ridge), 2 one held by the fold guard */
     int nvar;
 } fe_build;
 
@@ -786,7 +786,7 @@ static q2n_status fair_pass(const fe_build *B, fe_sys *Y, int nfaces, const fe_f
     Bm = malloc(3 * (size_t)(n ? n : 1) * sizeof *Bm);
     if (!dg || !Bm) { st = Q2N_ERR_NOMEM; goto done; }
     for (int x = 0; x < n; x++) {
-        lam[x] = (B->ridge_low[x] ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
+        lam[x] = (B->ridge_low[x] == 2 ? EV_FOLD_HOLD : B->ridge_low[x] ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
         if (!(lam[x] > 0)) lam[x] = 1;
         for (int c = 0; c < 3; c++) rhs[3 * x + c] += lam[x] * x0[3 * x + c];
         double d = diag[x] + lam[x];
@@ -829,23 +829,91 @@ static int cmp_dbl(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* Patch i of the list (face f, context FX) with the current jets and bubbles, ready to evaluate
+ * (the production evaluator's state: the caller frees it). */
+static fe_eval *make_eval(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P)
+{
+    fe_eval *E = calloc(1, sizeof *E);
+    if (!E) return NULL;
+    E->X = *FX;
+    E->E.P = *P;
+    E->E.P.ctx = &E->X;
+    const double *Jc[4];
+    for (int c = 0; c < 4; c++) Jc[c] = &B->jet[B->m->face_vert[B->m->face_start[f] + c]][0][0];
+    fill_lanes(&E->X, Jc, 3, &E->lanes, &E->tayv[0][0]);
+    E->E.lanes = &E->lanes;
+    memcpy(E->E.bub, B->bub[i], sizeof E->E.bub);
+    q2n_cp_eval_init(&E->E);
+    return E;
+}
+
+/* Does patch i fold: do the normals of two neighbouring points of an EV_FOLD_GRID grid point
+ * away from each other (a smooth patch turns them by a small angle per grid step; a fold turns them
+ * over), or does a normal point against the face's vector area (the fold the model's scan reports,
+ * api/model.c)?  -1 when it cannot be evaluated. */
+static int patch_folds(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P)
+{
+    enum { NG = EV_FOLD_GRID };
+    double t[NG], out[NG * NG * 9], nrm[NG * NG][3], area[3];
+    for (int a = 0; a < NG; a++) t[a] = (double)a / (NG - 1);
+    fe_eval *E = make_eval(B, i, f, FX, P);
+    if (!E) return -1;
+    q2n_status st = q2n_cp_eval_grid(E, NG, t, NG, t, out);
+    free(E);
+    if (st) return -1;
+    q2n_mesh_face_area(B->m, f, area);
+    for (int q = 0; q < NG * NG; q++) {
+        q2n_v3_cross(nrm[q], out + 9 * q + 3, out + 9 * q + 6);
+        int a = q % NG, b = q / NG;   /* inside the face: a corner's normal is its vertex's */
+        if (a > 0 && b > 0 && a < NG - 1 && b < NG - 1 && q2n_v3_dot(nrm[q], area) < 0) return 1;
+    }
+    for (int b = 0; b < NG; b++)
+        for (int a = 0; a < NG; a++) {
+            const double *n0 = nrm[b * NG + a];
+            if ((a + 1 < NG && q2n_v3_dot(n0, nrm[b * NG + a + 1]) < 0) || (b + 1 < NG && q2n_v3_dot(n0, nrm[(b + 1) * NG + a]) < 0))
+                return 1;
+        }
+    return 0;
+}
+
+/* The jets and bubbles of solution X. */
+static void put_solution(fe_build *B, int nfaces, const double *X)
+{
+    for (int v = 0; v < B->m->nv; v++)
+        for (int k = 0; k < EV_JS; k++) {
+            int x = B->var[v * EV_JS + k];
+            if (x >= 0) memcpy(B->jet[v][k], X + 3 * x, 3 * sizeof(double));
+        }
+    for (int fi = 0; fi < nfaces; fi++)
+        for (int b = 0; b < CP_NBUB; b++) memcpy(B->bub[fi][b], X + 3 * (B->bvar[fi] + b), 3 * sizeof(double));
+}
+
 /* The energy solve: the faces' forms (once, on worker threads), a bending-only pass, the
  * variation weights ω_F from its result, then the full pass; the jets and bubbles get the
- * solution. */
-static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp_patch *P, int threads, q2n_error *err)
+ * solution.  Fold guard: the energy is parametric, and where the data force a face to turn fast (a
+ * spike's tip, a thin feature) its minimiser can fold the face over; the jets of order <= 2 at the
+ * corners of every folded face are then held at their local estimates (a ridge of EV_FOLD_HOLD)
+ * and the passes repeated, at most EV_FOLD_PASSES times, growing the held set.  Meshes without a
+ * fold are solved once, as before; *folds_left gets the folded faces of the result. */
+static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX,
+                             int threads, int *held_vertices, int *folds_left, q2n_error *err)
 {
     const q2n_mesh *m = B->m;
     int n = B->nvar, nt = threads < 1 ? 1 : threads > nfaces ? (nfaces > 0 ? nfaces : 1) : threads;
     if (nt > Q2N_EV_MAX_THREADS) nt = Q2N_EV_MAX_THREADS;
     q2n_status st = Q2N_OK;
+    *held_vertices = *folds_left = 0;
     if (nfaces <= 0 || n <= 0) return Q2N_OK;
     fe_sys Y = {0};
     fe_form *F = calloc((size_t)nfaces, sizeof *F);
     fe_job *jobs = calloc((size_t)nt, sizeof *jobs);
     pthread_t *tid = calloc((size_t)nt, sizeof *tid);
     double *x0 = calloc(3 * (size_t)n, sizeof *x0), *X = calloc(3 * (size_t)n, sizeof *X);
+    double *X0 = malloc(3 * (size_t)n * sizeof *X0);
     double *v3 = malloc((size_t)nfaces * sizeof *v3), *srt = malloc((size_t)nfaces * sizeof *srt);
-    if (!F || !jobs || !tid || !x0 || !X || !v3 || !srt) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)"); goto done; }
+    char *held = calloc((size_t)m->nv, 1);
+    int folds0 = 0;
+    if (!F || !jobs || !tid || !x0 || !X || !X0 || !v3 || !srt || !held) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)"); goto done; }
     for (int t = 0; t < nt; t++) {
         jobs[t] = (fe_job){B, faces, nfaces, t, nt, P, F, Q2N_OK};
         if (t > 0 && pthread_create(&tid[t], NULL, form_worker, &jobs[t])) jobs[t].st = Q2N_ERR_NOMEM, tid[t] = 0;
@@ -863,33 +931,61 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
             int x = B->var[v * EV_JS + k];
             if (x >= 0) memcpy(x0 + 3 * x, B->jet[v][k], 3 * sizeof(double));
         }
-    if ((st = fair_pass(B, &Y, nfaces, F, NULL, 0, x0, X, err))) goto done;
-    if (EV_FAIR_W3 > 0) {
-        for (int fi = 0; fi < nfaces; fi++) { /* variation left by the bending-only pass */
-            const fe_form *f = &F[fi];
-            double e = f->c[1];
-            for (int i = 0; i < f->nl; i++) {
-                const double *xi = X + 3 * f->loc[i];
-                e -= 2 * q2n_v3_dot(xi, f->r[1] + 3 * i);
-                for (int k = i; k < f->nl; k++)
-                    e += (k == i ? 1 : 2) * f->K[1][pk(f->nl, i, k)] * q2n_v3_dot(xi, X + 3 * f->loc[k]);
+    for (int pass = 0;; pass++) {
+        if ((st = fair_pass(B, &Y, nfaces, F, NULL, 0, x0, X, err))) goto done;
+        if (EV_FAIR_W3 > 0) {
+            for (int fi = 0; fi < nfaces; fi++) { /* variation left by the bending-only pass */
+                const fe_form *f = &F[fi];
+                double e = f->c[1];
+                for (int i = 0; i < f->nl; i++) {
+                    const double *xi = X + 3 * f->loc[i];
+                    e -= 2 * q2n_v3_dot(xi, f->r[1] + 3 * i);
+                    for (int k = i; k < f->nl; k++)
+                        e += (k == i ? 1 : 2) * f->K[1][pk(f->nl, i, k)] * q2n_v3_dot(xi, X + 3 * f->loc[k]);
+                }
+                v3[fi] = srt[fi] = e;
             }
-            v3[fi] = srt[fi] = e;
+            qsort(srt, (size_t)nfaces, sizeof *srt, cmp_dbl);
+            double cap = EV_FAIR_VAR_OUTLIER * srt[nfaces / 2];
+            for (int fi = 0; fi < nfaces; fi++) v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
+            if ((st = fair_pass(B, &Y, nfaces, F, v3, EV_FAIR_W3, x0, X, err))) goto done;
         }
-        qsort(srt, (size_t)nfaces, sizeof *srt, cmp_dbl);
-        double cap = EV_FAIR_VAR_OUTLIER * srt[nfaces / 2];
-        for (int fi = 0; fi < nfaces; fi++) v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
-        if ((st = fair_pass(B, &Y, nfaces, F, v3, EV_FAIR_W3, x0, X, err))) goto done;
+        put_solution(B, nfaces, X);
+        /* the fold guard */
+        int folded = 0, grew = 0;
+        for (int fi = 0; fi < nfaces; fi++) {
+            int r = patch_folds(B, fi, faces[fi], &FX[fi], &P[fi]);
+            if (r < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+            if (!r) continue;
+            folded++;
+            for (int c = 0; c < 4; c++) {
+                int v = m->face_vert[m->face_start[faces[fi]] + c];
+                if (held[v]) continue;
+                held[v] = 1, grew = 1;
+                ++*held_vertices;
+                for (int k = 1; k < 6; k++) /* orders 1 and 2 */
+                    if (B->var[v * EV_JS + k] >= 0) B->ridge_low[B->var[v * EV_JS + k]] = 2;
+            }
+        }
+        if (pass == 0) {
+            folds0 = folded;
+            if (folded) memcpy(X0, X, 3 * (size_t)n * sizeof *X);
+        }
+        *folds_left = folded;
+        if (!folded || !grew || pass + 1 > EV_FOLD_PASSES) {
+            if (pass > 0 && folded >= folds0) { /* the guard did not help: the energy's own solution */
+                memcpy(X, X0, 3 * (size_t)n * sizeof *X);
+                put_solution(B, nfaces, X);
+                *folds_left = folds0;
+                *held_vertices = 0;
+            }
+            break;
+        }
     }
-    for (int v = 0; v < m->nv; v++)
-        for (int k = 0; k < EV_JS; k++) {
-            int x = B->var[v * EV_JS + k];
-            if (x >= 0) memcpy(B->jet[v][k], X + 3 * x, 3 * sizeof(double));
-        }
-    for (int fi = 0; fi < nfaces; fi++)
-        for (int b = 0; b < CP_NBUB; b++) memcpy(B->bub[fi][b], X + 3 * (B->bvar[fi] + b), 3 * sizeof(double));
 done:
     sys_free(&Y);
+    free(held);
+    free(X0);
     if (F)
         for (int fi = 0; fi < nfaces; fi++) form_free(&F[fi]);
     free(F);
@@ -1014,22 +1110,14 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     if (!(B.ridge_low = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
     for (int i = 0; i < m->nv * EV_JS; i++)
         if (B.var[i] >= 0) B.ridge_low[B.var[i]] = i % EV_JS < 6;
-    if ((st = fair_solve(&B, faces, nf, CP, threads, err))) goto done;
-    if (stats) stats->unknowns = B.nvar;
+    int held = 0, folds = 0;
+    if ((st = fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, err))) goto done;
+    if (stats) stats->unknowns = B.nvar, stats->held_vertices = held, stats->folded_faces = folds;
 
     for (int i = 0; i < nf; i++) {
         int f = faces[i];
-        fe_eval *E = calloc(1, sizeof *E);
+        fe_eval *E = make_eval(&B, i, f, &X[i], &CP[i]);
         if (!E) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (patch %d)", f); goto done; }
-        E->X = X[i];
-        E->E.P = CP[i];
-        E->E.P.ctx = &E->X;
-        const double *Jc[4];
-        for (int c = 0; c < 4; c++) Jc[c] = &B.jet[m->face_vert[m->face_start[f] + c]][0][0];
-        fill_lanes(&E->X, Jc, 3, &E->lanes, &E->tayv[0][0]);
-        E->E.lanes = &E->lanes;
-        memcpy(E->E.bub, B.bub[i], sizeof E->E.bub);
-        q2n_cp_eval_init(&E->E);
         if ((st = q2n_surface_set_patch(s, f, Q2N_PATCH_COONS_GREGORY, E, q2n_cp_eval_point, fe_eval_free))) {
             free(E);
             q2n_error_set(err, st, "%s: face %d: cannot attach the patch", m->name, f);

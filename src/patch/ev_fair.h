@@ -12,6 +12,8 @@ typedef struct ev_fair_stats {
     int unknowns;              /* free jet coefficients (3-vectors) */
     int gregory_corners;       /* corners whose two sides disagreed (kept a Gregory blend) */
     double corner_mismatch_max;/* largest relative disagreement of two sides at a corner */
+    int held_vertices;         /* vertices whose jets of order <= 2 the fold guard held at their local estimates */
+    int folded_faces;          /* faces still folded after the guard (0 unless it ran out of passes) */
 } ev_fair_stats;
 
 /* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the
