@@ -41,6 +41,7 @@
 #include <pthread.h>
 
 #include "core/dense.h"
+#include "core/par.h"
 #include "core/sparse.h"
 #include "core/poly.h"
 #include "core/vec3.h"
@@ -888,9 +889,75 @@ static void put_solution(fe_build *B, int nfaces, const double *X)
         for (int b = 0; b < CP_NBUB; b++) memcpy(B->bub[fi][b], X + 3 * (B->bvar[fi] + b), 3 * sizeof(double));
 }
 
-/* The energy solve: the faces' forms (once, on worker threads), a bending-only pass, the
- * variation weights ω_F from its result, then the full pass; the jets and bubbles get the
- * solution.  Fold guard: the energy is parametric, and where the data force a face to turn fast (a
+/* A bending-only pass, the variation weights ω_F from its result, then the full pass (X: the
+ * solution; v3, srt: nfaces doubles of work space). */
+static q2n_status energy_passes(const fe_build *B, fe_sys *Y, int nfaces, const fe_form *F, double *v3, double *srt,
+                                const double *x0, double *X, q2n_error *err)
+{
+    q2n_status st = fair_pass(B, Y, nfaces, F, NULL, 0, x0, X, err);
+    if (st || !(EV_FAIR_W3 > 0)) return st;
+    for (int fi = 0; fi < nfaces; fi++) { /* variation left by the bending-only pass */
+        const fe_form *f = &F[fi];
+        double e = f->c[1];
+        for (int i = 0; i < f->nl; i++) {
+            const double *xi = X + 3 * f->loc[i];
+            e -= 2 * q2n_v3_dot(xi, f->r[1] + 3 * i);
+            for (int k = i; k < f->nl; k++)
+                e += (k == i ? 1 : 2) * f->K[1][pk(f->nl, i, k)] * q2n_v3_dot(xi, X + 3 * f->loc[k]);
+        }
+        v3[fi] = srt[fi] = e;
+    }
+    qsort(srt, (size_t)nfaces, sizeof *srt, cmp_dbl);
+    double cap = EV_FAIR_VAR_OUTLIER * srt[nfaces / 2];
+    for (int fi = 0; fi < nfaces; fi++) v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
+    return fair_pass(B, Y, nfaces, F, v3, EV_FAIR_W3, x0, X, err);
+}
+
+typedef struct fold_arg {
+    const fe_build *B;
+    const int *faces;
+    const cp_patch *P;
+    const fe_ctx *FX;
+    signed char *r;   /* per face of the list: patch_folds */
+} fold_arg;
+
+static void fold_one(void *arg, int fi)
+{
+    fold_arg *a = arg;
+    a->r[fi] = (signed char)patch_folds(a->B, fi, a->faces[fi], &a->FX[fi], &a->P[fi]);
+}
+
+/* The folded faces of the current solution (patch_folds, on `threads` workers); the corners of
+ * each that are not held yet are held from now on (their jets of orders 1 and 2 get the
+ * EV_FOLD_HOLD ridge), *grew set when there were such.  Returns the number of folded faces, -1 out
+ * of memory. */
+static int fold_scan(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX, int threads,
+                     char *held, int *held_vertices, int *grew)
+{
+    const q2n_mesh *m = B->m;
+    fold_arg a = {B, faces, P, FX, malloc((size_t)nfaces)};
+    if (!a.r) return -1;
+    q2n_par_for(nfaces, threads, fold_one, &a);
+    int folded = 0;
+    for (int fi = 0; fi < nfaces && folded >= 0; fi++) {
+        if (a.r[fi] < 0) folded = -1;
+        if (a.r[fi] <= 0) continue;
+        folded++;
+        for (int c = 0; c < 4; c++) {
+            int v = m->face_vert[m->face_start[faces[fi]] + c];
+            if (held[v]) continue;
+            held[v] = 1, *grew = 1;
+            ++*held_vertices;
+            for (int k = EV_SLOT(1, 0); k <= EV_SLOT(2, 2); k++)
+                if (B->var[v * EV_JS + k] >= 0) B->ridge_low[B->var[v * EV_JS + k]] = 2;
+        }
+    }
+    free(a.r);
+    return folded;
+}
+
+/* The energy solve: the faces' forms (once, on worker threads), then energy_passes; the jets and
+ * bubbles get the solution.  Fold guard: the energy is parametric, and where the data force a face to turn fast (a
  * spike's tip, a thin feature) its minimiser can fold the face over; the jets of order <= 2 at the
  * corners of every folded face are then held at their local estimates (a ridge of EV_FOLD_HOLD)
  * and the passes repeated, at most EV_FOLD_PASSES times, growing the held set.  Meshes without a
@@ -932,41 +999,10 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
             if (x >= 0) memcpy(x0 + 3 * x, B->jet[v][k], 3 * sizeof(double));
         }
     for (int pass = 0;; pass++) {
-        if ((st = fair_pass(B, &Y, nfaces, F, NULL, 0, x0, X, err))) goto done;
-        if (EV_FAIR_W3 > 0) {
-            for (int fi = 0; fi < nfaces; fi++) { /* variation left by the bending-only pass */
-                const fe_form *f = &F[fi];
-                double e = f->c[1];
-                for (int i = 0; i < f->nl; i++) {
-                    const double *xi = X + 3 * f->loc[i];
-                    e -= 2 * q2n_v3_dot(xi, f->r[1] + 3 * i);
-                    for (int k = i; k < f->nl; k++)
-                        e += (k == i ? 1 : 2) * f->K[1][pk(f->nl, i, k)] * q2n_v3_dot(xi, X + 3 * f->loc[k]);
-                }
-                v3[fi] = srt[fi] = e;
-            }
-            qsort(srt, (size_t)nfaces, sizeof *srt, cmp_dbl);
-            double cap = EV_FAIR_VAR_OUTLIER * srt[nfaces / 2];
-            for (int fi = 0; fi < nfaces; fi++) v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
-            if ((st = fair_pass(B, &Y, nfaces, F, v3, EV_FAIR_W3, x0, X, err))) goto done;
-        }
+        if ((st = energy_passes(B, &Y, nfaces, F, v3, srt, x0, X, err))) goto done;
         put_solution(B, nfaces, X);
-        /* the fold guard */
-        int folded = 0, grew = 0;
-        for (int fi = 0; fi < nfaces; fi++) {
-            int r = patch_folds(B, fi, faces[fi], &FX[fi], &P[fi]);
-            if (r < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
-            if (!r) continue;
-            folded++;
-            for (int c = 0; c < 4; c++) {
-                int v = m->face_vert[m->face_start[faces[fi]] + c];
-                if (held[v]) continue;
-                held[v] = 1, grew = 1;
-                ++*held_vertices;
-                for (int k = 1; k < 6; k++) /* orders 1 and 2 */
-                    if (B->var[v * EV_JS + k] >= 0) B->ridge_low[B->var[v * EV_JS + k]] = 2;
-            }
-        }
+        int grew = 0, folded = fold_scan(B, faces, nfaces, P, FX, threads, held, held_vertices, &grew);
+        if (folded < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
         if (pass == 0) {
             folds0 = folded;
             if (folded) memcpy(X0, X, 3 * (size_t)n * sizeof *X);
@@ -974,8 +1010,7 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
         *folds_left = folded;
         if (!folded || !grew || pass + 1 > EV_FOLD_PASSES) {
             if (pass > 0 && folded >= folds0) { /* the guard did not help: the energy's own solution */
-                memcpy(X, X0, 3 * (size_t)n * sizeof *X);
-                put_solution(B, nfaces, X);
+                put_solution(B, nfaces, X0);
                 *folds_left = folds0;
                 *held_vertices = 0;
             }
