@@ -849,25 +849,19 @@ static fe_eval *make_eval(const fe_build *B, int i, int f, const fe_ctx *FX, con
 }
 
 /* Does patch i fold: do the normals of two neighbouring points of an EV_FOLD_GRID grid point
- * away from each other (a smooth patch turns them by a small angle per grid step; a fold turns them
- * over), or does a normal point against the face's vector area (the fold the model's scan reports,
- * api/model.c)?  -1 when it cannot be evaluated. */
+ * away from each other?  A smooth patch turns them by a small angle per grid step; a fold turns
+ * them over.  -1 when it cannot be evaluated. */
 static int patch_folds(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P)
 {
     enum { NG = EV_FOLD_GRID };
-    double t[NG], out[NG * NG * 9], nrm[NG * NG][3], area[3];
+    double t[NG], out[NG * NG * 9], nrm[NG * NG][3];
     for (int a = 0; a < NG; a++) t[a] = (double)a / (NG - 1);
     fe_eval *E = make_eval(B, i, f, FX, P);
     if (!E) return -1;
     q2n_status st = q2n_cp_eval_grid(E, NG, t, NG, t, out);
     free(E);
     if (st) return -1;
-    q2n_mesh_face_area(B->m, f, area);
-    for (int q = 0; q < NG * NG; q++) {
-        q2n_v3_cross(nrm[q], out + 9 * q + 3, out + 9 * q + 6);
-        int a = q % NG, b = q / NG;   /* inside the face: a corner's normal is its vertex's */
-        if (a > 0 && b > 0 && a < NG - 1 && b < NG - 1 && q2n_v3_dot(nrm[q], area) < 0) return 1;
-    }
+    for (int q = 0; q < NG * NG; q++) q2n_v3_cross(nrm[q], out + 9 * q + 3, out + 9 * q + 6);
     for (int b = 0; b < NG; b++)
         for (int a = 0; a < NG; a++) {
             const double *n0 = nrm[b * NG + a];

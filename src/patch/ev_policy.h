@@ -40,13 +40,13 @@
 /* Fold guard of the fair solve (ev_fair.c fair_solve).  EV_FOLD_GRID points per direction judge
  * whether a patch folds: two neighbouring normals more than 90 degrees apart (a smooth patch turns
  * its normal by a few degrees per step of a 17-point grid, even around a thin plate's rim, while a
- * fold turns it over within one step), or a normal inside the face against the face's vector area
- * (the model scan's fold; at the corners the normal is the vertex's, which a warped face may
- * oppose).  EV_FOLD_HOLD is the ridge, relative to each unknown's energy diagonal, that holds a
- * folded face's corner jets (orders 1, 2) at the local estimates: at 100 the estimates decide (1
- * left no fold either but a rougher spike, 1e4 gave the surface of 100 to 3 digits:
- * docs/extraordinary.md); EV_FOLD_PASSES bounds the repeats, each holding the corners of the faces
- * still folded. */
+ * fold turns it over within one step).  Not the model scan's test (a normal against the face's
+ * vector area): next to the corners of strongly warped faces the vertex normal may oppose it
+ * without any fold, and holding those corners only roughened such surfaces.  EV_FOLD_HOLD is the
+ * ridge, relative to each unknown's energy diagonal, that holds a folded face's corner jets (orders
+ * 1, 2) at the local estimates: at 100 the estimates decide (1 left no fold either but a rougher
+ * spike, 1e4 gave the surface of 100 to 3 digits: docs/extraordinary.md); EV_FOLD_PASSES bounds
+ * the repeats, each holding the corners of the faces still folded. */
 #define EV_FOLD_GRID 17
 #define EV_FOLD_HOLD 1e2
 #define EV_FOLD_PASSES 3
