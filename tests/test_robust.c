@@ -334,8 +334,29 @@ static void test_folds(void)
         sscanf(strstr(m->warning, "at u "), "at u %lf, v %lf", &u, &v);
         q2n_model_eval(m, 4, u, v, e, NULL);
         CHECK(e[3] * e[7] - e[4] * e[6] < 0, "dart: normal z at (%g, %g) is %g", u, v, e[3] * e[7] - e[4] * e[6]);
+        CHECK(!strstr(m->warning, "--ev-patch"), "dart (a regular patch): warning '%s' suggests G1 patches", m->warning);
     }
     q2n_model_free(m);
+    /* a cube's corner pulled out 7x: G2 extraordinary patches fold at the tip faces (the fold guard's
+     * local estimates fold too); the warning says what avoids it, and both do */
+    m = build(mg_spike_cube(7, 0));
+    CHECK(m && m->folded >= 1 && strstr(m->warning, "--ev-patch g1 --continuity g1") && strstr(m->warning, "--subdivide 1"),
+          "spike 7x: %d folds, warning '%s'", m ? m->folded : -1, m ? m->warning : "");
+    q2n_model_free(m);
+    for (int i = 0; i < 2; i++) {
+        q2n_model_options mo;
+        memset(&mo, 0, sizeof mo);
+        mo.param.alpha = NAN;
+        if (i) mo.subdivide = 1;
+        else mo.ev_patch = Q2N_EV_PATCH_G1;
+        q2n_error err;
+        q2n_mesh *mesh = mg_spike_cube(7, 0);
+        m = NULL;
+        if (mesh && q2n_model_build_mesh(mesh, &mo, &m, &err)) CHECK(0, "spike 7x: %s", err.message);
+        CHECK(m && m->folded == 0, "spike 7x with %s: %d faces fold (%s)", i ? "--subdivide 1" : "G1 patches",
+              m ? m->folded : -1, m ? m->warning : "");
+        q2n_model_free(m);
+    }
 }
 
 /* A sliver (three corners within 5 units, the fourth 8.6e8 away), one Catmull-Clark step, G1

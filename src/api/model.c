@@ -105,7 +105,15 @@ static q2n_status scan_patches(q2n_model *m, q2n_error *err)
                            "v %.3g its normal points against the face's: a non-convex or strongly "
                            "warped face?)", where, fu, fv);
         if (m->folded > 1 && len > 0 && (size_t)len < sizeof m->warning)
-            snprintf(m->warning + len, sizeof m->warning - len, "; %d faces fold in all", m->folded);
+            len += snprintf(m->warning + len, sizeof m->warning - len, "; %d faces fold in all", m->folded);
+        /* a G2 extraordinary patch: the curvature a thin or sharp feature needs across a few faces
+         * (docs/extraordinary.md, "Found and not fixed"); G1 patches or more faces there do not fold
+         * on the cases measured */
+        if (m->continuity == 2 && q2n_surface_kind(m->surface, m->folded_face) == Q2N_PATCH_COONS_GREGORY && len > 0 &&
+            (size_t)len < sizeof m->warning)
+            snprintf(m->warning + len, sizeof m->warning - len,
+                     "; on a thin or sharp feature G1 patches (--ev-patch g1 --continuity g1) or a finer mesh "
+                     "(--subdivide 1) may avoid it");
     }
     return Q2N_OK;
 }

@@ -62,7 +62,7 @@ typedef struct q2n_model {
     char note[256];            /* e.g. why Catmull–Clark steps were applied by the ACC path */
     q2n_mesh_read_info read_info; /* format, ignored tags (for a warning) */
     int input_faces;           /* faces of the mesh as read (before any subdivision) */
-    char warning[320];         /* e.g. the first face whose surface folds over; "" when none */
+    char warning[512];         /* e.g. the first face whose surface folds over; "" when none */
     int folded;                /* faces whose surface folds over (normal against the face's) */
     int folded_face;           /* the first of them (-1: none) */
     q2n_fit_options fit_opt;   /* settings kept for later q2n_model_fit calls (public API) */
@@ -71,7 +71,7 @@ typedef struct q2n_model {
     int format;                /* public API: a q2n_format for names without a known extension */
     double max_memory;         /* public API: the resource limit (0 default, < 0 none) */
     unsigned given;            /* public API: Q2N_GIVEN_* bits of the options set explicitly */
-    char warnings[Q2N_MODEL_MAX_WARNINGS][320]; /* what the caller should hear about, in order */
+    char warnings[Q2N_MODEL_MAX_WARNINGS][512]; /* what the caller should hear about, in order */
     int nwarnings;
     q2n_nurbs_model *nurbs;    /* after q2n_model_fit, output coordinates */
     q2n_fit_report fit;        /* after q2n_model_fit */
