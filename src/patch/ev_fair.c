@@ -933,9 +933,9 @@ static int fold_scan(fe_build *B, const int *faces, int nfaces, const cp_patch *
     if (!a.r) return -1;
     q2n_par_for(nfaces, threads, fold_one, &a);
     int folded = 0;
-    for (int fi = 0; fi < nfaces && folded >= 0; fi++) {
-        if (a.r[fi] < 0) folded = -1;
-        if (a.r[fi] <= 0) continue;
+    for (int fi = 0; fi < nfaces; fi++) {
+        if (a.r[fi] < 0) { folded = -1; break; }
+        if (!a.r[fi]) continue;
         folded++;
         for (int c = 0; c < 4; c++) {
             int v = m->face_vert[m->face_start[faces[fi]] + c];
@@ -951,11 +951,12 @@ static int fold_scan(fe_build *B, const int *faces, int nfaces, const cp_patch *
 }
 
 /* The energy solve: the faces' forms (once, on worker threads), then energy_passes; the jets and
- * bubbles get the solution.  Fold guard: the energy is parametric, and where the data force a face to turn fast (a
- * spike's tip, a thin feature) its minimiser can fold the face over; the jets of order <= 2 at the
+ * bubbles get the solution.  Fold guard: the energy is parametric, and where the data force a face
+ * to turn fast (a spike's tip) its minimiser can fold the face over; the jets of order <= 2 at the
  * corners of every folded face are then held at their local estimates (a ridge of EV_FOLD_HOLD)
- * and the passes repeated, at most EV_FOLD_PASSES times, growing the held set.  Meshes without a
- * fold are solved once, as before; *folds_left gets the folded faces of the result. */
+ * and the passes repeated, at most EV_FOLD_PASSES times, growing the held set; when that does not
+ * lower the number of folded faces, the first solution stays.  Meshes without a fold are solved
+ * once, as before; *held_vertices and *folds_left describe the result. */
 static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX,
                              int threads, int *held_vertices, int *folds_left, q2n_error *err)
 {
