@@ -94,6 +94,15 @@ static void shared_mesh(const fcase *c)
     }
 }
 
+/* The stages before the extraordinary regions, with the default options: edge intervals and
+ * the regular augmented patches (the extraordinary faces left uncovered); 1 on success. */
+static int regular_stage(const q2n_mesh *m, double **iv, q2n_surface **s, q2n_error *err)
+{
+    q2n_param_options po = {0};
+    q2n_augmented_options ao = {NULL, po};
+    return q2n_param_edge_intervals(m, &po, iv, err) == Q2N_OK && q2n_augmented_build(m, &ao, *iv, s, err) == Q2N_OK;
+}
+
 /* Generated meshes go through the library's stages directly (no file). */
 static void generated(const char *label, q2n_mesh *m, double osc_g2, double osc_g1, double e_bound)
 {
@@ -101,13 +110,11 @@ static void generated(const char *label, q2n_mesh *m, double osc_g2, double osc_
     if (!m) return;
     for (int g = 0; g < 2; g++) {
         q2n_param_options po = {0};
-        q2n_augmented_options ao = {NULL, po};
         q2n_extraordinary_options xo = {NULL, po, g ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2};
         double *iv = NULL;
         q2n_surface *s = NULL;
         q2n_error err = {0, ""};
-        int ok = q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK && q2n_augmented_build(m, &ao, iv, &s, &err) == Q2N_OK &&
-                 q2n_extraordinary_build(m, &xo, iv, s, &err) == Q2N_OK;
+        int ok = regular_stage(m, &iv, &s, &err) && q2n_extraordinary_build(m, &xo, iv, s, &err) == Q2N_OK;
         CHECK(ok, "%s: build: %s", label, err.message);
         if (ok) {
             fair_figures F;
@@ -127,13 +134,11 @@ static void fold_guard(const char *label, q2n_mesh *m, int expect_held)
     CHECK(m != NULL, "%s: generator", label);
     if (!m) return;
     for (int K = 1; K <= 2; K++) {
-        q2n_param_options po = {0};
-        q2n_augmented_options ao = {NULL, po};
         double *iv = NULL;
         q2n_surface *s = NULL;
         q2n_error err = {0, ""};
         ev_fair_stats st;
-        int ok = q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK && q2n_augmented_build(m, &ao, iv, &s, &err) == Q2N_OK &&
+        int ok = regular_stage(m, &iv, &s, &err) &&
                  q2n_ev_fair_build(m, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), K, 2, &st, &err) == Q2N_OK;
         CHECK(ok, "%s: build: %s", label, err.message);
         if (ok) {

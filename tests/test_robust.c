@@ -40,11 +40,14 @@ static q2n_mesh *scaled_mesh(int cube, double s, double off, const char *name)
     return m;
 }
 
-static q2n_model *build(q2n_mesh *mesh)
+/* The model of mesh with the default options but ev_patch and subdivide. */
+static q2n_model *build_with(q2n_mesh *mesh, int ev_patch, int subdivide)
 {
     q2n_model_options mo;
     memset(&mo, 0, sizeof mo);
     mo.param.alpha = NAN;
+    mo.ev_patch = ev_patch;
+    mo.subdivide = subdivide;
     q2n_model *m = NULL;
     q2n_error err;
     if (!mesh) return NULL;
@@ -54,6 +57,8 @@ static q2n_model *build(q2n_mesh *mesh)
     }
     return m;
 }
+
+static q2n_model *build(q2n_mesh *mesh) { return build_with(mesh, 0, 0); }
 
 static q2n_status fit(q2n_model *m, q2n_error *err)
 {
@@ -344,15 +349,7 @@ static void test_folds(void)
           "spike 7x: %d folds, warning '%s'", m ? m->folded : -1, m ? m->warning : "");
     q2n_model_free(m);
     for (int i = 0; i < 2; i++) {
-        q2n_model_options mo;
-        memset(&mo, 0, sizeof mo);
-        mo.param.alpha = NAN;
-        if (i) mo.subdivide = 1;
-        else mo.ev_patch = Q2N_EV_PATCH_G1;
-        q2n_error err;
-        q2n_mesh *mesh = mg_spike_cube(7, 0);
-        m = NULL;
-        if (mesh && q2n_model_build_mesh(mesh, &mo, &m, &err)) CHECK(0, "spike 7x: %s", err.message);
+        m = i ? build_with(mg_spike_cube(7, 0), 0, 1) : build_with(mg_spike_cube(7, 0), Q2N_EV_PATCH_G1, 0);
         CHECK(m && m->folded == 0, "spike 7x with %s: %d faces fold (%s)", i ? "--subdivide 1" : "G1 patches",
               m ? m->folded : -1, m ? m->warning : "");
         q2n_model_free(m);

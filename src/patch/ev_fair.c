@@ -414,6 +414,9 @@ static const double *cross_dir(const q2n_mesh *m, const double (*dir)[2], int f,
     return other < 0 ? NULL : edge_dir(m, dir, other, v);
 }
 
+/* The ridge of an unknown towards its local estimate (fair_pass). */
+typedef enum { RIDGE_HIGH = 0, RIDGE_LOW = 1, RIDGE_HELD = 2 } fe_ridge; /* orders 3, 4 and bubbles; orders 1, 2; held by the fold guard */
+
 typedef struct fe_build {
     const q2n_mesh *m;
     const q2n_surface *s;
@@ -426,7 +429,7 @@ typedef struct fe_build {
     int *var;                   /* per vertex and slot: unknown index or -1 (fixed) */
     int *bvar;                  /* per face of the list: first of its CP_NBUB bubble unknowns */
     double (*bub)[CP_NBUB][3];  /* per face of the list: bubble values */
-    char *ridge_low;            /* per unknown: 1 a first- or second-order jet term (firmer ridge), 2 one held by the fold guard */
+    char *ridge;                /* per unknown: its ridge towards the local estimate, an fe_ridge */
     int nvar;
 } fe_build;
 
@@ -787,7 +790,7 @@ static q2n_status fair_pass(const fe_build *B, fe_sys *Y, int nfaces, const fe_f
     Bm = malloc(3 * (size_t)(n ? n : 1) * sizeof *Bm);
     if (!dg || !Bm) { st = Q2N_ERR_NOMEM; goto done; }
     for (int x = 0; x < n; x++) {
-        lam[x] = (B->ridge_low[x] == 2 ? EV_FOLD_HOLD : B->ridge_low[x] ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
+        lam[x] = (B->ridge[x] == RIDGE_HELD ? EV_FOLD_HOLD : B->ridge[x] == RIDGE_LOW ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
         if (!(lam[x] > 0)) lam[x] = 1;
         for (int c = 0; c < 3; c++) rhs[3 * x + c] += lam[x] * x0[3 * x + c];
         double d = diag[x] + lam[x];
@@ -923,10 +926,10 @@ static void fold_one(void *arg, int fi)
 
 /* The folded faces of the current solution (patch_folds, on `threads` workers); the corners of
  * each that are not held yet are held from now on (their jets of orders 1 and 2 get the
- * EV_FOLD_HOLD ridge), *grew set when there were such.  Returns the number of folded faces, -1 out
- * of memory. */
+ * EV_FOLD_HOLD ridge), counted in *held_vertices.  Returns the number of folded faces, -1 out of
+ * memory. */
 static int fold_scan(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX, int threads,
-                     char *held, int *held_vertices, int *grew)
+                     char *held, int *held_vertices)
 {
     const q2n_mesh *m = B->m;
     fold_arg a = {B, faces, P, FX, malloc((size_t)nfaces)};
@@ -940,10 +943,10 @@ static int fold_scan(fe_build *B, const int *faces, int nfaces, const cp_patch *
         for (int c = 0; c < 4; c++) {
             int v = m->face_vert[m->face_start[faces[fi]] + c];
             if (held[v]) continue;
-            held[v] = 1, *grew = 1;
+            held[v] = 1;
             ++*held_vertices;
             for (int k = EV_SLOT(1, 0); k <= EV_SLOT(2, 2); k++)
-                if (B->var[v * EV_JS + k] >= 0) B->ridge_low[B->var[v * EV_JS + k]] = 2;
+                if (B->var[v * EV_JS + k] >= 0) B->ridge[B->var[v * EV_JS + k]] = RIDGE_HELD;
         }
     }
     free(a.r);
@@ -996,7 +999,8 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
     for (int pass = 0;; pass++) {
         if ((st = energy_passes(B, &Y, nfaces, F, v3, srt, x0, X, err))) goto done;
         put_solution(B, nfaces, X);
-        int grew = 0, folded = fold_scan(B, faces, nfaces, P, FX, threads, held, held_vertices, &grew);
+        int held_before = *held_vertices, folded = fold_scan(B, faces, nfaces, P, FX, threads, held, held_vertices);
+        int grew = *held_vertices > held_before;
         if (folded < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
         if (pass == 0) {
             folds0 = folded;
@@ -1137,9 +1141,9 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
             }
     }
 
-    if (!(B.ridge_low = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+    if (!(B.ridge = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
     for (int i = 0; i < m->nv * EV_JS; i++)
-        if (B.var[i] >= 0) B.ridge_low[B.var[i]] = i % EV_JS < 6;
+        if (B.var[i] >= 0) B.ridge[B.var[i]] = i % EV_JS <= EV_SLOT(2, 2) ? RIDGE_LOW : RIDGE_HIGH;
     int held = 0, folds = 0;
     if ((st = fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, err))) goto done;
     if (stats) stats->unknowns = B.nvar, stats->held_vertices = held, stats->folded_faces = folds;
@@ -1170,6 +1174,6 @@ done:
     free(B.base);
     free(B.bvar);
     free(B.bub);
-    free(B.ridge_low);
+    free(B.ridge);
     return st;
 }
