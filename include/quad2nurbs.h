@@ -47,6 +47,11 @@ extern "C" {
     Q2N_STRINGIFY(Q2N_VERSION_MAJOR) "." Q2N_STRINGIFY(Q2N_VERSION_MINOR) "." Q2N_STRINGIFY(Q2N_VERSION_PATCH)
 /* "MAJOR.MINOR.PATCH" of the library linked (QUAD2NURBS_VERSION is the header's). */
 const char *q2n_version(void);
+/* Threads a run may use on this machine: the processors this process may run on (its CPU
+ * affinity), at most 64, the most the library uses; 1 where the system BLAS is not safe for calls
+ * from several threads at once (OpenBLAS' serial build).  The command line's default --threads;
+ * q2n_options.threads itself defaults to 1. */
+int q2n_default_threads(void);
 
 /* ------------------------------------------------------------------ status */
 

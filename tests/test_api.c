@@ -39,6 +39,9 @@ static void test_status_and_choices(void)
     char v[32];
     snprintf(v, sizeof v, "%d.%d.%d", Q2N_VERSION_MAJOR, Q2N_VERSION_MINOR, Q2N_VERSION_PATCH);
     CHECK(!strcmp(v, QUAD2NURBS_VERSION) && !strcmp(q2n_version(), v), "version %s = macros %s", q2n_version(), v);
+    long online = sysconf(_SC_NPROCESSORS_ONLN); /* the affinity may allow fewer, never more */
+    int dt = q2n_default_threads();
+    CHECK(dt >= 1 && dt <= 64 && (online < 1 || dt <= online), "default threads %d (online processors %ld)", dt, online);
     int names = 0;
     for (int c = 0; c < Q2N_CHOICE_COUNT; c++) {
         const char *name;

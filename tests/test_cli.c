@@ -442,7 +442,8 @@ static void resources(void)
 /* A BLAS that is not safe for concurrent calls (OpenBLAS' serial build, README "Dependencies") is
  * found at run time and the run drops to one thread, saying so: simulated by preloading a library
  * that answers openblas_get_parallel() = 0, as that build does.  The report's "threads" says what
- * the fit used; without the stand-in the same command runs on two threads and says nothing. */
+ * the fit used; without the stand-in the same command runs on two threads and says nothing.  Without
+ * --threads the run takes the processors it may use, one under the stand-in (silently). */
 static void test_serial_blas(void)
 {
     char err[2048];
@@ -462,6 +463,34 @@ static void test_serial_blas(void)
     rc = run_sh("$Q t384.obj --threads 2 -o s2.json", err, sizeof err);
     js = report("s2.json");
     CHECK(rc == 0 && !strstr(err, "OpenBLAS") && jnum(js, "threads") == 2, "any other BLAS: 2 threads (report %g), no warning: %d '%s'",
+          jnum(js, "threads"), rc, err);
+    free(js);
+    /* without --threads: the processors the process may use (coreutils' nproc, which honours the
+     * CPU affinity, is the reference; at most 64), one under taskset to one processor; under the
+     * serial BLAS one, without a warning (nothing was asked for) */
+    int ncpu = 0;
+    if (run_sh("nproc > nproc.txt", err, sizeof err) == 0) {
+        char *np = report("nproc.txt");
+        ncpu = np ? atoi(np) : 0;
+        free(np);
+    }
+    if (ncpu > 64) ncpu = 64;
+    rc = run_sh("$Q t384.obj -o s3.json", err, sizeof err);
+    js = report("s3.json");
+    CHECK(ncpu >= 1 && rc == 0 && jnum(js, "threads") == ncpu,
+          "default threads: report %g, nproc %d: %d '%s'", jnum(js, "threads"), ncpu, rc, err);
+    free(js);
+    if (run_sh("taskset -c 0 true", err, sizeof err) == 0) {
+        rc = run_sh("taskset -c 0 $Q t384.obj -o s4.json", err, sizeof err);
+        js = report("s4.json");
+        CHECK(rc == 0 && jnum(js, "threads") == 1, "default threads on one processor (taskset): report %g: %d '%s'", jnum(js, "threads"),
+              rc, err);
+        free(js);
+    } else
+        SKIP("no taskset: the default thread count under a one-processor affinity not checked");
+    rc = run_sh("ASAN_OPTIONS=\"$ASAN_OPTIONS:verify_asan_link_order=0\" LD_PRELOAD=$PWD/blas0.so $Q t384.obj -o s5.json", err, sizeof err);
+    js = report("s5.json");
+    CHECK(rc == 0 && !strstr(err, "OpenBLAS") && jnum(js, "threads") == 1, "serial OpenBLAS, no --threads: 1 thread (report %g), no warning: %d '%s'",
           jnum(js, "threads"), rc, err);
     free(js);
 }

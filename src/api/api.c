@@ -13,6 +13,7 @@
 #include "api/model.h"
 #include "api/policy.h"
 #include "core/blas.h"
+#include "core/par.h"
 #include "patch/extraordinary.h"
 
 static q2n_status fail(q2n_status st, const q2n_error *e, char *buf, size_t len)
@@ -483,3 +484,5 @@ void q2n_outputs_abort(q2n_outputs *o)
 void q2n_close(q2n_model *m) { q2n_model_free(m); }
 
 const char *q2n_version(void) { return QUAD2NURBS_VERSION; }
+
+int q2n_default_threads(void) { return q2n_blas_thread_unsafe() ? 1 : q2n_par_cpus(); }

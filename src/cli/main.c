@@ -72,8 +72,8 @@ static void usage(FILE *f)
           "      --gluing G        G1/G2 across edges: exact (default: equality constraints wherever the\n"
           "                        construction's gluing allows, least squares elsewhere) or least-squares\n"
           "                        (everywhere: fewer spans on strongly non-uniform meshes)\n"
-          "      --threads N       threads of the construction and the fit (default 1; results do not\n"
-          "                        depend on it; at most 64)\n"
+          "      --threads N       threads of the construction and the fit (default: the processors\n"
+          "                        this process may use; results do not depend on it; at most 64)\n"
           "      --solver S        fit solver: ceres (default) or direct (LAPACK QR, same result)\n"
           "      --grid N          sample points per patch side (default 5)\n"
           "      --max-memory SIZE refuse runs estimated to need more (bytes, or with K, M, G, T;\n"
@@ -480,6 +480,8 @@ int main(int argc, char **argv)
     o.grid = 5;               /* zeroed library options are its defaults */
     int rc = parse_args(argc, argv, &o);
     if (rc) return rc < 0 ? 0 : rc;
+    /* the machine's processors unless --threads says otherwise (the results do not depend on it) */
+    if (!(o.opt.given & Q2N_GIVEN_THREADS)) o.opt.threads = q2n_default_threads();
     /* UTF-8 symbols (°, ×, µ) in the summary only where the terminal's locale is UTF-8 */
     int utf8 = 0;
     if (setlocale(LC_CTYPE, "")) utf8 = strcmp(nl_langinfo(CODESET), "UTF-8") == 0;

@@ -4,10 +4,13 @@
  * extraordinary one with hundreds of spans, so a fixed deal left one thread idle for a third of a
  * stage); results are written per item and reduced by the caller
  * in index order, so the output does not depend on the thread count or on which thread did what. */
+#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
 #include "core/par.h"
 
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
+#include <unistd.h>
 
 typedef struct par_job {
     void (*fn)(void *, int);
@@ -42,4 +45,14 @@ void q2n_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg)
     par_worker(&job);   /* the calling thread works too; a thread that failed to start leaves its share to the others */
     for (int w = 1; w < T; w++)
         if (started[w]) pthread_join(tid[w], NULL);
+}
+
+int q2n_par_cpus(void)
+{
+    cpu_set_t set;
+    long n = 0;
+    if (sched_getaffinity(0, sizeof set, &set) == 0) n = CPU_COUNT(&set);
+    if (n < 1) n = sysconf(_SC_NPROCESSORS_ONLN); /* more processors than a cpu_set_t holds, or no affinity */
+    if (n < 1) n = 1;
+    return n > Q2N_PAR_MAX_THREADS ? Q2N_PAR_MAX_THREADS : (int)n;
 }

@@ -11,4 +11,8 @@
  * among them; returns when all are done.  threads < 1 counts as 1. */
 void q2n_par_for(int n, int threads, void (*fn)(void *arg, int i), void *arg);
 
+/* The processors this process may run on (its CPU affinity: taskset, cpusets), at most
+ * Q2N_PAR_MAX_THREADS; the online count where the affinity cannot be read. */
+int q2n_par_cpus(void);
+
 #endif
