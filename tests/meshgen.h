@@ -271,6 +271,21 @@ static inline q2n_mesh *mg_spike_cube(double pull, int both)
     return m;
 }
 
+/* A thin plate: the surface of n x n x 1 unit cubes (n <= 8; one quad across the thickness) scaled
+ * to 1 x 1 x t: eight valence-3 corners, side faces 1/n by t. */
+static inline q2n_mesh *mg_thin_plate(int n, double t)
+{
+    int cells[64][3], k = 0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) cells[k][0] = i, cells[k][1] = j, cells[k][2] = 0, k++;
+    q2n_mesh *m = mg_polycube(k, (const int (*)[3])cells, "thin plate");
+    for (int v = 0; m && v < m->nv; v++) {
+        double *p = m->pos + 3 * (size_t)v;
+        p[0] /= n, p[1] /= n, p[2] *= t;
+    }
+    return m;
+}
+
 /* A cylinder of n sides and `rows` rows of quads, height h, closed by two flat n-gon caps, after
  * one Catmull–Clark step (each cap becomes n kites around a valence-n vertex, its rim n
  * valence-3 vertices). */

@@ -128,8 +128,11 @@ static void generated(const char *label, q2n_mesh *m, double osc_g2, double osc_
 
 /* The fold guard's own account (ev_fair_stats): on the spike it holds the corners of the folded
  * tip faces and leaves no fold; on a mesh whose energy solution does not fold it holds nothing (the
- * surface is the energy's, untouched). */
-static void fold_guard(const char *label, q2n_mesh *m, int expect_held)
+ * surface is the energy's, untouched).  At 7 x the held local estimates fold too in G2, and one
+ * halving of the held jets (shrink_stage) leaves none; the tip's parametrisation stays thin there
+ * (construction Jacobian ratio 0.034 in G2, 0.071 in G1, below the bound generated() applies), so
+ * the 7 x spike is checked here only. */
+static void fold_guard(const char *label, q2n_mesh *m, int expect_held, int expect_shrinks_g2)
 {
     CHECK(m != NULL, "%s: generator", label);
     if (!m) return;
@@ -142,7 +145,11 @@ static void fold_guard(const char *label, q2n_mesh *m, int expect_held)
                  q2n_ev_fair_build(m, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), K, 2, &st, &err) == Q2N_OK;
         CHECK(ok, "%s: build: %s", label, err.message);
         if (ok) {
-            printf("fold guard, %s, G%d: %d vertices held, %d faces still folded\n", label, K, st.held_vertices, st.folded_faces);
+            printf("fold guard, %s, G%d: %d vertices held, %d faces still folded, %d halvings\n", label, K, st.held_vertices,
+                   st.folded_faces, st.shrinks);
+            int want = K == 2 ? expect_shrinks_g2 : 0;
+            CHECK(want ? st.shrinks >= 1 : st.shrinks == 0, "%s (G%d): %d halvings of the held jets, expected %s", label, K, st.shrinks,
+                  want ? "some" : "none");
             CHECK(st.folded_faces == 0, "%s (G%d): %d faces fold after the guard", label, K, st.folded_faces);
             CHECK(expect_held ? st.held_vertices > 0 : st.held_vertices == 0, "%s (G%d): the guard held %d vertices", label, K,
                   st.held_vertices);
@@ -207,7 +214,8 @@ int main(void)
      * (at most 1.5 x acc-g1's) is not met: these bounds are the measured values + 30 %. */
     generated("cube with a spike (5x) *", mg_spike_cube(5, 0), 15.0, 5.8, 527);
     generated("cube with two spikes (5x) *", mg_spike_cube(5, 1), 5.7, 7.3, 631);
-    fold_guard("cube with a spike (5x)", mg_spike_cube(5, 0), 1);
-    fold_guard("unit cubes: L-block", mg_polycube(7, cl, "L-block"), 0);
+    fold_guard("cube with a spike (5x)", mg_spike_cube(5, 0), 1, 0);
+    fold_guard("unit cubes: L-block", mg_polycube(7, cl, "L-block"), 0, 0);
+    fold_guard("cube with a spike (7x)", mg_spike_cube(7, 0), 1, 1);
     CHECK_DONE("test_ev_fairness");
 }

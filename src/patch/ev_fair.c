@@ -953,21 +953,74 @@ static int fold_scan(fe_build *B, const int *faces, int nfaces, const cp_patch *
     return folded;
 }
 
+/* The fold guard's second stage, where holding the local estimates left folds (*folds_left > 0,
+ * the kept solution Xkept in B): at a tip sharper than the estimates can turn, their tangents are
+ * too long for the turn the tip faces must make within their first quads.  The held jets are
+ * shrunk toward the vertex (order 1 by EV_FOLD_SHRINK, order 2 by its square, orders 3 and 4 held
+ * at zero) and the passes repeated, up to EV_FOLD_SHRINKS times, each shrinking once more and
+ * holding the corners of faces newly folded; the solution with the fewest folded faces is kept,
+ * Xkept when none has fewer.  *shrinks: the halvings of the kept solution. */
+static q2n_status shrink_stage(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX, int threads,
+                               fe_sys *Y, const fe_form *F, double *v3, double *srt, const double *x0, const double *Xkept,
+                               char *held, int *held_vertices, int *folds_left, int *shrinks, q2n_error *err)
+{
+    const q2n_mesh *m = B->m;
+    size_t n3 = 3 * (size_t)B->nvar;
+    double *xs = malloc(n3 * sizeof *xs), *X = malloc(n3 * sizeof *X), *Xb = malloc(n3 * sizeof *Xb);
+    q2n_status st = Q2N_OK;
+    int best = *folds_left, nheld = *held_vertices, kept = 0;
+    if (!xs || !X || !Xb) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold guard)"); goto done; }
+    double f1 = 1;
+    for (int k = 1; k <= EV_FOLD_SHRINKS && best > 0; k++) {
+        f1 *= EV_FOLD_SHRINK;
+        memcpy(xs, x0, n3 * sizeof *xs);
+        for (int v = 0; v < m->nv; v++) {
+            if (!held[v]) continue;
+            for (int s = EV_SLOT(1, 0); s < EV_JS; s++) {
+                int x = B->var[v * EV_JS + s];
+                if (x < 0) continue;
+                double f = s <= EV_SLOT(1, 1) ? f1 : s <= EV_SLOT(2, 2) ? f1 * f1 : 0;
+                for (int c = 0; c < 3; c++) xs[3 * x + c] *= f;
+                B->ridge[x] = RIDGE_HELD;
+            }
+        }
+        if ((st = energy_passes(B, Y, nfaces, F, v3, srt, xs, X, err))) goto done;
+        put_solution(B, nfaces, X);
+        int folded = fold_scan(B, faces, nfaces, P, FX, threads, held, &nheld);
+        if (folded < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+        if (folded < best) {
+            best = folded;
+            kept = k;
+            memcpy(Xb, X, n3 * sizeof *Xb);
+            *held_vertices = nheld;
+        }
+    }
+    put_solution(B, nfaces, kept ? Xb : Xkept);
+    *folds_left = best;
+    *shrinks = kept;
+done:
+    free(xs);
+    free(X);
+    free(Xb);
+    return st;
+}
+
 /* The energy solve: the faces' forms (once, on worker threads), then energy_passes; the jets and
  * bubbles get the solution.  Fold guard: the energy is parametric, and where the data force a face
  * to turn fast (a spike's tip) its minimiser can fold the face over; the jets of order <= 2 at the
  * corners of every folded face are then held at their local estimates (a ridge of EV_FOLD_HOLD)
  * and the passes repeated, at most EV_FOLD_PASSES times, growing the held set; when that does not
- * lower the number of folded faces, the first solution stays.  Meshes without a fold are solved
- * once, as before; *held_vertices and *folds_left describe the result. */
+ * lower the number of folded faces, the first solution stays.  Where folds are left, shrink_stage
+ * tries shorter held jets.  Meshes without a fold are solved once, as before; *held_vertices,
+ * *folds_left and *shrinks describe the result. */
 static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX,
-                             int threads, int *held_vertices, int *folds_left, q2n_error *err)
+                             int threads, int *held_vertices, int *folds_left, int *shrinks, q2n_error *err)
 {
     const q2n_mesh *m = B->m;
     int n = B->nvar, nt = threads < 1 ? 1 : threads > nfaces ? (nfaces > 0 ? nfaces : 1) : threads;
     if (nt > Q2N_EV_MAX_THREADS) nt = Q2N_EV_MAX_THREADS;
     q2n_status st = Q2N_OK;
-    *held_vertices = *folds_left = 0;
+    *held_vertices = *folds_left = *shrinks = 0;
     if (nfaces <= 0 || n <= 0) return Q2N_OK;
     fe_sys Y = {0};
     fe_form *F = calloc((size_t)nfaces, sizeof *F);
@@ -1008,10 +1061,20 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
         }
         *folds_left = folded;
         if (!folded || !grew || pass + 1 > EV_FOLD_PASSES) {
+            int nheld = *held_vertices;
+            const double *Xkept = X;
             if (pass > 0 && folded >= folds0) { /* the guard did not help: the energy's own solution */
+                Xkept = X0;
                 put_solution(B, nfaces, X0);
                 *folds_left = folds0;
                 *held_vertices = 0;
+            }
+            if (*folds_left > 0 && nheld > 0) {
+                int shown = *held_vertices;
+                *held_vertices = nheld; /* the stage counts every vertex held so far */
+                st = shrink_stage(B, faces, nfaces, P, FX, threads, &Y, F, v3, srt, x0, Xkept, held, held_vertices,
+                                  folds_left, shrinks, err);
+                if (!*shrinks) *held_vertices = shown;
             }
             break;
         }
@@ -1144,9 +1207,9 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     if (!(B.ridge = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
     for (int i = 0; i < m->nv * EV_JS; i++)
         if (B.var[i] >= 0) B.ridge[B.var[i]] = i % EV_JS <= EV_SLOT(2, 2) ? RIDGE_LOW : RIDGE_HIGH;
-    int held = 0, folds = 0;
-    if ((st = fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, err))) goto done;
-    if (stats) stats->unknowns = B.nvar, stats->held_vertices = held, stats->folded_faces = folds;
+    int held = 0, folds = 0, shrinks = 0;
+    if ((st = fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, &shrinks, err))) goto done;
+    if (stats) stats->unknowns = B.nvar, stats->held_vertices = held, stats->folded_faces = folds, stats->shrinks = shrinks;
 
     for (int i = 0; i < nf; i++) {
         int f = faces[i];

@@ -14,6 +14,7 @@ typedef struct ev_fair_stats {
     double corner_mismatch_max;/* largest relative disagreement of two sides at a corner */
     int held_vertices;         /* vertices whose jets of order <= 2 the fold guard held at their local estimates */
     int folded_faces;          /* faces still folded after the guard (0 unless it ran out of passes) */
+    int shrinks;               /* halvings of the held jets in the kept solution (0: the local estimates themselves) */
 } ev_fair_stats;
 
 /* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the

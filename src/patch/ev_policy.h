@@ -50,6 +50,14 @@
 #define EV_FOLD_GRID 17
 #define EV_FOLD_HOLD 1e2
 #define EV_FOLD_PASSES 3
+/* Where the held local estimates fold too (a corner pulled out 7 x: their tangents are too long for
+ * the turn the tip faces must make), the guard shrinks the held jets by this factor per step (order
+ * 1; order 2 by its square), halving as a backtracking search does, at most EV_FOLD_SHRINKS times:
+ * the 7 x corner unfolds at the first halving (G2 osc 455 -> 15, E_ev 19 000 -> 1 142 on the fitted
+ * file), a 10 x corner goes from 3 folded faces to 1 at the second; shorter tangents than a quarter
+ * leave the tip's parametrisation nearly degenerate (Jacobian ratio ~0.005 there already). */
+#define EV_FOLD_SHRINK 0.5
+#define EV_FOLD_SHRINKS 2
 
 /* Two sides of a corner "agree" when their mixed derivatives differ by less than this fraction of
  * the corner's first- and mixed-derivative scale (rounding of the regular patches' jets); beyond
