@@ -8,7 +8,9 @@
  * edge point of edge (a,b) -> GetEdgeChildVertex(FindEdge(a',b')), sub-face at corner i of
  * face f -> GetFaceChildFaces(f')[i].  Positions must agree to 1e-12 x bbox diagonal and every
  * sub-face must have the same vertices in the same cyclic order (same first vertex).  Whether
- * OpenSubdiv's numbering coincides with ours is printed (informative, not asserted). */
+ * OpenSubdiv's numbering coincides with ours is printed (informative, not asserted).  The last
+ * level's limit positions (q2n_mesh_limit_points) must agree with PrimvarRefiner::Limit to the same
+ * tolerance, boundaries and corners included. */
 #include "osd_ref.h"
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
@@ -172,6 +174,29 @@ void compare_mesh(const char *file, int levels)
         a = b;
         amap = bmap;
         if (!ok) break;
+    }
+    /* q2n_mesh_limit_points on the last level against OpenSubdiv's PrimvarRefiner::Limit (the limit
+     * masks of Sdc::SCHEME_CATMARK applied to that level), through the same correspondence */
+    if (owned && (int)amap.size() == owned->nv) {
+        std::vector<Vtx> lim(r->GetLevel(levels).GetNumVertices());
+        Vtx *dst = lim.data();
+        pr.Limit(src, dst);
+        q2n_mesh *L = NULL;
+        q2n_status st = q2n_mesh_limit_points(owned, &L, &err);
+        CHECK(st == Q2N_OK, "%s: limit points: %s", file, err.message);
+        if (!st) {
+            double maxd = 0, moved = 0;
+            for (int v = 0; v < owned->nv; v++)
+                for (int c = 0; c < 3; c++) {
+                    maxd = std::fmax(maxd, std::fabs(L->pos[3 * v + c] - lim[amap[v]].p[c]));
+                    moved = std::fmax(moved, std::fabs(L->pos[3 * v + c] - owned->pos[3 * v + c]));
+                }
+            printf("%s level %d limit points: max |ours - OSD Limit| = %.3g (vertices moved by up to %.3g)\n", file, levels,
+                   maxd, moved);
+            CHECK(maxd <= tol, "%s level %d: limit points differ from OSD's by %.3g > %.3g", file, levels, maxd, tol);
+            CHECK(moved > 100 * tol, "%s level %d: limit points did not move the vertices (%.3g)", file, levels, moved);
+        }
+        q2n_mesh_free(L);
     }
     /* q2n_mesh_subdivide(m0, levels) in one call gives the same result as repeated single steps */
     q2n_mesh *direct = NULL;

@@ -459,6 +459,10 @@ int main(void)
     bad.surface = (q2n_surface_method)7;
     CHECK(q2n_open("data/demo_torus.obj", &bad, &m, err, sizeof err) != 0 && strstr(err, "invalid surface 7"),
           "bad option reported: %s", err);
+    q2n_options badl = {0};
+    badl.limit_points = 2;
+    CHECK(q2n_open("data/demo_torus.obj", &badl, &m, err, sizeof err) == Q2N_ERR_ARG && strstr(err, "invalid limit_points 2"),
+          "bad limit_points reported: %s", err);
     CHECK(q2n_open("data/demo_torus.obj", NULL, &m, err, sizeof err) == 0, "open demo: %s", err);
     if (!m) CHECK_DONE("test_api");
     CHECK(q2n_patch_count(m) == 128, "128 patches");

@@ -217,6 +217,30 @@ static void option_warnings(void)
 
 /* Issue 13 item 5: tolerances in model units and the continuity targets, in the report and as
  * what the fit accepts; the summary names its units. */
+/* --limit-points: the cube [-5,5]^3 subdivided once has its corner vertex at 5 x 5/9; moved to its
+ * Catmull-Clark limit it is at 5 x 1/2 (test_subdivide.c works the mask by hand), and the surface
+ * passes through it (patch 0's corner (0, 0) is that vertex); without the option through 25/9.  The
+ * ACC surfaces ignore it, saying so. */
+static void limit_points(void)
+{
+    char err[4096];
+    for (int lp = 0; lp < 2; lp++) {
+        char cmd[256];
+        snprintf(cmd, sizeof cmd, "$Q sample cube.obj --subdivide 1 %s --grid 2 > lp.txt", lp ? "--limit-points" : "");
+        int rc = run_sh(cmd, err, sizeof err);
+        char *s = report("lp.txt");
+        int k = -1;
+        double u = -1, v = -1, x = 0, y = 0, z = 0, want = lp ? -2.5 : -25.0 / 9;
+        if (s) sscanf(s, "%d %lf %lf %lf %lf %lf", &k, &u, &v, &x, &y, &z);
+        CHECK(rc == 0 && k == 0 && u == 0 && v == 0 && fabs(x - want) < 1e-12 && fabs(y - want) < 1e-12 && fabs(z - want) < 1e-12,
+              "%s: patch 0 at (0, 0) is (%.15g %.15g %.15g), expected %.15g each: %d '%s'", lp ? "--limit-points" : "plain",
+              x, y, z, want, rc, err);
+        free(s);
+    }
+    int rc = run_sh("$Q cube.obj --surface acc-g1 --limit-points -o lp.json", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "--limit-points is ignored with --surface acc-g1"), "acc-g1 with --limit-points: %d '%s'", rc, err);
+}
+
 static void tolerances(void)
 {
     char err[4096];
@@ -592,6 +616,7 @@ int main(void)
     messages();
     option_warnings();
     tolerances();
+    limit_points();
     write_torus();
     progress();
     resources();

@@ -3,8 +3,11 @@
  * preserved; closed forms of one Catmull–Clark step on the cube [-1,1]^3 (worked by hand below);
  * a planar uniform grid is reproduced exactly at half spacing (the rules reproduce linear
  * functions, and the boundary rule (a + 6v + b)/8 fixes equally spaced collinear points);
- * single n-gons (corners fixed, edge midpoints, centroid).  OpenSubdiv positions are compared in
- * tests/ref_subdivide.cpp. */
+ * single n-gons (corners fixed, edge midpoints, centroid).  Limit points (q2n_mesh_limit_points):
+ * on a uniform grid carrying z = x² + y² the bicubic B-spline limit of a vertex is its z plus
+ * (h²/6) Δz = z + 2/3 inside, z + 1/3 on a side (the boundary curve's (a + 4v + b)/6 along x), z at a
+ * corner; the cube's corner after one step, by hand; a face that is not a quad is refused.
+ * OpenSubdiv positions and limits are compared in tests/ref_subdivide.cpp. */
 #include "check.h"
 #include "mesh/mesh.h"
 
@@ -265,6 +268,69 @@ static void test_shared_counts(void)
     }
 }
 
+static void test_limit_points(void)
+{
+    enum { N = 4 };
+    double pos[3 * (N + 1) * (N + 1)];
+    int fs[N * N + 1], fv[4 * N * N];
+    for (int j = 0; j <= N; j++)
+        for (int i = 0; i <= N; i++) {
+            double *p = pos + 3 * (j * (N + 1) + i);
+            p[0] = i; p[1] = j; p[2] = (double)(i * i + j * j);
+        }
+    for (int j = 0, f = 0; j < N; j++)
+        for (int i = 0; i < N; i++, f++) {
+            int v = j * (N + 1) + i;
+            fs[f] = 4 * f;
+            fv[4 * f] = v; fv[4 * f + 1] = v + 1; fv[4 * f + 2] = v + N + 2; fv[4 * f + 3] = v + N + 1;
+        }
+    fs[N * N] = 4 * N * N;
+    q2n_mesh *m = from((N + 1) * (N + 1), pos, N * N, fs, fv), *L = NULL;
+    q2n_error err = {0};
+    if (!m) return;
+    CHECK(q2n_mesh_limit_points(m, &L, &err) == Q2N_OK, "grid limit points: %s", err.message);
+    if (L) {
+        int bad = 0;
+        for (int j = 0; j <= N; j++)
+            for (int i = 0; i <= N; i++) {
+                int v = j * (N + 1) + i, side = i == 0 || i == N, row = j == 0 || j == N;
+                double z = i * i + j * j + (side && row ? 0 : side || row ? 1.0 / 3 : 2.0 / 3);
+                const double *p = q2n_mesh_vpos(L, v);
+                /* on a side only the curve along it counts: x on the rows j = 0, N, y on the columns */
+                if (side != row) z = i * i + j * j + 1.0 / 3;
+                if (fabs(p[0] - i) > 1e-13 || fabs(p[1] - j) > 1e-13 || fabs(p[2] - z) > 1e-13) bad++;
+            }
+        CHECK(bad == 0, "grid limit points: %d off the B-spline limit", bad);
+        CHECK(L->nf == m->nf && memcmp(L->face_vert, m->face_vert, sizeof(int) * 4 * N * N) == 0, "grid limit points: faces changed");
+    }
+    q2n_mesh_free(L);
+    q2n_mesh_free(m);
+    /* the cube [-1,1]^3 after one step: its corner (5/9, 5/9, 5/9) (valence 3) has edge neighbours
+     * (3/4, 3/4, 0) and permutations, opposite vertices the face points (1, 0, 0) ...: limit
+     * (9 * 5/9 + 4 * 3 * (1/2) + 1) / 24 per coordinate = (5 + 6 + 1) / 24 = 1/2 */
+    static const double cp[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
+    static const int cf[24] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 1, 2, 6, 5, 0, 4, 7, 3};
+    static const int cs[7] = {0, 4, 8, 12, 16, 20, 24};
+    q2n_mesh *c = from(8, &cp[0][0], 6, cs, cf), *s = NULL;
+    if (c && q2n_mesh_subdivide(c, 1, &s, &err) == Q2N_OK && q2n_mesh_limit_points(s, &L, &err) == Q2N_OK) {
+        check_pos(L, 6, 0.5, 0.5, 0.5, "cube corner's limit point after one step");
+        q2n_mesh_free(L);
+    } else
+        CHECK(0, "cube limit points: %s", err.message);
+    /* a pentagon's interior vertex: refused, naming the face */
+    static const double pp[6][3] = {{0, 0, 0}, {1, 0, 0}, {1.3, 1, 0}, {0.5, 1.6, 0}, {-0.3, 1, 0}, {0.5, 0.7, 0.1}};
+    static const int pf[15] = {0, 1, 5, 1, 2, 5, 2, 3, 5, 3, 4, 5, 4, 0, 5};
+    static const int ps[6] = {0, 3, 6, 9, 12, 15};
+    q2n_mesh *t = from(6, &pp[0][0], 5, ps, pf);
+    L = NULL;
+    q2n_status st = t ? q2n_mesh_limit_points(t, &L, &err) : Q2N_OK;
+    CHECK(t && st == Q2N_ERR_UNSUPPORTED && strstr(err.message, "face 0 has 3 vertices") && !L,
+          "triangles around an interior vertex: %d '%s'", st, err.message);
+    q2n_mesh_free(t);
+    q2n_mesh_free(s);
+    q2n_mesh_free(c);
+}
+
 int main(void)
 {
     test_cube_closed_form();
@@ -273,5 +339,6 @@ int main(void)
     test_boundary_rule();
     test_arguments();
     test_shared_counts();
+    test_limit_points();
     CHECK_DONE("test_subdivide");
 }

@@ -241,6 +241,13 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
                            "(use --subdivide 1 to apply one Catmull-Clark step first)",
                            where, q2n_face_size(m->mesh, f));
     }
+    /* --limit-points: the vertices onto the subdivision surface (the ACC surfaces approximate it
+     * from the control mesh itself) */
+    if (!st && m->opt.limit_points && m->opt.method == Q2N_SURFACE_AUGMENTED) {
+        q2n_mesh *lim = NULL;
+        st = q2n_mesh_limit_points(m->mesh, &lim, err);
+        if (!st) { q2n_mesh_free(m->mesh); m->mesh = lim; }
+    }
     /* an interpolating patch follows its quad's sides: a bow-tie's would cross (Catmull–Clark
      * control faces may be bow-ties: the ACC path and --subdivide take them) */
     if (!st && m->opt.method == Q2N_SURFACE_AUGMENTED) st = q2n_mesh_check_crossing(m->mesh, err);

@@ -133,6 +133,12 @@ q2n_status q2n_mesh_check_crossing(const q2n_mesh *m, q2n_error *err);
  * the sub-quad at corner i being (v_i, e_i, f, e_{i-1}) so u runs along the old edge i. */
 q2n_status q2n_mesh_subdivide(const q2n_mesh *m, int steps, q2n_mesh **out, q2n_error *err);
 
+/* The same mesh with every vertex moved to its Catmull–Clark limit position (the rules of
+ * q2n_mesh_subdivide, boundaries as infinitely sharp creases; subdivide.c for the masks): an
+ * interpolant of the result passes through points of the subdivision surface.  Every face around an
+ * interior vertex must be a quad (Q2N_ERR_UNSUPPORTED naming the face otherwise). */
+q2n_status q2n_mesh_limit_points(const q2n_mesh *m, q2n_mesh **out, q2n_error *err);
+
 /* ---- half-edge navigation (all O(1)) ---- */
 static inline int q2n_he_face(const q2n_mesh *m, int h) { return m->he_face[h]; }
 static inline int q2n_he_twin(const q2n_mesh *m, int h) { return m->he_twin[h]; }

@@ -17,6 +17,7 @@
 #include "mesh/mesh.h"
 
 #include <limits.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -168,4 +169,68 @@ q2n_status q2n_mesh_subdivide(const q2n_mesh *m, int steps, q2n_mesh **out, q2n_
     }
     *out = cur;
     return Q2N_OK;
+}
+
+/* Limit positions of the same rules (the position each vertex converges to under repeated steps):
+ *   interior vertex of valence n, every incident face a quad:
+ *                          p = (n² v + 4 Σ e_j + Σ d_j) / (n (n + 5)), e_j its n edge neighbours,
+ *                          d_j the vertex opposite v in each incident quad (OSD catmarkScheme.h
+ *                          assignSmoothLimitMask, applied as PrimvarRefiner::Limit does: n/(n+5) for
+ *                          v, 4/(n(n+5)) per edge, 1/(n(n+5)) per opposite vertex; formulas.md §2.1)
+ *   boundary vertex        p = (e_a + 4 v + e_b) / 6, the cubic B-spline boundary curve's point
+ *                          (OSD assignCreaseLimitMask)
+ *   corner, unreferenced, interior valence 2   p = v. */
+q2n_status q2n_mesh_limit_points(const q2n_mesh *m, q2n_mesh **out, q2n_error *err)
+{
+    if (!out) return q2n_error_set(err, Q2N_ERR_ARG, "limit points: no output pointer");
+    *out = NULL;
+    if (!m) return q2n_error_set(err, Q2N_ERR_ARG, "limit points: NULL mesh");
+    double *pos = calloc(3 * (size_t)m->nv + 1, sizeof *pos), *es = calloc(3 * (size_t)m->nv + 1, sizeof *es);
+    double *ds = calloc(3 * (size_t)m->nv + 1, sizeof *ds);
+    q2n_status st = Q2N_OK;
+    if (!pos || !es || !ds) {
+        st = q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory", m->name);
+        goto done;
+    }
+    for (int h = 0; h < m->nh; h++) {
+        int a = q2n_he_origin(m, h), f = m->he_face[h];
+        if (m->vert_boundary[a]) {
+            if (m->he_twin[h] < 0) { /* boundary edge a->b: each end's boundary neighbour */
+                int b = q2n_he_dest(m, h);
+                q2n_v3_add(es + 3 * (size_t)a, es + 3 * (size_t)a, q2n_mesh_vpos(m, b));
+                q2n_v3_add(es + 3 * (size_t)b, es + 3 * (size_t)b, q2n_mesh_vpos(m, a));
+            }
+            continue;
+        }
+        if (q2n_face_size(m, f) != 4) {
+            char where[300];
+            int line = m->face_line ? m->face_line[f] : 0;
+            if (line > 0) snprintf(where, sizeof where, "%s:%d: face %d", m->name, line, f);
+            else snprintf(where, sizeof where, "%s: face %d", m->name, f);
+            st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s has %d vertices; limit points need quads around every "
+                               "interior vertex (subdivide first)", where, q2n_face_size(m, f));
+            goto done;
+        }
+        q2n_v3_add(es + 3 * (size_t)a, es + 3 * (size_t)a, q2n_mesh_vpos(m, q2n_he_dest(m, h)));
+        q2n_v3_add(ds + 3 * (size_t)a, ds + 3 * (size_t)a, q2n_mesh_vpos(m, q2n_he_dest(m, q2n_he_next(m, h))));
+    }
+    for (int v = 0; v < m->nv; v++) {
+        const double *p = q2n_mesh_vpos(m, v), *E = es + 3 * (size_t)v, *D = ds + 3 * (size_t)v;
+        double *r = pos + 3 * (size_t)v;
+        if (m->vert_nfaces[v] == 0 || (m->vert_boundary[v] && m->vert_nfaces[v] == 1) ||
+            (!m->vert_boundary[v] && m->valence[v] < 3)) {
+            memcpy(r, p, 3 * sizeof *p); /* corners; an interior valence 2 is one for Sdc too */
+        } else if (m->vert_boundary[v]) {
+            for (int c = 0; c < 3; c++) r[c] = (E[c] + 4.0 * p[c]) / 6.0;
+        } else {
+            double n = m->valence[v];
+            for (int c = 0; c < 3; c++) r[c] = (n * n * p[c] + 4.0 * E[c] + D[c]) / (n * (n + 5.0));
+        }
+    }
+    st = q2n_mesh_from_arrays_lines(m->nv, pos, m->nf, m->face_start, m->face_vert, m->face_line, m->name, out, err);
+done:
+    free(pos);
+    free(es);
+    free(ds);
+    return st;
 }
