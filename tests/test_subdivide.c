@@ -90,15 +90,16 @@ static void test_cube_closed_form(void)
 }
 
 /* Planar (n x n) grid with spacing 1: one step gives the grid with spacing 1/2 exactly. */
-static void test_grid_reproduction(void)
+/* The N x N grid of unit quads on [0, N]^2 (vertex j (N + 1) + i at x = i, y = j), z = 0.5 x + 0.25 y
+ * (a plane, not z = 0) or, with quadratic set, x² + y²; pos receives the positions. */
+enum { N = 4 };
+static q2n_mesh *grid(double pos[3 * (N + 1) * (N + 1)], int quadratic)
 {
-    enum { N = 4 };
-    double pos[3 * (N + 1) * (N + 1)];
     int fs[N * N + 1], fv[4 * N * N];
     for (int j = 0; j <= N; j++)
         for (int i = 0; i <= N; i++) {
             double *p = pos + 3 * (j * (N + 1) + i);
-            p[0] = i; p[1] = j; p[2] = 0.5 * i + 0.25 * j; /* a plane, not z = 0 */
+            p[0] = i; p[1] = j; p[2] = quadratic ? (double)(i * i + j * j) : 0.5 * i + 0.25 * j;
         }
     for (int j = 0, f = 0; j < N; j++)
         for (int i = 0; i < N; i++, f++) {
@@ -107,7 +108,13 @@ static void test_grid_reproduction(void)
             fv[4 * f] = v; fv[4 * f + 1] = v + 1; fv[4 * f + 2] = v + N + 2; fv[4 * f + 3] = v + N + 1;
         }
     fs[N * N] = 4 * N * N;
-    q2n_mesh *m = from((N + 1) * (N + 1), pos, N * N, fs, fv), *s = NULL;
+    return from((N + 1) * (N + 1), pos, N * N, fs, fv);
+}
+
+static void test_grid_reproduction(void)
+{
+    double pos[3 * (N + 1) * (N + 1)];
+    q2n_mesh *m = grid(pos, 0), *s = NULL;
     q2n_error err = {0};
     if (!m) return;
     CHECK(q2n_mesh_subdivide(m, 2, &s, &err) == Q2N_OK, "grid: %s", err.message);
@@ -270,22 +277,8 @@ static void test_shared_counts(void)
 
 static void test_limit_points(void)
 {
-    enum { N = 4 };
     double pos[3 * (N + 1) * (N + 1)];
-    int fs[N * N + 1], fv[4 * N * N];
-    for (int j = 0; j <= N; j++)
-        for (int i = 0; i <= N; i++) {
-            double *p = pos + 3 * (j * (N + 1) + i);
-            p[0] = i; p[1] = j; p[2] = (double)(i * i + j * j);
-        }
-    for (int j = 0, f = 0; j < N; j++)
-        for (int i = 0; i < N; i++, f++) {
-            int v = j * (N + 1) + i;
-            fs[f] = 4 * f;
-            fv[4 * f] = v; fv[4 * f + 1] = v + 1; fv[4 * f + 2] = v + N + 2; fv[4 * f + 3] = v + N + 1;
-        }
-    fs[N * N] = 4 * N * N;
-    q2n_mesh *m = from((N + 1) * (N + 1), pos, N * N, fs, fv), *L = NULL;
+    q2n_mesh *m = grid(pos, 1), *L = NULL;
     q2n_error err = {0};
     if (!m) return;
     CHECK(q2n_mesh_limit_points(m, &L, &err) == Q2N_OK, "grid limit points: %s", err.message);
