@@ -237,6 +237,21 @@ static void limit_points(void)
               x, y, z, want, rc, err);
         free(s);
     }
+    /* the report says how far the vertices moved: on the cube subdivided once the most is an edge
+     * point's, (3.75, 3.75, 0) -> (x, x, 0) with x = (16 * 3.75 + 4 (5 + 2 * 25/9) + 2 * 3.75) / 36 =
+     * 987.5 / 324 (valence 4: two face points and two corners beside it, four edge points opposite),
+     * a move of sqrt(2) (3.75 - x) = sqrt(2) 227.5 / 324 on a diagonal of 10 sqrt(3) (a corner moves
+     * sqrt(3) 5/18, a face point 0.80) */
+    for (int lp = 0; lp < 2; lp++) {
+        int rc = run_sh(lp ? "$Q cube.obj --subdivide 1 --limit-points -q -o lp.json" : "$Q cube.obj --subdivide 1 -q -o lp.json",
+                        err, sizeof err);
+        char *js = report("lp.json");
+        const char *k = js ? strstr(js, "\"vertices_moved_max_rel\": ") : NULL;
+        double mv = k ? strtod(k + strlen("\"vertices_moved_max_rel\": "), NULL) : NAN;
+        CHECK(rc == 0 && (lp ? fabs(mv - sqrt(2.0 / 3) * 227.5 / 3240) < 1e-7 /* 6 digits printed */ : mv == 0), "report's vertices_moved_max_rel %s: %.17g: %d '%s'",
+              lp ? "with --limit-points" : "without", mv, rc, err);
+        free(js);
+    }
     int rc = run_sh("$Q cube.obj --surface acc-g1 --limit-points -o lp.json", err, sizeof err);
     CHECK(rc == 0 && strstr(err, "--limit-points is ignored with --surface acc-g1"), "acc-g1 with --limit-points: %d '%s'", rc, err);
 }
@@ -603,7 +618,7 @@ int main(void)
     /* and counted in the fit report, under the construction */
     snprintf(args, sizeof args, "-q %s/dart.obj -o %s/dart.json", dir, dir);
     char *dj = run(args, err, sizeof err, NULL) == 0 ? report("dart.json") : NULL;
-    CHECK(dj && jnum(dj, "folded_faces") >= 1 && strstr(dj, "\"first_folded_face\": 4}"), "dart report: %s",
+    CHECK(dj && jnum(dj, "folded_faces") >= 1 && strstr(dj, "\"first_folded_face\": 4,"), "dart report: %s",
           dj ? dj : err);
     free(dj);
     const char *torus = chk_shared_mesh("osd_catmark_torus.obj");

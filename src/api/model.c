@@ -246,7 +246,14 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (!st && m->opt.limit_points && m->opt.method == Q2N_SURFACE_AUGMENTED) {
         q2n_mesh *lim = NULL;
         st = q2n_mesh_limit_points(m->mesh, &lim, err);
-        if (!st) { q2n_mesh_free(m->mesh); m->mesh = lim; }
+        if (!st) {
+            double d = 0, diag = q2n_mesh_bbox_diag(m->mesh);
+            for (int v = 0; v < lim->nv; v++)
+                d = fmax(d, q2n_v3_dist(q2n_mesh_vpos(lim, v), q2n_mesh_vpos(m->mesh, v)));
+            m->moved_rel = diag > 0 ? d / diag : 0;
+            q2n_mesh_free(m->mesh);
+            m->mesh = lim;
+        }
     }
     /* an interpolating patch follows its quad's sides: a bow-tie's would cross (Catmull–Clark
      * control faces may be bow-ties: the ACC path and --subdivide take them) */
@@ -366,6 +373,7 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->nurbs = NULL;
     q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &m->nurbs, &m->fit, err);
     m->fit.folded_faces = m->folded; /* the construction's scan, for the report */
+    m->fit.vertices_moved_rel = m->moved_rel;
     m->fit.folded_face = m->folded_face;
     if (m->nurbs) { /* into output coordinates; relative figures stay */
         q2n_error e2;

@@ -77,6 +77,7 @@ typedef struct q2n_model {
     q2n_nurbs_model *nurbs;    /* after q2n_model_fit, output coordinates */
     q2n_fit_report fit;        /* after q2n_model_fit */
     double t_read, t_build, t_fit, t_write; /* seconds */
+    double moved_rel;          /* --limit-points: largest vertex move / bbox diagonal (0: none) */
 } q2n_model;
 
 /* Read (any mesh format, q2n_mesh_read) and move into the internal frame, then construct:

@@ -77,6 +77,9 @@ typedef struct q2n_fit_report {
     double g1_construction_deg, g2_construction_rel;  /* the same on the construction itself */
     int folded_faces, folded_face; /* faces whose construction folds over, the first (-1: none); set by
                                       the caller that scanned it (q2n_model_fit), else 0 and -1 */
+    double vertices_moved_rel;     /* largest distance the mesh's vertices were moved before the
+                                      construction (--limit-points), relative to bbox_diag; set by the
+                                      caller, else 0 */
     double t_sample, t_build, t_solve, t_measure, t_total;  /* seconds per stage */
     long step_bytes, iges_bytes;   /* sizes of the CAD files written from this fit (0: none; set by the writer's caller) */
     int solver, threads;        /* threads: the number used */
