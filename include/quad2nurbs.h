@@ -218,10 +218,11 @@ typedef struct q2n_options {
     q2n_ev_method ev_construction; /* augmented [fair] */
     q2n_acc_strategy acc_strategy; /* acc-g1 [cs-s] */
     int subdivide;                 /* Catmull–Clark steps before building, 0..6 [0] */
-    int limit_points;              /* 1: every vertex (after subdivide) moved to its Catmull–Clark limit
+    int limit_points;              /* every vertex (after subdivide) moved to its Catmull–Clark limit
                                       position first, so the augmented surface interpolates points of the
-                                      subdivision surface instead of the control mesh's vertices; needs
-                                      quads around every interior vertex [0] */
+                                      subdivision surface instead of the control vertices: 1 always, -1
+                                      never, 0 [when subdivide > 0]; needs quads around every interior
+                                      vertex */
     double scale;                  /* multiplies the mesh coordinates, Q2N_SCALE_MIN..Q2N_SCALE_MAX [1] */
     q2n_units units;               /* unit of the CAD files [mm] */
     double tol;                    /* fit tolerance relative to the bounding-box diagonal, 1e-12..0.1 [1e-5] */

@@ -217,43 +217,51 @@ static void option_warnings(void)
 
 /* Issue 13 item 5: tolerances in model units and the continuity targets, in the report and as
  * what the fit accepts; the summary names its units. */
-/* --limit-points: the cube [-5,5]^3 subdivided once has its corner vertex at 5 x 5/9; moved to its
- * Catmull-Clark limit it is at 5 x 1/2 (test_subdivide.c works the mask by hand), and the surface
- * passes through it (patch 0's corner (0, 0) is that vertex); without the option through 25/9.  The
- * ACC surfaces ignore it, saying so. */
+/* Limit points: the cube [-5,5]^3 subdivided once has its corner vertex at 5 x 5/9; moved to its
+ * Catmull-Clark limit it is at 5 x 1/2 (test_subdivide.c works the mask by hand).  After --subdivide
+ * the surface passes through the limit point (patch 0's corner (0, 0) is that vertex), also with
+ * --limit-points; with --no-limit-points through the control vertex, 25/9.  Without --subdivide the
+ * cube's own corner (-5, -5, -5) is interpolated, unless --limit-points moves it to its limit,
+ * (9 (-5) + 4 (-5) + 5) / 24 = -2.5 per coordinate (valence 3: three edge neighbours, three
+ * opposite corners).  The ACC surfaces ignore both options, saying so. */
 static void limit_points(void)
 {
     char err[4096];
-    for (int lp = 0; lp < 2; lp++) {
+    static const struct { const char *opts; double want; } S[] = {
+        {"--subdivide 1", -2.5}, {"--subdivide 1 --limit-points", -2.5}, {"--subdivide 1 --no-limit-points", -25.0 / 9},
+        {"", -5.0}, {"--no-limit-points", -5.0}, {"--limit-points", -2.5}};
+    for (size_t i = 0; i < sizeof S / sizeof S[0]; i++) {
         char cmd[256];
-        snprintf(cmd, sizeof cmd, "$Q sample cube.obj --subdivide 1 %s --grid 2 > lp.txt", lp ? "--limit-points" : "");
+        snprintf(cmd, sizeof cmd, "$Q sample cube.obj %s --grid 2 > lp.txt", S[i].opts);
         int rc = run_sh(cmd, err, sizeof err);
         char *s = report("lp.txt");
         int k = -1;
-        double u = -1, v = -1, x = 0, y = 0, z = 0, want = lp ? -2.5 : -25.0 / 9;
+        double u = -1, v = -1, x = 0, y = 0, z = 0, want = S[i].want;
         if (s) sscanf(s, "%d %lf %lf %lf %lf %lf", &k, &u, &v, &x, &y, &z);
         CHECK(rc == 0 && k == 0 && u == 0 && v == 0 && fabs(x - want) < 1e-12 && fabs(y - want) < 1e-12 && fabs(z - want) < 1e-12,
-              "%s: patch 0 at (0, 0) is (%.15g %.15g %.15g), expected %.15g each: %d '%s'", lp ? "--limit-points" : "plain",
-              x, y, z, want, rc, err);
+              "'%s': patch 0 at (0, 0) is (%.15g %.15g %.15g), expected %.15g each: %d '%s'", S[i].opts, x, y, z, want, rc, err);
         free(s);
     }
     /* the report says how far the vertices moved: on the cube subdivided once the most is an edge
      * point's, (3.75, 3.75, 0) -> (x, x, 0) with x = (16 * 3.75 + 4 (5 + 2 * 25/9) + 2 * 3.75) / 36 =
      * 987.5 / 324 (valence 4: two face points and two corners beside it, four edge points opposite),
      * a move of sqrt(2) (3.75 - x) = sqrt(2) 227.5 / 324 on a diagonal of 10 sqrt(3) (a corner moves
-     * sqrt(3) 5/18, a face point 0.80) */
+     * sqrt(3) 5/18, a face point 0.80); 0 through the control vertices */
+    int rc;
     for (int lp = 0; lp < 2; lp++) {
-        int rc = run_sh(lp ? "$Q cube.obj --subdivide 1 --limit-points -q -o lp.json" : "$Q cube.obj --subdivide 1 -q -o lp.json",
-                        err, sizeof err);
+        rc = run_sh(lp ? "$Q cube.obj --subdivide 1 -q -o lp.json" : "$Q cube.obj --subdivide 1 --no-limit-points -q -o lp.json",
+                    err, sizeof err);
         char *js = report("lp.json");
         const char *k = js ? strstr(js, "\"vertices_moved_max_rel\": ") : NULL;
         double mv = k ? strtod(k + strlen("\"vertices_moved_max_rel\": "), NULL) : NAN;
-        CHECK(rc == 0 && (lp ? fabs(mv - sqrt(2.0 / 3) * 227.5 / 3240) < 1e-7 /* 6 digits printed */ : mv == 0), "report's vertices_moved_max_rel %s: %.17g: %d '%s'",
-              lp ? "with --limit-points" : "without", mv, rc, err);
+        CHECK(rc == 0 && (lp ? fabs(mv - sqrt(2.0 / 3) * 227.5 / 3240) < 1e-7 /* 6 digits printed */ : mv == 0),
+              "report's vertices_moved_max_rel %s: %.17g: %d '%s'", lp ? "with limit points" : "without", mv, rc, err);
         free(js);
     }
-    int rc = run_sh("$Q cube.obj --surface acc-g1 --limit-points -o lp.json", err, sizeof err);
+    rc = run_sh("$Q cube.obj --surface acc-g1 --limit-points -o lp.json", err, sizeof err);
     CHECK(rc == 0 && strstr(err, "--limit-points is ignored with --surface acc-g1"), "acc-g1 with --limit-points: %d '%s'", rc, err);
+    rc = run_sh("$Q cube.obj --surface acc3 --no-limit-points -o lp.json", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "--no-limit-points is ignored with --surface acc3"), "acc3 with --no-limit-points: %d '%s'", rc, err);
 }
 
 static void tolerances(void)

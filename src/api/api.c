@@ -66,8 +66,8 @@ static q2n_status check_options(const q2n_options *o, char *errbuf, size_t errle
         return bad(errbuf, errlen, "invalid alpha %g (expected (0, 2], 0 for the default)", o->alpha);
     if (o->subdivide < 0 || o->subdivide > 6)
         return bad(errbuf, errlen, "invalid subdivide %d (expected 0 .. 6)", o->subdivide);
-    if (o->limit_points < 0 || o->limit_points > 1)
-        return bad(errbuf, errlen, "invalid limit_points %d (expected 0 or 1)", o->limit_points);
+    if (o->limit_points < -1 || o->limit_points > 1)
+        return bad(errbuf, errlen, "invalid limit_points %d (expected -1, 0 or 1)", o->limit_points);
     if (o->scale != 0 && !(o->scale >= Q2N_SCALE_MIN && o->scale <= Q2N_SCALE_MAX))
         return bad(errbuf, errlen, "invalid scale %g (expected %g .. %g)", o->scale, Q2N_SCALE_MIN, Q2N_SCALE_MAX);
     if (o->tol != 0 && !(o->tol >= Q2N_TOL_MIN && o->tol <= Q2N_TOL_MAX))

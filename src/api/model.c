@@ -241,9 +241,12 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
                            "(use --subdivide 1 to apply one Catmull-Clark step first)",
                            where, q2n_face_size(m->mesh, f));
     }
-    /* --limit-points: the vertices onto the subdivision surface (the ACC surfaces approximate it
-     * from the control mesh itself) */
-    if (!st && m->opt.limit_points && m->opt.method == Q2N_SURFACE_AUGMENTED) {
+    /* limit points (after --subdivide unless --no-limit-points; --limit-points also without): the
+     * vertices onto the subdivision surface.  The control vertices of a coarse mesh lie off it,
+     * alternately inside and outside, and an interpolant of them ripples where it does not
+     * (docs/mesh.md, "Limit points").  The ACC surfaces approximate it from the control mesh itself. */
+    int limit = m->opt.limit_points > 0 || (m->opt.limit_points == 0 && m->opt.subdivide > 0);
+    if (!st && limit && m->opt.method == Q2N_SURFACE_AUGMENTED) {
         q2n_mesh *lim = NULL;
         st = q2n_mesh_limit_points(m->mesh, &lim, err);
         if (!st) {

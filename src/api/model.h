@@ -34,7 +34,8 @@ typedef struct q2n_model_options {
     int threads;                  /* worker threads of the construction (0: 1; results do not depend on it) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */
-    int limit_points;             /* vertices moved to their Catmull–Clark limit positions (augmented) */
+    int limit_points;             /* vertices moved to their Catmull–Clark limit positions (augmented):
+                                     1 always, -1 never, 0 when subdivide > 0 */
     double scale;                 /* multiplies every output coordinate (0: 1): --scale */
     q2n_progress_sink progress;   /* reports of every stage (fn NULL: none) */
 } q2n_model_options;

@@ -55,8 +55,8 @@ int q2n_options_warnings(const q2n_model_options *mo, const q2n_fit_options *fo,
             if (set & AUG[i].bit)
                 warn(&w, "%s is ignored with --surface %s (it shapes the augmented surface only)", AUG[i].opt, meth);
     if (mo->limit_points && mo->method != Q2N_SURFACE_AUGMENTED)
-        warn(&w, "--limit-points is ignored with --surface %s (its patches approximate the Catmull-Clark limit from "
-                 "the control mesh itself)%s", meth, "");
+        warn(&w, "%s is ignored with --surface %s (its patches approximate the Catmull-Clark limit from the control "
+                 "mesh itself)", mo->limit_points > 0 ? "--limit-points" : "--no-limit-points", meth);
     if ((set & Q2N_GIVEN_ACC_STRATEGY) && mo->method != Q2N_SURFACE_ACC_G1)
         warn(&w, "--acc-strategy is ignored with --surface %s (it chooses the masks of acc-g1 only)%s", meth, "");
     if ((set & Q2N_GIVEN_ALPHA) && mo->method == Q2N_SURFACE_AUGMENTED &&

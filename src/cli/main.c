@@ -58,10 +58,12 @@ static void usage(FILE *f)
           "      --param P         edge parameter intervals: centripetal (default), chordal,\n"
           "                        uniform, mean (ribbon-averaged baseline of the paper)\n"
           "      --alpha A         exponent of |edge|^A for centripetal/mean (default 0.5)\n"
-          "      --subdivide N     apply N Catmull-Clark steps first (needed for non-quad faces)\n"
-          "      --limit-points    move every vertex (after --subdivide) to its Catmull-Clark limit\n"
-          "                        position first: the surface passes through points of the\n"
-          "                        subdivision surface, not through the mesh's own vertices\n"
+          "      --subdivide N     apply N Catmull-Clark steps first (needed for non-quad faces); the\n"
+          "                        surface then passes through the subdivision surface's limit points\n"
+          "      --limit-points    the same without --subdivide: every vertex moved to its\n"
+          "                        Catmull-Clark limit position first (the mesh's own vertices are\n"
+          "                        then not interpolated); --no-limit-points: through the control\n"
+          "                        vertices, also after --subdivide\n"
           "      --scale S         multiply the mesh coordinates by S (default 1)\n"
           "      --units U         unit of the coordinates (after --scale) in the CAD files:\n"
           "                        mm (default), cm, m, in, ft\n"
@@ -169,7 +171,7 @@ static int parse_size(const char *s, double *out)
 enum {
     OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT, OPT_TOL,
     OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_FORMAT, OPT_SCALE, OPT_TOLABS, OPT_ANGLE,
-    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT
+    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT
 };
 
 static const struct option LONGOPTS[] = {
@@ -177,7 +179,7 @@ static const struct option LONGOPTS[] = {
     {"grid", required_argument, 0, OPT_GRID},       {"class", required_argument, 0, OPT_CLASS},
     {"param", required_argument, 0, OPT_PARAM},     {"alpha", required_argument, 0, OPT_ALPHA},
     {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
-    {"limit-points", no_argument, 0, OPT_LIMIT},
+    {"limit-points", no_argument, 0, OPT_LIMIT},   {"no-limit-points", no_argument, 0, OPT_NOLIMIT},
     {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
     {"tol", required_argument, 0, OPT_TOL},         {"threads", required_argument, 0, OPT_THREADS},
     {"units", required_argument, 0, OPT_UNITS},     {"ev-patch", required_argument, 0, OPT_EVPATCH},
@@ -216,6 +218,7 @@ static int parse_option(int c, const char *arg, cli_options *o)
     case OPT_GRID: q->given |= Q2N_GIVEN_GRID; return parse_int(arg, "--grid", 1, 10000, &o->grid) ? 2 : 0;
     case OPT_SUBDIV: return parse_int(arg, "--subdivide", 0, 6, &q->subdivide) ? 2 : 0;
     case OPT_LIMIT: q->limit_points = 1; return 0;
+    case OPT_NOLIMIT: q->limit_points = -1; return 0;
     case OPT_THREADS: q->given |= Q2N_GIVEN_THREADS; return parse_int(arg, "--threads", 1, 4096, &q->threads) ? 2 : 0;
     case OPT_MAXSPANS: return parse_int(arg, "--max-spans", 1, 1024, &q->max_spans) ? 2 : 0;
     case OPT_GLUING:
