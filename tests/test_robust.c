@@ -41,13 +41,14 @@ static q2n_mesh *scaled_mesh(int cube, double s, double off, const char *name)
 }
 
 /* The model of mesh with the default options but ev_patch and subdivide. */
-static q2n_model *build_with(q2n_mesh *mesh, int ev_patch, int subdivide)
+static q2n_model *build_lp(q2n_mesh *mesh, int ev_patch, int subdivide, int limit_points)
 {
     q2n_model_options mo;
     memset(&mo, 0, sizeof mo);
     mo.param.alpha = NAN;
     mo.ev_patch = ev_patch;
     mo.subdivide = subdivide;
+    mo.limit_points = limit_points;
     q2n_model *m = NULL;
     q2n_error err;
     if (!mesh) return NULL;
@@ -58,7 +59,26 @@ static q2n_model *build_with(q2n_mesh *mesh, int ev_patch, int subdivide)
     return m;
 }
 
+static q2n_model *build_with(q2n_mesh *mesh, int ev_patch, int subdivide) { return build_lp(mesh, ev_patch, subdivide, 0); }
 static q2n_model *build(q2n_mesh *mesh) { return build_with(mesh, 0, 0); }
+
+/* A 3 x 3 x 3-quad cube on [-1/2, 1/2]^3 whose corner (1/2, 1/2, 1/2) is pulled up to z = 3: a skewed
+ * spike (its tip faces long, thin and sheared). */
+static q2n_mesh *skew_spike(void)
+{
+    int cells[27][3], k = 0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int l = 0; l < 3; l++) cells[k][0] = i, cells[k][1] = j, cells[k][2] = l, k++;
+    q2n_mesh *m = mg_polycube(27, (const int (*)[3])cells, "skewed spike");
+    for (int v = 0; m && v < m->nv; v++) {
+        double *p = m->pos + 3 * (size_t)v;
+        int tip = p[0] == 3 && p[1] == 3 && p[2] == 3;
+        for (int c = 0; c < 3; c++) p[c] = p[c] / 3 - 0.5;
+        if (tip) p[2] = 3;
+    }
+    return m;
+}
 
 static q2n_status fit(q2n_model *m, q2n_error *err)
 {
@@ -351,6 +371,19 @@ static void test_folds(void)
     for (int i = 0; i < 2; i++) {
         m = i ? build_with(mg_thin_plate(4, 0.01), 0, 1) : build_with(mg_thin_plate(4, 0.01), Q2N_EV_PATCH_G1, 0);
         CHECK(m && m->folded == 0, "thin plate with %s: %d faces fold (%s)", i ? "--subdivide 1" : "G1 patches",
+              m ? m->folded : -1, m ? m->warning : "");
+        q2n_model_free(m);
+    }
+    /* the skewed spike after one subdivision step: through the limit points (the default after
+     * --subdivide) one face folds, and the warning offers the control vertices and one more step,
+     * each of which avoids it */
+    m = build_with(skew_spike(), 0, 1);
+    CHECK(m && m->folded >= 1 && strstr(m->warning, "--no-limit-points") && strstr(m->warning, "--subdivide 2"),
+          "skewed spike, --subdivide 1: %d folds, warning '%s'", m ? m->folded : -1, m ? m->warning : "");
+    q2n_model_free(m);
+    for (int i = 0; i < 2; i++) {
+        m = i ? build_with(skew_spike(), 0, 2) : build_lp(skew_spike(), 0, 1, -1);
+        CHECK(m && m->folded == 0, "skewed spike with %s: %d faces fold (%s)", i ? "--subdivide 2" : "--no-limit-points",
               m ? m->folded : -1, m ? m->warning : "");
         q2n_model_free(m);
     }
