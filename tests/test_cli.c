@@ -252,8 +252,7 @@ static void limit_points(void)
         rc = run_sh(lp ? "$Q cube.obj --subdivide 1 -q -o lp.json" : "$Q cube.obj --subdivide 1 --no-limit-points -q -o lp.json",
                     err, sizeof err);
         char *js = report("lp.json");
-        const char *k = js ? strstr(js, "\"vertices_moved_max_rel\": ") : NULL;
-        double mv = k ? strtod(k + strlen("\"vertices_moved_max_rel\": "), NULL) : NAN;
+        double mv = jnum(js, "vertices_moved_max_rel");
         CHECK(rc == 0 && (lp ? fabs(mv - sqrt(2.0 / 3) * 227.5 / 3240) < 1e-7 /* 6 digits printed */ : mv == 0),
               "report's vertices_moved_max_rel %s: %.17g: %d '%s'", lp ? "with limit points" : "without", mv, rc, err);
         free(js);

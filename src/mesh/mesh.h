@@ -93,6 +93,9 @@ void q2n_mesh_free(q2n_mesh *m); /* NULL is a no-op */
 /* Where a message about vertex v points: "NAME:LINE" (the input line of a face at v), or
  * "NAME: face F" when the mesh has no lines; the message goes on with "vertex V (of this face)". */
 void q2n_mesh_vertex_where(const q2n_mesh *m, int v, char *buf, size_t n);
+/* Where a message about face f points: "NAME:LINE" (its input line), or "NAME"; the message goes on
+ * with ": face F ...", as the validation messages do. */
+void q2n_mesh_face_where(const q2n_mesh *m, int f, char *buf, size_t n);
 
 /* Internal consistency check of the half-edge structure (tests): Q2N_OK or a message. */
 q2n_status q2n_mesh_check(const q2n_mesh *m, q2n_error *err);

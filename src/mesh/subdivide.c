@@ -17,7 +17,6 @@
 #include "mesh/mesh.h"
 
 #include <limits.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -204,11 +203,9 @@ q2n_status q2n_mesh_limit_points(const q2n_mesh *m, q2n_mesh **out, q2n_error *e
         }
         if (q2n_face_size(m, f) != 4) {
             char where[300];
-            int line = m->face_line ? m->face_line[f] : 0;
-            if (line > 0) snprintf(where, sizeof where, "%s:%d: face %d", m->name, line, f);
-            else snprintf(where, sizeof where, "%s: face %d", m->name, f);
-            st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s has %d vertices; limit points need quads around every "
-                               "interior vertex (subdivide first)", where, q2n_face_size(m, f));
+            q2n_mesh_face_where(m, f, where, sizeof where);
+            st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED, "%s: face %d has %d vertices; limit points need quads around "
+                               "every interior vertex (subdivide first)", where, f, q2n_face_size(m, f));
             goto done;
         }
         q2n_v3_add(es + 3 * (size_t)a, es + 3 * (size_t)a, q2n_mesh_vpos(m, q2n_he_dest(m, h)));

@@ -39,6 +39,8 @@ static void line_note(char *buf, size_t n, const int *face_line, int f)
     else buf[0] = '\0';
 }
 
+void q2n_mesh_face_where(const q2n_mesh *m, int f, char *buf, size_t n) { face_loc(buf, n, m->name, m->face_line, f); }
+
 void q2n_mesh_vertex_where(const q2n_mesh *m, int v, char *buf, size_t n)
 {
     int f = m->vert_he[v] >= 0 ? m->he_face[m->vert_he[v]] : 0, line = m->face_line ? m->face_line[f] : 0;

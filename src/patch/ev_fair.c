@@ -953,49 +953,74 @@ static int fold_scan(fe_build *B, const int *faces, int nfaces, const cp_patch *
     return folded;
 }
 
+/* What the solve and the fold guard share: the system, the forms, the faces and their patches,
+ * work space, and the vertices held so far. */
+typedef struct fe_solve {
+    fe_build *B;
+    fe_sys *Y;
+    const fe_form *F;
+    const int *faces;
+    int nfaces;
+    const cp_patch *P;
+    const fe_ctx *FX;
+    int threads;
+    double *v3, *srt; /* nfaces doubles each (energy_passes) */
+    char *held;       /* per vertex: its jets held by the guard */
+    int nheld;        /* vertices held so far */
+} fe_solve;
+
+/* energy_passes towards x0, the jets and bubbles from the solution X, then fold_scan (holding the
+ * corners of faces that fold); *folded: their number. */
+static q2n_status solve_scan(fe_solve *S, const double *x0, double *X, int *folded, q2n_error *err)
+{
+    q2n_status st = energy_passes(S->B, S->Y, S->nfaces, S->F, S->v3, S->srt, x0, X, err);
+    if (st) return st;
+    put_solution(S->B, S->nfaces, X);
+    *folded = fold_scan(S->B, S->faces, S->nfaces, S->P, S->FX, S->threads, S->held, &S->nheld);
+    return *folded < 0 ? q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)") : Q2N_OK;
+}
+
 /* The fold guard's second stage, where holding the local estimates left folds (*folds_left > 0,
  * the kept solution Xkept in B): at a tip sharper than the estimates can turn, their tangents are
  * too long for the turn the tip faces must make within their first quads.  The held jets are
  * shrunk toward the vertex (order 1 by EV_FOLD_SHRINK, order 2 by its square, orders 3 and 4 held
  * at zero) and the passes repeated, up to EV_FOLD_SHRINKS times, each shrinking once more and
  * holding the corners of faces newly folded; the solution with the fewest folded faces is kept,
- * Xkept when none has fewer.  *shrinks: the halvings of the kept solution. */
-static q2n_status shrink_stage(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX, int threads,
-                               fe_sys *Y, const fe_form *F, double *v3, double *srt, const double *x0, const double *Xkept,
-                               char *held, int *held_vertices, int *folds_left, int *shrinks, q2n_error *err)
+ * Xkept when none has fewer (then *held_vertices stays).  *shrinks: the halvings of the kept
+ * solution. */
+static q2n_status shrink_stage(fe_solve *S, const double *x0, const double *Xkept, int *held_vertices, int *folds_left,
+                               int *shrinks, q2n_error *err)
 {
-    const q2n_mesh *m = B->m;
+    fe_build *B = S->B;
     size_t n3 = 3 * (size_t)B->nvar;
     double *xs = malloc(n3 * sizeof *xs), *X = malloc(n3 * sizeof *X), *Xb = malloc(n3 * sizeof *Xb);
     q2n_status st = Q2N_OK;
-    int best = *folds_left, nheld = *held_vertices, kept = 0;
+    int best = *folds_left, kept = 0;
     if (!xs || !X || !Xb) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold guard)"); goto done; }
     double f1 = 1;
     for (int k = 1; k <= EV_FOLD_SHRINKS && best > 0; k++) {
         f1 *= EV_FOLD_SHRINK;
         memcpy(xs, x0, n3 * sizeof *xs);
-        for (int v = 0; v < m->nv; v++) {
-            if (!held[v]) continue;
-            for (int s = EV_SLOT(1, 0); s < EV_JS; s++) {
-                int x = B->var[v * EV_JS + s];
+        for (int v = 0; v < B->m->nv; v++) {
+            if (!S->held[v]) continue;
+            for (int j = EV_SLOT(1, 0); j < EV_JS; j++) {
+                int x = B->var[v * EV_JS + j];
                 if (x < 0) continue;
-                double f = s <= EV_SLOT(1, 1) ? f1 : s <= EV_SLOT(2, 2) ? f1 * f1 : 0;
+                double f = j <= EV_SLOT(1, 1) ? f1 : j <= EV_SLOT(2, 2) ? f1 * f1 : 0;
                 for (int c = 0; c < 3; c++) xs[3 * x + c] *= f;
                 B->ridge[x] = RIDGE_HELD;
             }
         }
-        if ((st = energy_passes(B, Y, nfaces, F, v3, srt, xs, X, err))) goto done;
-        put_solution(B, nfaces, X);
-        int folded = fold_scan(B, faces, nfaces, P, FX, threads, held, &nheld);
-        if (folded < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+        int folded;
+        if ((st = solve_scan(S, xs, X, &folded, err))) goto done;
         if (folded < best) {
             best = folded;
             kept = k;
             memcpy(Xb, X, n3 * sizeof *Xb);
-            *held_vertices = nheld;
+            *held_vertices = S->nheld;
         }
     }
-    put_solution(B, nfaces, kept ? Xb : Xkept);
+    put_solution(B, S->nfaces, kept ? Xb : Xkept);
     *folds_left = best;
     *shrinks = kept;
 done:
@@ -1049,35 +1074,26 @@ static q2n_status fair_solve(fe_build *B, const int *faces, int nfaces, const cp
             int x = B->var[v * EV_JS + k];
             if (x >= 0) memcpy(x0 + 3 * x, B->jet[v][k], 3 * sizeof(double));
         }
+    fe_solve S = {B, &Y, F, faces, nfaces, P, FX, threads, v3, srt, held, 0};
     for (int pass = 0;; pass++) {
-        if ((st = energy_passes(B, &Y, nfaces, F, v3, srt, x0, X, err))) goto done;
-        put_solution(B, nfaces, X);
-        int held_before = *held_vertices, folded = fold_scan(B, faces, nfaces, P, FX, threads, held, held_vertices);
-        int grew = *held_vertices > held_before;
-        if (folded < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+        int held_before = S.nheld, folded;
+        if ((st = solve_scan(&S, x0, X, &folded, err))) goto done;
         if (pass == 0) {
             folds0 = folded;
             if (folded) memcpy(X0, X, 3 * (size_t)n * sizeof *X);
         }
+        if (folded && S.nheld > held_before && pass < EV_FOLD_PASSES) continue;
+        const double *Xkept = X;
         *folds_left = folded;
-        if (!folded || !grew || pass + 1 > EV_FOLD_PASSES) {
-            int nheld = *held_vertices;
-            const double *Xkept = X;
-            if (pass > 0 && folded >= folds0) { /* the guard did not help: the energy's own solution */
-                Xkept = X0;
-                put_solution(B, nfaces, X0);
-                *folds_left = folds0;
-                *held_vertices = 0;
-            }
-            if (*folds_left > 0 && nheld > 0) {
-                int shown = *held_vertices;
-                *held_vertices = nheld; /* the stage counts every vertex held so far */
-                st = shrink_stage(B, faces, nfaces, P, FX, threads, &Y, F, v3, srt, x0, Xkept, held, held_vertices,
-                                  folds_left, shrinks, err);
-                if (!*shrinks) *held_vertices = shown;
-            }
-            break;
+        *held_vertices = S.nheld;
+        if (pass > 0 && folded >= folds0) { /* the guard did not help: the energy's own solution */
+            Xkept = X0;
+            put_solution(B, nfaces, X0);
+            *folds_left = folds0;
+            *held_vertices = 0;
         }
+        if (*folds_left > 0 && S.nheld > 0) st = shrink_stage(&S, x0, Xkept, held_vertices, folds_left, shrinks, err);
+        break;
     }
 done:
     sys_free(&Y);
