@@ -34,7 +34,8 @@ int q2n_bspline_span(int n, int p, const double *knots, double t)
 /* A2.3 of the NURBS Book: the triangular table of basis functions (upper triangle) and knot
  * differences (lower), then the derivative recurrence eq. (2.10) up to order nder.  A zero knot
  * difference (a repeated knot) contributes nothing, as the convention 0/0 = 0 of eq. (2.5) says. */
-void q2n_bspline_basis(int i, int p, const double *knots, double t, int nder, double *ders)
+static inline __attribute__((always_inline)) void basis(int i, int p, const double *knots, double t, int nder,
+                                                        double *ders)
 {
     if (nder == 0) {   /* A2.2: the same recurrence on one row (the same operations, so the same bits) */
         double left[Q2N_BSPLINE_MAX_DEG + 1], right[Q2N_BSPLINE_MAX_DEG + 1];
@@ -102,6 +103,21 @@ void q2n_bspline_basis(int i, int p, const double *knots, double t, int nder, do
         for (int j = 0; j <= p; j++) ders[k * w + j] *= f;
         f *= p - k;
     }
+}
+
+/* The fit's and the export's degree with the derivative counts they ask for get copies compiled for
+ * those constants (unrolled loops: the same operations in the same order, so the same bits; a
+ * fifth of the fit's instructions were this function's loop control). */
+void q2n_bspline_basis(int i, int p, const double *knots, double t, int nder, double *ders)
+{
+    if (p == 5) {
+        if (nder == 2) basis(i, 5, knots, t, 2, ders);
+        else if (nder == 1) basis(i, 5, knots, t, 1, ders);
+        else if (nder == 0) basis(i, 5, knots, t, 0, ders);
+        else basis(i, 5, knots, t, nder, ders);
+        return;
+    }
+    basis(i, p, knots, t, nder, ders);
 }
 
 void q2n_bspline_eval(const q2n_bspline_surface *s, double u, double v, double p[3], double du[3],

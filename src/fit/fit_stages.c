@@ -88,12 +88,11 @@ void q2n_fit_side_spline(const fit_ctx *c, const fit_side *sd, const double Ns[3
     double Nt[3][Q2N_FIT_DEG + 1], R[3][3][3];   /* R[j][a]: d^a/dt^a of control row j's curve */
     int span = q2n_fit_span(sd->nt, sd->kt, t);
     q2n_fit_basis(span, sd->kt, t, 2, Nt);
-    for (int j = 0; j < 3; j++)
-        for (int a = 0; a + j < 3; a++) {
-            double *r = R[j][a];
-            r[0] = r[1] = r[2] = 0.0;
-            for (int q = 0; q <= Q2N_FIT_DEG; q++)
-                q2n_v3_axpy(r, Nt[a][q], p->cp + 3 * (size_t)q2n_fit_side_g(c, sd, span - Q2N_FIT_DEG + q, j));
+    memset(R, 0, sizeof R);
+    for (int q = 0; q <= Q2N_FIT_DEG; q++)   /* each sum over q in ascending order, as one loop per sum */
+        for (int j = 0; j < 3; j++) {
+            const double *P = p->cp + 3 * (size_t)q2n_fit_side_g(c, sd, span - Q2N_FIT_DEG + q, j);
+            for (int a = 0; a + j < 3; a++) q2n_v3_axpy(R[j][a], Nt[a][q], P);
         }
     /* d^a/dt^a d^b/ds^b S(t, 0) = sum_{j <= b} N_j^(b)(0) R[j][a] (the across basis of a clamped
      * knot vector has N_j^(b)(0) = 0 for j > b); the slots in q2n_eval_order with (t, s) for (u, v) */
