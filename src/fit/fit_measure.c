@@ -17,21 +17,41 @@
 
 #define FIT_SQRT1_2 0.70710678118654752440
 
-/* Normal-curvature of a surface (derivatives d[18], unit normal n) in the tangent direction
+typedef struct side_forms {
+    const double *Su, *Sv;
+    double E, F, G, det;   /* first fundamental form; det = |Su x Sv|^2 = EG - F^2 without cancellation */
+    double L, M, N;        /* second fundamental form against the unit normal */
+} side_forms;
+
+/* The fundamental forms of derivatives d with unit normal n (computed once per side: every
+ * direction's curvature below uses the same values). */
+static void side_forms_of(const double *d, const double n[3], side_forms *f)
+{
+    double c[3];
+    f->Su = d + Q2N_EV_U;
+    f->Sv = d + Q2N_EV_V;
+    f->E = q2n_v3_dot(f->Su, f->Su);
+    f->F = q2n_v3_dot(f->Su, f->Sv);
+    f->G = q2n_v3_dot(f->Sv, f->Sv);
+    q2n_v3_cross(c, f->Su, f->Sv);
+    f->det = q2n_v3_dot(c, c);
+    f->L = q2n_v3_dot(d + Q2N_EV_UU, n);
+    f->M = q2n_v3_dot(d + Q2N_EV_UV, n);
+    f->N = q2n_v3_dot(d + Q2N_EV_VV, n);
+}
+
+/* Normal-curvature of a surface (its fundamental forms f) in the tangent direction
  * closest to w: w = a Su + b Sv in the least-squares sense, kappa = II(a,b) / I(a,b).  0 where the
  * parametrization is singular (Su x Sv = 0: no tangent plane, no curvature to compare): returns
  * 0 then, else 1. */
-static int normal_curvature(const double *d, const double n[3], const double w[3], double *kappa)
+static int normal_curvature(const side_forms *f, const double w[3], double *kappa)
 {
-    const double *Su = d + Q2N_EV_U, *Sv = d + Q2N_EV_V;
-    double E = q2n_v3_dot(Su, Su), F = q2n_v3_dot(Su, Sv), G = q2n_v3_dot(Sv, Sv), c[3];
-    q2n_v3_cross(c, Su, Sv);
-    double pu = q2n_v3_dot(w, Su), pv = q2n_v3_dot(w, Sv), det = q2n_v3_dot(c, c); /* = EG - F^2, without cancellation */
+    double pu = q2n_v3_dot(w, f->Su), pv = q2n_v3_dot(w, f->Sv), det = f->det;
     if (!(det > 0)) return 0;
+    double E = f->E, F = f->F, G = f->G;
     double a = (G * pu - F * pv) / det, b = (E * pv - F * pu) / det;
-    double L = q2n_v3_dot(d + Q2N_EV_UU, n), M = q2n_v3_dot(d + Q2N_EV_UV, n), N = q2n_v3_dot(d + Q2N_EV_VV, n);
     double I = a * a * E + 2 * a * b * F + b * b * G;
-    *kappa = (a * a * L + 2 * a * b * M + b * b * N) / I;
+    *kappa = (a * a * f->L + 2 * a * b * f->M + b * b * f->N) / I;
     return I > 0 && isfinite(*kappa);
 }
 
@@ -61,11 +81,14 @@ void q2n_fit_jumps(const double *dL, const double *dR, const double T[3], double
     q2n_v3_scale(t, 1.0 / lt, T);
     q2n_v3_cross(x, nL, t);
     double jmax = 0.0, kmax = 1.0 / diag;
+    side_forms fL, fR;
+    side_forms_of(dL, nL, &fL);
+    side_forms_of(dR, nR, &fR);
     for (int k = 0; k < 3; k++) {
         for (int c3 = 0; c3 < 3; c3++)
             w[c3] = k == 0 ? t[c3] : k == 1 ? x[c3] : (t[c3] + x[c3]) * FIT_SQRT1_2;
         double kl, kr;
-        if (!normal_curvature(dL, nL, w, &kl) || !normal_curvature(dR, nR, w, &kr)) return; /* singular: g2 stays 0 */
+        if (!normal_curvature(&fL, w, &kl) || !normal_curvature(&fR, w, &kr)) return; /* singular: g2 stays 0 */
         if (fabs(kl - kr) > jmax) jmax = fabs(kl - kr);
         if (fabs(kl) > kmax) kmax = fabs(kl);
         if (fabs(kr) > kmax) kmax = fabs(kr);
