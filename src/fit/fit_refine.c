@@ -8,7 +8,8 @@
  *    differences of the construction around the worst cell: the quintic error term is
  *    ~ h^6 |d^6 S| per direction) — an interior knot of that patch only; unless every failing
  *    cell of the patch lies next to a side whose edge is being split there this round (then the
- *    patch waits for the refitted edge: near_split);
+ *    patch waits for the refitted edge: near_split); cells next to such a side do not count
+ *    towards the splits of a patch that does not wait either, unless no round is left after this;
  *  - an edge whose curve, or whose cross rows where its gluing is exact, are off bisects that span
  *    of the edge's own knots, which both neighbours (and only they) take up;
  *  - an edge whose G1 or G2 relation is least squares and misses Q2N_FIT_REFINE_AIM of its target
@@ -313,11 +314,19 @@ int q2n_fit_refine(fit_ctx *c)
         if (wait) continue;
         double *ru = calloc((size_t)p->mu, sizeof(double)), *rv = calloc((size_t)p->mv, sizeof(double));
         if (!ru || !rv) { free(ru); free(rv); continue; }
+        /* a failing cell beside an edge being split there this round is judged again after that
+         * edge's refit, like a patch all of whose failing cells are such (above), unless no round is
+         * left to judge it: the cells elsewhere decide this round's splits.  Counting them too
+         * bisected whole patches for bands the edges' own refinement removes (a patch failing by
+         * 8 x tol in a band along a side being split and by 2 x next to another side had every span
+         * split in both directions, where the cells by the other side ask for some v spans) */
+        int defer = c->round + 2 < c->o.max_rounds;
         for (int j = 0; j < p->ncv; j++)
             for (int i = 0; i < p->ncu; i++) {
                 double r = p->cell[(size_t)j * p->ncu + i] / tol;
                 if (!(r > 1)) continue;
                 int iu = i / Q2N_FIT_SAMPLES_PER_SPAN, iv = j / Q2N_FIT_SAMPLES_PER_SPAN;
+                if (defer && near_split(p, iu, iv, reach, lo, hi)) continue;
                 /* each refined direction takes its share of the error */
                 if (dirs[0] && r * p->share[0] > ru[iu]) ru[iu] = fmax(r * p->share[0], 1.0001);
                 if (dirs[1] && r * p->share[1] > rv[iv]) rv[iv] = fmax(r * p->share[1], 1.0001);
