@@ -106,8 +106,9 @@ static inline __attribute__((always_inline)) void basis(int i, int p, const doub
 }
 
 /* The fit's and the export's degree with the derivative counts they ask for get copies compiled for
- * those constants (unrolled loops: the same operations in the same order, so the same bits; a
- * fifth of the fit's instructions were this function's loop control). */
+ * those constants (unrolled loops: the same operations in the same order, so the same bits).  With
+ * p and nder known only at run time this function was 18 % of a fit's instructions, ~1 660 a call,
+ * mostly loop control; ~600 now (docs/fit.md, "Measured"). */
 void q2n_bspline_basis(int i, int p, const double *knots, double t, int nder, double *ders)
 {
     if (p == 5) {
