@@ -445,6 +445,33 @@ static void internals(void)
             }
         }
         CHECK(smax <= 1e-12, "side evaluation vs the general one in the side's frame: %g", smax);
+        /* the same frames from each span's polynomial expansion (q2n_fit_side_poly_at / _frame, the
+         * dense jump samples of fit.c), expanded at every span start of the side's knots and summed
+         * at 9 points of the span, its ends included */
+        double pmax = 0;
+        int npts = 0;
+        for (int i = 0; i < 4; i++) {
+            fit_side sd = q2n_fit_make_side(&fc, 0, i);
+            double Ns[3][Q2N_FIT_DEG + 1];
+            q2n_fit_basis(Q2N_FIT_DEG, sd.ks, 0.0, 2, Ns);
+            for (int sp = Q2N_FIT_DEG; sp < sd.nt; sp++) {
+                double a = sd.kt[sp], b = sd.kt[sp + 1];
+                if (!(b > a)) continue;
+                q2n_fit_side_poly C;
+                q2n_fit_side_poly_at(&fc, &sd, a, C);
+                for (int q = 0; q <= 8; q++) {
+                    double t = a + (b - a) * q / 8.0, u, v, o[18], D[6][3], F[6][3];
+                    q2n_side_uv(i, t, 0.0, &u, &v);
+                    q2n_fit_surface_eval(&b2, u, v, 2, o);
+                    q2n_side_derivs(i, 2, o, D);
+                    q2n_fit_side_poly_frame(C, Ns, t - a, F);
+                    for (int r = 0; r < 6; r++)
+                        for (int c = 0; c < 3; c++) pmax = fmax(pmax, fabs(F[r][c] - D[r][c]) / (1 + fabs(D[r][c])));
+                    npts++;
+                }
+            }
+        }
+        CHECK(npts >= 4 * 3 * 9 && pmax <= 1e-11, "span polynomials vs the general evaluation: %g at %d points", pmax, npts);
     }
 
     q2n_fit_ls ls;

@@ -140,52 +140,6 @@ static int fit_regular_frame(const double F[6][3])
     return q2n_v3_norm(n) >= Q2N_FIT_JUMP_MIN_SIN * q2n_v3_norm(F[1]) * q2n_v3_norm(F[2]);
 }
 
-/* The first three control rows of side sd on the span of its knots that starts at or contains t0,
- * as polynomials in d = t - t0: C[j][a][k] is the coefficient of d^k in the a-th derivative of row
- * j's curve (a + j <= 2, the derivatives a side frame needs), from the along basis's derivatives up
- * to the degree at t0 (A2.3) divided by the factorials. */
-typedef double side_poly[3][3][Q2N_FIT_DEG + 1][3];
-
-static void side_rows_taylor(const fit_ctx *c, const fit_side *sd, double t0, side_poly C)
-{
-    const fit_patch *p = &c->p[sd->k];
-    double N[Q2N_FIT_DEG + 1][Q2N_FIT_DEG + 1];
-    int span = q2n_fit_span(sd->nt, sd->kt, t0);
-    q2n_bspline_basis(span, Q2N_FIT_DEG, sd->kt, t0, Q2N_FIT_DEG, N[0]);
-    memset(C, 0, sizeof(side_poly));
-    for (int j = 0; j < 3; j++)
-        for (int q = 0; q <= Q2N_FIT_DEG; q++) {
-            const double *P = p->cp + 3 * (size_t)q2n_fit_side_g(c, sd, span - Q2N_FIT_DEG + q, j);
-            double f = 1.0;
-            for (int k = 0; k <= Q2N_FIT_DEG; k++) {
-                if (k) f /= k;
-                q2n_v3_axpy(C[j][0][k], N[k][q] * f, P);
-            }
-        }
-    for (int j = 0; j < 2; j++)   /* derivatives: d/dd sum c_k d^k = sum (k + 1) c_(k+1) d^k */
-        for (int a = 1; a + j < 3; a++)
-            for (int k = 0; k + a <= Q2N_FIT_DEG; k++) q2n_v3_axpy(C[j][a][k], k + 1.0, C[j][a - 1][k + 1]);
-}
-
-/* The side's frame (the layout of q2n_fit_side_spline) at t0 + d from side_rows_taylor's C: Horner
- * sums of the rows' polynomials, then the across basis Ns at 0. */
-static void side_frame_taylor(side_poly C, const double Ns[3][Q2N_FIT_DEG + 1], double d, double F[6][3])
-{
-    double R[3][3][3];   /* R[j][a]: d^a/dt^a of row j's curve */
-    for (int j = 0; j < 3; j++)
-        for (int a = 0; a + j < 3; a++) {
-            double v[3] = {0, 0, 0};
-            for (int k = Q2N_FIT_DEG - a; k >= 0; k--)
-                for (int x = 0; x < 3; x++) v[x] = v[x] * d + C[j][a][k][x];
-            memcpy(R[j][a], v, sizeof v);
-        }
-    for (int o = 0; o < 6; o++) {
-        int a = q2n_eval_order[o][0], b = q2n_eval_order[o][1];
-        F[o][0] = F[o][1] = F[o][2] = 0.0;
-        for (int j = 0; j <= b; j++) q2n_v3_axpy(F[o], Ns[b][j], R[j][a]);
-    }
-}
-
 /* The fitted jumps of edge E between its check points: at least Q2N_FIT_JUMP_SAMPLES evenly spaced
  * points per span of the union of both sides' knots along the edge and Q2N_FIT_JUMP_SAMPLES_EDGE per
  * unit of its parameter, the knots included (the fitted sides only: no construction values).  The
@@ -211,15 +165,15 @@ static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2
         int ns = (int)ceil(Q2N_FIT_JUMP_SAMPLES_EDGE * (brk[s + 1] - brk[s]));
         if (ns < Q2N_FIT_JUMP_SAMPLES) ns = Q2N_FIT_JUMP_SAMPLES;
         /* L's parameter t runs from brk[s] to brk[s + 1]; R's, 1 - t, from 1 - brk[s + 1] to 1 - brk[s] */
-        side_poly C[2];
+        q2n_fit_side_poly C[2];
         double t0[2] = {brk[s], 1.0 - brk[s + 1]};
-        side_rows_taylor(c, &sd[0], t0[0], C[0]);
-        side_rows_taylor(c, &sd[1], t0[1], C[1]);
+        q2n_fit_side_poly_at(c, &sd[0], t0[0], C[0]);
+        q2n_fit_side_poly_at(c, &sd[1], t0[1], C[1]);
         for (int q = 0; q <= ns; q++) {
             if (q == ns && s + 2 < nb) continue;   /* the next span's first point */
             double t = brk[s] + (brk[s + 1] - brk[s]) * q / ns, f[2][6][3], j1, j2;
-            side_frame_taylor(C[0], Ns[0], t - t0[0], f[0]);
-            side_frame_taylor(C[1], Ns[1], (1.0 - t) - t0[1], f[1]);
+            q2n_fit_side_poly_frame(C[0], Ns[0], t - t0[0], f[0]);
+            q2n_fit_side_poly_frame(C[1], Ns[1], (1.0 - t) - t0[1], f[1]);
             if (!fit_regular_frame(f[0]) || !fit_regular_frame(f[1])) continue;
             q2n_fit_jumps(f[0][0], f[1][0], f[0][1], c->diag, &j1, &j2);
             if (!(j1 <= E->g1d)) E->g1d = j1;

@@ -103,6 +103,50 @@ void q2n_fit_side_spline(const fit_ctx *c, const fit_side *sd, const double Ns[3
     }
 }
 
+/* The first three control rows of side sd on the span of its knots that starts at or contains t0,
+ * as polynomials in d = t - t0: C[j][a][k] is the coefficient of d^k in the a-th derivative of row
+ * j's curve (a + j <= 2, the derivatives a side frame needs), from the along basis's derivatives up
+ * to the degree at t0 (A2.3) divided by the factorials. */
+void q2n_fit_side_poly_at(const fit_ctx *c, const fit_side *sd, double t0, q2n_fit_side_poly C)
+{
+    const fit_patch *p = &c->p[sd->k];
+    double N[Q2N_FIT_DEG + 1][Q2N_FIT_DEG + 1];
+    int span = q2n_fit_span(sd->nt, sd->kt, t0);
+    q2n_bspline_basis(span, Q2N_FIT_DEG, sd->kt, t0, Q2N_FIT_DEG, N[0]);
+    memset(C, 0, sizeof(q2n_fit_side_poly));
+    for (int j = 0; j < 3; j++)
+        for (int q = 0; q <= Q2N_FIT_DEG; q++) {
+            const double *P = p->cp + 3 * (size_t)q2n_fit_side_g(c, sd, span - Q2N_FIT_DEG + q, j);
+            double f = 1.0;
+            for (int k = 0; k <= Q2N_FIT_DEG; k++) {
+                if (k) f /= k;
+                q2n_v3_axpy(C[j][0][k], N[k][q] * f, P);
+            }
+        }
+    for (int j = 0; j < 2; j++)   /* derivatives: d/dd sum c_k d^k = sum (k + 1) c_(k+1) d^k */
+        for (int a = 1; a + j < 3; a++)
+            for (int k = 0; k + a <= Q2N_FIT_DEG; k++) q2n_v3_axpy(C[j][a][k], k + 1.0, C[j][a - 1][k + 1]);
+}
+
+/* The side's frame (the layout of q2n_fit_side_spline) at t0 + d from q2n_fit_side_poly_at's C: Horner
+ * sums of the rows' polynomials, then the across basis Ns at 0. */
+void q2n_fit_side_poly_frame(q2n_fit_side_poly C, const double Ns[3][Q2N_FIT_DEG + 1], double d, double F[6][3])
+{
+    double R[3][3][3];   /* R[j][a]: d^a/dt^a of row j's curve */
+    for (int j = 0; j < 3; j++)
+        for (int a = 0; a + j < 3; a++) {
+            double v[3] = {0, 0, 0};
+            for (int k = Q2N_FIT_DEG - a; k >= 0; k--)
+                for (int x = 0; x < 3; x++) v[x] = v[x] * d + C[j][a][k][x];
+            memcpy(R[j][a], v, sizeof v);
+        }
+    for (int o = 0; o < 6; o++) {
+        int a = q2n_eval_order[o][0], b = q2n_eval_order[o][1];
+        F[o][0] = F[o][1] = F[o][2] = 0.0;
+        for (int j = 0; j <= b; j++) q2n_v3_axpy(F[o], Ns[b][j], R[j][a]);
+    }
+}
+
 const char *q2n_fit_edge_where(const fit_ctx *c, int e, char *buf, size_t n)
 {
     int h = c->m->edge_he[e], t = c->m->he_twin[h];

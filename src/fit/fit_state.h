@@ -174,6 +174,14 @@ int q2n_fit_edge_sides(const fit_ctx *c, int e, fit_side *L, fit_side *R);
  * first nder + 1 rows of control points are read — a third of a general evaluation's work. */
 void q2n_fit_side_spline(const fit_ctx *c, const fit_side *sd, const double Ns[3][Q2N_FIT_DEG + 1], double t,
                          double F[6][3]);
+/* Side sd's first three control rows on the span of its knots that starts at or contains t0, as
+ * polynomials in d = t - t0 with their derivatives: C[j][a][k] is the coefficient of d^k in the
+ * a-th derivative of row j's curve (a + j <= 2); q2n_fit_side_poly_frame sums them at t0 + d into
+ * q2n_fit_side_spline's frame (the same values to rounding, a tenth of the work per point where many
+ * points share a span: fit.c's dense jump samples). */
+typedef double q2n_fit_side_poly[3][3][Q2N_FIT_DEG + 1][3];
+void q2n_fit_side_poly_at(const fit_ctx *c, const fit_side *sd, double t0, q2n_fit_side_poly C);
+void q2n_fit_side_poly_frame(q2n_fit_side_poly C, const double Ns[3][Q2N_FIT_DEG + 1], double d, double F[6][3]);
 /* "face F" or "between face F and face G" for messages about edge e; returns buf. */
 const char *q2n_fit_edge_where(const fit_ctx *c, int e, char *buf, size_t n);
 /* Exact construction derivatives of patch k in the frame of its side i at (t, s) (see
