@@ -366,6 +366,19 @@ static void reproduction(void)
 
 /* fit_surface_eval (second order, used by the measurements) against bspline.c's evaluator and
  * central differences of it; the direct QR on a consistent overdetermined system. */
+/* Largest relative difference between a side frame F (S, d_t, d_s, d_tt, d_ts, d_ss at (t, 0) of
+ * side i) and the general evaluation of surface b turned into that side's frame. */
+static double frame_error(const q2n_bspline_surface *b, int i, double t, const double F[6][3])
+{
+    double u, v, o[18], D[6][3], e = 0;
+    q2n_side_uv(i, t, 0.0, &u, &v);
+    q2n_fit_surface_eval(b, u, v, 2, o);
+    q2n_side_derivs(i, 2, o, D);
+    for (int r = 0; r < 6; r++)
+        for (int c = 0; c < 3; c++) e = fmax(e, fabs(F[r][c] - D[r][c]) / (1 + fabs(D[r][c])));
+    return e;
+}
+
 static void internals(void)
 {
     q2n_bspline_surface b;
@@ -429,48 +442,34 @@ static void internals(void)
         memset(&fc, 0, sizeof fc);
         fc.p = &fp;
         q2n_bspline_surface b2 = {5, 5, 9, 8, ku2, kv2, cp2, NULL};
-        double smax = 0;
-        for (int i = 0; i < 4; i++) {
-            fit_side sd = q2n_fit_make_side(&fc, 0, i);
-            double Ns[3][Q2N_FIT_DEG + 1];
-            q2n_fit_basis(Q2N_FIT_DEG, sd.ks, 0.0, 2, Ns);
-            for (int q = 0; q <= 20; q++) {
-                double t = q == 20 ? 0.4 : q / 19.0, u, v, o[18], D[6][3], F[6][3];
-                q2n_side_uv(i, t, 0.0, &u, &v);
-                q2n_fit_surface_eval(&b2, u, v, 2, o);
-                q2n_side_derivs(i, 2, o, D);
-                q2n_fit_side_spline(&fc, &sd, Ns, t, F);
-                for (int r = 0; r < 6; r++)
-                    for (int c = 0; c < 3; c++) smax = fmax(smax, fabs(F[r][c] - D[r][c]) / (1 + fabs(D[r][c])));
-            }
-        }
-        CHECK(smax <= 1e-12, "side evaluation vs the general one in the side's frame: %g", smax);
-        /* the same frames from each span's polynomial expansion (q2n_fit_side_poly_at / _frame, the
-         * dense jump samples of fit.c), expanded at every span start of the side's knots and summed
-         * at 9 points of the span, its ends included */
-        double pmax = 0;
+        /* per side: the side evaluation at 21 points, and the same frames from each span's polynomial
+         * expansion (q2n_fit_side_poly_at / _frame, the dense jump samples of fit.c), expanded at every
+         * span start of the side's knots and summed at 9 points of the span, its ends included */
+        double smax = 0, pmax = 0;
         int npts = 0;
         for (int i = 0; i < 4; i++) {
             fit_side sd = q2n_fit_make_side(&fc, 0, i);
             double Ns[3][Q2N_FIT_DEG + 1];
             q2n_fit_basis(Q2N_FIT_DEG, sd.ks, 0.0, 2, Ns);
+            for (int q = 0; q <= 20; q++) {
+                double t = q == 20 ? 0.4 : q / 19.0, F[6][3];
+                q2n_fit_side_spline(&fc, &sd, Ns, t, F);
+                smax = fmax(smax, frame_error(&b2, i, t, F));
+            }
             for (int sp = Q2N_FIT_DEG; sp < sd.nt; sp++) {
                 double a = sd.kt[sp], b = sd.kt[sp + 1];
                 if (!(b > a)) continue;
                 q2n_fit_side_poly C;
                 q2n_fit_side_poly_at(&fc, &sd, a, C);
                 for (int q = 0; q <= 8; q++) {
-                    double t = a + (b - a) * q / 8.0, u, v, o[18], D[6][3], F[6][3];
-                    q2n_side_uv(i, t, 0.0, &u, &v);
-                    q2n_fit_surface_eval(&b2, u, v, 2, o);
-                    q2n_side_derivs(i, 2, o, D);
+                    double t = a + (b - a) * q / 8.0, F[6][3];
                     q2n_fit_side_poly_frame(C, Ns, t - a, F);
-                    for (int r = 0; r < 6; r++)
-                        for (int c = 0; c < 3; c++) pmax = fmax(pmax, fabs(F[r][c] - D[r][c]) / (1 + fabs(D[r][c])));
+                    pmax = fmax(pmax, frame_error(&b2, i, t, F));
                     npts++;
                 }
             }
         }
+        CHECK(smax <= 1e-12, "side evaluation vs the general one in the side's frame: %g", smax);
         CHECK(npts >= 4 * 3 * 9 && pmax <= 1e-11, "span polynomials vs the general evaluation: %g at %d points", pmax, npts);
     }
 

@@ -81,6 +81,18 @@ fit_side q2n_fit_make_side(const fit_ctx *c, int k, int i)
     return sd;
 }
 
+/* A side's frame from its first three control rows' curves R[j][a] (d^a/dt^a of row j at t):
+ * d^a/dt^a d^b/ds^b S(t, 0) = sum_{j <= b} N_j^(b)(0) R[j][a] (the across basis of a clamped knot
+ * vector has N_j^(b)(0) = 0 for j > b); the slots in q2n_eval_order with (t, s) for (u, v). */
+static void frame_from_rows(const double Ns[3][Q2N_FIT_DEG + 1], const double R[3][3][3], double F[6][3])
+{
+    for (int o = 0; o < 6; o++) {
+        int a = q2n_eval_order[o][0], b = q2n_eval_order[o][1];
+        F[o][0] = F[o][1] = F[o][2] = 0.0;
+        for (int j = 0; j <= b; j++) q2n_v3_axpy(F[o], Ns[b][j], R[j][a]);
+    }
+}
+
 void q2n_fit_side_spline(const fit_ctx *c, const fit_side *sd, const double Ns[3][Q2N_FIT_DEG + 1], double t,
                          double F[6][3])
 {
@@ -94,13 +106,7 @@ void q2n_fit_side_spline(const fit_ctx *c, const fit_side *sd, const double Ns[3
             const double *P = p->cp + 3 * (size_t)q2n_fit_side_g(c, sd, span - Q2N_FIT_DEG + q, j);
             for (int a = 0; a + j < 3; a++) q2n_v3_axpy(R[j][a], Nt[a][q], P);
         }
-    /* d^a/dt^a d^b/ds^b S(t, 0) = sum_{j <= b} N_j^(b)(0) R[j][a] (the across basis of a clamped
-     * knot vector has N_j^(b)(0) = 0 for j > b); the slots in q2n_eval_order with (t, s) for (u, v) */
-    for (int o = 0; o < 6; o++) {
-        int a = q2n_eval_order[o][0], b = q2n_eval_order[o][1];
-        F[o][0] = F[o][1] = F[o][2] = 0.0;
-        for (int j = 0; j <= b; j++) q2n_v3_axpy(F[o], Ns[b][j], R[j][a]);
-    }
+    frame_from_rows(Ns, (const double (*)[3][3])R, F);
 }
 
 /* The first three control rows of side sd on the span of its knots that starts at or contains t0,
@@ -140,11 +146,7 @@ void q2n_fit_side_poly_frame(q2n_fit_side_poly C, const double Ns[3][Q2N_FIT_DEG
                 for (int x = 0; x < 3; x++) v[x] = v[x] * d + C[j][a][k][x];
             memcpy(R[j][a], v, sizeof v);
         }
-    for (int o = 0; o < 6; o++) {
-        int a = q2n_eval_order[o][0], b = q2n_eval_order[o][1];
-        F[o][0] = F[o][1] = F[o][2] = 0.0;
-        for (int j = 0; j <= b; j++) q2n_v3_axpy(F[o], Ns[b][j], R[j][a]);
-    }
+    frame_from_rows(Ns, (const double (*)[3][3])R, F);
 }
 
 const char *q2n_fit_edge_where(const fit_ctx *c, int e, char *buf, size_t n)
