@@ -21,7 +21,7 @@
 #include <math.h>
 #include <string.h>
 
-static q2n_model *build(const char *file, int subdivide)
+static q2n_model *build(const char *file, int subdivide, int ev_patch)
 {
     const char *path = chk_shared_mesh(file);
     if (!path) return NULL;
@@ -30,6 +30,7 @@ static q2n_model *build(const char *file, int subdivide)
     mo.param.method = Q2N_PARAM_CENTRIPETAL;   /* the CLI's defaults */
     mo.param.alpha = NAN;
     mo.subdivide = subdivide;
+    mo.ev_patch = ev_patch;
     q2n_model *m = NULL;
     q2n_error err;
     q2n_status st = q2n_model_build(path, &mo, &m, &err);
@@ -37,31 +38,32 @@ static q2n_model *build(const char *file, int subdivide)
     return st ? NULL : m;
 }
 
-/* One row of the table: mesh, Catmull-Clark steps, continuity mode (0: the construction's). */
+/* One row of the table: mesh, Catmull-Clark steps, continuity mode (0: the construction's), the
+ * patches at extraordinary vertices (0: the default, G2 for the C2 class). */
 typedef struct fit_case {
     const char *file;
-    int subdivide, continuity;
+    int subdivide, continuity, ev_patch;
 } fit_case;
 
 static const fit_case fast_cases[] = {
-    {"osd_catmark_pawn.obj", 0, 0},        /* 588 faces, a valence-12 pole and twelve valence-3 vertices */
-    {"osd_catmark_gregory_test1.obj", 0, 0},/* every face touches an extraordinary vertex */
-    {"osd_catmark_helmet.obj", 0, 0},
-    {"gismo_ev_valence5_carpet.obj", 0, 1},/* G1 mode */
-    {"gismo_octtorus.obj", 0, 0},          /* regular, non-uniform: every edge exact after reparametrization */
+    {"osd_catmark_pawn.obj", 0, 0, 0},        /* 588 faces, a valence-12 pole and twelve valence-3 vertices */
+    {"osd_catmark_gregory_test1.obj", 0, 0, 0},/* every face touches an extraordinary vertex */
+    {"osd_catmark_helmet.obj", 0, 0, 0},
+    {"gismo_ev_valence5_carpet.obj", 0, 1, 0},/* G1 mode */
+    {"gismo_octtorus.obj", 0, 0, 0},          /* regular, non-uniform: every edge exact after reparametrization */
 };
 
 static const fit_case long_cases[] = {
-    {"crane_spot_control_mesh.obj", 1, 0}, {"osd_catmark_righthanded.obj", 0, 0}, {"osd_catmark_rook.obj", 1, 0},
-    {"gismo_polycube.obj", 0, 0},          {"gismo_ev_valence3_carpet.obj", 0, 0}, {"gismo_ev_valence8_carpet.obj", 0, 0},
-    {"osd_catmark_cube.obj", 0, 0},        {"osd_catmark_fvar_bound3.obj", 0, 0},  {"gismo_octtorus_hole.obj", 0, 0},
-    {"crane_spot_control_mesh.obj", 1, 1}, {"osd_catmark_pawn.obj", 0, 1},         {"gismo_polycube.obj", 0, 1},
+    {"crane_spot_control_mesh.obj", 1, 0, 0}, {"osd_catmark_righthanded.obj", 0, 0, 0}, {"osd_catmark_rook.obj", 1, 0, 0},
+    {"gismo_polycube.obj", 0, 0, 0},          {"gismo_ev_valence3_carpet.obj", 0, 0, 0}, {"gismo_ev_valence8_carpet.obj", 0, 0, 0},
+    {"osd_catmark_cube.obj", 0, 0, 0},        {"osd_catmark_fvar_bound3.obj", 0, 0, 0},  {"gismo_octtorus_hole.obj", 0, 0, 0},
+    {"crane_spot_control_mesh.obj", 1, 1, 0}, {"osd_catmark_pawn.obj", 0, 1, 0},         {"gismo_polycube.obj", 0, 1, 0},
 };
 
 /* Fit one case and check every target; returns the report (rep) for callers that compare runs. */
 static int run(const fit_case *fc, double tol, q2n_fit_report *rep)
 {
-    q2n_model *m = build(fc->file, fc->subdivide);
+    q2n_model *m = build(fc->file, fc->subdivide, fc->ev_patch);
     if (!m) return 0;
     q2n_fit_options o;
     q2n_fit_options_default(&o);
@@ -120,7 +122,7 @@ static int run(const fit_case *fc, double tol, q2n_fit_report *rep)
  * of evaluated positions at that point agrees with it; smooth faces stay below the spike ratio. */
 static void check_scan(const char *file, int k)
 {
-    q2n_model *m = build(file, 0);
+    q2n_model *m = build(file, 0, 0);
     if (!m) return;
     double ratio, u, v, dmax;
     CHECK(q2n_fit_scan_construction(m->surface, k, Q2N_FIT_SCAN_N, &ratio, &u, &v, &dmax) == Q2N_OK, "%s: scan", file);
@@ -148,27 +150,38 @@ int main(void)
      * follow the tolerance (with 0.01 degrees and 1 % kept at 1e-4 it was 0.84 x; 1183 against 2196
      * control points, 0.54 x, until patches stopped being bisected for their sides' edge errors, which
      * made the 1e-5 fit lighter: 1183 against 1956, 0.60 x — every 1e-4 patch is 8 x 8 spans, the
-     * fewest that meet 1e-4 there) */
-    const fit_case pawn = {"osd_catmark_pawn.obj", 0, 0}, g1 = {"osd_catmark_gregory_test1.obj", 0, 0};
+     * fewest that meet 1e-4 there; 1033 against 1601, 0.65 x, at stop 29; since continuity misses
+     * under Q2N_FIT_CONT_LOCAL split only their spans and a cell splits one direction where that
+     * suffices, the 1e-5 fit is lighter again, the 1e-4 one hardly: 1010 against 1398, 0.72 x) */
+    const fit_case pawn = {"osd_catmark_pawn.obj", 0, 0, 0}, g1 = {"osd_catmark_gregory_test1.obj", 0, 0, 0};
     if (run(&pawn, 1e-5, &r5) && run(&pawn, 1e-4, &r4))
         CHECK(r4.cp_total < r5.cp_total, "pawn: %ld control points at 1e-4, %ld at 1e-5", r4.cp_total, r5.cp_total);
     if (run(&g1, 1e-5, &r5) && run(&g1, 1e-4, &r4))
-        CHECK(r4.cp_total < 0.65 * r5.cp_total, "gregory_test1: %ld control points at 1e-4, %ld at 1e-5", r4.cp_total,
+        CHECK(r4.cp_total < 0.78 * r5.cp_total, "gregory_test1: %ld control points at 1e-4, %ld at 1e-5", r4.cp_total,
               r5.cp_total);
     /* a patch whose failing cells all lie next to sides whose edges are being split waits for those
      * edges (fit_refine.c): bisecting it as well doubled the spans of patches whose interior met the
      * tolerance.  Measured: gregory_test6 3038 -> 2327 control points, fvar_bound3 1974 -> 1430. */
-    const fit_case g6 = {"osd_catmark_gregory_test6.obj", 0, 0}, fb3 = {"osd_catmark_fvar_bound3.obj", 0, 0};
+    const fit_case g6 = {"osd_catmark_gregory_test6.obj", 0, 0, 0}, fb3 = {"osd_catmark_fvar_bound3.obj", 0, 0, 0};
     if (run(&g6, 1e-5, &r5)) CHECK(r5.cp_total <= 2500, "gregory_test6: %ld control points (2327 expected)", r5.cp_total);
     /* continuity refinement judges the jumps between the check points too (fit.c, dense_jumps) and so
      * aims at 0.9 of the targets instead of half: fvar_bound3 1430 -> 1014 control points (every
      * patch 8 x 8 spans), xord_boundary 3794 -> 3042; the jumps at 64 points per edge stay within the
      * targets (fit_dense_continuity, every run of this test) */
-    const fit_case xb = {"osd_catmark_xord_boundary.obj", 0, 0};
+    const fit_case xb = {"osd_catmark_xord_boundary.obj", 0, 0, 0};
     /* cells beside an edge being split do not drive the splits of a patch that does not wait for it
      * (fit_refine.c): gregory_test1 1831 -> 1601 control points (one patch 16 x 16 spans before: a
      * band along one side asked for every span in both directions) */
-    if (run(&g1, 1e-5, &r5)) CHECK(r5.cp_total <= 1700, "gregory_test1: %ld control points (1601 expected)", r5.cp_total);
+    if (run(&g1, 1e-5, &r5)) CHECK(r5.cp_total <= 1500, "gregory_test1: %ld control points (1398 expected)", r5.cp_total);
+    /* ... and since (fit_refine.c) a least-squares relation that misses its aim by less than
+     * Q2N_FIT_CONT_LOCAL splits only its spans that miss, not every span (gregory_test1: one edge
+     * missing the curvature aim by 1.38 x in its last span doubled two patches' spans: 1601 -> 1398
+     * control points, 21.3 -> 18.2 KB/face, under the issue's 20), and a failing cell splits only its
+     * dominant direction where the error model says that suffices (the G1 construction in G1 mode:
+     * gregory_test1 711 -> 603, osd_catmark_cube 566 -> 522; the 1e-5 bound above was 1700) */
+    const fit_case g1g1 = {"osd_catmark_gregory_test1.obj", 0, 1, Q2N_EV_PATCH_G1}, cube = {"osd_catmark_cube.obj", 0, 1, Q2N_EV_PATCH_G1};
+    if (run(&g1g1, 1e-5, &r5)) CHECK(r5.cp_total <= 650, "gregory_test1, G1 patches: %ld control points (603 expected)", r5.cp_total);
+    if (run(&cube, 1e-5, &r5)) CHECK(r5.cp_total <= 545, "cube, G1 patches: %ld control points (522 expected)", r5.cp_total);
     if (run(&fb3, 1e-5, &r5)) CHECK(r5.cp_total <= 1100, "fvar_bound3: %ld control points (1014 expected)", r5.cp_total);
     if (run(&xb, 1e-5, &r5)) CHECK(r5.cp_total <= 3300, "xord_boundary: %ld control points (3042 expected)", r5.cp_total);
     /* the cross rows of a least-squares-glued edge are judged by the cells beside it, not by their
@@ -178,7 +191,7 @@ int main(void)
     /* the reparametrization of scale-glued edges has a speed per edge end (fit_target.c): more speed
      * systems are consistent and the speeds are smaller than with one speed per edge (measured:
      * octtorus_hole 13 -> 25 exact edges; tent, every edge exact either way, 1190 -> 973 control points) */
-    const fit_case oh = {"gismo_octtorus_hole.obj", 0, 0}, tent = {"osd_catmark_tent.obj", 0, 0};
+    const fit_case oh = {"gismo_octtorus_hole.obj", 0, 0, 0}, tent = {"osd_catmark_tent.obj", 0, 0, 0};
     if (run(&oh, 1e-5, &r5)) CHECK(r5.g1_exact_edges >= 25, "octtorus_hole: %d exact edges (25 expected)", r5.g1_exact_edges);
     if (run(&tent, 1e-5, &r5))
         CHECK(r5.g1_exact_edges == r5.interior_edges && r5.cp_total <= 1050, "tent: %d of %d edges exact, %ld control points (973 expected)",
@@ -187,11 +200,11 @@ int main(void)
      * where it uses more than a quarter (fit_refine.c): octtorus 2640 -> 2160 control points (every
      * edge exact); without that second rule a rook --subdivide 1 patch failed --tol 1e-4 at the last
      * round (run in the long sweep) */
-    const fit_case ot = {"gismo_octtorus.obj", 0, 0};
+    const fit_case ot = {"gismo_octtorus.obj", 0, 0, 0};
     if (run(&ot, 1e-5, &r5)) CHECK(r5.cp_total <= 2300, "octtorus: %ld control points (2160 expected)", r5.cp_total);
     if (q2n_test_full("the long fit sweep (rook, righthanded, spot --subdivide 1)")) {
         for (size_t i = 0; i < sizeof long_cases / sizeof *long_cases; i++) run(&long_cases[i], 1e-5, &r5);
-        const fit_case rook = {"osd_catmark_rook.obj", 1, 0};
+        const fit_case rook = {"osd_catmark_rook.obj", 1, 0, 0};
         run(&rook, 1e-4, &r4);
     }
     check_scan("osd_catmark_gregory_test1.obj", 6);     /* a spike narrower than any knot spacing once */

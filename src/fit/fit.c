@@ -147,7 +147,7 @@ static int fit_regular_frame(const double F[6][3])
  * maxima by up to ~3 x (docs/fit.md); these see them.  Both sides are polynomials on such a span:
  * their rows are expanded once per span (about its start in each side's own parameter) and summed
  * by Horner's rule at the points — a tenth of a B-spline evaluation per point (the same values to
- * rounding). */
+ * rounding).  The maxima are kept per span of the edge's own knots too (spmax: which spans miss). */
 static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2])
 {
     int nb = 0, n0 = sd[0].nt - 4, n1 = sd[1].nt - 4;    /* breakpoints incl. 0 and 1 */
@@ -161,7 +161,10 @@ static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2
     }
     double Ns[2][3][Q2N_FIT_DEG + 1];
     for (int x = 0; x < 2; x++) q2n_fit_basis(Q2N_FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
+    int ks = 0;   /* the span of the edge's own knots K that span s of the union lies in */
     for (int s = 0; s + 1 < nb; s++) {
+        while (ks < E->K.n && E->K.t[ks] <= brk[s]) ks++;
+        double *mx = E->spmax + FIT_SPMAX * (size_t)ks;
         int ns = (int)ceil(Q2N_FIT_JUMP_SAMPLES_EDGE * (brk[s + 1] - brk[s]));
         if (ns < Q2N_FIT_JUMP_SAMPLES) ns = Q2N_FIT_JUMP_SAMPLES;
         /* L's parameter t runs from brk[s] to brk[s + 1]; R's, 1 - t, from 1 - brk[s + 1] to 1 - brk[s] */
@@ -178,6 +181,8 @@ static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2
             q2n_fit_jumps(f[0][0], f[1][0], f[0][1], c->diag, &j1, &j2);
             if (!(j1 <= E->g1d)) E->g1d = j1;
             if (!(j2 <= E->g2d)) E->g2d = j2;
+            if (!(j1 <= mx[FIT_SPMAX_G1])) mx[FIT_SPMAX_G1] = j1;
+            if (!(j2 <= mx[FIT_SPMAX_G2])) mx[FIT_SPMAX_G2] = j2;
         }
     }
     free(brk);
@@ -203,7 +208,7 @@ static void measure_edge(void *arg, int e)
     double *kv = malloc(sizeof(double) * (size_t)(E->K.n + 12));
     double *DL = malloc(18 * sizeof(double) * (size_t)n), *DR = malloc(18 * sizeof(double) * (size_t)n);
     free(E->spmax);
-    E->spmax = calloc(2 * (size_t)(E->K.n + 1), sizeof(double));
+    E->spmax = calloc(FIT_SPMAX * (size_t)(E->K.n + 1), sizeof(double));
     E->nspmax = E->spmax ? E->K.n + 1 : 0;
     if (!t || !tr || !DL || !DR || !E->spmax || !kv) {
         free(t); free(tr); free(DL); free(DR); free(kv);
@@ -242,9 +247,9 @@ static void measure_edge(void *arg, int e)
          * the check parameters ascend, so the span only moves forward) */
         while (sp < E->K.n && E->K.t[sp] <= t[q]) sp++;
         double dev = q2n_v3_dist(f[0][0], DL + 18 * (size_t)q) / c->diag, rdev = row / c->diag;
-        double *mx = E->spmax + 2 * (size_t)sp;
-        if (dev > mx[0]) mx[0] = dev;
-        if (rdev > mx[1]) mx[1] = rdev;
+        double *mx = E->spmax + FIT_SPMAX * (size_t)sp;
+        if (dev > mx[FIT_SPMAX_DEV]) mx[FIT_SPMAX_DEV] = dev;
+        if (rdev > mx[FIT_SPMAX_ROW]) mx[FIT_SPMAX_ROW] = rdev;
         if (two) {   /* the tangent of the fitted side, as q2n_fit_measure and the audit use */
             double j1, j2;
             q2n_fit_jumps(f[0][0], f[1][0], f[0][1], c->diag, &j1, &j2);
@@ -252,6 +257,8 @@ static void measure_edge(void *arg, int e)
             if (gap > E->g0) E->g0 = gap;
             if (!(j1 <= E->g1)) E->g1 = j1;
             if (!(j2 <= E->g2)) E->g2 = j2;
+            if (!(j1 <= mx[FIT_SPMAX_G1])) mx[FIT_SPMAX_G1] = j1;
+            if (!(j2 <= mx[FIT_SPMAX_G2])) mx[FIT_SPMAX_G2] = j2;
         }
     }
     E->g1d = E->g1;

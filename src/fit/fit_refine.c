@@ -6,7 +6,8 @@
  * knot spans where the error is, so the knots grade towards it and never travel:
  *  - a cell over the tolerance bisects its patch's span(s) in the direction(s) that limit it (6th
  *    differences of the construction around the worst cell: the quintic error term is
- *    ~ h^6 |d^6 S| per direction) — an interior knot of that patch only; unless every failing
+ *    ~ h^6 |d^6 S| per direction; the dominant direction alone where bisecting it brings the
+ *    modelled error within the tolerance) — an interior knot of that patch only; unless every failing
  *    cell of the patch lies next to a side whose edge is being split there this round (then the
  *    patch waits for the refitted edge: near_split); cells next to such a side do not count
  *    towards the splits of a patch that does not wait either, unless no round is left after this;
@@ -15,7 +16,8 @@
  *  - an edge whose G1 or G2 relation is least squares and misses Q2N_FIT_REFINE_AIM of its target
  *    (at its check points or between them: fit.c), where the construction itself meets that,
  *    splits every span of its knots (that converges; grading towards the worst point did not next
- *    to extraordinary corners);
+ *    to extraordinary corners) — or, missing by less than Q2N_FIT_CONT_LOCAL, only the spans whose
+ *    jumps miss, while such local splits lower the miss by Q2N_FIT_STALL_GAIN per round;
  * all within max_spans per patch direction.  A bisection halves h: the deviation falls ~64x, the
  * normal jump ~32x, the curvature jump ~16x per round where the construction is smooth; a span
  * whose error needs more is split into 4 or 8 at once (split_levels). */
@@ -209,7 +211,9 @@ int q2n_fit_refine(fit_ctx *c)
         /* split levels per span of the knots as measured: the curve and the rows where they miss
          * their share of the tolerance; a least-squares gluing relation that misses its aim splits
          * every span (it converges under uniform refinement of its edge; graded towards the worst
-         * point it did not next to extraordinary corners: docs/fit.md) */
+         * point it did not next to extraordinary corners: docs/fit.md) — unless it misses by less
+         * than Q2N_FIT_CONT_LOCAL: then only the spans whose jumps miss the aim, as long as that
+         * answers (the miss fell by Q2N_FIT_STALL_GAIN since the last such split) */
         int nsp = E->K.n + 1, cont = 0;
         double *br = malloc(sizeof(double) * (size_t)(nsp + 1));
         if (!br) continue;
@@ -221,13 +225,22 @@ int q2n_fit_refine(fit_ctx *c)
         double r2 = c1 ? E->g1d / aim1 : 0.0, r3 = c2 ? E->g2d / aim2 : 0.0;
         if (r2 > 1) cont = split_levels(r2, 5.0);
         if (r3 > 1 && split_levels(r3, 4.0) > cont) cont = split_levels(r3, 4.0);
+        int local = 0;
+        if (cont) {
+            double miss = fmax(r2, r3);
+            local = miss < Q2N_FIT_CONT_LOCAL && !(E->cont_local && !(miss < E->cont_prev / Q2N_FIT_STALL_GAIN));
+            E->cont_prev = miss;
+        }
+        E->cont_local = local;
         for (int sp = 0; sp < nsp; sp++) {
-            const double *mx = E->spmax + 2 * (size_t)sp;
+            const double *mx = E->spmax + FIT_SPMAX * (size_t)sp;
             /* the rows of a least-squares-glued edge are a compromise between the construction's cross
              * derivatives and the gluing, so their distance from those derivatives is not a position
              * error: the cells beside the edge judge it (and refine that patch alone) */
-            double r0 = mx[0] / (Q2N_FIT_EDGE_SHARE * tol), r1 = q2n_fit_edge_ls(c, E) ? 0.0 : mx[1] / (Q2N_FIT_ROW_SHARE * tol);
+            double r0 = mx[FIT_SPMAX_DEV] / (Q2N_FIT_EDGE_SHARE * tol);
+            double r1 = q2n_fit_edge_ls(c, E) ? 0.0 : mx[FIT_SPMAX_ROW] / (Q2N_FIT_ROW_SHARE * tol);
             int l = cont;
+            if (local && !((c1 && mx[FIT_SPMAX_G1] > aim1) || (c2 && mx[FIT_SPMAX_G2] > aim2))) l = 0;
             if (r0 > 1 && split_levels(r0, 6.0) > l) l = split_levels(r0, 6.0);
             if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
             if (l) {
@@ -267,7 +280,7 @@ int q2n_fit_refine(fit_ctx *c)
                     int sp = 0;
                     while (sp < E->K.n && E->K.t[sp] <= t) sp++;
                     double lo = sp ? E->K.t[sp - 1] : 0.0, hi = sp < E->K.n ? E->K.t[sp] : 1.0;
-                    if (!(E->spmax[2 * (size_t)sp] > Q2N_FIT_EDGE_ASSIST * tol)) continue;
+                    if (!(E->spmax[FIT_SPMAX * (size_t)sp + FIT_SPMAX_DEV] > Q2N_FIT_EDGE_ASSIST * tol)) continue;
                     if (eref[2 * e] < hi && eref[2 * e + 1] > lo) continue;   /* being split there */
                     int add = split_span(c, e, 0, lo, hi, 1, add_edge);
                     added += add;
@@ -327,9 +340,19 @@ int q2n_fit_refine(fit_ctx *c)
                 if (!(r > 1)) continue;
                 int iu = i / Q2N_FIT_SAMPLES_PER_SPAN, iv = j / Q2N_FIT_SAMPLES_PER_SPAN;
                 if (defer && near_split(p, iu, iv, reach, lo, hi)) continue;
-                /* each refined direction takes its share of the error */
-                if (dirs[0] && r * p->share[0] > ru[iu]) ru[iu] = fmax(r * p->share[0], 1.0001);
-                if (dirs[1] && r * p->share[1] > rv[iv]) rv[iv] = fmax(r * p->share[1], 1.0001);
+                /* each refined direction takes its share of the error; one direction alone where the
+                 * error model says it suffices (a bisection in direction d divides d's h^6 term by
+                 * 64, leaving r (1 - s_d 63/64) of the cell's error) */
+                int du = dirs[0], dv = dirs[1];
+                if (du && dv) {
+                    int d = p->share[1] > p->share[0];
+                    if (r * (1.0 - p->share[d] * 63.0 / 64.0) <= 1.0) {
+                        if (d) du = 0;
+                        else dv = 0;
+                    }
+                }
+                if (du && r * p->share[0] > ru[iu]) ru[iu] = fmax(r * p->share[0], 1.0001);
+                if (dv && r * p->share[1] > rv[iv]) rv[iv] = fmax(r * p->share[1], 1.0001);
             }
         int mu = p->mu, mv = p->mv;
         for (int sp = 0; sp < mu; sp++)

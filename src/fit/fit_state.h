@@ -57,8 +57,10 @@ typedef struct fit_edge {
                                 (formulas.md §4.2 with beta = gamma = delta = 0) */
     double g1c, g2c;         /* the construction's own normal / curvature jumps on this edge */
     int nchk;                /* check points of the last measurement (owner side's check parameters) */
-    double *spmax;           /* 2 per span of K at the last measurement: the largest curve deviation and
-                                cross-row deviation (position terms) / diag over its check points */
+    double *spmax;           /* FIT_SPMAX per span of K at the last measurement: the largest curve deviation
+                                and cross-row deviation (position terms) / diag over its check points, and
+                                the largest normal and curvature jumps over its check points and the
+                                dense jump samples in it */
     int nspmax;              /* spans spmax holds (K.n + 1 at that measurement) */
     double g0, g1, g2;       /* last measured fitted gap / diag and jumps (maxima over the check points) */
     double g1d, g2d;         /* the jumps' maxima over the check points and the dense jump samples
@@ -66,6 +68,8 @@ typedef struct fit_edge {
     double g1_prev, g2_prev; /* the round before, for the stall rule */
     int g1_fails, g2_fails;  /* consecutive rounds this edge drove refinement for continuity */
     int kn_prev;             /* K.n at the previous refinement decision */
+    int cont_local;          /* the last continuity refinement split only the spans over the aim */
+    double cont_prev;        /* the miss (jump / aim) that refinement answered */
     int stalled;             /* bit 0: G1, bit 1: G2 — no longer drives refinement */
     /* rep edges: alpha and alpha' at the owner parameters asked for so far (fit_target.c), sorted by
      * parameter; both faces of the edge read and add them, under amu */
@@ -74,6 +78,7 @@ typedef struct fit_edge {
     double *av;              /* an rows of FIT_AC_STRIDE: x, alpha, alpha' */
 } fit_edge;
 #define FIT_AC_STRIDE 3
+enum { FIT_SPMAX_DEV, FIT_SPMAX_ROW, FIT_SPMAX_G1, FIT_SPMAX_G2, FIT_SPMAX };
 
 typedef struct fit_patch {
     fit_breaks I[2];         /* patch-interior breakpoints in u and v */
