@@ -17,7 +17,8 @@
  *    (at its check points or between them: fit.c), where the construction itself meets that,
  *    splits every span of its knots (that converges; grading towards the worst point did not next
  *    to extraordinary corners) — or, missing by less than Q2N_FIT_CONT_LOCAL, only the spans whose
- *    jumps miss, while such local splits lower the miss by Q2N_FIT_STALL_GAIN per round;
+ *    jumps miss, while such local splits lower the miss by Q2N_FIT_STALL_GAIN per round (after one
+ *    that did not, the spans it left coarser: the edge's knots are uniform again);
  * all within max_spans per patch direction.  A bisection halves h: the deviation falls ~64x, the
  * normal jump ~32x, the curvature jump ~16x per round where the construction is smooth; a span
  * whose error needs more is split into 4 or 8 at once (split_levels). */
@@ -213,7 +214,8 @@ int q2n_fit_refine(fit_ctx *c)
          * every span (it converges under uniform refinement of its edge; graded towards the worst
          * point it did not next to extraordinary corners: docs/fit.md) — unless it misses by less
          * than Q2N_FIT_CONT_LOCAL: then only the spans whose jumps miss the aim, as long as that
-         * answers (the miss fell by Q2N_FIT_STALL_GAIN since the last such split) */
+         * answers (the miss fell by Q2N_FIT_STALL_GAIN since the last such split); when it did not,
+         * every span coarser than the finest, which evens the knots out */
         int nsp = E->K.n + 1, cont = 0;
         double *br = malloc(sizeof(double) * (size_t)(nsp + 1));
         if (!br) continue;
@@ -225,10 +227,14 @@ int q2n_fit_refine(fit_ctx *c)
         double r2 = c1 ? E->g1d / aim1 : 0.0, r3 = c2 ? E->g2d / aim2 : 0.0;
         if (r2 > 1) cont = split_levels(r2, 5.0);
         if (r3 > 1 && split_levels(r3, 4.0) > cont) cont = split_levels(r3, 4.0);
-        int local = 0;
+        int local = 0, even = 0;
+        double wmin = 1.0;
         if (cont) {
             double miss = fmax(r2, r3);
-            local = miss < Q2N_FIT_CONT_LOCAL && !(E->cont_local && !(miss < E->cont_prev / Q2N_FIT_STALL_GAIN));
+            int failed = E->cont_local && !(miss < E->cont_prev / Q2N_FIT_STALL_GAIN);
+            local = miss < Q2N_FIT_CONT_LOCAL && !failed;
+            even = failed;
+            for (int sp = 0; sp < nsp; sp++) wmin = fmin(wmin, br[sp + 1] - br[sp]);
             E->cont_prev = miss;
         }
         E->cont_local = local;
@@ -241,6 +247,10 @@ int q2n_fit_refine(fit_ctx *c)
             double r1 = q2n_fit_edge_ls(c, E) ? 0.0 : mx[FIT_SPMAX_ROW] / (Q2N_FIT_ROW_SHARE * tol);
             int l = cont;
             if (local && !((c1 && mx[FIT_SPMAX_G1] > aim1) || (c2 && mx[FIT_SPMAX_G2] > aim2))) l = 0;
+            /* after a local round that did not answer: the spans it did not split (breakpoints are
+             * dyadic, so span widths differ by powers of two), which gives the edge the uniform
+             * knots that splitting every span would have given it a round earlier */
+            if (even && !(br[sp + 1] - br[sp] > 1.5 * wmin)) l = 0;
             if (r0 > 1 && split_levels(r0, 6.0) > l) l = split_levels(r0, 6.0);
             if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
             if (l) {
