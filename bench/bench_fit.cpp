@@ -2,11 +2,12 @@
 // peer measured in the same run.  Per mesh: the whole pipeline (read, build, fit) on 2 threads, the
 // fit alone on 1 thread (thread CPU time) against OpenCASCADE's GeomAPI_PointsToBSplineSurface
 // fitting the same patches (degree 5 through a 20 x 20 sample grid of each patch, to the same
-// absolute tolerance; CPU time), STEP bytes per face, control points per face, the share of edges
+// absolute tolerance; CPU time, the fastest of three alternate runs each), STEP bytes per face, control points per face, the share of edges
 // whose G1 relation is exact, and the continuity reached.  The peer does far less — no shared
 // boundaries, no G1/G2 conditions, no verification at unused points — so the ratio bounds our
 // overhead from above.  Targets (issue 12): spot --subdivide 1 whole run <= 3 s and rook
 // --subdivide 1 <= 10 s on 2 threads, fit per patch <= 5x OCCT's, STEP <= 20 KB/face (G2 mode).
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -92,16 +93,24 @@ static void run(const char *file, int subdivide, double target_s)
                 target_s > 0 ? (whole <= target_s ? " (target met)" : " (target missed)") : "", len / 1024.0 / nf,
                 m->fit.cp_min, m->fit.cp_median, m->fit.cp_max, m->fit.g1_exact_edges, m->fit.interior_edges,
                 m->fit.max_dev_rel, m->fit.g1_max_deg, m->fit.g2_max_rel, st ? "  (targets not met)" : "");
-    /* the fit alone on 1 thread, CPU time, against OCCT on the same patches */
+    /* the fit alone on 1 thread, CPU time, against OCCT on the same patches: the two alternately,
+     * REPEATS times, the fastest of each (a shared machine's noise only ever adds time) */
+    enum { REPEATS = 3 };
     fo.threads = 1;
-    double c0 = cpu();
-    q2n_model_fit(m, &fo, &err);
-    double ours = cpu() - c0;
-    int ok;
-    double occt = occt_fit(m, fo.tol * q2n_mesh_bbox_diag(m->mesh), &ok);
-    std::printf("%-34s fit 1 thread %.3f s CPU = %.2f ms/patch | OCCT GeomAPI_PointsToBSplineSurface (deg 5, 20x20, %d/%d "
-                "done) %.3f s = %.2f ms/patch | ratio ours/OCCT %.1f (target <= 5)\n",
-                "", ours, 1e3 * ours / nf, ok, nf, occt, 1e3 * occt / nf, ours / occt);
+    double ours = 0, occt = 0, ours_hi = 0, occt_hi = 0;
+    int ok = 0;
+    for (int r = 0; r < REPEATS; r++) {
+        double c0 = cpu();
+        q2n_model_fit(m, &fo, &err);
+        double a = cpu() - c0, b = occt_fit(m, fo.tol * q2n_mesh_bbox_diag(m->mesh), &ok);
+        ours = r ? std::min(ours, a) : a;
+        occt = r ? std::min(occt, b) : b;
+        ours_hi = std::max(ours_hi, a);
+        occt_hi = std::max(occt_hi, b);
+    }
+    std::printf("%-34s fit 1 thread %.3f s CPU (slowest of %d: %.3f) = %.2f ms/patch | OCCT GeomAPI_PointsToBSplineSurface "
+                "(deg 5, 20x20, %d/%d done) %.3f s (%.3f) = %.2f ms/patch | ratio ours/OCCT %.1f (target <= 5)\n",
+                "", ours, (int)REPEATS, ours_hi, 1e3 * ours / nf, ok, nf, occt, occt_hi, 1e3 * occt / nf, ours / occt);
     q2n_model_free(m);
 }
 
