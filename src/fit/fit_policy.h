@@ -35,6 +35,7 @@
 #define Q2N_FIT_DIR_SHARE 0.25          /* a direction whose 6th-difference share of a cell's error is below this is not refined */
 #define Q2N_FIT_STALL_SPANS 8          /* stalling is judged from this many edge spans on: coarser rows may not yet resolve the construction */
 #define Q2N_FIT_CONT_LOCAL 2.0         /* a least-squares relation missing its aim by less than this splits only its spans that miss (one bisection's worth there: the jumps fall 16-32x); larger misses split every span, which converges, where grading towards the misses did not next to extraordinary corners (G2 files up to +15 % at 4, fits that never met the curvature target without a cap: docs/fit.md) */
+#define Q2N_FIT_CONT_LOCAL_ROOM 2.0    /* ... and only while its knots, evened out at the level a local round reaches, could be bisected once more within --max-spans: near the cap graded knots spend the patches' span budget where uniform ones met the tolerance (at --max-spans 8, 4 of the 30 of 53 runs that met their targets missed them with local splits up to the cap, none with this; the default cap of 64 never binds it on the 48 + 5 meshes of docs/fit.md) */
 #define Q2N_FIT_STALL_GAIN 1.2          /* a continuity edge refined twice in a row that improved by less than this each time stops driving refinement */
 
 /* ---- gluing data (exact G1 constraints) ---- */

@@ -232,10 +232,14 @@ int q2n_fit_refine(fit_ctx *c)
         if (cont) {
             double miss = fmax(r2, r3);
             int failed = E->cont_local && !(miss < E->cont_prev / Q2N_FIT_STALL_GAIN);
-            local = miss < Q2N_FIT_CONT_LOCAL && !failed;
-            even = failed;
             for (int sp = 0; sp < nsp; sp++) wmin = fmin(wmin, br[sp + 1] - br[sp]);
+            /* local only while the edge's knots, evened out at the level a local round reaches,
+             * leave room under the span cap (Q2N_FIT_CONT_LOCAL_ROOM) */
+            int room = Q2N_FIT_CONT_LOCAL_ROOM * (double)(1 << cont) / wmin <= c->o.max_spans + 0.5;
+            local = miss < Q2N_FIT_CONT_LOCAL && !failed && room;
+            even = !local && E->cont_graded;
             E->cont_prev = miss;
+            E->cont_graded = local || (E->cont_graded && !even);
         }
         E->cont_local = local;
         for (int sp = 0; sp < nsp; sp++) {

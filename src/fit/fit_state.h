@@ -70,6 +70,7 @@ typedef struct fit_edge {
     int kn_prev;             /* K.n at the previous refinement decision */
     int cont_local;          /* the last continuity refinement split only the spans over the aim */
     double cont_prev;        /* the miss (jump / aim) that refinement answered */
+    int cont_graded;         /* local continuity splits left its knots graded (not evened out since) */
     int stalled;             /* bit 0: G1, bit 1: G2 — no longer drives refinement */
     /* rep edges: alpha and alpha' at the owner parameters asked for so far (fit_target.c), sorted by
      * parameter; both faces of the edge read and add them, under amu */
