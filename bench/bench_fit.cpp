@@ -2,8 +2,9 @@
 // peer measured in the same run.  Per mesh: the whole pipeline (read, build, fit) on 2 threads, the
 // fit alone on 1 thread (thread CPU time) against OpenCASCADE's GeomAPI_PointsToBSplineSurface
 // fitting the same patches (degree 5 through a 20 x 20 sample grid of each patch, to the same
-// absolute tolerance; CPU time, the fastest of three alternate runs each), STEP bytes per face, control points per face, the share of edges
-// whose G1 relation is exact, and the continuity reached.  The peer does far less — no shared
+// absolute tolerance; CPU time, the fastest of three alternate runs each), STEP bytes per face,
+// control points per face, the share of edges whose G1 relation is exact, and the continuity
+// reached.  The peer does far less — no shared
 // boundaries, no G1/G2 conditions, no verification at unused points — so the ratio bounds our
 // overhead from above.  Targets (issue 12): spot --subdivide 1 whole run <= 3 s and rook
 // --subdivide 1 <= 10 s on 2 threads, fit per patch <= 5x OCCT's, STEP <= 20 KB/face (G2 mode).

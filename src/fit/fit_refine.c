@@ -17,8 +17,8 @@
  *    (at its check points or between them: fit.c), where the construction itself meets that,
  *    splits every span of its knots (that converges; grading towards the worst point did not next
  *    to extraordinary corners) — or, missing by less than Q2N_FIT_CONT_LOCAL, only the spans whose
- *    jumps miss, while such local splits lower the miss by Q2N_FIT_STALL_GAIN per round (after one
- *    that did not, the spans it left coarser: the edge's knots are uniform again);
+ *    jumps miss, while such local splits lower the miss by Q2N_FIT_STALL_GAIN per round and the
+ *    span cap leaves room (after them, the spans they left coarser: the knots are uniform again);
  * all within max_spans per patch direction.  A bisection halves h: the deviation falls ~64x, the
  * normal jump ~32x, the curvature jump ~16x per round where the construction is smooth; a span
  * whose error needs more is split into 4 or 8 at once (split_levels). */
@@ -214,8 +214,9 @@ int q2n_fit_refine(fit_ctx *c)
          * every span (it converges under uniform refinement of its edge; graded towards the worst
          * point it did not next to extraordinary corners: docs/fit.md) — unless it misses by less
          * than Q2N_FIT_CONT_LOCAL: then only the spans whose jumps miss the aim, as long as that
-         * answers (the miss fell by Q2N_FIT_STALL_GAIN since the last such split); when it did not,
-         * every span coarser than the finest, which evens the knots out */
+         * answers (the miss fell by Q2N_FIT_STALL_GAIN since the last such split) and the span cap
+         * leaves room; a round that is not local on knots that local rounds graded splits every span
+         * coarser than the finest, which evens them out */
         int nsp = E->K.n + 1, cont = 0;
         double *br = malloc(sizeof(double) * (size_t)(nsp + 1));
         if (!br) continue;
@@ -251,9 +252,9 @@ int q2n_fit_refine(fit_ctx *c)
             double r1 = q2n_fit_edge_ls(c, E) ? 0.0 : mx[FIT_SPMAX_ROW] / (Q2N_FIT_ROW_SHARE * tol);
             int l = cont;
             if (local && !((c1 && mx[FIT_SPMAX_G1] > aim1) || (c2 && mx[FIT_SPMAX_G2] > aim2))) l = 0;
-            /* after a local round that did not answer: the spans it did not split (breakpoints are
-             * dyadic, so span widths differ by powers of two), which gives the edge the uniform
-             * knots that splitting every span would have given it a round earlier */
+            /* knots graded by local rounds: the spans they did not split (breakpoints are dyadic,
+             * so span widths differ by powers of two), which gives the edge the uniform knots that
+             * splitting every span would have given it a round earlier */
             if (even && !(br[sp + 1] - br[sp] > 1.5 * wmin)) l = 0;
             if (r0 > 1 && split_levels(r0, 6.0) > l) l = split_levels(r0, 6.0);
             if (r1 > 1 && split_levels(r1, 5.0) > l) l = split_levels(r1, 5.0);
