@@ -20,7 +20,8 @@
 
 /* Weight of the curvature-variation term against bending (both dimensionless per face): it is
  * what removes the ripples (bending alone ranks a wavy and a smooth cap alike); larger values
- * trade bending for monotone curvature. */
+ * trade bending for monotone curvature, and sharp features get rougher (0.05-0.4 swept: 0.1 keeps
+ * the most ripple targets met, docs/extraordinary.md "Why the policy values"). */
 #ifndef EV_FAIR_W3
 #define EV_FAIR_W3 0.1
 #endif
