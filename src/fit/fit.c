@@ -140,6 +140,16 @@ static int fit_regular_frame(const double F[6][3])
     return q2n_v3_norm(n) >= Q2N_FIT_JUMP_MIN_SIN * q2n_v3_norm(F[1]) * q2n_v3_norm(F[2]);
 }
 
+/* Keep the larger of each jump (NaN-safe: a NaN jump is kept, as a failure to see) in the edge-wide
+ * maxima g1, g2 and in those of its span, mx. */
+static void keep_jumps(double j1, double j2, double *g1, double *g2, double *mx)
+{
+    if (!(j1 <= *g1)) *g1 = j1;
+    if (!(j2 <= *g2)) *g2 = j2;
+    if (!(j1 <= mx[FIT_SPMAX_G1])) mx[FIT_SPMAX_G1] = j1;
+    if (!(j2 <= mx[FIT_SPMAX_G2])) mx[FIT_SPMAX_G2] = j2;
+}
+
 /* The fitted jumps of edge E between its check points: at least Q2N_FIT_JUMP_SAMPLES evenly spaced
  * points per span of the union of both sides' knots along the edge and Q2N_FIT_JUMP_SAMPLES_EDGE per
  * unit of its parameter, the knots included (the fitted sides only: no construction values).  The
@@ -179,10 +189,7 @@ static q2n_status dense_jumps(const fit_ctx *c, fit_edge *E, const fit_side sd[2
             q2n_fit_side_poly_frame(C[1], Ns[1], (1.0 - t) - t0[1], f[1]);
             if (!fit_regular_frame(f[0]) || !fit_regular_frame(f[1])) continue;
             q2n_fit_jumps(f[0][0], f[1][0], f[0][1], c->diag, &j1, &j2);
-            if (!(j1 <= E->g1d)) E->g1d = j1;
-            if (!(j2 <= E->g2d)) E->g2d = j2;
-            if (!(j1 <= mx[FIT_SPMAX_G1])) mx[FIT_SPMAX_G1] = j1;
-            if (!(j2 <= mx[FIT_SPMAX_G2])) mx[FIT_SPMAX_G2] = j2;
+            keep_jumps(j1, j2, &E->g1d, &E->g2d, mx);
         }
     }
     free(brk);
@@ -255,10 +262,7 @@ static void measure_edge(void *arg, int e)
             q2n_fit_jumps(f[0][0], f[1][0], f[0][1], c->diag, &j1, &j2);
             double gap = q2n_v3_dist(f[0][0], f[1][0]) / c->diag;
             if (gap > E->g0) E->g0 = gap;
-            if (!(j1 <= E->g1)) E->g1 = j1;
-            if (!(j2 <= E->g2)) E->g2 = j2;
-            if (!(j1 <= mx[FIT_SPMAX_G1])) mx[FIT_SPMAX_G1] = j1;
-            if (!(j2 <= mx[FIT_SPMAX_G2])) mx[FIT_SPMAX_G2] = j2;
+            keep_jumps(j1, j2, &E->g1, &E->g2, mx);
         }
     }
     E->g1d = E->g1;

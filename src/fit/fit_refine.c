@@ -303,7 +303,9 @@ int q2n_fit_refine(fit_ctx *c)
                 }
             }
     }
-    /* patches: cells over the tolerance, in the limiting direction(s) */
+    /* patches: cells over the tolerance, in the limiting direction(s).  Only while a round after
+     * this one judges the cells again may a patch wait for its edges or set cells aside (below) */
+    const int judged_later = c->round + 2 < c->o.max_rounds;
     for (int k = 0; k < m->nf; k++) {
         fit_patch *p = &c->p[k];
         if (!(p->dev > tol) || p->spiky == 2 || !p->cell) continue;
@@ -333,7 +335,7 @@ int q2n_fit_refine(fit_ctx *c)
             lo[i] = a, hi[i] = b;
         }
         /* the refinement before the last round cannot wait: no round after it judges the cells */
-        int reach = c->o.continuity + 1, wait = c->round + 2 < c->o.max_rounds;
+        int reach = c->o.continuity + 1, wait = judged_later;
         for (int j = 0; j < p->ncv && wait; j++)
             for (int i = 0; i < p->ncu && wait; i++)
                 if (p->cell[(size_t)j * p->ncu + i] > tol &&
@@ -348,13 +350,12 @@ int q2n_fit_refine(fit_ctx *c)
          * bisected whole patches for bands the edges' own refinement removes (a patch failing by
          * 8 x tol in a band along a side being split and by 2 x next to another side had every span
          * split in both directions, where the cells by the other side ask for some v spans) */
-        int defer = c->round + 2 < c->o.max_rounds;
         for (int j = 0; j < p->ncv; j++)
             for (int i = 0; i < p->ncu; i++) {
                 double r = p->cell[(size_t)j * p->ncu + i] / tol;
                 if (!(r > 1)) continue;
                 int iu = i / Q2N_FIT_SAMPLES_PER_SPAN, iv = j / Q2N_FIT_SAMPLES_PER_SPAN;
-                if (defer && near_split(p, iu, iv, reach, lo, hi)) continue;
+                if (judged_later && near_split(p, iu, iv, reach, lo, hi)) continue;
                 /* each refined direction takes its share of the error; one direction alone where the
                  * error model says it suffices (a bisection in direction d divides d's h^6 term by
                  * 64, leaving r (1 - s_d 63/64) of the cell's error) */
