@@ -15,6 +15,7 @@
 #include "fit_check.h"
 #include "fit/fit.h"
 #include "fit/fit_internal.h"
+#include "fit/fit_policy.h"
 #include "fit/fit_state.h"
 #include "core/dense.h"
 #include "mesh/mesh.h"
@@ -547,6 +548,101 @@ static void internals(void)
     q2n_fit_ls_free(&ls);
 }
 
+/* The interior stage (fit_interior.c: two 1-D passes with cached pseudo-inverses) against the 2-D
+ * least-squares problem it stands for, solved whole by LAPACK's QR on the Kronecker matrix: two
+ * patches of the skewed graph on the same non-uniform knots (4 x 3 spans), border rows 0..2 fixed
+ * at random values, the 3 x 2 block inside free.  The two patches share their two matrices (two
+ * cache entries, not four), and a patch refitted from the cache gets the same bits. */
+static void interior_stage(void)
+{
+    q2n_mesh *mesh;
+    q2n_surface *s;
+    if (!build(1, 2, 1, 0.6, &mesh, &s)) { CHECK(0, "interior stage: build failed"); return; }
+    const double bu[3] = {0.2, 0.5, 0.7}, bv[2] = {0.3, 0.6};
+    enum { NU = 9, NV = 8 };
+    q2n_fit_report rep;
+    q2n_error err;
+    memset(&rep, 0, sizeof rep);
+    fit_ctx fc;
+    memset(&fc, 0, sizeof fc);
+    fc.s = s; fc.m = mesh; fc.rep = &rep; fc.err = &err;
+    fc.o.threads = 1; fc.o.solver = Q2N_FIT_SOLVER_CERES;
+    atomic_init(&fc.cache_bytes, 0);
+    q2n_fit_ls_init(&fc.ls);
+    fit_patch P[2];
+    memset(P, 0, sizeof P);
+    fc.p = P;
+    unsigned seed = 5;
+    double ku[NU + 6], kv[NV + 6], cp[2][3 * NU * NV];
+    unsigned char fixed[2][NU * NV];
+    int var[2][NU * NV];
+    q2n_fit_knots_from_breaks(3, bu, ku);
+    q2n_fit_knots_from_breaks(2, bv, kv);
+    for (int k = 0; k < 2; k++) {
+        P[k].nu = NU; P[k].nv = NV; P[k].mu = NU - 5; P[k].mv = NV - 5;
+        P[k].ku = ku; P[k].kv = kv; P[k].cp = cp[k]; P[k].fixed = fixed[k]; P[k].var = var[k];
+        for (int g = 0; g < NU * NV; g++) {
+            int a = g % NU, b = g / NU;
+            fixed[k][g] = a < 3 || a > NU - 4 || b < 3 || b > NV - 4;
+            var[k][g] = -1;
+            for (int c = 0; c < 3; c++) cp[k][3 * g + c] = fixed[k][g] ? 2 * frand(&seed) - 1 : 1e300;
+        }
+    }
+    const int list[2] = {0, 1};
+    CHECK(q2n_fit_stage_interior(&fc, list, 2) == Q2N_OK, "interior stage: %s", err.message);
+    CHECK(fc.pinv.n == 2, "interior stage: %d cached matrices for two patches on the same knots (2 expected)", fc.pinv.n);
+    /* the reference: every sample row, every free unknown */
+    double us[64], vs[64];
+    int Nu = q2n_fit_sample_params(NU, ku, Q2N_FIT_SAMPLES_PER_SPAN, us), Nv = q2n_fit_sample_params(NV, kv, Q2N_FIT_SAMPLES_PER_SPAN, vs);
+    int nfree = (NU - 6) * (NV - 6), mrow = Nu * Nv;
+    double *A = calloc((size_t)mrow * nfree, sizeof(double)), *B = calloc((size_t)mrow * 3, sizeof(double));
+    double *S = malloc(3 * sizeof(double) * (size_t)mrow);
+    double emax = 0;
+    for (int k = 0; k < 2 && A && B && S; k++) {
+        memset(A, 0, sizeof(double) * (size_t)mrow * nfree);
+        q2n_surface_eval_grid_pos(s, k, Nu, us, Nv, vs, S);
+        for (int j = 0; j < Nv; j++)
+            for (int i = 0; i < Nu; i++) {
+                int r = j * Nu + i;
+                double Bu[3][Q2N_FIT_DEG + 1], Bv[3][Q2N_FIT_DEG + 1];
+                int su = q2n_fit_span(NU, ku, us[i]), sv = q2n_fit_span(NV, kv, vs[j]);
+                q2n_fit_basis(su, ku, us[i], 0, Bu);
+                q2n_fit_basis(sv, kv, vs[j], 0, Bv);
+                for (int c = 0; c < 3; c++) B[(size_t)c * mrow + r] = S[3 * r + c];
+                for (int b = 0; b <= Q2N_FIT_DEG; b++)
+                    for (int a = 0; a <= Q2N_FIT_DEG; a++) {
+                        int ga = su - Q2N_FIT_DEG + a, gb = sv - Q2N_FIT_DEG + b, g = gb * NU + ga;
+                        double w = Bu[0][a] * Bv[0][b];
+                        if (ga < 3 || ga > NU - 4 || gb < 3 || gb > NV - 4)   /* fixed (the stage fixes all) */
+                            for (int c = 0; c < 3; c++) B[(size_t)c * mrow + r] -= w * cp[k][3 * g + c];
+                        else
+                            A[(size_t)((gb - 3) * (NU - 6) + ga - 3) * mrow + r] += w;
+                    }
+            }
+        int rank = 0;
+        CHECK(q2n_dense_lstsq(mrow, nfree, 3, A, mrow, B, mrow, 1e-13, &rank) == 0 && rank == nfree, "reference solve");
+        for (int b = 3; b <= NV - 4; b++)
+            for (int a = 3; a <= NU - 4; a++)
+                for (int c = 0; c < 3; c++)
+                    emax = fmax(emax, fabs(cp[k][3 * (b * NU + a) + c] - B[(size_t)c * mrow + (b - 3) * (NU - 6) + a - 3]));
+    }
+    printf("interior stage vs the whole 2-D least squares (LAPACK QR): %.2e\n", emax);
+    CHECK(emax <= 1e-11, "interior stage vs the 2-D least-squares solution: %g", emax);
+    /* patch 1 again, its free points unfixed: from the cache, the same bits */
+    double keep[3 * NU * NV];
+    memcpy(keep, cp[1], sizeof keep);
+    for (int g = 0; g < NU * NV; g++)
+        if (!(g % NU < 3 || g % NU > NU - 4 || g / NU < 3 || g / NU > NV - 4)) fixed[1][g] = 0, cp[1][3 * g] = 1e300;
+    CHECK(q2n_fit_stage_interior(&fc, list + 1, 1) == Q2N_OK && fc.pinv.n == 2 && !memcmp(keep, cp[1], sizeof keep),
+          "interior stage from the cache: %d entries, same bits %d", fc.pinv.n, !memcmp(keep, cp[1], sizeof keep));
+    free(A); free(B); free(S);
+    for (int k = 0; k < 2; k++) { free(P[k].gc.u); free(P[k].gc.v); free(P[k].gc.val); free(P[k].gc.have); }
+    q2n_fit_pinv_free(&fc.pinv);
+    q2n_fit_ls_free(&fc.ls);
+    q2n_surface_free(s);
+    q2n_mesh_free(mesh);
+}
+
 /* Knot insertion against evaluation; a vector that is not a refinement is refused. */
 static void knot_insertion(void)
 {
@@ -722,6 +818,7 @@ static void errors_and_report(void)
 int main(void)
 {
     internals();
+    interior_stage();
     knot_insertion();
     dense();
     dimension_counts();

@@ -415,6 +415,7 @@ static void free_round_state(fit_ctx *c)
     }
     atomic_store(&c->cache_bytes, 0);
     atomic_store(&c->alpha_bytes, 0);
+    q2n_fit_pinv_free(&c->pinv);
 }
 
 static void ctx_free(fit_ctx *c)

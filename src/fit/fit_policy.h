@@ -56,6 +56,10 @@
 #define Q2N_FIT_CACHE_BYTES 64e6        /* construction values (side and grid caches together) are kept for reuse by the later stages and rounds up to this total; beyond it they are evaluated when needed: large models stay near 3.7 KB per face plus this, small ones keep every value */
 #endif
 
+#ifndef Q2N_FIT_PINV_CACHE_BYTES
+#define Q2N_FIT_PINV_CACHE_BYTES 16e6   /* the interior stage's basis matrices and pseudo-inverses are kept for the later rounds up to this total: patches on the same knots share one (a few hundred distinct on a 732-face mesh, ~2 KB each), the largest (64 spans, 257 x 63) takes 260 KB */
+#endif
+
 /* ---- corners ---- */
 #define Q2N_FIT_JET_SPREAD 0.1          /* two corner estimates disagreeing by more than this fraction of tol (control-point terms) are a Gregory-type corner */
 #define Q2N_FIT_JET_H 0.002             /* step of the one-sided 6-point corner differences: rounding ~eps/h^2 stays below 1e-10 relative */

@@ -1,5 +1,6 @@
 /* fit_state.h — the fitting context shared by the files that run the fit (not a public header):
  * fit.c (driver: rounds, model), fit_stages.c (the linear stages and the construction samples),
+ * fit_interior.c (the patches' free control points),
  * fit_glue.c (gluing data and exact constraints), fit_refine.c (where knots go).
  *
  * Knots are local.  Edge e owns the interior breakpoints K_e of its curve (in the orientation of
@@ -114,6 +115,23 @@ typedef struct fit_side {
     const double *kt, *ks;   /* knots along and across, in the side's own orientation */
 } fit_side;
 
+/* A basis matrix of the interior stage and its pseudo-inverse (fit_interior.c). */
+typedef struct fit_pinv {
+    unsigned long long h;    /* hash of (m, n, A) */
+    int m, n;
+    double *A;               /* m x n, row-major: the key */
+    double *P;               /* n x m, row-major: (A^T A)^-1 A^T */
+    int next;                /* next entry of its hash chain, -1: none */
+    int keep;                /* kept for the later rounds (within Q2N_FIT_PINV_CACHE_BYTES) */
+} fit_pinv;
+
+typedef struct fit_pinv_cache {
+    int n, cap, nbucket;
+    fit_pinv *v;
+    int *bucket;             /* nbucket chain heads (a power of two) */
+    long bytes;              /* bytes of the kept entries */
+} fit_pinv_cache;
+
 typedef struct fit_ctx {
     const q2n_surface *s;
     const q2n_mesh *m;
@@ -129,6 +147,7 @@ typedef struct fit_ctx {
     double *vpos;            /* nv: patch corner point of every vertex */
     int round;
     q2n_fit_ls ls;
+    fit_pinv_cache pinv;     /* the interior stage's pseudo-inverses, for the whole fit */
     q2n_fit_report *rep;
     q2n_error *err;
 } fit_ctx;
@@ -204,6 +223,11 @@ q2n_status q2n_fit_round(fit_ctx *c);          /* knots, curves, corners, rows, 
  * patch's sample cache (evaluations counted in *evals). */
 q2n_status q2n_fit_patch_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out,
                           long *evals);
+
+/* ---- interiors (fit_interior.c) ---- */
+/* The free control points of the listed patches by least squares on their sample grids. */
+q2n_status q2n_fit_stage_interior(fit_ctx *c, const int *list, int nlist);
+void q2n_fit_pinv_free(fit_pinv_cache *pc);
 
 /* ---- the fit target T_k = S_k o phi_k (fit_target.c) ---- */
 q2n_status q2n_fit_target_setup(fit_ctx *c);   /* edge speeds and which patches are reparametrized */
