@@ -117,7 +117,7 @@ static void run(const char *file, int subdivide, double target_s)
 
 int main()
 {
-    std::printf("bench_fit: augmented surface (D5C2P2S4, default extraordinary-vertex construction, G2 mode) fitted to "
+    std::printf("bench_fit: augmented surface (default class D5C2P4S6, default extraordinary-vertex construction, G2 mode) fitted to "
                 "tol 1e-5 x bbox diagonal\n");
     run("osd_catmark_pawn.obj", 0, 0);
     run("gismo_octtorus.obj", 0, 0);

@@ -39,7 +39,7 @@ static int fit_continuity(const q2n_model_options *mo, const q2n_fit_options *fo
 {
     if (mo->method != Q2N_SURFACE_AUGMENTED) return 0;
     if (fo->continuity) return fo->continuity;
-    const q2n_spline_class *cls = mo->cls ? mo->cls : q2n_spline_class_find("D5C2P2S4");
+    const q2n_spline_class *cls = mo->cls ? mo->cls : q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT);
     return cls && cls->k >= 2 && mo->ev_patch != Q2N_EV_PATCH_G1 ? 2 : 1;
 }
 
