@@ -6,8 +6,8 @@
  * in u (v) are the union of its two u-edges' (v-edges') knots and its interior ones; the boundary
  * curve of an edge is fitted once and each patch boundary is that curve by knot insertion.  A round
  * (fit_stages.c) fits the curves, corners, cross rows (fit_glue.c: exact G1/G2 constraints where the
- * gluing data allow) and interiors of what changed; the measurement below finds, per check cell
- * and per edge check point, where the fit misses; fit_refine.c bisects the spans there.  Rounds
+ * gluing data allow) and interiors (fit_interior.c) of what changed; the measurement below finds,
+ * per check cell and per edge check point, where the fit misses; fit_refine.c bisects the spans there.  Rounds
  * stop when nothing needs refining, at max_rounds, or at the span caps.  Bézier patches are
  * converted exactly instead (fit_bezier.c). */
 #include "fit/fit.h"
