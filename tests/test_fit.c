@@ -567,6 +567,7 @@ static void interior_stage(void)
     memset(&fc, 0, sizeof fc);
     fc.s = s; fc.m = mesh; fc.rep = &rep; fc.err = &err;
     fc.o.threads = 1; fc.o.solver = Q2N_FIT_SOLVER_CERES;
+    fc.pinv.budget = (long)Q2N_FIT_PINV_CACHE_BYTES;
     atomic_init(&fc.cache_bytes, 0);
     q2n_fit_ls_init(&fc.ls);
     fit_patch P[2];
@@ -635,6 +636,14 @@ static void interior_stage(void)
         if (!(g % NU < 3 || g % NU > NU - 4 || g / NU < 3 || g / NU > NV - 4)) fixed[1][g] = 0, cp[1][3 * g] = 1e300;
     CHECK(q2n_fit_stage_interior(&fc, list + 1, 1) == Q2N_OK && fc.pinv.n == 2 && !memcmp(keep, cp[1], sizeof keep),
           "interior stage from the cache: %d entries, same bits %d", fc.pinv.n, !memcmp(keep, cp[1], sizeof keep));
+    /* and with no room to keep anything: solved again, the same bits, nothing kept */
+    q2n_fit_pinv_free(&fc.pinv);
+    fc.pinv.budget = 0;
+    for (int g = 0; g < NU * NV; g++)
+        if (!(g % NU < 3 || g % NU > NU - 4 || g / NU < 3 || g / NU > NV - 4)) fixed[1][g] = 0, cp[1][3 * g] = 1e300;
+    CHECK(q2n_fit_stage_interior(&fc, list + 1, 1) == Q2N_OK && fc.pinv.n == 0 && !memcmp(keep, cp[1], sizeof keep),
+          "interior stage without a cache budget: %d entries kept, same bits %d", fc.pinv.n,
+          !memcmp(keep, cp[1], sizeof keep));
     free(A); free(B); free(S);
     for (int k = 0; k < 2; k++) { free(P[k].gc.u); free(P[k].gc.v); free(P[k].gc.val); free(P[k].gc.have); }
     q2n_fit_pinv_free(&fc.pinv);

@@ -527,6 +527,7 @@ q2n_status q2n_fit_surface(const q2n_surface *s, const q2n_mesh *m, const q2n_fi
     if (c.o.g2_tol_rel <= 0)
         c.o.g2_tol_rel = q2n_fit_default_target(c.o.tol, Q2N_FIT_G2_TARGET_DEFAULT, Q2N_FIT_G2_TARGET_CAP);
     q2n_fit_ls_init(&c.ls);
+    c.pinv.budget = (long)Q2N_FIT_PINV_CACHE_BYTES;
     double t0 = q2n_now();
     q2n_status st = nbez == m->nf ? q2n_fit_convert_bezier(s, m, &c.o, out, &rep, err) : fit_all(&c, out);
     rep.t_total = q2n_now() - t0;

@@ -85,7 +85,7 @@ static int pinv_find_add(fit_pinv_cache *pc, int m, int n, const double *A)
     return pc->n - 1;
 }
 
-/* Drop the entries not kept for later rounds (those beyond Q2N_FIT_PINV_CACHE_BYTES). */
+/* Drop the entries not kept for later rounds (those beyond the budget). */
 static void pinv_drop_transient(fit_pinv_cache *pc)
 {
     int n = 0;
@@ -100,9 +100,11 @@ static void pinv_drop_transient(fit_pinv_cache *pc)
 
 void q2n_fit_pinv_free(fit_pinv_cache *pc)
 {
+    long budget = pc->budget;
     for (int i = 0; i < pc->n; i++) { free(pc->v[i].A); free(pc->v[i].P); }
     free(pc->v); free(pc->bucket);
     memset(pc, 0, sizeof *pc);
+    pc->budget = budget;
 }
 
 /* Pseudo-inverses of the entries from `from` on (those new in this stage): A x = e_j for every unit
@@ -144,7 +146,7 @@ static q2n_status pinv_solve(fit_ctx *c, int from)
             for (int d = 0; d < 3 && 3 * q + d < e->m; d++)
                 for (int b = 0; b < e->n; b++) e->P[(size_t)b * e->m + 3 * q + d] = c->ls.x[3 * (size_t)(var0[it] + b) + d];
         long add = (long)(2 * sizeof(double)) * e->m * e->n;
-        if (pc->bytes + add <= (long)Q2N_FIT_PINV_CACHE_BYTES) {
+        if (pc->bytes + add <= pc->budget) {
             e->keep = 1;
             pc->bytes += add;
         }

@@ -57,7 +57,7 @@
 #endif
 
 #ifndef Q2N_FIT_PINV_CACHE_BYTES
-#define Q2N_FIT_PINV_CACHE_BYTES 16e6   /* the interior stage's basis matrices and pseudo-inverses are kept for the later rounds up to this total: patches on the same knots share one (a few hundred distinct on a 732-face mesh, ~2 KB each), the largest (64 spans, 257 x 63) takes 260 KB */
+#define Q2N_FIT_PINV_CACHE_BYTES 16e6   /* the interior stage's basis matrices and pseudo-inverses are kept for the later rounds up to this total: patches on the same knots share one (20 distinct over the 6 rounds of the subdivided 732-face spot, a few KB each), the largest (64 spans, 257 x 63) takes 260 KB */
 #endif
 
 /* ---- corners ---- */

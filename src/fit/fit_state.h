@@ -122,7 +122,7 @@ typedef struct fit_pinv {
     double *A;               /* m x n, row-major: the key */
     double *P;               /* n x m, row-major: (A^T A)^-1 A^T */
     int next;                /* next entry of its hash chain, -1: none */
-    int keep;                /* kept for the later rounds (within Q2N_FIT_PINV_CACHE_BYTES) */
+    int keep;                /* kept for the later rounds (within the cache's budget) */
 } fit_pinv;
 
 typedef struct fit_pinv_cache {
@@ -130,6 +130,7 @@ typedef struct fit_pinv_cache {
     fit_pinv *v;
     int *bucket;             /* nbucket chain heads (a power of two) */
     long bytes;              /* bytes of the kept entries */
+    long budget;             /* bytes they may take: Q2N_FIT_PINV_CACHE_BYTES (q2n_fit_surface; tests set their own) */
 } fit_pinv_cache;
 
 typedef struct fit_ctx {
