@@ -203,6 +203,22 @@ static void sep_free(sep_patch *sp, int n)
     free(sp);
 }
 
+/* The rows of the N x stride basis matrix B that reach its columns lo .. lo + n - 1, restricted to
+ * them, into A (row-major, n per row), their indices into rows; returns their number. */
+static int reach_rows(int N, const double *B, int stride, int lo, int n, double *A, int *rows)
+{
+    int m = 0;
+    for (int j = 0; j < N; j++) {
+        const double *w = B + (size_t)j * stride + lo;
+        int any = 0;
+        for (int b = 0; b < n; b++) any |= w[b] != 0.0;
+        if (!any) continue;
+        memcpy(A + (size_t)m * n, w, sizeof(double) * (size_t)n);
+        rows[m++] = j;
+    }
+    return m;
+}
+
 /* The two matrices of a tensor block: the sample rows j whose v basis reaches the free rows lv..hv
  * with those columns of Bv (A1), the sample columns i whose u basis reaches lu..hu with those
  * columns of Bu (A2). */
@@ -214,23 +230,8 @@ static q2n_status sep_blocks(sep_patch *sp, const fit_patch *p)
     sp->A1 = malloc(sizeof(double) * (size_t)sp->Nv * n1);
     sp->A2 = malloc(sizeof(double) * (size_t)sp->Nu * n2);
     if (!sp->rows1 || !sp->rows2 || !sp->A1 || !sp->A2) return Q2N_ERR_NOMEM;
-    sp->m1 = sp->m2 = 0;
-    for (int j = 0; j < sp->Nv; j++) {
-        const double *w = sp->Bv + (size_t)j * p->nv + sp->lv;
-        int any = 0;
-        for (int b = 0; b < n1; b++) any |= w[b] != 0.0;
-        if (!any) continue;
-        memcpy(sp->A1 + (size_t)sp->m1 * n1, w, sizeof(double) * (size_t)n1);
-        sp->rows1[sp->m1++] = j;
-    }
-    for (int i = 0; i < sp->Nu; i++) {
-        const double *w = sp->Bu + (size_t)i * p->nu + sp->lu;
-        int any = 0;
-        for (int a = 0; a < n2; a++) any |= w[a] != 0.0;
-        if (!any) continue;
-        memcpy(sp->A2 + (size_t)sp->m2 * n2, w, sizeof(double) * (size_t)n2);
-        sp->rows2[sp->m2++] = i;
-    }
+    sp->m1 = reach_rows(sp->Nv, sp->Bv, p->nv, sp->lv, n1, sp->A1, sp->rows1);
+    sp->m2 = reach_rows(sp->Nu, sp->Bu, p->nu, sp->lu, n2, sp->A2, sp->rows2);
     return Q2N_OK;
 }
 
