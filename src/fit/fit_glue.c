@@ -208,6 +208,19 @@ static void block_free(row_block *b)
     free(b->A); free(b->b); free(b->C); free(b->d); free(b->Z); free(b->xp);
 }
 
+/* Room for at least m rows of A (and b). */
+static q2n_status block_reserve(row_block *bl, int m)
+{
+    if (m <= bl->capm) return Q2N_OK;
+    double *a = realloc(bl->A, sizeof(double) * (size_t)m * (bl->n > 0 ? bl->n : 1));
+    if (a) bl->A = a;
+    double *r = a ? realloc(bl->b, 3 * sizeof(double) * (size_t)m) : NULL;
+    if (!a || !r) return Q2N_ERR_NOMEM;
+    bl->b = r;
+    bl->capm = m;
+    return Q2N_OK;
+}
+
 /* Append a zero row to A (constraint == 0) or C (constraint == 1); returns its coefficients (n) and
  * right-hand side (3), or NULL when out of memory. */
 static double *block_row(row_block *bl, int constraint, double **rhs)
@@ -338,6 +351,9 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
         q2n_fit_basis(Q2N_FIT_DEG, sd[x].ks, 0.0, 2, Ns[x]);
         ns[x] = side_params(&sd[x], ts[x]);
     }
+    /* the rows to come (fidelity, and least-squares gluing at the union of both sides' samples) in
+     * one allocation instead of doublings from 64 rows (malloc was 2 % of a large regular mesh's fit) */
+    if ((st = block_reserve(bl, ns[0] + (two ? ns[1] : 0) + (two && !bl->exact ? ns[0] + ns[1] : 0)))) goto out;
     /* fidelity */
     for (int x = 0; x < 1 + two; x++) {
         if ((st = q2n_fit_side_values(c, sd[x].k, sd[x].i, ns[x], ts[x], D))) goto out;
