@@ -236,19 +236,22 @@ q2n_status q2n_fit_target_frame(fit_ctx *c, int k, int i, double t, double D[6][
     return Q2N_OK;
 }
 
-/* phi_k(u, v) from the sides' tau values (tu0 = tau_0(u), tu2 = tau_2(1 - u), tv1 = tau_1(v),
- * tv3 = tau_3(1 - v)) and cross speeds (l0(u), l2(1 - u), l1(v), l3(1 - v)) and the corner speeds:
- * the Boolean sum P_u + P_v - P_uv (formulas.md §4.1) of each component. */
-static void coons_phi(double u, double v, double tu0, double tu2, double tv1, double tv3, double l0, double l1, double l2,
-                      double l3, const double cs[4][2], double out[2])
+/* The quintic Hermite functions at x (formulas.md §4.1's blending): h[0] = H00 (value at 0), h[1] =
+ * H01 (value at 1), h[2] = H10 (slope at 0), h[3] = H11 (slope at 1). */
+static void hermite4(double x, double h[4])
 {
-    /* quintic Hermite functions: h[0] = H00 (value at 0), h[1] = H01 (value at 1), h[2] = H10
-     * (slope at 0), h[3] = H11 (slope at 1) */
-    double Hu[3][2][Q2N_HERMITE_MAXD + 1], Hv[3][2][Q2N_HERMITE_MAXD + 1];
-    q2n_hermite_eval(2, u, 0, Hu);
-    q2n_hermite_eval(2, v, 0, Hv);
-    double hu[4] = {Hu[0][0][0], Hu[0][1][0], Hu[1][0][0], Hu[1][1][0]};
-    double hv[4] = {Hv[0][0][0], Hv[0][1][0], Hv[1][0][0], Hv[1][1][0]};
+    double H[3][2][Q2N_HERMITE_MAXD + 1];
+    q2n_hermite_eval(2, x, 0, H);
+    h[0] = H[0][0][0]; h[1] = H[0][1][0]; h[2] = H[1][0][0]; h[3] = H[1][1][0];
+}
+
+/* phi_k(u, v) from the Hermite functions at u and v (hu, hv: hermite4), the sides' tau values (tu0 =
+ * tau_0(u), tu2 = tau_2(1 - u), tv1 = tau_1(v), tv3 = tau_3(1 - v)) and cross speeds (l0(u), l2(1 - u),
+ * l1(v), l3(1 - v)) and the corner speeds: the Boolean sum P_u + P_v - P_uv (formulas.md §4.1) of each
+ * component. */
+static void coons_phi(const double hu[4], const double hv[4], double tu0, double tu2, double tv1, double tv3, double l0,
+                      double l1, double l2, double l3, const double cs[4][2], double out[2])
+{
     /* phi^u: u = 0: 0, d_u = l3; u = 1: 1, d_u = l1; v = 0: tau_0(u), v = 1: 1 - tau_2(1 - u) */
     double Pu = hu[1] + hu[2] * l3 + hu[3] * l1;
     double Pv = hv[0] * tu0 + hv[1] * (1.0 - tu2);
@@ -274,11 +277,14 @@ static void corner_speeds(const fit_ctx *c, int k, double cs[4][2])
 q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int nv, const double *vs, double *out)
 {
     if (!c->p[k].phi) return q2n_surface_eval_grid_pos(c->s, k, nu, us, nv, vs, out);
-    /* side data at the grid's parameters */
-    double *a = malloc(sizeof(double) * 4 * (size_t)(nu + nv));
+    /* side data and Hermite functions at the grid's parameters (once per grid line) */
+    double *a = malloc(sizeof(double) * 8 * (size_t)(nu + nv));
     if (!a) return Q2N_ERR_NOMEM;
     double *tu0 = a, *tu2 = a + nu, *l0 = a + 2 * nu, *l2 = a + 3 * nu;
     double *tv1 = a + 4 * nu, *tv3 = tv1 + nv, *l1 = tv1 + 2 * nv, *l3 = tv1 + 3 * nv, d[3], dl;
+    double *hu = tv1 + 4 * nv, *hv = hu + 4 * (size_t)nu;
+    for (int i = 0; i < nu; i++) hermite4(us[i], hu + 4 * (size_t)i);
+    for (int j = 0; j < nv; j++) hermite4(vs[j], hv + 4 * (size_t)j);
     q2n_status st = Q2N_OK;
     for (int i = 0; i < nu && !st; i++) {
         side_tau(c, k, 0, us[i], d); tu0[i] = d[0];
@@ -297,7 +303,8 @@ q2n_status q2n_fit_target_grid(fit_ctx *c, int k, int nu, const double *us, int 
     for (int j = 0; j < nv && !st; j++)
         for (int i = 0; i < nu && !st; i++) {
             double uv[2], S[Q2N_EVAL_MAX];
-            coons_phi(us[i], vs[j], tu0[i], tu2[i], tv1[j], tv3[j], l0[i], l1[j], l2[i], l3[j], cs, uv);
+            coons_phi(hu + 4 * (size_t)i, hv + 4 * (size_t)j, tu0[i], tu2[i], tv1[j], tv3[j], l0[i], l1[j], l2[i], l3[j], cs,
+                      uv);
             st = q2n_surface_eval(c->s, k, uv[0], uv[1], 0, S);
             memcpy(out + 3 * ((size_t)j * nu + i), S, 3 * sizeof(double));
         }
