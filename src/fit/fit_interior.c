@@ -95,7 +95,12 @@ static void pinv_drop_transient(fit_pinv_cache *pc)
     }
     if (n == pc->n) return;
     pc->n = n;
-    pinv_rehash(pc, pc->nbucket);   /* same size: cannot fail for want of a larger table, only of memory */
+    if (!pinv_rehash(pc, pc->nbucket)) {   /* out of memory: forget every entry (the chains are stale) */
+        for (int i = 0; i < pc->n; i++) { free(pc->v[i].A); free(pc->v[i].P); }
+        for (int i = 0; i < pc->nbucket; i++) pc->bucket[i] = -1;
+        pc->n = 0;
+        pc->bytes = 0;
+    }
 }
 
 void q2n_fit_pinv_free(fit_pinv_cache *pc)
