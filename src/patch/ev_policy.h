@@ -33,8 +33,9 @@
 
 /* Ridge towards the local estimates (q2n_ev_vertex_jets), relative to each unknown's own energy
  * diagonal.  First and second order: keeps tangent planes and curvatures near the mesh's local
- * shape where the energy is indifferent; third/fourth order and bubbles: only makes the system
- * definite (the energy decides). */
+ * shape where the energy is indifferent (weaker values smooth strongly anisotropic fans but cost the
+ * fitted files spans at box-like corners: docs/extraordinary.md "Why the policy values");
+ * third/fourth order and bubbles: only makes the system definite (the energy decides). */
 #define EV_FAIR_RIDGE_LOW 1e-3
 #define EV_FAIR_RIDGE_HIGH 1e-6
 
