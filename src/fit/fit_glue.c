@@ -208,34 +208,29 @@ static void block_free(row_block *b)
     free(b->A); free(b->b); free(b->C); free(b->d); free(b->Z); free(b->xp);
 }
 
-/* Room for at least m rows of A (and b). */
-static q2n_status block_reserve(row_block *bl, int m)
+/* Room for at least `rows` rows of A and b (constraint == 0) or C and d (constraint == 1);
+ * 0, or -1 when out of memory. */
+static int block_reserve(row_block *bl, int constraint, int rows)
 {
-    if (m <= bl->capm) return Q2N_OK;
-    double *a = realloc(bl->A, sizeof(double) * (size_t)m * (bl->n > 0 ? bl->n : 1));
-    if (a) bl->A = a;
-    double *r = a ? realloc(bl->b, 3 * sizeof(double) * (size_t)m) : NULL;
-    if (!a || !r) return Q2N_ERR_NOMEM;
-    bl->b = r;
-    bl->capm = m;
-    return Q2N_OK;
+    int *cap = constraint ? &bl->capc : &bl->capm;
+    double **M = constraint ? &bl->C : &bl->A, **R = constraint ? &bl->d : &bl->b;
+    if (rows <= *cap) return 0;
+    double *a = realloc(*M, sizeof(double) * (size_t)rows * (bl->n > 0 ? bl->n : 1));
+    if (a) *M = a;
+    double *r = a ? realloc(*R, 3 * sizeof(double) * (size_t)rows) : NULL;
+    if (!a || !r) return -1;
+    *R = r;
+    *cap = rows;
+    return 0;
 }
 
 /* Append a zero row to A (constraint == 0) or C (constraint == 1); returns its coefficients (n) and
  * right-hand side (3), or NULL when out of memory. */
 static double *block_row(row_block *bl, int constraint, double **rhs)
 {
-    int *cnt = constraint ? &bl->nc : &bl->m, *cap = constraint ? &bl->capc : &bl->capm;
+    int *cnt = constraint ? &bl->nc : &bl->m, cap = constraint ? bl->capc : bl->capm;
+    if (*cnt == cap && block_reserve(bl, constraint, cap ? 2 * cap : 64)) return NULL;
     double **M = constraint ? &bl->C : &bl->A, **R = constraint ? &bl->d : &bl->b;
-    if (*cnt == *cap) {
-        int nc = *cap ? 2 * *cap : 64;
-        double *a = realloc(*M, sizeof(double) * (size_t)nc * (bl->n > 0 ? bl->n : 1));
-        if (a) *M = a;
-        double *r = a ? realloc(*R, 3 * sizeof(double) * (size_t)nc) : NULL;
-        if (!a || !r) return NULL;
-        *R = r;
-        *cap = nc;
-    }
     double *row = *M + (size_t)*cnt * bl->n;
     memset(row, 0, sizeof(double) * (size_t)bl->n);
     *rhs = *R + 3 * (size_t)*cnt;
@@ -353,7 +348,7 @@ static q2n_status block_assemble(fit_ctx *c, row_block *bl, int order)
     }
     /* the rows to come (fidelity, and least-squares gluing at the union of both sides' samples) in
      * one allocation instead of doublings from 64 rows (malloc was 2 % of a large regular mesh's fit) */
-    if ((st = block_reserve(bl, ns[0] + (two ? ns[1] : 0) + (two && !bl->exact ? ns[0] + ns[1] : 0)))) goto out;
+    if (block_reserve(bl, 0, ns[0] + (two ? ns[1] : 0) + (two && !bl->exact ? ns[0] + ns[1] : 0))) { st = Q2N_ERR_NOMEM; goto out; }
     /* fidelity */
     for (int x = 0; x < 1 + two; x++) {
         if ((st = q2n_fit_side_values(c, sd[x].k, sd[x].i, ns[x], ts[x], D))) goto out;

@@ -346,16 +346,10 @@ static q2n_status general_item(fit_ctx *c, sep_patch *q)
     return Q2N_OK;
 }
 
-typedef struct apply_arg {
-    fit_ctx *c;
-    sep_patch *sp;
-    q2n_status *st;
-} apply_arg;
-
 /* X = A2^+ (R restricted to rows1 x rows2) A1^+T into the free block of patch sp->k. */
 static void apply_one(void *arg, int l)
 {
-    apply_arg *a = arg;
+    sep_arg *a = arg;
     sep_patch *q = &a->sp[l];
     if (!q->tensor) return;
     fit_patch *p = &a->c->p[q->k];
@@ -363,7 +357,7 @@ static void apply_one(void *arg, int l)
     int n1 = e1->n, n2 = e2->n, m1 = q->m1, m2 = q->m2;
     /* Z[i'][b'] = sum_j' P1[b'][j'] R[rows1[j']][rows2[i']]: every sample column fitted in v */
     double *Z = calloc(3 * (size_t)m2 * n1, sizeof(double));
-    if (!Z) { a->st[l] = Q2N_ERR_NOMEM; return; }
+    if (!Z) { q->st = Q2N_ERR_NOMEM; return; }
     for (int i = 0; i < m2; i++)
         for (int b = 0; b < n1; b++) {
             double *z = Z + 3 * ((size_t)i * n1 + b);
@@ -388,17 +382,15 @@ static void apply_one(void *arg, int l)
 q2n_status q2n_fit_stage_interior(fit_ctx *c, const int *list, int nlist)
 {
     sep_patch *sp = calloc((size_t)nlist + 1, sizeof *sp);
-    q2n_status *ast = calloc((size_t)nlist + 1, sizeof *ast);
     q2n_status st = Q2N_OK;
     int nsp = 0, from = c->pinv.n;
-    if (!sp || !ast) { free(sp); free(ast); return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory"); }
+    if (!sp) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of memory");
     for (int l = 0; l < nlist; l++) {
         sep_patch q;
         memset(&q, 0, sizeof q);
         q.k = list[l];
         q.tensor = free_block(&c->p[q.k], &q.lu, &q.hu, &q.lv, &q.hv);
         if (q.tensor && q.hu < q.lu) continue;      /* nothing free */
-        if (!q.tensor) { q.lv = 0; q.hv = 0; }
         sp[nsp++] = q;
     }
     double t0 = q2n_now();
@@ -423,11 +415,10 @@ q2n_status q2n_fit_stage_interior(fit_ctx *c, const int *list, int nlist)
     }
     if ((st = pinv_solve(c, from))) goto out;
     t0 = q2n_now();
-    apply_arg aa = {c, sp, ast};
-    q2n_par_for(nsp, c->o.threads, apply_one, &aa);
+    q2n_par_for(nsp, c->o.threads, apply_one, &arg);
     c->rep->t_solve += q2n_now() - t0;
     for (int l = 0; l < nsp; l++)
-        if (ast[l]) goto nomem;
+        if (sp[l].st) goto nomem;
     /* non-tensor free sets: one item each */
     int ngen = 0;
     for (int l = 0; l < nsp; l++)
@@ -459,6 +450,5 @@ out:
     q2n_fit_ls_clear(&c->ls);
     pinv_drop_transient(&c->pinv);
     sep_free(sp, nsp);
-    free(ast);
     return st;
 }
