@@ -322,4 +322,45 @@ static inline q2n_mesh *mg_capped_cylinder(int n, int rows, double h)
     return sub;
 }
 
+/* The pole of a UV sphere whose triangle fan was merged into quads in pairs (a modeller's "triangles
+ * to quads"): n kites around a valence-n apex on the unit sphere, each kite's fourth vertex on the
+ * first ring between two spoke ends (valence 3, its kite angle pi - pi/n: nearly a triangle), then
+ * rings - 1 rows of 2n quads, ring k at polar angle k * dtheta (the quads beside the kites are
+ * slivers: 2 sin(dtheta) sin(pi/2n) wide, dtheta high). */
+static inline q2n_mesh *mg_sphere_pole(int n, int rings, double dtheta)
+{
+    int nv = 1 + 2 * n * rings, nf = n + 2 * n * (rings - 1);
+    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = (int *)malloc(((size_t)nf + 1) * sizeof *fs), *fv = (int *)malloc(4 * (size_t)nf * sizeof *fv);
+    pos[0] = pos[1] = 0;
+    pos[2] = 1;
+    for (int k = 1; k <= rings; k++)
+        for (int s = 0; s < 2 * n; s++) {
+            double a = M_PI * s / n, th = k * dtheta, *p = pos + 3 * (1 + (k - 1) * 2 * n + s);
+            p[0] = sin(th) * cos(a);
+            p[1] = sin(th) * sin(a);
+            p[2] = cos(th);
+        }
+#define MG_RV(k, s) (1 + ((k) - 1) * 2 * n + ((s) % (2 * n)))
+    int f = 0;
+    for (int i = 0; i < n; i++, f++) {
+        fs[f] = 4 * f;
+        fv[4 * f] = 0;
+        fv[4 * f + 1] = MG_RV(1, 2 * i);
+        fv[4 * f + 2] = MG_RV(1, 2 * i + 1);
+        fv[4 * f + 3] = MG_RV(1, 2 * i + 2);
+    }
+    for (int k = 1; k < rings; k++)
+        for (int s = 0; s < 2 * n; s++, f++) {
+            fs[f] = 4 * f;
+            fv[4 * f] = MG_RV(k, s);
+            fv[4 * f + 1] = MG_RV(k + 1, s);
+            fv[4 * f + 2] = MG_RV(k + 1, s + 1);
+            fv[4 * f + 3] = MG_RV(k, s + 1);
+        }
+#undef MG_RV
+    fs[nf] = 4 * nf;
+    return mg_finish(nv, pos, nf, fs, fv, "sphere pole");
+}
+
 #endif

@@ -26,7 +26,8 @@
  *     patches there folded (docs/extraordinary.md, "Charts").  J1 is the linear map that best
  *     sends the planar edge vectors X_k onto the spatial ones (weights 1/|X_k|^2); the normal part
  *     of J2 is the quadratic form fitting the heights of the one-ring neighbours and of the far
- *     corners of the faces (at X_k + X_k+1) above the tangent plane; the tangential part of J2
+ *     corners of the faces (at X_k + X_k+1, moved out to the corner's distance where that falls
+ *     nearer: fan_gather) above the tangent plane; the tangential part of J2
  *     only carries each edge's change of speed (accelerations along the edges).
  * Why not (B.1)–(B.2) as printed: on fans with very different edge lengths the Bessel-like
  * estimate (B.1) mixes long edges into the tangent of a short one (a tangent can point backwards
@@ -317,8 +318,18 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, f
         for (int i = 0; i < 4; i++)
             if (m->face_vert[m->face_start[fc] + i] == v) c = i;
         q2n_v3_sub(F->q[k], q2n_mesh_vpos(m, m->face_vert[m->face_start[fc] + (c + 2) % 4]), p0);
-        F->Xq[k][0] = F->X[k][0] + F->X[(k + 1) % F->n][0];
-        F->Xq[k][1] = F->X[k][1] + F->X[(k + 1) % F->n][1];
+        /* The parallelogram's fourth corner, moved out to the far corner's distance where it falls
+         * nearer (the chart keeps every point's distance to v, as for the neighbours): a face with a
+         * wide angle at v (a kite, a quad that is nearly a triangle) has X_k + X_k+1 near zero while
+         * its far corner is far, and placed there its height would read as a curvature
+         * (d / |X_k + X_k+1|)^2 too large with (d / |X_k + X_k+1|)^4 of the weight
+         * (fit_normal_second); a position farther than the corner only lowers its weight and is
+         * kept (a long thin face's far corner lies beside v, not beyond its long edge). */
+        double *Xq = F->Xq[k], d = q2n_v3_norm(F->q[k]);
+        Xq[0] = F->X[k][0] + F->X[(k + 1) % F->n][0];
+        Xq[1] = F->X[k][1] + F->X[(k + 1) % F->n][1];
+        double dc = hypot(Xq[0], Xq[1]);
+        if (dc > 0 && d > dc) Xq[0] *= d / dc, Xq[1] *= d / dc;
     }
     return 1;
 }
@@ -346,7 +357,7 @@ static int fit_first(const fan *F, ev_vjet *J)
 }
 
 /* Normal part of J2: the quadratic form fitting the heights above the tangent plane of the
- * neighbours (at X_k) and of the far face corners (at X_k + X_k+1), weights 1/|X|^4.  Only the
+ * neighbours (at X_k) and of the far face corners (at Xq_k, fan_gather), weights 1/|X|^4.  Only the
  * normal part carries shape; G2 compatibility concerns it alone. */
 static int fit_normal_second(const fan *F, const double nj[3], ev_vjet *J)
 {
