@@ -213,14 +213,17 @@ int main(void)
      * sectors (x stretched 4:1); acc-g1 figures (fairness.py): 0.043 / 26.3, 0.181 / 110, -, 0.068 / 0.87 */
     generated("icosahedron split into quads", mg_icosa_quad(0, 1), 0.3, 0.3, 79);
     generated("the same, noisy", mg_icosa_quad(0.05, 3), 0.3, 0.3, 100);
-    /* The ripple target is missed here in G2: 0.355 since the valence-4 vertices of extraordinary
-     * regions take the fan's own chart (0.284 with quarter turns and section curves, which made the
-     * helmet, righthanded and the carpets rougher; docs/extraordinary.md, "Charts"); bound + 30 %.
+    /* The ellipsoidal octahedron missed the ripple target in G2 (0.355) since the valence-4
+     * vertices of extraordinary regions take the fan's own chart (0.284 with quarter turns and
+     * section curves, which made the helmet, righthanded and the carpets rougher;
+     * docs/extraordinary.md, "Charts"), and so did the stretched valence 7 (0.376).  Since stop 32
+     * (far corners at their distance, sectors capped at 0.75 pi) both meet it (0.261, 0.297), so
+     * their G2 bound is the target; G1 mode keeps the regression bounds (0.305, 0.246 measured).
      * The energy quadrature matters here too: 8 Gauss points gave 0.397 against 0.312 with 12
      * (quarter-turn charts; ev_policy.h EV_FAIR_GAUSS_G2). */
-    generated("octahedron on a 3:1:0.5 ellipsoid *", mg_octa_quad(3, 1, 0.5), 0.46, 0.45, 330);
+    generated("octahedron on a 3:1:0.5 ellipsoid *", mg_octa_quad(3, 1, 0.5), 0.3, 0.45, 330);
     generated("valence 12, two rings", mg_polar_star(12, 3, 1), 0.3, 0.3, 5);
-    generated("valence 7, sectors stretched 4:1", mg_polar_star(7, 3, 4), 0.5, 0.65, 6.5);
+    generated("valence 7, sectors stretched 4:1", mg_polar_star(7, 3, 4), 0.3, 0.65, 6.5);
     /* CAD-like blocks of unit cubes, one quad per cube face: flat faces, sharp edges, every vertex
      * extraordinary (valence 3 at convex corners, 5 at concave ones).  With the fan charts taken
      * from projected angles (until 2026-12) the G2 construction folded on four of them (Jacobian

@@ -99,10 +99,13 @@
  * as folded (the fan then gets uniform angles), and no sector is wider than EV_CHART_MAX_ANGLE
  * (else the two faces at an edge would not lie on its two sides; the excess goes to the others
  * in proportion, at most EV_CHART_CAP_PASSES times, which settles any fan of the valences
- * handled).  Why 0.05 and 0.8π: a sector of 3 degrees has no usable direction pair, and 0.8π
- * leaves a margin of 36 degrees to the straight angle. */
+ * handled).  Why 0.05: a sector of 3 degrees has no usable direction pair.  Why 0.75π (a margin of
+ * 45 degrees to the straight angle): a face nearly a triangle at the vertex gets a patch corner
+ * that stays regular; swept 0.6π-0.97π (docs/extraordinary.md "Why the policy values"), wider caps
+ * give such corners near-degenerate Jacobians and ripples, narrower ones distort the other sectors
+ * (0.7π and below: fitted files miss their tolerance, fans of nearly straight sectors ripple). */
 #define EV_CHART_MIN_ANGLE 0.05
-#define EV_CHART_MAX_ANGLE (0.8 * Q2N_PI)
+#define EV_CHART_MAX_ANGLE (0.75 * Q2N_PI)
 #define EV_CHART_CAP_PASSES 8
 
 /* ---- the paper's harmonisation of corner data (ev_harmonize.c) ---- */
