@@ -177,22 +177,13 @@ static inline q2n_mesh *mg_octa_quad(double ax, double ay, double az)
     return mg_tri_to_quad(6, v, 8, tri, 1, sc, 0, 1, "octahedron split into quads");
 }
 
-/* Open polar grid around one extraordinary vertex of valence n: `rings` rings of 2n vertices,
- * a Gaussian bump with a 3-fold ripple, x stretched by aniso (thin sectors for aniso >> 1). */
-static inline q2n_mesh *mg_polar_star(int n, int rings, double aniso)
+/* The faces of mg_polar_star and mg_sphere_pole on their vertices (pos: the apex, then `rings`
+ * rings of 2n, malloc'ed; taken over): n kites around the apex, each from a spoke end over the
+ * in-between vertex of ring 1 to the next spoke end, then 2n quads per ring step. */
+static inline q2n_mesh *mg_kite_rings(int n, int rings, double *pos, const char *name)
 {
     int nv = 1 + 2 * n * rings, nf = n + 2 * n * (rings - 1);
-    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
     int *fs = (int *)malloc(((size_t)nf + 1) * sizeof *fs), *fv = (int *)malloc(4 * (size_t)nf * sizeof *fv);
-    pos[0] = pos[1] = 0;
-    pos[2] = 0.3;
-    for (int k = 1; k <= rings; k++)
-        for (int s = 0; s < 2 * n; s++) {
-            double a = M_PI * s / n, x = aniso * k * cos(a), y = k * sin(a), *p = pos + 3 * (1 + (k - 1) * 2 * n + s);
-            p[0] = x;
-            p[1] = y;
-            p[2] = 0.3 * exp(-(x * x + y * y) / 2) + 0.05 * sin(3 * a) * k;
-        }
 #define MG_RV(k, s) (1 + ((k) - 1) * 2 * n + ((s) % (2 * n)))
     int f = 0;
     for (int i = 0; i < n; i++, f++) {
@@ -212,7 +203,24 @@ static inline q2n_mesh *mg_polar_star(int n, int rings, double aniso)
         }
 #undef MG_RV
     fs[nf] = 4 * nf;
-    return mg_finish(nv, pos, nf, fs, fv, "polar star");
+    return mg_finish(nv, pos, nf, fs, fv, name);
+}
+
+/* Open polar grid around one extraordinary vertex of valence n: `rings` rings of 2n vertices,
+ * a Gaussian bump with a 3-fold ripple, x stretched by aniso (thin sectors for aniso >> 1). */
+static inline q2n_mesh *mg_polar_star(int n, int rings, double aniso)
+{
+    double *pos = (double *)malloc(3 * ((size_t)1 + 2 * (size_t)n * rings) * sizeof *pos);
+    pos[0] = pos[1] = 0;
+    pos[2] = 0.3;
+    for (int k = 1; k <= rings; k++)
+        for (int s = 0; s < 2 * n; s++) {
+            double a = M_PI * s / n, x = aniso * k * cos(a), y = k * sin(a), *p = pos + 3 * (1 + (k - 1) * 2 * n + s);
+            p[0] = x;
+            p[1] = y;
+            p[2] = 0.3 * exp(-(x * x + y * y) / 2) + 0.05 * sin(3 * a) * k;
+        }
+    return mg_kite_rings(n, rings, pos, "polar star");
 }
 
 /* Surface of a union of unit cubes ("polycube", CAD-like: flat faces, sharp convex and concave
@@ -329,9 +337,7 @@ static inline q2n_mesh *mg_capped_cylinder(int n, int rows, double h)
  * slivers: 2 sin(dtheta) sin(pi/2n) wide, dtheta high). */
 static inline q2n_mesh *mg_sphere_pole(int n, int rings, double dtheta)
 {
-    int nv = 1 + 2 * n * rings, nf = n + 2 * n * (rings - 1);
-    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
-    int *fs = (int *)malloc(((size_t)nf + 1) * sizeof *fs), *fv = (int *)malloc(4 * (size_t)nf * sizeof *fv);
+    double *pos = (double *)malloc(3 * ((size_t)1 + 2 * (size_t)n * rings) * sizeof *pos);
     pos[0] = pos[1] = 0;
     pos[2] = 1;
     for (int k = 1; k <= rings; k++)
@@ -341,26 +347,7 @@ static inline q2n_mesh *mg_sphere_pole(int n, int rings, double dtheta)
             p[1] = sin(th) * sin(a);
             p[2] = cos(th);
         }
-#define MG_RV(k, s) (1 + ((k) - 1) * 2 * n + ((s) % (2 * n)))
-    int f = 0;
-    for (int i = 0; i < n; i++, f++) {
-        fs[f] = 4 * f;
-        fv[4 * f] = 0;
-        fv[4 * f + 1] = MG_RV(1, 2 * i);
-        fv[4 * f + 2] = MG_RV(1, 2 * i + 1);
-        fv[4 * f + 3] = MG_RV(1, 2 * i + 2);
-    }
-    for (int k = 1; k < rings; k++)
-        for (int s = 0; s < 2 * n; s++, f++) {
-            fs[f] = 4 * f;
-            fv[4 * f] = MG_RV(k, s);
-            fv[4 * f + 1] = MG_RV(k + 1, s);
-            fv[4 * f + 2] = MG_RV(k + 1, s + 1);
-            fv[4 * f + 3] = MG_RV(k, s + 1);
-        }
-#undef MG_RV
-    fs[nf] = 4 * nf;
-    return mg_finish(nv, pos, nf, fs, fv, "sphere pole");
+    return mg_kite_rings(n, rings, pos, "sphere pole");
 }
 
 #endif

@@ -103,18 +103,24 @@ static int regular_stage(const q2n_mesh *m, double **iv, q2n_surface **s, q2n_er
     return q2n_param_edge_intervals(m, &po, iv, err) == Q2N_OK && q2n_augmented_build(m, &ao, *iv, s, err) == Q2N_OK;
 }
 
+/* The whole construction with the default options, G2 (g1 == 0) or G1 patches; 1 on success. */
+static int default_build(const q2n_mesh *m, int g1, double **iv, q2n_surface **s, q2n_error *err)
+{
+    q2n_param_options po = {0};
+    q2n_extraordinary_options xo = {NULL, po, g1 ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2};
+    return regular_stage(m, iv, s, err) && q2n_extraordinary_build(m, &xo, *iv, *s, err) == Q2N_OK;
+}
+
 /* Generated meshes go through the library's stages directly (no file). */
 static void generated(const char *label, q2n_mesh *m, double osc_g2, double osc_g1, double e_bound)
 {
     CHECK(m != NULL, "%s: generator", label);
     if (!m) return;
     for (int g = 0; g < 2; g++) {
-        q2n_param_options po = {0};
-        q2n_extraordinary_options xo = {NULL, po, g ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2};
         double *iv = NULL;
         q2n_surface *s = NULL;
         q2n_error err = {0, ""};
-        int ok = regular_stage(m, &iv, &s, &err) && q2n_extraordinary_build(m, &xo, iv, s, &err) == Q2N_OK;
+        int ok = default_build(m, g, &iv, &s, &err);
         CHECK(ok, "%s: build: %s", label, err.message);
         if (ok) {
             fair_figures F;
@@ -174,13 +180,11 @@ static void sphere_pole(int n)
     CHECK(m != NULL, "sphere pole %d: generator", n);
     if (!m) return;
     for (int g = 0; g < 2; g++) {
-        q2n_param_options po = {0};
-        q2n_extraordinary_options xo = {NULL, po, g ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2};
         double *iv = NULL, dmax = 0, us[17], P[3 * 17 * 17];
         int kmax = -1;
         q2n_surface *s = NULL;
         q2n_error err = {0, ""};
-        int ok = regular_stage(m, &iv, &s, &err) && q2n_extraordinary_build(m, &xo, iv, s, &err) == Q2N_OK;
+        int ok = default_build(m, g, &iv, &s, &err);
         CHECK(ok, "sphere pole %d: build: %s", n, err.message);
         for (int i = 0; i < 17; i++) us[i] = i / 16.0;
         for (int k = 0; ok && k < m->nf; k++) {
