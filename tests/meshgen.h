@@ -294,6 +294,22 @@ static inline q2n_mesh *mg_thin_plate(int n, double t)
     return m;
 }
 
+/* A unit cube as a subdivision modeller builds a box with support loops: 4 x 4 quads per side at
+ * the breakpoints 0, d, 1/2, 1 - d, 1 of every axis (holding edge loops at d from every edge;
+ * corners valence 3; the 2 x 2 quads in the middle of each side have planar one-rings). */
+static inline q2n_mesh *mg_loop_box(double d)
+{
+    int cells[64][3], k = 0;
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++)
+            for (int l = 0; l < 4; l++) cells[k][0] = i, cells[k][1] = j, cells[k][2] = l, k++;
+    q2n_mesh *m = mg_polycube(k, (const int (*)[3])cells, "box with support loops");
+    const double b[5] = {0, d, 0.5, 1 - d, 1};
+    for (int v = 0; m && v < m->nv; v++)
+        for (int q = 0; q < 3; q++) m->pos[3 * (size_t)v + q] = b[(int)m->pos[3 * (size_t)v + q]];
+    return m;
+}
+
 /* A cylinder of n sides and `rows` rows of quads, height h, closed by two flat n-gon caps, after
  * one Catmull–Clark step (each cap becomes n kites around a valence-n vertex, its rim n
  * valence-3 vertices). */

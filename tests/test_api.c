@@ -463,6 +463,10 @@ int main(void)
     badl.limit_points = 2;
     CHECK(q2n_open("data/demo_torus.obj", &badl, &m, err, sizeof err) == Q2N_ERR_ARG && strstr(err, "invalid limit_points 2"),
           "bad limit_points reported: %s", err);
+    q2n_options badf = {0};
+    badf.keep_flat = 2;
+    CHECK(q2n_open("data/demo_torus.obj", &badf, &m, err, sizeof err) == Q2N_ERR_ARG && strstr(err, "invalid keep_flat 2"),
+          "bad keep_flat reported: %s", err);
     CHECK(q2n_open("data/demo_torus.obj", NULL, &m, err, sizeof err) == 0, "open demo: %s", err);
     if (!m) CHECK_DONE("test_api");
     CHECK(q2n_patch_count(m) == 128, "128 patches");

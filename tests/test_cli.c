@@ -14,6 +14,7 @@
 #include <sys/resource.h>
 
 #include "check.h"
+#include "patch/surface.h"
 
 static const char *EXE; /* chk_exe() */
 static char dir[256];
@@ -261,6 +262,63 @@ static void limit_points(void)
     CHECK(rc == 0 && strstr(err, "--limit-points is ignored with --surface acc-g1"), "acc-g1 with --limit-points: %d '%s'", rc, err);
     rc = run_sh("$Q cube.obj --surface acc3 --no-limit-points -o lp.json", err, sizeof err);
     CHECK(rc == 0 && strstr(err, "--no-limit-points is ignored with --surface acc3"), "acc3 with --no-limit-points: %d '%s'", rc, err);
+}
+
+/* --keep-flat: a 3 x 3 x 3 box (every side's middle quad has a planar one-ring).  The default fair
+ * construction bulges those middle quads out of their sides by ~2 % of the diagonal (the energy
+ * spreads the rounded edges into them); with --keep-flat they stay in their planes to rounding.
+ * The box is written side by side, so face 4 + 9 s is the middle of side s (x = 3 for s = 1). */
+static void keep_flat(void)
+{
+    char text[8192] = "", err[4096];
+    int n = 0, vid[4][4][4];
+    memset(vid, 0, sizeof vid);
+    for (int x = 0; x < 4; x++)
+        for (int y = 0; y < 4; y++)
+            for (int z = 0; z < 4; z++)
+                if (x % 3 == 0 || y % 3 == 0 || z % 3 == 0) {
+                    vid[x][y][z] = ++n;
+                    size_t l = strlen(text);
+                    snprintf(text + l, sizeof text - l, "v %d %d %d\n", x, y, z);
+                }
+    for (int s = 0; s < 6; s++) { /* axis s / 2, at 0 (s even) or 3 */
+        int d = s / 2, a = (d + 1) % 3, b = (d + 2) % 3, hi = s % 2;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                int c[4][3], q[4];
+                for (int k = 0; k < 4; k++) {
+                    int kk = hi ? k : (4 - k) % 4;
+                    c[k][d] = 3 * hi, c[k][a] = i + q2n_corner_uv[kk][0], c[k][b] = j + q2n_corner_uv[kk][1];
+                    q[k] = vid[c[k][0]][c[k][1]][c[k][2]];
+                }
+                size_t l = strlen(text);
+                snprintf(text + l, sizeof text - l, "f %d %d %d %d\n", q[0], q[1], q[2], q[3]);
+            }
+    }
+    write_file("box3.obj", text);
+    double diag = 3 * sqrt(3.0);
+    for (int kf = 0; kf < 2; kf++) {
+        int rc = run_sh(kf ? "$Q sample box3.obj --keep-flat --grid 9 > kf.txt" : "$Q sample box3.obj --grid 9 > kf.txt", err,
+                        sizeof err);
+        char *t = report("kf.txt"), *line = t;
+        double dev = 0;
+        int pts = 0;
+        while (line && *line) {
+            int k;
+            double u, v, X, Y, Z;
+            if (sscanf(line, "%d %lf %lf %lf %lf %lf", &k, &u, &v, &X, &Y, &Z) == 6 && k == 13) dev = fmax(dev, fabs(X - 3) / diag), pts++;
+            line = strchr(line, '\n');
+            if (line) line++;
+        }
+        free(t);
+        CHECK(rc == 0 && pts == 81 && (kf ? dev <= 1e-12 : dev >= 1e-3),
+              "%s: the middle of side x = 3 leaves its plane by %.3g x diag (%d points): %d '%s'", kf ? "--keep-flat" : "default", dev,
+              pts, rc, err);
+    }
+    int rc = run_sh("$Q box3.obj --surface acc-g1 --keep-flat -o kf.json", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "--keep-flat is ignored with --surface acc-g1"), "acc-g1 with --keep-flat: %d '%s'", rc, err);
+    rc = run_sh("$Q box3.obj --ev-construction paper --keep-flat -o kf.json", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "--keep-flat is ignored with --ev-construction paper"), "paper with --keep-flat: %d '%s'", rc, err);
 }
 
 static void tolerances(void)
@@ -639,6 +697,7 @@ int main(void)
     option_warnings();
     tolerances();
     limit_points();
+    keep_flat();
     write_torus();
     progress();
     resources();

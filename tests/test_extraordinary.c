@@ -70,6 +70,7 @@ typedef struct mstats {
 
 /* The construction every run uses: the fair one (default) or the paper's (--ev-construction paper). */
 static q2n_ev_method g_method = Q2N_EV_METHOD_DEFAULT;
+static int g_keep_flat; /* --keep-flat (ev_fair.c flat fans) */
 
 /* Build regular + extraordinary patches and measure everything. */
 static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q2n_param_method pm,
@@ -78,7 +79,7 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
     memset(st, 0, sizeof *st);
     st->nf = m->nf;
     q2n_augmented_options aopt = {q2n_spline_class_find(clsname), {pm, -1}};
-    q2n_extraordinary_options xopt = {aopt.cls, aopt.param, kind, g_method, 2};
+    q2n_extraordinary_options xopt = {aopt.cls, aopt.param, kind, g_method, 2, g_keep_flat};
     q2n_error err = {0, ""};
     double *iv = NULL;
     q2n_surface *S = NULL;
@@ -591,7 +592,7 @@ static void test_spikes(void)
 static int corner_compat(const char *label, const q2n_mesh *m, int *ncorners)
 {
     q2n_augmented_options ao = {q2n_spline_class_find("D5C2P2S4"), {Q2N_PARAM_CENTRIPETAL, -1}};
-    q2n_extraordinary_options xo = {ao.cls, ao.param, Q2N_EV_PATCH_G2, g_method, 2};
+    q2n_extraordinary_options xo = {ao.cls, ao.param, Q2N_EV_PATCH_G2, g_method, 2, 0};
     q2n_error err = {0, ""};
     double *iv = NULL;
     q2n_surface *S = NULL;
@@ -839,6 +840,28 @@ int main(void)
         q2n_mesh_free(m);
     }
     g_method = Q2N_EV_METHOD_DEFAULT;
+    /* --keep-flat (flat fans keep their planes: ev_fair.c): interpolation and continuity as without it,
+     * on a box with support loops (every side's middle flat) and on a flat sheet with a bump */
+    g_keep_flat = 1;
+    {
+        q2n_mesh *m = mg_loop_box(0.1);
+        for (int g = 1; m && g <= 2; g++)
+            if (run_mesh("box with support loops [keep-flat]", m, "D5C2P4S6", Q2N_PARAM_CENTRIPETAL, g == 1 ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2,
+                         g == 2, &st))
+                check_stats("box with support loops [keep-flat]", &st, g == 2);
+        q2n_mesh_free(m);
+        const char *path = chk_shared_mesh("osd_catmark_gregory_test6.obj");
+        q2n_error err;
+        if (path && q2n_mesh_read_obj(path, &m, &err) == Q2N_OK) {
+            for (int g = 1; g <= 2; g++)
+                if (run_mesh("osd_catmark_gregory_test6 [keep-flat]", m, "D5C2P4S6", Q2N_PARAM_CENTRIPETAL,
+                             g == 1 ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, g == 2, &st))
+                    check_stats("osd_catmark_gregory_test6 [keep-flat]", &st, g == 2);
+            q2n_mesh_free(m);
+        } else if (path)
+            CHECK(0, "read osd_catmark_gregory_test6.obj: %s", err.message);
+    }
+    g_keep_flat = 0;
     /* corner cases */
     {
         q2n_mesh *m = mg_star_3_8(17);

@@ -66,6 +66,7 @@ static q2n_status check_options(const q2n_options *o, char *errbuf, size_t errle
         return bad(errbuf, errlen, "invalid alpha %g (expected (0, 2], 0 for the default)", o->alpha);
     if (o->subdivide < 0 || o->subdivide > 6)
         return bad(errbuf, errlen, "invalid subdivide %d (expected 0 .. 6)", o->subdivide);
+    if (o->keep_flat < 0 || o->keep_flat > 1) return bad(errbuf, errlen, "invalid keep_flat %d (expected 0 or 1)", o->keep_flat);
     if (o->limit_points < -1 || o->limit_points > 1)
         return bad(errbuf, errlen, "invalid limit_points %d (expected -1, 0 or 1)", o->limit_points);
     if (o->scale != 0 && !(o->scale >= Q2N_SCALE_MIN && o->scale <= Q2N_SCALE_MAX))
@@ -98,6 +99,7 @@ static void model_options(const q2n_options *o, q2n_model_options *mo)
     mo->param.alpha = o->alpha > 0 ? o->alpha : NAN;
     mo->ev_patch = (int)o->ev_patch;
     mo->ev_method = (int)o->ev_construction;
+    mo->keep_flat = o->keep_flat;
     mo->acc_strategy = o->acc_strategy;
     mo->subdivide = o->subdivide;
     mo->limit_points = o->limit_points;

@@ -29,7 +29,7 @@ static q2n_status build_augmented(q2n_model *m, q2n_error *err)
 {
     q2n_augmented_options ao = {m->opt.cls, m->opt.param};
     q2n_extraordinary_options eo = {m->opt.cls, m->opt.param, (q2n_ev_patch_kind)m->opt.ev_patch,
-                                    (q2n_ev_method)m->opt.ev_method, m->opt.threads};
+                                    (q2n_ev_method)m->opt.ev_method, m->opt.threads, m->opt.keep_flat};
     q2n_status st = q2n_param_edge_intervals(m->mesh, &m->opt.param, &m->edge_iv, err);
     if (!st) st = q2n_augmented_build(m->mesh, &ao, m->edge_iv, &m->surface, err);
     /* faces at extraordinary vertices: augmented Coons–Gregory patches (§4) */

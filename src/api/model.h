@@ -31,6 +31,7 @@ typedef struct q2n_model_options {
     q2n_param_options param;      /* augmented: zeroed = centripetal */
     int ev_patch;                 /* augmented: a q2n_ev_patch_kind (0 default: G2 for C2 classes) */
     int ev_method;                /* augmented: a q2n_ev_method (0 default: the fair construction) */
+    int keep_flat;                /* augmented, fair construction: flat fans stay flat (q2n_options) */
     int threads;                  /* worker threads of the construction (0: 1; results do not depend on it) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */

@@ -54,6 +54,10 @@ int q2n_options_warnings(const q2n_model_options *mo, const q2n_fit_options *fo,
         for (size_t i = 0; i < sizeof AUG / sizeof AUG[0]; i++)
             if (set & AUG[i].bit)
                 warn(&w, "%s is ignored with --surface %s (it shapes the augmented surface only)", AUG[i].opt, meth);
+    if (mo->keep_flat && (mo->method != Q2N_SURFACE_AUGMENTED || mo->ev_method == Q2N_EV_METHOD_PAPER))
+        warn(&w, "--keep-flat is ignored with %s%s (it conditions the fair construction only)",
+             mo->method != Q2N_SURFACE_AUGMENTED ? "--surface " : "--ev-construction paper",
+             mo->method != Q2N_SURFACE_AUGMENTED ? meth : "");
     if (mo->limit_points && mo->method != Q2N_SURFACE_AUGMENTED)
         warn(&w, "%s is ignored with --surface %s (its patches approximate the Catmull-Clark limit from the control "
                  "mesh itself)", mo->limit_points > 0 ? "--limit-points" : "--no-limit-points", meth);

@@ -55,6 +55,10 @@ static void usage(FILE *f)
           "                        biquintic Coons-Gregory) or g1 (bicubic; default for C1 classes)\n"
           "      --ev-construction M  extraordinary regions: fair (default: one jet per vertex,\n"
           "                        bending-energy solve) or paper (Coons-Gregory of the paper)\n"
+          "      --keep-flat       where the mesh is flat around a vertex (its faces' corners in\n"
+          "                        one plane), the fair construction keeps the surface in that\n"
+          "                        plane exactly (flat panels stay flat; the bends beside them\n"
+          "                        get tighter)\n"
           "      --param P         edge parameter intervals: centripetal (default), chordal,\n"
           "                        uniform, mean (ribbon-averaged baseline of the paper)\n"
           "      --alpha A         exponent of |edge|^A for centripetal/mean (default 0.5)\n"
@@ -171,7 +175,7 @@ static int parse_size(const char *s, double *out)
 enum {
     OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT, OPT_TOL,
     OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_FORMAT, OPT_SCALE, OPT_TOLABS, OPT_ANGLE,
-    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT
+    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT, OPT_KEEPFLAT
 };
 
 static const struct option LONGOPTS[] = {
@@ -179,7 +183,7 @@ static const struct option LONGOPTS[] = {
     {"grid", required_argument, 0, OPT_GRID},       {"class", required_argument, 0, OPT_CLASS},
     {"param", required_argument, 0, OPT_PARAM},     {"alpha", required_argument, 0, OPT_ALPHA},
     {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
-    {"limit-points", no_argument, 0, OPT_LIMIT},   {"no-limit-points", no_argument, 0, OPT_NOLIMIT},
+    {"keep-flat", no_argument, 0, OPT_KEEPFLAT}, {"limit-points", no_argument, 0, OPT_LIMIT},   {"no-limit-points", no_argument, 0, OPT_NOLIMIT},
     {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
     {"tol", required_argument, 0, OPT_TOL},         {"threads", required_argument, 0, OPT_THREADS},
     {"units", required_argument, 0, OPT_UNITS},     {"ev-patch", required_argument, 0, OPT_EVPATCH},
@@ -218,6 +222,7 @@ static int parse_option(int c, const char *arg, cli_options *o)
     case OPT_GRID: q->given |= Q2N_GIVEN_GRID; return parse_int(arg, "--grid", 1, 10000, &o->grid) ? 2 : 0;
     case OPT_SUBDIV: return parse_int(arg, "--subdivide", 0, 6, &q->subdivide) ? 2 : 0;
     case OPT_LIMIT: q->limit_points = 1; return 0;
+    case OPT_KEEPFLAT: q->keep_flat = 1; return 0;
     case OPT_NOLIMIT: q->limit_points = -1; return 0;
     case OPT_THREADS: q->given |= Q2N_GIVEN_THREADS; return parse_int(arg, "--threads", 1, 4096, &q->threads) ? 2 : 0;
     case OPT_MAXSPANS: return parse_int(arg, "--max-spans", 1, 1024, &q->max_spans) ? 2 : 0;

@@ -431,6 +431,9 @@ typedef struct fe_build {
     double (*bub)[CP_NBUB][3];  /* per face of the list: bubble values */
     char *ridge;                /* per unknown: its ridge towards the local estimate, an fe_ridge */
     int nvar;
+    const char *flat;           /* per vertex: its fan is flat (fan_flat) and the first solve keeps its
+                                   free jet terms in the plane (coupled_solve); NULL: none */
+    const double (*flatn)[3];   /* per vertex: the unit normal of a flat fan's plane */
 } fe_build;
 
 /* Slots that are unknowns at a vertex: every slot of order 1..Kc, except at vertices of regular
@@ -759,6 +762,48 @@ static size_t sys_at(const fe_sys *Y, int r, int c)
     return (size_t)lo;
 }
 
+/* The scaled system of fair_pass (values val on Y's pattern, right-hand sides Bm, column-major
+ * n x 3) solved with the free jet terms of flat fans kept in their planes: that ties the three
+ * coordinates together, so the matrix is expanded to 3n (A (x) I3, interleaved) and each such
+ * unknown's 3 x 3 diagonal block gets EV_FLAT_PENALTY n n^T (the scaled diagonal is 1): its part
+ * normal to the plane is that much stiffer than the energy.  The solution replaces Bm. */
+static q2n_status coupled_solve(const fe_build *B, const fe_sys *Y, const double *val, double *Bm, q2n_error *err)
+{
+    int n = B->nvar, N = 3 * n;
+    long nnz = 3L * Y->colptr[n];
+    for (int v = 0; v < B->m->nv; v++)
+        if (B->flat[v]) nnz += 6L * EV_JS;
+    int *ti = malloc((size_t)nnz * sizeof *ti), *tj = malloc((size_t)nnz * sizeof *tj);
+    double *tv = malloc((size_t)nnz * sizeof *tv), *b3 = malloc((size_t)(N ? N : 1) * sizeof *b3);
+    q2n_status st = Q2N_OK;
+    if (!ti || !tj || !tv || !b3) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve, flat fans)"); goto done; }
+    long q = 0;
+    for (int j = 0; j < n; j++)
+        for (int e = Y->colptr[j]; e < Y->colptr[j + 1]; e++)
+            for (int c = 0; c < 3; c++) ti[q] = 3 * Y->rowind[e] + c, tj[q] = 3 * j + c, tv[q++] = val[e];
+    for (int v = 0; v < B->m->nv; v++) {
+        if (!B->flat[v]) continue;
+        const double *nv = B->flatn[v];
+        for (int k = 0; k < EV_JS; k++) {
+            int x = B->var[v * EV_JS + k];
+            if (x < 0) continue;
+            for (int a = 0; a < 3; a++)
+                for (int c = a; c < 3; c++) ti[q] = 3 * x + a, tj[q] = 3 * x + c, tv[q++] = EV_FLAT_PENALTY * nv[a] * nv[c];
+        }
+    }
+    for (int k = 0; k < n; k++)
+        for (int c = 0; c < 3; c++) b3[3 * k + c] = Bm[(size_t)c * n + k];
+    if ((st = q2n_sparse_spd_solve(N, q, ti, tj, tv, 1, b3, b3, err))) goto done;
+    for (int k = 0; k < n; k++)
+        for (int c = 0; c < 3; c++) Bm[(size_t)c * n + k] = b3[3 * k + c];
+done:
+    free(ti);
+    free(tj);
+    free(tv);
+    free(b3);
+    return st;
+}
+
 /* Sum the forms with weights w_t (per face for the variation term), add the ridge, solve; X holds
  * the solution per unknown (3 per unknown).  The matrix is scaled symmetrically by its diagonal
  * (the unknowns' scales differ by orders of magnitude); each entry is the sum, face by face and the
@@ -814,7 +859,9 @@ static q2n_status fair_pass(const fe_build *B, fe_sys *Y, int nfaces, const fe_f
     for (int x = 0; x < n; x++) val[Y->colptr[x + 1] - 1] += lam[x] * (dg[x] * dg[x]); /* the diagonal ends its column */
     for (int k = 0; k < n; k++)
         for (int c = 0; c < 3; c++) Bm[(size_t)c * n + k] = rhs[3 * k + c] * dg[k];
-    if ((st = q2n_sparse_spd_factor_solve(Y->S, 3, Bm, Bm, err))) goto done;
+    if (B->flat) st = coupled_solve(B, Y, val, Bm, err);
+    else st = q2n_sparse_spd_factor_solve(Y->S, 3, Bm, Bm, err);
+    if (st) goto done;
     for (int k = 0; k < n; k++)
         for (int c = 0; c < 3; c++) X[3 * k + c] = Bm[(size_t)c * n + k] * dg[k];
 done:
@@ -1111,8 +1158,53 @@ done:
     return st;
 }
 
+/* Is vertex v's fan flat: at least two faces around v, and every corner of every one of them
+ * within EV_FLAT_REL of the fan's radius from the tangent plane of v's local estimate (unit
+ * normal into n)?  That estimate is then exact, and the energy may not bend the plane
+ * (docs/extraordinary.md, "Flat fans"); a lone face says too little. */
+static int fan_flat(const q2n_mesh *m, int v, const ev_vjet *J, double n[3])
+{
+    if (!q2n_ev_jet_normal(J, n)) return 0;
+    const double *p = q2n_mesh_vpos(m, v);
+    double hmax = 0, rmax = 0;
+    int h0 = m->vert_he[v], h = h0, nfan = 0;
+    if (h0 < 0) return 0;
+    do {
+        int f = m->he_face[h];
+        for (int c = 0; c < 4; c++) {
+            const double *q = q2n_mesh_vpos(m, m->face_vert[m->face_start[f] + c]);
+            double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+            hmax = fmax(hmax, fabs(q2n_v3_dot(d, n)));
+            rmax = fmax(rmax, q2n_v3_norm(d));
+        }
+        nfan++;
+        h = q2n_mesh_rotate(m, h);
+    } while (h >= 0 && h != h0);
+    return nfan >= 2 && rmax > 0 && hmax <= EV_FLAT_REL * rmax;
+}
+
+/* Number the unknowns: the free jet slots of every vertex with a jet (slot_free), except those of
+ * the vertices marked in skip and those of orders 1 and 2 of the vertices marked in low (NULL:
+ * none), then CP_NBUB bubbles per face of the list. */
+static void assign_unknowns(fe_build *B, const ev_vjet *vj, int nf, const char *skip, const char *low)
+{
+    int Kc = 2 * B->K;
+    B->nvar = 0;
+    for (int i = 0; i < B->m->nv * EV_JS; i++) B->var[i] = -1;
+    for (int v = 0; v < B->m->nv; v++) {
+        if (!vj[v].source || (skip && skip[v])) continue;
+        for (int j = (low && low[v]) ? 3 : 1; j <= Kc; j++)
+            for (int i = 0; i <= j; i++)
+                if (slot_free(Kc, vj[v].source == 1, j, i)) B->var[v * EV_JS + EV_SLOT(j, i)] = B->nvar++;
+    }
+    for (int i = 0; i < nf; i++) {
+        B->bvar[i] = B->nvar;
+        B->nvar += CP_NBUB;
+    }
+}
+
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
-                         int threads, ev_fair_stats *stats, q2n_error *err)
+                         int keep_flat, int threads, ev_fair_stats *stats, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
     fe_build B = {0};
@@ -1121,12 +1213,15 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     B.iv = iv;
     B.K = K;
     B.kb = cls->k;
-    int Kc = 2 * K, nf = 0;
+    int nf = 0;
     ev_vjet *vj = calloc((size_t)m->nv, sizeof *vj);
     double (*dir)[2] = calloc(2 * (size_t)m->ne, sizeof *dir);
     char *unc = calloc((size_t)m->nf, 1);
     int *faces = malloc((size_t)m->nf * sizeof *faces);
     double (*jet0)[EV_JS][3] = calloc((size_t)m->nv, sizeof *jet0);
+    char *flat = calloc((size_t)m->nv, 1);
+    double (*flatn)[3] = calloc((size_t)m->nv, sizeof *flatn);
+    int nflat = 0;
     fe_ctx *X = calloc((size_t)m->nf, sizeof *X);
     cp_patch *CP = calloc((size_t)m->nf, sizeof *CP);
     B.jet = calloc((size_t)m->nv, sizeof *B.jet);
@@ -1135,7 +1230,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     B.bvar = malloc((size_t)m->nf * sizeof *B.bvar);
     B.bub = calloc((size_t)m->nf, sizeof *B.bub);
     if (stats) memset(stats, 0, sizeof *stats);
-    if (!vj || !dir || !unc || !faces || !jet0 || !X || !CP || !B.jet || !B.var || !B.base || !B.bvar || !B.bub) {
+    if (!vj || !dir || !unc || !faces || !jet0 || !flat || !flatn || !X || !CP || !B.jet || !B.var || !B.base || !B.bvar || !B.bub) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair extraordinary construction)");
         goto done;
     }
@@ -1146,7 +1241,6 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     if ((st = q2n_ev_vertex_jets(m, s, iv, cls, 0, vj, dir, err))) goto done;
 
     /* jets: initial values (the local estimates; orders 3, 4 zero) and unknowns */
-    for (int i = 0; i < m->nv * EV_JS; i++) B.var[i] = -1;
     for (int v = 0; v < m->nv; v++) {
         if (!vj[v].source) continue;
         double (*T)[3] = jet0[v];
@@ -1163,17 +1257,15 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
                 T[EV_SLOT(4, 2)][c] = vj[v].Jm[c][2];
             }
         }
-        int fixed = vj[v].source == 1;
-        for (int j = 1; j <= Kc; j++)
-            for (int i = 0; i <= j; i++)
-                if (slot_free(Kc, fixed, j, i)) B.var[v * EV_JS + EV_SLOT(j, i)] = B.nvar++;
-        if (stats) stats->vertices++, stats->fixed_vertices += fixed;
+        if (keep_flat && fan_flat(m, v, &vj[v], flatn[v])) {
+            flat[v] = 1;
+            nflat++;
+        }
+        if (stats) stats->vertices++, stats->fixed_vertices += vj[v].source == 1;
     }
+    if (stats) stats->flat_vertices = nflat;
+    assign_unknowns(&B, vj, nf, NULL, nflat ? flat : NULL);
     memcpy(B.jet, jet0, (size_t)m->nv * sizeof *jet0);
-    for (int i = 0; i < nf; i++) {
-        B.bvar[i] = B.nvar;
-        B.nvar += CP_NBUB;
-    }
 
     /* constructed edges and their base faces: the face whose cross direction is the more
      * transversal to the edge at its worse end (α = ratio of the transversal parts stays moderate);
@@ -1220,11 +1312,37 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
             }
     }
 
-    if (!(B.ridge = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
-    for (int i = 0; i < m->nv * EV_JS; i++)
-        if (B.var[i] >= 0) B.ridge[B.var[i]] = i % EV_JS <= EV_SLOT(2, 2) ? RIDGE_LOW : RIDGE_HIGH;
     int held = 0, folds = 0, shrinks = 0;
-    if ((st = fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, &shrinks, err))) goto done;
+    /* with flat fans (keep_flat): their jets' orders 1 and 2 are the local estimates, exact for planar
+     * data; a first solve keeps their higher orders in the plane up to EV_FLAT_PENALTY
+     * (coupled_solve), those then lose what is left of their normal parts and are fixed, and a
+     * second solve fits everything else to them (docs/extraordinary.md, "Flat fans") */
+    for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
+        if (stage == 1) {
+            for (int v = 0; v < m->nv; v++) {
+                if (!flat[v]) {
+                    memcpy(B.jet[v], jet0[v], sizeof jet0[v]); /* the ridge pulls toward the local estimates again */
+                    continue;
+                }
+                for (int k = 0; k < EV_JS; k++) {
+                    if (B.var[v * EV_JS + k] < 0) continue; /* the estimates and a regular patch's terms stay */
+                    double *T = B.jet[v][k], d = q2n_v3_dot(T, flatn[v]);
+                    for (int c = 0; c < 3; c++) T[c] -= d * flatn[v][c];
+                }
+            }
+            memset(B.bub, 0, (size_t)nf * sizeof *B.bub);
+            B.flat = NULL;
+            assign_unknowns(&B, vj, nf, flat, NULL);
+        } else if (nflat) {
+            B.flat = flat;
+            B.flatn = (const double (*)[3])flatn;
+        }
+        free(B.ridge);
+        if (!(B.ridge = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+        for (int i = 0; i < m->nv * EV_JS; i++)
+            if (B.var[i] >= 0) B.ridge[B.var[i]] = i % EV_JS <= EV_SLOT(2, 2) ? RIDGE_LOW : RIDGE_HIGH;
+        if ((st = fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, &shrinks, err))) goto done;
+    }
     if (stats) stats->unknowns = B.nvar, stats->held_vertices = held, stats->folded_faces = folds, stats->shrinks = shrinks;
 
     for (int i = 0; i < nf; i++) {
@@ -1246,6 +1364,8 @@ done:
     free(unc);
     free(faces);
     free(jet0);
+    free(flat);
+    free(flatn);
     free(X);
     free(CP);
     free(B.jet);

@@ -8,6 +8,8 @@
 typedef struct ev_fair_stats {
     int vertices;              /* vertices with a jet */
     int fixed_vertices;        /* of which corners of regular patches */
+    int flat_vertices;         /* of which vertices whose fan is flat (their jets kept in its plane) */
+    int repro_vertices;        /* vertices with reproduction conditions: a flat fan or a straight section */
     int edges;                 /* constructed edges between two extraordinary faces */
     int unknowns;              /* free jet coefficients (3-vectors) */
     int gregory_corners;       /* corners whose two sides disagreed (kept a Gregory blend) */
@@ -18,9 +20,10 @@ typedef struct ev_fair_stats {
 } ev_fair_stats;
 
 /* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the
- * edge intervals the regular patches were built with; threads: workers for the energy assembly
+ * edge intervals the regular patches were built with; keep_flat: vertices whose fan is flat
+ * (EV_FLAT_REL) keep the surface in its plane exactly; threads: workers for the energy assembly
  * (the result does not depend on it); stats may be NULL. */
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
-                         int threads, ev_fair_stats *stats, q2n_error *err);
+                         int keep_flat, int threads, ev_fair_stats *stats, q2n_error *err);
 
 #endif

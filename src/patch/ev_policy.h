@@ -39,6 +39,19 @@
 #define EV_FAIR_RIDGE_LOW 1e-3
 #define EV_FAIR_RIDGE_HIGH 1e-6
 
+/* --keep-flat (ev_fair.c fan_flat): a vertex whose fan — every corner of every face around it, two
+ * faces at least — lies within this fraction of the fan's radius of one plane is flat, and its jet
+ * stays in that plane (without it the energy spreads neighbouring bends into flat panels: up to
+ * 2 % of the diagonal on box-like meshes).  1e-5 covers coordinates written with 6-7 significant
+ * digits (float exports); a fan that flat curves with a radius beyond 5e4 fan radii
+ * (docs/extraordinary.md, "Flat fans"). */
+#define EV_FLAT_REL 1e-5
+/* Stiffness of a flat fan's jet terms normal to its plane, against the scaled energy's diagonal of
+ * 1, in the first of the two solves: large enough that the in-plane terms are those of the
+ * constrained optimum (to ~1e-4), small enough to keep the factorisation well conditioned; the
+ * second solve makes the plane exact. */
+#define EV_FLAT_PENALTY 1e4
+
 /* Fold guard of the fair solve (ev_fair.c fair_solve).  EV_FOLD_GRID points per direction judge
  * whether a patch folds: two neighbouring normals more than 90 degrees apart (a smooth patch turns
  * its normal by a few degrees per step of a 17-point grid, even around a thin plate's rim, while a

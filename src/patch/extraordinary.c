@@ -69,7 +69,7 @@ q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_op
     }
     const double *iv = edge_iv;
     if (opt->method == Q2N_EV_METHOD_PAPER) st = q2n_ev_paper_build(m, s, iv, cls, K, err);
-    else st = q2n_ev_fair_build(m, s, iv, cls, K, opt->threads, NULL, err);
+    else st = q2n_ev_fair_build(m, s, iv, cls, K, opt->keep_flat, opt->threads, NULL, err);
     free(own);
     return st;
 }

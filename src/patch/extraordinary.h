@@ -35,6 +35,7 @@ typedef struct q2n_extraordinary_options {
     q2n_ev_patch_kind ev_patch;
     q2n_ev_method method;
     int threads;                 /* worker threads for the construction's solves (0: 1) */
+    int keep_flat;               /* fair construction: flat fans stay flat (ev_fair.h); 0: no */
 } q2n_extraordinary_options;
 
 /* Parse "fair" / "paper"; returns 0 on success. */
