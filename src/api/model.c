@@ -34,7 +34,7 @@ static q2n_status build_augmented(q2n_model *m, q2n_error *err)
     if (!st) st = q2n_augmented_build(m->mesh, &ao, m->edge_iv, &m->surface, err);
     /* faces at extraordinary vertices: augmented Coons–Gregory patches (§4) */
     if (!st && q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED) > 0)
-        st = q2n_extraordinary_build(m->mesh, &eo, m->edge_iv, m->surface, err);
+        st = q2n_extraordinary_build_stats(m->mesh, &eo, m->edge_iv, m->surface, &m->ev_stats, err);
     int regular = m->opt.cls->k >= 2 ? 2 : 1, ev = q2n_ev_patch_order(&eo);
     m->continuity = (q2n_surface_count(m->surface, Q2N_PATCH_COONS_GREGORY) > 0 && ev < regular) ? ev : regular;
     return st;
@@ -379,6 +379,8 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     q2n_status st = q2n_fit_surface(m->surface, m->mesh, &o, &m->nurbs, &m->fit, err);
     m->fit.folded_faces = m->folded; /* the construction's scan, for the report */
     m->fit.vertices_moved_rel = m->moved_rel;
+    m->fit.flat_vertices = m->ev_stats.flat_vertices;
+    m->fit.straight_vertices = m->ev_stats.straight_vertices;
     m->fit.folded_face = m->folded_face;
     if (m->nurbs) { /* into output coordinates; relative figures stay */
         q2n_error e2;

@@ -18,6 +18,7 @@
 #include "iges/export.h"
 #include "mesh/mesh.h"
 #include "param/param.h"
+#include "patch/extraordinary.h"
 #include "patch/surface.h"
 #include "spline/spline.h"
 
@@ -80,6 +81,7 @@ typedef struct q2n_model {
     q2n_fit_report fit;        /* after q2n_model_fit */
     double t_read, t_build, t_fit, t_write; /* seconds */
     double moved_rel;          /* --limit-points: largest vertex move / bbox diagonal (0: none) */
+    q2n_extraordinary_stats ev_stats; /* the extraordinary regions' build (--keep-flat's vertices) */
 } q2n_model;
 
 /* Read (any mesh format, q2n_mesh_read) and move into the internal frame, then construct:

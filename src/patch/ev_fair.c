@@ -1385,7 +1385,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
         }
         if (stats) stats->vertices++, stats->fixed_vertices += vj[v].source == 1;
     }
-    if (stats) stats->flat_vertices = nflat;
+    for (int v = 0; stats && v < m->nv; v++) stats->flat_vertices += flat[v] == 1, stats->straight_vertices += flat[v] == 2;
     assign_unknowns(&B, vj, nf, NULL, nflat ? flat : NULL);
     memcpy(B.jet, jet0, (size_t)m->nv * sizeof *jet0);
 

@@ -8,7 +8,8 @@
 typedef struct ev_fair_stats {
     int vertices;              /* vertices with a jet */
     int fixed_vertices;        /* of which corners of regular patches */
-    int flat_vertices;         /* of which vertices whose fan is flat or that a straight section runs through */
+    int flat_vertices;         /* of which vertices whose fan is flat (keep_flat) */
+    int straight_vertices;     /* and vertices that only a straight section runs through (keep_flat) */
     int edges;                 /* constructed edges between two extraordinary faces */
     int unknowns;              /* free jet coefficients (3-vectors) */
     int gregory_corners;       /* corners whose two sides disagreed (kept a Gregory blend) */

@@ -43,6 +43,13 @@ int q2n_ev_patch_order(const q2n_extraordinary_options *opt)
 q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_options *opt,
                                    const double *edge_iv, q2n_surface *s, q2n_error *err)
 {
+    return q2n_extraordinary_build_stats(m, opt, edge_iv, s, NULL, err);
+}
+
+q2n_status q2n_extraordinary_build_stats(const q2n_mesh *m, const q2n_extraordinary_options *opt, const double *edge_iv,
+                                         q2n_surface *s, q2n_extraordinary_stats *stats, q2n_error *err)
+{
+    if (stats) memset(stats, 0, sizeof *stats);
     if (!m || !s || !opt) return q2n_error_set(err, Q2N_ERR_ARG, "extraordinary: missing argument");
     if (!m->all_quads)
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
@@ -69,7 +76,11 @@ q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_op
     }
     const double *iv = edge_iv;
     if (opt->method == Q2N_EV_METHOD_PAPER) st = q2n_ev_paper_build(m, s, iv, cls, K, err);
-    else st = q2n_ev_fair_build(m, s, iv, cls, K, opt->keep_flat, opt->threads, NULL, err);
+    else {
+        ev_fair_stats fs;
+        st = q2n_ev_fair_build(m, s, iv, cls, K, opt->keep_flat, opt->threads, &fs, err);
+        if (!st && stats) stats->flat_vertices = fs.flat_vertices, stats->straight_vertices = fs.straight_vertices;
+    }
     free(own);
     return st;
 }

@@ -47,6 +47,16 @@ int q2n_ev_method_parse(const char *s, q2n_ev_method *out);
 q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_options *opt,
                                    const double *edge_iv, q2n_surface *s, q2n_error *err);
 
+/* What the build did, for the report. */
+typedef struct q2n_extraordinary_stats {
+    int flat_vertices;     /* keep_flat: vertices whose fan is flat, their jets kept in its plane */
+    int straight_vertices; /* keep_flat: other vertices a straight section runs through */
+} q2n_extraordinary_stats;
+
+/* q2n_extraordinary_build, and its account into *stats (zeroed first). */
+q2n_status q2n_extraordinary_build_stats(const q2n_mesh *m, const q2n_extraordinary_options *opt, const double *edge_iv,
+                                         q2n_surface *s, q2n_extraordinary_stats *stats, q2n_error *err);
+
 /* Parse "g1" / "g2" (case-insensitive); returns 0 on success. */
 int q2n_ev_patch_parse(const char *s, q2n_ev_patch_kind *out);
 
