@@ -217,10 +217,8 @@ typedef struct q2n_options {
     q2n_ev_patch_kind ev_patch;    /* augmented [G2 for C2 classes, else G1] */
     q2n_ev_method ev_construction; /* augmented [fair] */
     int keep_flat;                 /* augmented, fair construction: where the mesh is flat around a vertex
-                                      (every corner of its faces in one plane) or straight through it
-                                      (three vertices of a mesh line on one line) the surface stays in that
-                                      plane, on that line, exactly: 1 yes, 0 [no] (docs/extraordinary.md,
-                                      "Flat fans") */
+                                      (every corner of its faces in one plane) the surface stays in that
+                                      plane exactly: 1 yes, 0 [no] (docs/extraordinary.md, "Flat fans") */
     q2n_acc_strategy acc_strategy; /* acc-g1 [cs-s] */
     int subdivide;                 /* Catmull–Clark steps before building, 0..6 [0] */
     int limit_points;              /* every vertex (after subdivide) moved to its Catmull–Clark limit

@@ -9,6 +9,14 @@
  * of a build; a narrower fold is below the fit's own sampling too. */
 #define Q2N_MODEL_SCAN_GRID 8
 
+/* Where the mesh is flat (q2n_flat_faces_dev: faces whose corners' fans lie in the face's plane), a
+ * build whose surface leaves that plane by more than this fraction of the diagonal says so, with
+ * the remedy (--keep-flat).  Why 1e-4: ten times the default fit tolerance, so the bulge is the
+ * construction's shape, not a fitting error, and visible (a box with support loops bulges ~1e-2);
+ * on Q2N_MODEL_FLAT_GRID points a side (9: the faces' middles and quarters). */
+#define Q2N_MODEL_FLAT_WARN 1e-4
+#define Q2N_MODEL_FLAT_GRID 9
+
 /* Largest bounding-box diagonal accepted, as a power of two: 2^1016 ~ 7e305.  Why: internally
  * everything is normalised, but what is handed back lives in the input's scale, and the surface's
  * first derivatives (up to a few diagonals on a wild mesh) and the sums and differences the CAD

@@ -120,6 +120,24 @@ static q2n_status scan_patches(q2n_model *m, q2n_error *err)
     return Q2N_OK;
 }
 
+/* Where the mesh is flat, does the surface stay flat?  A warning with the remedy when it leaves the
+ * plane by more than Q2N_MODEL_FLAT_WARN (docs/extraordinary.md, "Flat fans"). */
+static void flat_warning(q2n_model *m)
+{
+    int nflat = 0, face = -1;
+    double dev = 0;
+    if (q2n_flat_faces_dev(m->mesh, m->surface, Q2N_MODEL_FLAT_GRID, &nflat, &dev, &face) || !(dev > Q2N_MODEL_FLAT_WARN))
+        return;
+    char where[320];
+    face_where(m, face, where, sizeof where);
+    const char *why = m->opt.ev_method == Q2N_EV_METHOD_PAPER ? "--keep-flat (with the fair construction) keeps flat regions flat"
+                      : m->opt.keep_flat ? "the regular patches reach two rings of the mesh, across the bends, and bulge it "
+                                           "(--class D5C2P2S4 keeps them flat)"
+                                         : "--keep-flat keeps flat regions flat";
+    q2n_model_warn(m, "%s: the mesh is flat there (and on %d faces in all), the surface leaves the plane by %.2g of the "
+                   "diagonal; %s", where, nflat, dev, why);
+}
+
 /* A new model with its options (defaults filled in) and no mesh yet. */
 static q2n_status model_new(const q2n_model_options *opt, q2n_model **out, q2n_error *err)
 {
@@ -273,6 +291,7 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
     m->t_build = q2n_now() - t0;
     if (m->warning[0]) q2n_model_warn(m, "%s", m->warning);
+    if (m->opt.method == Q2N_SURFACE_AUGMENTED && !m->uncovered) flat_warning(m);
     if (m->uncovered)
         q2n_model_warn(m, "%d of %d faces are in extraordinary regions that the regular construction does not cover; "
                        "they are left out of the output", m->uncovered, m->mesh->nf);
@@ -380,7 +399,6 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.folded_faces = m->folded; /* the construction's scan, for the report */
     m->fit.vertices_moved_rel = m->moved_rel;
     m->fit.flat_vertices = m->ev_stats.flat_vertices;
-    m->fit.straight_vertices = m->ev_stats.straight_vertices;
     m->fit.folded_face = m->folded_face;
     if (m->nurbs) { /* into output coordinates; relative figures stay */
         q2n_error e2;

@@ -80,9 +80,8 @@ typedef struct q2n_fit_report {
     double vertices_moved_rel;     /* largest distance the mesh's vertices were moved before the
                                       construction (--limit-points), relative to bbox_diag; set by the
                                       caller, else 0 */
-    int flat_vertices, straight_vertices; /* --keep-flat: vertices whose fan the construction kept in
-                                      its plane, and others it kept on a straight section; set by the
-                                      caller, else 0 */
+    int flat_vertices;             /* --keep-flat: vertices whose fan the construction kept in its
+                                      plane; set by the caller, else 0 */
     double t_sample, t_build, t_solve, t_measure, t_total;  /* seconds per stage */
     long step_bytes, iges_bytes;   /* sizes of the CAD files written from this fit (0: none; set by the writer's caller) */
     int solver, threads;        /* threads: the number used */

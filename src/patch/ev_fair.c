@@ -431,22 +431,10 @@ typedef struct fe_build {
     double (*bub)[CP_NBUB][3];  /* per face of the list: bubble values */
     char *ridge;                /* per unknown: its ridge towards the local estimate, an fe_ridge */
     int nvar;
-    const char *flat;           /* per vertex: 1 its fan is flat (fan_flat) and the first solve keeps its
-                                   free jet terms in the plane (coupled_solve), 2 a straight section runs
-                                   through it (lin), 0 neither; NULL: none */
+    const char *flat;           /* per vertex: its fan is flat (fan_flat) and the first solve keeps its
+                                   free jet terms in the plane (coupled_solve); NULL: none */
     const double (*flatn)[3];   /* per vertex: the unit normal of a flat fan's plane */
-    const struct fe_lin *lin;   /* straight sections the first solve keeps straight (coupled_solve) */
-    int nlin;
 } fe_build;
-
-/* A straight section through vertex v: the jet's order-j derivative along the section's chart
- * direction u, Σ_i c_i T[slot_i] = T_j[u^j], has no part across the section's line (P = I − d d^T). */
-typedef struct fe_lin {
-    int v, ns;
-    int slot[5];
-    double c[5];
-    double P[3][3];
-} fe_lin;
 
 /* Slots that are unknowns at a vertex: every slot of order 1..Kc, except at vertices of regular
  * patches the terms with both exponents <= 2 (fixed by that patch, Lemma 1). */
@@ -774,21 +762,17 @@ static size_t sys_at(const fe_sys *Y, int r, int c)
     return (size_t)lo;
 }
 
-/* The scaled system of fair_pass (values val on Y's pattern, unknowns scaled by dg, right-hand
- * sides Bm, column-major n x 3) solved with the free jet terms of flat fans kept in their planes
- * and the straight sections B->lin kept straight: that ties the three coordinates together, so the
- * matrix is expanded to 3n (A (x) I3, interleaved); each such unknown's 3 x 3 diagonal block gets
- * EV_FLAT_PENALTY n n^T (the scaled diagonal is 1), and each section P (Σ c_s x_s) = 0 the penalty
- * EV_FLAT_PENALTY |P Σ c_s x_s|² normalised to the scaled unknowns: what they rule out is that much
- * stiffer than the energy.  The solution replaces Bm. */
-static q2n_status coupled_solve(const fe_build *B, const fe_sys *Y, const double *val, const double *dg, double *Bm,
-                                q2n_error *err)
+/* The scaled system of fair_pass (values val on Y's pattern, right-hand sides Bm, column-major
+ * n x 3) solved with the free jet terms of flat fans kept in their planes: that ties the three
+ * coordinates together, so the matrix is expanded to 3n (A (x) I3, interleaved) and each such
+ * unknown's 3 x 3 diagonal block gets EV_FLAT_PENALTY n n^T (the scaled diagonal is 1): its part
+ * normal to the plane is that much stiffer than the energy.  The solution replaces Bm. */
+static q2n_status coupled_solve(const fe_build *B, const fe_sys *Y, const double *val, double *Bm, q2n_error *err)
 {
     int n = B->nvar, N = 3 * n;
     long nnz = 3L * Y->colptr[n];
     for (int v = 0; v < B->m->nv; v++)
         if (B->flat[v]) nnz += 6L * EV_JS;
-    for (int l = 0; l < B->nlin; l++) nnz += 9L * B->lin[l].ns * B->lin[l].ns;
     int *ti = malloc((size_t)nnz * sizeof *ti), *tj = malloc((size_t)nnz * sizeof *tj);
     double *tv = malloc((size_t)nnz * sizeof *tv), *b3 = malloc((size_t)(N ? N : 1) * sizeof *b3);
     q2n_status st = Q2N_OK;
@@ -798,7 +782,7 @@ static q2n_status coupled_solve(const fe_build *B, const fe_sys *Y, const double
         for (int e = Y->colptr[j]; e < Y->colptr[j + 1]; e++)
             for (int c = 0; c < 3; c++) ti[q] = 3 * Y->rowind[e] + c, tj[q] = 3 * j + c, tv[q++] = val[e];
     for (int v = 0; v < B->m->nv; v++) {
-        if (B->flat[v] != 1) continue;
+        if (!B->flat[v]) continue;
         const double *nv = B->flatn[v];
         for (int k = 0; k < EV_JS; k++) {
             int x = B->var[v * EV_JS + k];
@@ -806,25 +790,6 @@ static q2n_status coupled_solve(const fe_build *B, const fe_sys *Y, const double
             for (int a = 0; a < 3; a++)
                 for (int c = a; c < 3; c++) ti[q] = 3 * x + a, tj[q] = 3 * x + c, tv[q++] = EV_FLAT_PENALTY * nv[a] * nv[c];
         }
-    }
-    for (int l = 0; l < B->nlin; l++) {
-        const fe_lin *L = &B->lin[l];
-        int x[5];
-        double a[5], a2 = 0;
-        for (int k = 0; k < L->ns; k++) {
-            x[k] = B->var[L->v * EV_JS + L->slot[k]];
-            a[k] = x[k] >= 0 ? L->c[k] * dg[x[k]] : 0;
-            a2 += a[k] * a[k];
-        }
-        if (!(a2 > 0)) continue;
-        for (int k = 0; k < L->ns; k++)
-            for (int k2 = k; k2 < L->ns; k2++) {
-                if (a[k] == 0 || a[k2] == 0) continue;
-                int r = x[k] < x[k2] ? x[k] : x[k2], c = x[k] < x[k2] ? x[k2] : x[k];
-                for (int pa = 0; pa < 3; pa++)
-                    for (int pb = r == c ? pa : 0; pb < 3; pb++)
-                        ti[q] = 3 * r + pa, tj[q] = 3 * c + pb, tv[q++] = EV_FLAT_PENALTY / a2 * a[k] * a[k2] * L->P[pa][pb];
-            }
     }
     for (int k = 0; k < n; k++)
         for (int c = 0; c < 3; c++) b3[3 * k + c] = Bm[(size_t)c * n + k];
@@ -894,7 +859,7 @@ static q2n_status fair_pass(const fe_build *B, fe_sys *Y, int nfaces, const fe_f
     for (int x = 0; x < n; x++) val[Y->colptr[x + 1] - 1] += lam[x] * (dg[x] * dg[x]); /* the diagonal ends its column */
     for (int k = 0; k < n; k++)
         for (int c = 0; c < 3; c++) Bm[(size_t)c * n + k] = rhs[3 * k + c] * dg[k];
-    if (B->flat) st = coupled_solve(B, Y, val, dg, Bm, err);
+    if (B->flat) st = coupled_solve(B, Y, val, Bm, err);
     else st = q2n_sparse_spd_factor_solve(Y->S, 3, Bm, Bm, err);
     if (st) goto done;
     for (int k = 0; k < n; k++)
@@ -1228,91 +1193,13 @@ static void assign_unknowns(fe_build *B, const ev_vjet *vj, int nf, const char *
     for (int i = 0; i < B->m->nv * EV_JS; i++) B->var[i] = -1;
     for (int v = 0; v < B->m->nv; v++) {
         if (!vj[v].source || (skip && skip[v])) continue;
-        for (int j = (low && low[v] == 1) ? 3 : 1; j <= Kc; j++)
+        for (int j = (low && low[v]) ? 3 : 1; j <= Kc; j++)
             for (int i = 0; i <= j; i++)
                 if (slot_free(Kc, vj[v].source == 1, j, i)) B->var[v * EV_JS + EV_SLOT(j, i)] = B->nvar++;
     }
     for (int i = 0; i < nf; i++) {
         B->bvar[i] = B->nvar;
         B->nvar += CP_NBUB;
-    }
-}
-
-/* Append the straight sections through vertex v (not a regular patch's corner) to *L (*n of *cap):
- * v between two neighbours on one mesh line, the three collinear to EV_FLAT_REL of the shorter
- * edge, and the two edges opposite in v's chart (else no straight curve through v has a regular
- * tangent map); orders from j0 to Kc.  0 out of memory. */
-static int straight_lins(const fe_build *B, int v, int j0, fe_lin **L, int *n, int *cap)
-{
-    const q2n_mesh *m = B->m;
-    int Kc = 2 * B->K, h0 = m->vert_he[v], h = h0;
-    const double *p = q2n_mesh_vpos(m, v);
-    if (h0 < 0) return 1;
-    do {
-        int t = m->he_twin[h], ho = t >= 0 ? q2n_mesh_continue(m, t) : -1;
-        if (ho >= 0 && m->he_edge[h] < m->he_edge[ho]) {
-            double da[3], db[3], cr[3];
-            q2n_v3_sub(da, q2n_mesh_vpos(m, q2n_he_dest(m, h)), p);
-            q2n_v3_sub(db, q2n_mesh_vpos(m, q2n_he_dest(m, ho)), p);
-            q2n_v3_cross(cr, da, db);
-            double la = q2n_v3_norm(da), lb = q2n_v3_norm(db);
-            const double *u = edge_dir(m, B->dir, m->he_edge[h], v), *w = edge_dir(m, B->dir, m->he_edge[ho], v);
-            double uw = u[0] * w[1] - u[1] * w[0], nu = hypot(u[0], u[1]), nw = hypot(w[0], w[1]);
-            if (la > 0 && lb > 0 && q2n_v3_dot(da, db) < 0 && q2n_v3_norm(cr) / (la + lb) <= EV_FLAT_REL * fmin(la, lb) &&
-                u[0] * w[0] + u[1] * w[1] < 0 && fabs(uw) <= EV_FLAT_REL * nu * nw) {
-                for (int j = j0; j <= Kc; j++) {
-                    fe_lin x = {v, j + 1, {0}, {0}, {{0}}};
-                    double binom = 1;
-                    for (int i = 0; i <= j; i++) {
-                        x.slot[i] = EV_SLOT(j, i);
-                        x.c[i] = binom * pow(u[0], j - i) * pow(u[1], i);
-                        binom = binom * (j - i) / (i + 1);
-                    }
-                    for (int r = 0; r < 3; r++)
-                        for (int c = 0; c < 3; c++) x.P[r][c] = (r == c) - da[r] * da[c] / (la * la);
-                    if (*n == *cap) {
-                        int c2 = *cap ? 2 * *cap : 64;
-                        fe_lin *tl = realloc(*L, (size_t)c2 * sizeof *tl);
-                        if (!tl) return 0;
-                        *L = tl, *cap = c2;
-                    }
-                    (*L)[(*n)++] = x;
-                }
-            }
-        }
-        h = q2n_mesh_rotate(m, h);
-    } while (h >= 0 && h != h0);
-    return 1;
-}
-
-/* The jets of flat fans and straight sections made to meet their conditions exactly, by
- * alternating projections (planes: each free term of order >= 3; sections: lin) from the first
- * solve's values, which meet them to ~1e-4 already. */
-static void enforce_flat(fe_build *B, const char *flat, const double (*flatn)[3], const fe_lin *L, int nl)
-{
-    for (int sweep = 0; sweep < EV_FLAT_SWEEPS; sweep++) {
-        for (int v = 0; v < B->m->nv; v++) {
-            if (flat[v] != 1) continue;
-            for (int k = 0; k < EV_JS; k++) {
-                if (B->var[v * EV_JS + k] < 0) continue; /* the estimates and a regular patch's terms stay */
-                double *T = B->jet[v][k], d = q2n_v3_dot(T, flatn[v]);
-                for (int c = 0; c < 3; c++) T[c] -= d * flatn[v][c];
-            }
-        }
-        for (int l = 0; l < nl; l++) {
-            double w[3] = {0, 0, 0}, c2 = 0, pw[3];
-            for (int k = 0; k < L[l].ns; k++) {
-                if (B->var[L[l].v * EV_JS + L[l].slot[k]] < 0) continue;
-                const double *T = B->jet[L[l].v][L[l].slot[k]];
-                for (int c = 0; c < 3; c++) w[c] += L[l].c[k] * T[c];
-                c2 += L[l].c[k] * L[l].c[k];
-            }
-            if (!(c2 > 0)) continue;
-            for (int r = 0; r < 3; r++) pw[r] = (L[l].P[r][0] * w[0] + L[l].P[r][1] * w[1] + L[l].P[r][2] * w[2]) / c2;
-            for (int k = 0; k < L[l].ns; k++)
-                if (B->var[L[l].v * EV_JS + L[l].slot[k]] >= 0)
-                    for (int c = 0; c < 3; c++) B->jet[L[l].v][L[l].slot[k]][c] -= L[l].c[k] * pw[c];
-        }
     }
 }
 
@@ -1334,8 +1221,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     double (*jet0)[EV_JS][3] = calloc((size_t)m->nv, sizeof *jet0);
     char *flat = calloc((size_t)m->nv, 1);
     double (*flatn)[3] = calloc((size_t)m->nv, sizeof *flatn);
-    int nflat = 0, nlin = 0, lincap = 0;
-    fe_lin *lin = NULL;
+    int nflat = 0;
     fe_ctx *X = calloc((size_t)m->nf, sizeof *X);
     cp_patch *CP = calloc((size_t)m->nf, sizeof *CP);
     B.jet = calloc((size_t)m->nv, sizeof *B.jet);
@@ -1375,17 +1261,9 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
             flat[v] = 1;
             nflat++;
         }
-        if (keep_flat && vj[v].source != 1) {
-            int n0 = nlin;
-            if (!straight_lins(&B, v, flat[v] ? 3 : 1, &lin, &nlin, &lincap)) {
-                st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair extraordinary construction)");
-                goto done;
-            }
-            if (nlin > n0 && !flat[v]) flat[v] = 2, nflat++; /* fixed in the second solve, no plane */
-        }
         if (stats) stats->vertices++, stats->fixed_vertices += vj[v].source == 1;
     }
-    for (int v = 0; stats && v < m->nv; v++) stats->flat_vertices += flat[v] == 1, stats->straight_vertices += flat[v] == 2;
+    if (stats) stats->flat_vertices = nflat;
     assign_unknowns(&B, vj, nf, NULL, nflat ? flat : NULL);
     memcpy(B.jet, jet0, (size_t)m->nv * sizeof *jet0);
 
@@ -1435,26 +1313,29 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     }
 
     int held = 0, folds = 0, shrinks = 0;
-    /* with flat fans and straight sections (keep_flat): a flat fan's jet keeps its local estimate's
-     * orders 1 and 2, exact for planar data; a first solve keeps its higher orders in the plane, and
-     * the jets through straight sections on their lines, up to EV_FLAT_PENALTY (coupled_solve); those
-     * jets are then made to meet their conditions exactly (enforce_flat) and are fixed, and a second
-     * solve fits everything else to them (docs/extraordinary.md, "Flat fans") */
+    /* with flat fans (keep_flat): their jets' orders 1 and 2 are the local estimates, exact for planar
+     * data; a first solve keeps their higher orders in the plane up to EV_FLAT_PENALTY
+     * (coupled_solve), those then lose what is left of their normal parts and are fixed, and a
+     * second solve fits everything else to them (docs/extraordinary.md, "Flat fans") */
     for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
         if (stage == 1) {
-            enforce_flat(&B, flat, (const double (*)[3])flatn, lin, nlin);
-            for (int v = 0; v < m->nv; v++)
-                if (!flat[v]) memcpy(B.jet[v], jet0[v], sizeof jet0[v]); /* the ridge pulls toward the local estimates again */
+            for (int v = 0; v < m->nv; v++) {
+                if (!flat[v]) {
+                    memcpy(B.jet[v], jet0[v], sizeof jet0[v]); /* the ridge pulls toward the local estimates again */
+                    continue;
+                }
+                for (int k = 0; k < EV_JS; k++) {
+                    if (B.var[v * EV_JS + k] < 0) continue; /* the estimates and a regular patch's terms stay */
+                    double *T = B.jet[v][k], d = q2n_v3_dot(T, flatn[v]);
+                    for (int c = 0; c < 3; c++) T[c] -= d * flatn[v][c];
+                }
+            }
             memset(B.bub, 0, (size_t)nf * sizeof *B.bub);
             B.flat = NULL;
-            B.lin = NULL;
-            B.nlin = 0;
             assign_unknowns(&B, vj, nf, flat, NULL);
         } else if (nflat) {
             B.flat = flat;
             B.flatn = (const double (*)[3])flatn;
-            B.lin = lin;
-            B.nlin = nlin;
         }
         free(B.ridge);
         if (!(B.ridge = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
@@ -1485,7 +1366,6 @@ done:
     free(jet0);
     free(flat);
     free(flatn);
-    free(lin);
     free(X);
     free(CP);
     free(B.jet);

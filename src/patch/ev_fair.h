@@ -8,8 +8,7 @@
 typedef struct ev_fair_stats {
     int vertices;              /* vertices with a jet */
     int fixed_vertices;        /* of which corners of regular patches */
-    int flat_vertices;         /* of which vertices whose fan is flat (keep_flat) */
-    int straight_vertices;     /* and vertices that only a straight section runs through (keep_flat) */
+    int flat_vertices;         /* of which vertices whose fan is flat (keep_flat: their jets kept in its plane) */
     int edges;                 /* constructed edges between two extraordinary faces */
     int unknowns;              /* free jet coefficients (3-vectors) */
     int gregory_corners;       /* corners whose two sides disagreed (kept a Gregory blend) */
@@ -21,8 +20,7 @@ typedef struct ev_fair_stats {
 
 /* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the
  * edge intervals the regular patches were built with; keep_flat: vertices whose fan is flat
- * (EV_FLAT_REL) keep the surface in its plane exactly, and straight sections through a vertex
- * keep it on their line; threads: workers for the energy assembly
+ * (EV_FLAT_REL) keep the surface in its plane exactly; threads: workers for the energy assembly
  * (the result does not depend on it); stats may be NULL. */
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int keep_flat, int threads, ev_fair_stats *stats, q2n_error *err);

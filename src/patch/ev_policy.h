@@ -39,12 +39,10 @@
 #define EV_FAIR_RIDGE_LOW 1e-3
 #define EV_FAIR_RIDGE_HIGH 1e-6
 
-/* --keep-flat (ev_fair.c fan_flat, straight_lins): a vertex whose fan — every corner of every face
- * around it, two faces at least — lies within this fraction of the fan's radius of one plane is
- * flat, and its jet stays in that plane; three vertices of a mesh line within this fraction of the
- * shorter edge of one line are straight, and the jet keeps the curve along them on it (without it
- * the energy spreads neighbouring bends into flat panels, up to 2 % of the diagonal on box-like
- * meshes, and scallops straight edges between their vertices).  1e-5 covers coordinates written with 6-7 significant
+/* --keep-flat (ev_fair.c fan_flat): a vertex whose fan — every corner of every face around it, two
+ * faces at least — lies within this fraction of the fan's radius of one plane is flat, and its jet
+ * stays in that plane (without it the energy spreads neighbouring bends into flat panels: up to
+ * 2 % of the diagonal on box-like meshes).  1e-5 covers coordinates written with 6-7 significant
  * digits (float exports); a fan that flat curves with a radius beyond 5e4 fan radii
  * (docs/extraordinary.md, "Flat fans"). */
 #define EV_FLAT_REL 1e-5
@@ -53,10 +51,6 @@
  * constrained optimum (to ~1e-4), small enough to keep the factorisation well conditioned; the
  * second solve makes the plane exact. */
 #define EV_FLAT_PENALTY 1e4
-/* Sweeps of alternating projections that make the conditioned jets meet their planes and lines
- * exactly (ev_fair.c enforce_flat): the first solve leaves them ~1e-4 off, and each sweep shrinks
- * that by the cosine of the angle between two conditions of one vertex. */
-#define EV_FLAT_SWEEPS 200
 
 /* Fold guard of the fair solve (ev_fair.c fair_solve).  EV_FOLD_GRID points per direction judge
  * whether a patch folds: two neighbouring normals more than 90 degrees apart (a smooth patch turns

@@ -4,11 +4,14 @@
  *   paper the paper's augmented Coons–Gregory patches with Appendix-B-style jets, ribbon cross
  *         fields and corner harmonisation (ev_paper.c, ev_harmonize.c).
  * Both build on the Boolean-sum Coons patch of coons_patch.c. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/vec3.h"
 #include "patch/ev_fair.h"
 #include "patch/ev_internal.h"
+#include "patch/ev_policy.h"
 
 int q2n_ev_patch_parse(const char *s, q2n_ev_patch_kind *out)
 {
@@ -79,8 +82,60 @@ q2n_status q2n_extraordinary_build_stats(const q2n_mesh *m, const q2n_extraordin
     else {
         ev_fair_stats fs;
         st = q2n_ev_fair_build(m, s, iv, cls, K, opt->keep_flat, opt->threads, &fs, err);
-        if (!st && stats) stats->flat_vertices = fs.flat_vertices, stats->straight_vertices = fs.straight_vertices;
+        if (!st && stats) stats->flat_vertices = fs.flat_vertices;
     }
     free(own);
+    return st;
+}
+
+q2n_status q2n_flat_faces_dev(const q2n_mesh *m, const q2n_surface *s, int n, int *nflat, double *dev, int *face)
+{
+    double diag = q2n_mesh_bbox_diag(m);
+    double *t = malloc((size_t)n * sizeof *t), *P = malloc(3 * (size_t)n * n * sizeof *P);
+    *nflat = 0, *dev = 0, *face = -1;
+    if (!t || !P) { free(t); free(P); return Q2N_ERR_NOMEM; }
+    for (int i = 0; i < n; i++) t[i] = n > 1 ? (double)i / (n - 1) : 0.5;
+    q2n_status st = Q2N_OK;
+    for (int f = 0; f < m->nf && !st; f++) {
+        const int *fv = m->face_vert + m->face_start[f];
+        const double *p0 = q2n_mesh_vpos(m, fv[0]);
+        double a[3], b[3], nrm[3];
+        q2n_v3_sub(a, q2n_mesh_vpos(m, fv[2]), p0);
+        q2n_v3_sub(b, q2n_mesh_vpos(m, fv[3]), q2n_mesh_vpos(m, fv[1]));
+        q2n_v3_cross(nrm, a, b);
+        double ln = q2n_v3_norm(nrm);
+        if (!(ln > 0)) continue;
+        q2n_v3_scale(nrm, 1 / ln, nrm);
+        int flat = 1;
+        for (int c = 0; c < 4 && flat; c++) { /* every corner's fan in the face's plane */
+            const double *pc = q2n_mesh_vpos(m, fv[c]);
+            double hmax = 0, rmax = 0;
+            int h0 = m->vert_he[fv[c]], h = h0;
+            do {
+                const int *gv = m->face_vert + m->face_start[m->he_face[h]];
+                for (int k = 0; k < 4; k++) {
+                    double d[3];
+                    q2n_v3_sub(d, q2n_mesh_vpos(m, gv[k]), pc);
+                    hmax = fmax(hmax, fabs(q2n_v3_dot(d, nrm)));
+                    rmax = fmax(rmax, q2n_v3_norm(d));
+                }
+                h = q2n_mesh_rotate(m, h);
+            } while (h >= 0 && h != h0);
+            double d0[3];
+            q2n_v3_sub(d0, pc, p0);
+            flat = hmax <= EV_FLAT_REL * rmax && fabs(q2n_v3_dot(d0, nrm)) <= EV_FLAT_REL * rmax;
+        }
+        if (!flat) continue;
+        ++*nflat;
+        if ((st = q2n_surface_eval_grid_pos(s, f, n, t, n, t, P))) break;
+        for (int i = 0; i < n * n; i++) {
+            double d[3];
+            q2n_v3_sub(d, P + 3 * i, p0);
+            double x = fabs(q2n_v3_dot(d, nrm)) / diag;
+            if (x > *dev) *dev = x, *face = f;
+        }
+    }
+    free(t);
+    free(P);
     return st;
 }

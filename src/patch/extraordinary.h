@@ -47,10 +47,16 @@ int q2n_ev_method_parse(const char *s, q2n_ev_method *out);
 q2n_status q2n_extraordinary_build(const q2n_mesh *m, const q2n_extraordinary_options *opt,
                                    const double *edge_iv, q2n_surface *s, q2n_error *err);
 
+/* Faces of m where the mesh is flat — the one-ring of every corner in the face's plane, to the
+ * tolerance --keep-flat uses (ev_policy.h EV_FLAT_REL) — and how far surface s leaves that plane
+ * there: *nflat such faces, *dev the largest distance relative to the bounding-box diagonal on an
+ * n x n grid of each, *face the face where it is largest (-1: none).  A check of what a build did
+ * with flat data (the default lets the energy bulge them; --keep-flat keeps them flat). */
+q2n_status q2n_flat_faces_dev(const q2n_mesh *m, const q2n_surface *s, int n, int *nflat, double *dev, int *face);
+
 /* What the build did, for the report. */
 typedef struct q2n_extraordinary_stats {
     int flat_vertices;     /* keep_flat: vertices whose fan is flat, their jets kept in its plane */
-    int straight_vertices; /* keep_flat: other vertices a straight section runs through */
 } q2n_extraordinary_stats;
 
 /* q2n_extraordinary_build, and its account into *stats (zeroed first). */
