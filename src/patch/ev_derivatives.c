@@ -153,6 +153,26 @@ int q2n_ev_jet_normal(const ev_vjet *J, double n[3])
     return 1;
 }
 
+int q2n_ev_fan_in_plane(const q2n_mesh *m, int v, const double n[3])
+{
+    const double *p = q2n_mesh_vpos(m, v);
+    double hmax = 0, rmax = 0;
+    int h0 = m->vert_he[v], h = h0, nfan = 0;
+    if (h0 < 0) return 0;
+    do {
+        const int *fv = m->face_vert + m->face_start[m->he_face[h]];
+        for (int c = 0; c < 4; c++) {
+            double d[3];
+            q2n_v3_sub(d, q2n_mesh_vpos(m, fv[c]), p);
+            hmax = fmax(hmax, fabs(q2n_v3_dot(d, n)));
+            rmax = fmax(rmax, q2n_v3_norm(d));
+        }
+        nfan++;
+        h = q2n_mesh_rotate(m, h);
+    } while (h >= 0 && h != h0);
+    return rmax > 0 && hmax <= EV_FLAT_REL * rmax ? nfan : 0;
+}
+
 void q2n_ev_jet_dn(const ev_vjet *J, const double a[2], double out[3])
 {
     double n[3];

@@ -1164,23 +1164,26 @@ done:
  * (docs/extraordinary.md, "Flat fans"); a lone face says too little. */
 static int fan_flat(const q2n_mesh *m, int v, const ev_vjet *J, double n[3])
 {
-    if (!q2n_ev_jet_normal(J, n)) return 0;
-    const double *p = q2n_mesh_vpos(m, v);
-    double hmax = 0, rmax = 0;
-    int h0 = m->vert_he[v], h = h0, nfan = 0;
-    if (h0 < 0) return 0;
-    do {
-        int f = m->he_face[h];
-        for (int c = 0; c < 4; c++) {
-            const double *q = q2n_mesh_vpos(m, m->face_vert[m->face_start[f] + c]);
-            double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-            hmax = fmax(hmax, fabs(q2n_v3_dot(d, n)));
-            rmax = fmax(rmax, q2n_v3_norm(d));
+    return q2n_ev_jet_normal(J, n) && q2n_ev_fan_in_plane(m, v, n) >= 2;
+}
+
+/* Between the two solves of --keep-flat: the free terms of the flat fans lose what is left of their
+ * normal parts (the second solve holds them fixed), every other jet returns to its local estimate
+ * (the ridge's target again) and the nf faces' bubbles to zero. */
+static void fix_flat_jets(fe_build *B, const char *flat, const double (*flatn)[3], const double (*jet0)[EV_JS][3], int nf)
+{
+    for (int v = 0; v < B->m->nv; v++) {
+        if (!flat[v]) {
+            memcpy(B->jet[v], jet0[v], sizeof jet0[v]);
+            continue;
         }
-        nfan++;
-        h = q2n_mesh_rotate(m, h);
-    } while (h >= 0 && h != h0);
-    return nfan >= 2 && rmax > 0 && hmax <= EV_FLAT_REL * rmax;
+        for (int k = 0; k < EV_JS; k++) {
+            if (B->var[v * EV_JS + k] < 0) continue; /* the estimates and a regular patch's terms stay */
+            double *T = B->jet[v][k], d = q2n_v3_dot(T, flatn[v]);
+            for (int c = 0; c < 3; c++) T[c] -= d * flatn[v][c];
+        }
+    }
+    memset(B->bub, 0, (size_t)nf * sizeof *B->bub);
 }
 
 /* Number the unknowns: the free jet slots of every vertex with a jet (slot_free), except those of
@@ -1319,18 +1322,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
      * second solve fits everything else to them (docs/extraordinary.md, "Flat fans") */
     for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
         if (stage == 1) {
-            for (int v = 0; v < m->nv; v++) {
-                if (!flat[v]) {
-                    memcpy(B.jet[v], jet0[v], sizeof jet0[v]); /* the ridge pulls toward the local estimates again */
-                    continue;
-                }
-                for (int k = 0; k < EV_JS; k++) {
-                    if (B.var[v * EV_JS + k] < 0) continue; /* the estimates and a regular patch's terms stay */
-                    double *T = B.jet[v][k], d = q2n_v3_dot(T, flatn[v]);
-                    for (int c = 0; c < 3; c++) T[c] -= d * flatn[v][c];
-                }
-            }
-            memset(B.bub, 0, (size_t)nf * sizeof *B.bub);
+            fix_flat_jets(&B, flat, (const double (*)[3])flatn, (const double (*)[EV_JS][3])jet0, nf);
             B.flat = NULL;
             assign_unknowns(&B, vj, nf, flat, NULL);
         } else if (nflat) {

@@ -77,6 +77,9 @@ void q2n_ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], doubl
 /* Unit normal of the jet, and its derivative along the 2D direction a (Weingarten map of the
  * surface the jet describes: dn(a) = -J1 I^-1 II a); 0 when J1 is degenerate. */
 int q2n_ev_jet_normal(const ev_vjet *J, double n[3]);
+/* The faces around vertex v when every corner of every one of them lies within EV_FLAT_REL of the
+ * fan's radius of the plane through v with unit normal n (a flat fan: --keep-flat), else 0. */
+int q2n_ev_fan_in_plane(const q2n_mesh *m, int v, const double n[3]);
 void q2n_ev_jet_dn(const ev_vjet *J, const double a[2], double out[3]);
 
 /* ---- curve_network.c ---- */

@@ -11,7 +11,6 @@
 #include "core/vec3.h"
 #include "patch/ev_fair.h"
 #include "patch/ev_internal.h"
-#include "patch/ev_policy.h"
 
 int q2n_ev_patch_parse(const char *s, q2n_ev_patch_kind *out)
 {
@@ -106,25 +105,8 @@ q2n_status q2n_flat_faces_dev(const q2n_mesh *m, const q2n_surface *s, int n, in
         double ln = q2n_v3_norm(nrm);
         if (!(ln > 0)) continue;
         q2n_v3_scale(nrm, 1 / ln, nrm);
-        int flat = 1;
-        for (int c = 0; c < 4 && flat; c++) { /* every corner's fan in the face's plane */
-            const double *pc = q2n_mesh_vpos(m, fv[c]);
-            double hmax = 0, rmax = 0;
-            int h0 = m->vert_he[fv[c]], h = h0;
-            do {
-                const int *gv = m->face_vert + m->face_start[m->he_face[h]];
-                for (int k = 0; k < 4; k++) {
-                    double d[3];
-                    q2n_v3_sub(d, q2n_mesh_vpos(m, gv[k]), pc);
-                    hmax = fmax(hmax, fabs(q2n_v3_dot(d, nrm)));
-                    rmax = fmax(rmax, q2n_v3_norm(d));
-                }
-                h = q2n_mesh_rotate(m, h);
-            } while (h >= 0 && h != h0);
-            double d0[3];
-            q2n_v3_sub(d0, pc, p0);
-            flat = hmax <= EV_FLAT_REL * rmax && fabs(q2n_v3_dot(d0, nrm)) <= EV_FLAT_REL * rmax;
-        }
+        int flat = 1; /* every corner's fan in the face's plane (corner 0's fan holds the face's corners) */
+        for (int c = 0; c < 4 && flat; c++) flat = q2n_ev_fan_in_plane(m, fv[c], nrm) > 0;
         if (!flat) continue;
         ++*nflat;
         if ((st = q2n_surface_eval_grid_pos(s, f, n, t, n, t, P))) break;
