@@ -166,7 +166,7 @@ int main(void)
      * edges (fit_refine.c): bisecting it as well doubled the spans of patches whose interior met the
      * tolerance.  Measured: gregory_test6 3038 -> 2327 control points, fvar_bound3 1974 -> 1430. */
     const fit_case g6 = {"osd_catmark_gregory_test6.obj", 0, 0, 0, 0}, fb3 = {"osd_catmark_fvar_bound3.obj", 0, 0, 0, 0};
-    if (run(&g6, 1e-5, &r5)) CHECK(r5.cp_total <= 2500, "gregory_test6: %ld control points (2327 expected)", r5.cp_total);
+    if (run(&g6, 1e-5, &r5)) CHECK(r5.cp_total <= 2500, "gregory_test6: %ld control points (2197 expected)", r5.cp_total);
     /* continuity refinement judges the jumps between the check points too (fit.c, dense_jumps) and so
      * aims at 0.9 of the targets instead of half: fvar_bound3 1430 -> 1014 control points (every
      * patch 8 x 8 spans), xord_boundary 3794 -> 3042; the jumps at 64 points per edge stay within the
@@ -182,7 +182,9 @@ int main(void)
      * 0.75 pi instead of 0.8 pi (ev_policy.h) 1576, 21.0 KB/face, over the issue's 20; the same
      * changes keep UV-sphere poles of merged triangle fans on their sphere, test_ev_fairness
      * sphere_pole) */
-    if (g1ran) CHECK(g1r5.cp_total <= 1650, "gregory_test1: %ld control points (1576 expected)", g1r5.cp_total);
+    /* (stop 34: the least-squares gluing rows weigh 3 against the fidelity rows instead of 10,
+     * fit_policy.h: 1576 -> 1434 control points, 21.0 -> 19.1 KB/face; 1500 is about the issue's 20) */
+    if (g1ran) CHECK(g1r5.cp_total <= 1500, "gregory_test1: %ld control points (1434 expected)", g1r5.cp_total);
     /* ... and since (fit_refine.c) a least-squares relation that misses its aim by less than
      * Q2N_FIT_CONT_LOCAL splits only its spans that miss, not every span (gregory_test1: one edge
      * missing the curvature aim by 1.38 x in its last span doubled two patches' spans: 1601 -> 1398
@@ -190,13 +192,13 @@ int main(void)
      * dominant direction where the error model says that suffices (the G1 construction in G1 mode:
      * gregory_test1 711 -> 603, osd_catmark_cube 566 -> 522; the 1e-5 bound above was 1700) */
     const fit_case g1g1 = {"osd_catmark_gregory_test1.obj", 0, 1, Q2N_EV_PATCH_G1, 0}, cube = {"osd_catmark_cube.obj", 0, 1, Q2N_EV_PATCH_G1, 0};
-    if (run(&g1g1, 1e-5, &r5)) CHECK(r5.cp_total <= 650, "gregory_test1, G1 patches: %ld control points (603 expected)", r5.cp_total);
+    if (run(&g1g1, 1e-5, &r5)) CHECK(r5.cp_total <= 650, "gregory_test1, G1 patches: %ld control points (567 expected)", r5.cp_total);
     if (run(&cube, 1e-5, &r5)) CHECK(r5.cp_total <= 545, "cube, G1 patches: %ld control points (522 expected)", r5.cp_total);
     /* after a local continuity round that did not lower its miss, an edge splits the spans that round
      * left coarser (its knots uniform again), not every span: the valence-8 carpet 5680 control points
      * before the local rule, 5566 with every span split after it, 5418 so */
     const fit_case c8 = {"gismo_ev_valence8_carpet.obj", 0, 0, 0, 0};
-    if (run(&c8, 1e-5, &r5)) CHECK(r5.cp_total <= 5500, "valence-8 carpet: %ld control points (5418 expected)", r5.cp_total);
+    if (run(&c8, 1e-5, &r5)) CHECK(r5.cp_total <= 5500, "valence-8 carpet: %ld control points (5188 expected)", r5.cp_total);
     /* near the span cap local continuity splits wait (Q2N_FIT_CONT_LOCAL_ROOM): graded knots there
      * spent the span budget the continuity targets needed — at --max-spans 8 the valence-5 carpet
      * met them before the local rule (G1 0.004 deg) and missed G1 with local splits up to the cap
@@ -208,7 +210,7 @@ int main(void)
     /* the cross rows of a least-squares-glued edge are judged by the cells beside it, not by their
      * distance from the construction's cross derivatives (fit_refine.c): gregory_test6 at 1e-4 1991 ->
      * 1496 control points */
-    if (run(&g6, 1e-4, &r4)) CHECK(r4.cp_total <= 1700, "gregory_test6 1e-4: %ld control points (1496 expected)", r4.cp_total);
+    if (run(&g6, 1e-4, &r4)) CHECK(r4.cp_total <= 1700, "gregory_test6 1e-4: %ld control points (1225 expected)", r4.cp_total);
     /* the reparametrization of scale-glued edges has a speed per edge end (fit_target.c): more speed
      * systems are consistent and the speeds are smaller than with one speed per edge (measured:
      * octtorus_hole 13 -> 25 exact edges; tent, every edge exact either way, 1190 -> 973 control points) */
