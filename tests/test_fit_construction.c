@@ -17,6 +17,7 @@
 #include "fit/fit.h"
 #include "fit/fit_internal.h"
 #include "fit/fit_policy.h"
+#include "iges/export.h"
 
 #include <math.h>
 #include <string.h>
@@ -115,6 +116,17 @@ static int run(const fit_case *fc, double tol, q2n_fit_report *rep)
         cap = cap > b ? cap : b;
     }
     CHECK(cap <= o.max_spans, "%s: %d spans in a patch direction > max_spans %d", fc->file, cap, o.max_spans);
+    /* the issue's file sizes at the default tolerance: STEP at most 20 KB per face in G2 mode, 12 KB
+     * with the G1 construction in G1 mode (the STEP writer's own text, default options) */
+    char *text = NULL;
+    size_t len = 0;
+    if (md && tol <= Q2N_FIT_TOL_DEFAULT && !fc->max_spans && (o.continuity == 2 || fc->ev_patch == Q2N_EV_PATCH_G1)) {
+        CHECK(q2n_export_step_text(md, NULL, &text, &len, &err) == Q2N_OK, "%s: STEP: %s", fc->file, err.message);
+        double kb = (double)len / 1024.0 / md->n, lim = o.continuity == 2 ? 20.0 : 12.0;
+        printf("    STEP %.2f KB/face\n", kb);
+        CHECK(kb <= lim, "%s: STEP %.2f KB/face > %g", fc->file, kb, lim);
+    }
+    free(text);
     q2n_nurbs_model_free(md);
     q2n_model_free(m);
     return 1;
