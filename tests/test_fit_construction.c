@@ -123,7 +123,7 @@ static int run(const fit_case *fc, double tol, q2n_fit_report *rep)
     if (md && tol <= Q2N_FIT_TOL_DEFAULT && !fc->max_spans && (o.continuity == 2 || fc->ev_patch == Q2N_EV_PATCH_G1)) {
         CHECK(q2n_export_step_text(md, NULL, &text, &len, &err) == Q2N_OK, "%s: STEP: %s", fc->file, err.message);
         double kb = (double)len / 1024.0 / md->n, lim = o.continuity == 2 ? 20.0 : 12.0;
-        printf("    STEP %.2f KB/face\n", kb);
+        printf("    %s STEP %.2f KB/face\n", fc->file, kb);
         CHECK(kb <= lim, "%s: STEP %.2f KB/face > %g", fc->file, kb, lim);
     }
     free(text);
