@@ -34,9 +34,9 @@ typedef struct q2n_fit_options {
     int max_rounds;        /* refinement rounds [12] */
     double g1_tol_deg;     /* G1 acceptance: normal-angle jump across edges [0.01 degrees at tol <=
                               1e-5, times tol / 1e-5 above, at most 0.5: q2n_fit_default_target];
-                              refinement aims at half of it */
+                              refinement aims at 0.9 of it (Q2N_FIT_REFINE_AIM) */
     double g2_tol_rel;     /* G2 acceptance: relative normal-curvature jump, G2 mode [0.01 at tol <=
-                              1e-5, times tol / 1e-5 above, at most 0.1]; refinement aims at half of it */
+                              1e-5, times tol / 1e-5 above, at most 0.1]; refinement aims at 0.9 of it */
     double g1_weight;      /* weight of least-squares gluing rows against sample fidelity [3] */
     int no_exact;          /* 1: impose every gluing relation by least squares (no equality constraints) [0] */
     double tol_abs;        /* > 0: deviation tolerance in model units, replaces tol (tol = tol_abs /

@@ -18,7 +18,7 @@
  * override. */
 #define Q2N_FIT_G1_TARGET_CAP 0.5       /* degrees: below OCCT's angular tolerance (0.01 rad = 0.57 deg), so edges still import as tangent */
 #define Q2N_FIT_G2_TARGET_CAP 0.1       /* a 10 % curvature jump starts to show in curvature combs: beyond it the surface is not G2 in any useful sense */
-#define Q2N_FIT_G1_WEIGHT_DEFAULT 3.0   /* least-squares gluing rows against fidelity rows: a row with one free point cannot satisfy both; heavier gluing pushes the errors of the rows fixed before (the curve, the first rows) into the next rows near extraordinary corners, where refinement then cannot reduce them (docs/fit.md: 1-5 alike, 10 0.7 %, 30 2.3 %, 100 more heavier in G2 on 64 meshes) */
+#define Q2N_FIT_G1_WEIGHT_DEFAULT 3.0   /* least-squares gluing rows against fidelity rows: a row with one free point cannot satisfy both; over 64 meshes in G2 mode (docs/fit.md, "The weight of least-squares gluing rows") 1-5 give files alike, 10 0.7 % and 30 2.3 % heavier, every target met at each */
 
 /* ---- refinement ---- */
 #define Q2N_FIT_SAMPLES_PER_SPAN 4      /* fit samples per knot span and direction: 4 per new unknown keeps every block well overdetermined */
