@@ -338,6 +338,58 @@ static void keep_flat(void)
     CHECK(rc == 0 && strstr(err, "--keep-flat is ignored with --ev-construction paper"), "paper with --keep-flat: %d '%s'", rc, err);
 }
 
+/* G2 patches that fold on a thin part: a 1 x 1 plate 0.01 thick, 4 x 4 quads a side and one across
+ * the thickness (test_robust builds the same through the model).  By default (neither --ev-patch nor
+ * --continuity) the run builds G1 patches instead, which do not fold, says so and reports it; asked
+ * for G2 it keeps the folded G2 surface and warns of the fold. */
+static void fold_fallback(void)
+{
+    char text[16384] = "", err[4096];
+    int n = 0, vid[5][5][2];
+    for (int z = 0; z < 2; z++)
+        for (int y = 0; y <= 4; y++)
+            for (int x = 0; x <= 4; x++) {
+                vid[x][y][z] = ++n;
+                size_t l = strlen(text);
+                snprintf(text + l, sizeof text - l, "v %g %g %g\n", x / 4.0, y / 4.0, z * 0.01);
+            }
+    for (int z = 0; z < 2; z++) /* bottom (z = 0) facing down, top facing up */
+        for (int y = 0; y < 4; y++)
+            for (int x = 0; x < 4; x++) {
+                int a = vid[x][y][z], b = vid[x + 1][y][z], c = vid[x + 1][y + 1][z], d = vid[x][y + 1][z];
+                size_t l = strlen(text);
+                if (z) snprintf(text + l, sizeof text - l, "f %d %d %d %d\n", a, b, c, d);
+                else snprintf(text + l, sizeof text - l, "f %d %d %d %d\n", a, d, c, b);
+            }
+    /* the rim: 16 boundary edges of the 4 x 4 grid, each a quad across the thickness, outward */
+    static const int walk[16][2] = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {4, 1}, {4, 2}, {4, 3},
+                                    {4, 4}, {3, 4}, {2, 4}, {1, 4}, {0, 4}, {0, 3}, {0, 2}, {0, 1}};
+    for (int i = 0; i < 16; i++) {
+        const int *p = walk[i], *q = walk[(i + 1) % 16];
+        size_t l = strlen(text);
+        snprintf(text + l, sizeof text - l, "f %d %d %d %d\n", vid[p[0]][p[1]][0], vid[q[0]][q[1]][0],
+                 vid[q[0]][q[1]][1], vid[p[0]][p[1]][1]);
+    }
+    write_file("plate.obj", text);
+    int rc = run_sh("$Q plate.obj -o plate.json", err, sizeof err);
+    char *js = report("plate.json");
+    CHECK(rc == 0 && strstr(err, "plate.obj:") && strstr(err, "G2 patches at the extraordinary vertices fold over there") &&
+              strstr(err, "built with G1 patches at every extraordinary vertex instead (0 faces fold)") &&
+              !strstr(err, "the surface folds over") && js && strstr(js, "\"continuity\": \"G1\"") &&
+              jnum(js, "folded_faces") == 0 && jnum(js, "g2_folded_faces") >= 1,
+          "thin plate, default: %d '%s' %s", rc, err, js ? js : "(no report)");
+    free(js);
+    for (int i = 0; i < 2; i++) {
+        rc = run_sh(i ? "$Q plate.obj --ev-patch g2 -o plate.json" : "$Q plate.obj --continuity g2 -o plate.json", err,
+                    sizeof err);
+        js = report("plate.json");
+        CHECK(rc == 0 && strstr(err, "the surface folds over") && !strstr(err, "built with G1 patches") && js &&
+                  strstr(js, "\"continuity\": \"G2\"") && jnum(js, "folded_faces") >= 1 && jnum(js, "g2_folded_faces") == 0,
+              "thin plate, %s: %d '%s'", i ? "--ev-patch g2" : "--continuity g2", rc, err);
+        free(js);
+    }
+}
+
 static void tolerances(void)
 {
     char err[4096];
@@ -715,6 +767,7 @@ int main(void)
     tolerances();
     limit_points();
     keep_flat();
+    fold_fallback();
     write_torus();
     progress();
     resources();

@@ -41,6 +41,7 @@ static q2n_mesh *scaled_mesh(int cube, double s, double off, const char *name)
 }
 
 /* The model of mesh with the default options but ev_patch and subdivide. */
+static int fallback_next; /* the next build's opt.fold_fallback (then reset) */
 static q2n_model *build_lp(q2n_mesh *mesh, int ev_patch, int subdivide, int limit_points)
 {
     q2n_model_options mo;
@@ -49,6 +50,8 @@ static q2n_model *build_lp(q2n_mesh *mesh, int ev_patch, int subdivide, int limi
     mo.ev_patch = ev_patch;
     mo.subdivide = subdivide;
     mo.limit_points = limit_points;
+    mo.fold_fallback = fallback_next;
+    fallback_next = 0;
     q2n_model *m = NULL;
     q2n_error err;
     if (!mesh) return NULL;
@@ -367,6 +370,26 @@ static void test_folds(void)
     m = build(mg_thin_plate(4, 0.01));
     CHECK(m && m->folded >= 1 && strstr(m->warning, "--ev-patch g1 --continuity g1") && strstr(m->warning, "--subdivide 1"),
           "thin plate: %d folds, warning '%s'", m ? m->folded : -1, m ? m->warning : "");
+    q2n_model_free(m);
+    /* with opt.fold_fallback (the CLI's default: neither --ev-patch nor --continuity given) the plate is
+     * built again with G1 patches, which do not fold: kept, G1, and said so; a plate 0.02 thick does not
+     * fold in G2 and stays G2 */
+    fallback_next = 1;
+    m = build(mg_thin_plate(4, 0.01));
+    int said = 0;
+    for (int w = 0; m && w < m->nwarnings; w++)
+        said |= strstr(m->warnings[w], "built with G1 patches") && strstr(m->warnings[w], "--ev-patch g2");
+    CHECK(m && m->folded == 0 && m->continuity == 1 && m->g2_folded >= 1 && said,
+          "thin plate, fold fallback: %d folds, continuity %d, G2 folded %d, said %d", m ? m->folded : -1,
+          m ? m->continuity : -1, m ? m->g2_folded : -1, said);
+    q2n_model_free(m);
+    fallback_next = 1;
+    m = build(mg_thin_plate(4, 0.02));
+    said = 0;
+    for (int w = 0; m && w < m->nwarnings; w++) said |= strstr(m->warnings[w], "built with G1 patches") != NULL;
+    CHECK(m && m->folded == 0 && m->continuity == 2 && m->g2_folded == 0 && !said,
+          "plate 0.02 thick, fold fallback: %d folds, continuity %d, G2 folded %d, fallback said %d", m ? m->folded : -1,
+          m ? m->continuity : -1, m ? m->g2_folded : -1, said);
     q2n_model_free(m);
     for (int i = 0; i < 2; i++) {
         m = i ? build_with(mg_thin_plate(4, 0.01), 0, 1) : build_with(mg_thin_plate(4, 0.01), Q2N_EV_PATCH_G1, 0);

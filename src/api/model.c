@@ -120,6 +120,54 @@ static q2n_status scan_patches(q2n_model *m, q2n_error *err)
     return Q2N_OK;
 }
 
+/* G2 patches at extraordinary vertices fold over on a thin or sharp feature: the curvature a G2
+ * surface must carry across a few faces there (docs/extraordinary.md, "Found and not fixed").  With
+ * opt.fold_fallback the extraordinary regions are built again with G1 patches, which need no
+ * curvature continuity there, and kept if they fold on fewer faces (the construction's continuity
+ * becomes G1, and the warnings say so); else the G2 surface stays.  An error of the second build
+ * keeps the first. */
+static void fold_fallback(q2n_model *m)
+{
+    if (!m->opt.fold_fallback || m->opt.method != Q2N_SURFACE_AUGMENTED || m->opt.ev_patch != Q2N_EV_PATCH_DEFAULT ||
+        m->continuity != 2 || m->folded == 0 || q2n_surface_kind(m->surface, m->folded_face) != Q2N_PATCH_COONS_GREGORY)
+        return;
+    q2n_surface *s2 = m->surface;
+    double *iv2 = m->edge_iv;
+    q2n_extraordinary_stats st2 = m->ev_stats;
+    int folded2 = m->folded, face2 = m->folded_face;
+    char warning2[sizeof m->warning];
+    memcpy(warning2, m->warning, sizeof warning2);
+    m->surface = NULL;
+    m->edge_iv = NULL;
+    m->warning[0] = 0;
+    m->opt.ev_patch = Q2N_EV_PATCH_G1;
+    q2n_error e1;
+    q2n_status st = build_augmented(m, &e1);
+    if (!st) st = scan_patches(m, &e1);
+    if (!st && m->folded < folded2) {
+        char where[320];
+        face_where(m, face2, where, sizeof where);
+        q2n_surface_free(s2);
+        free(iv2);
+        m->g2_folded = folded2;
+        q2n_model_warn(m, "%s: G2 patches at the extraordinary vertices fold over there (on %d faces in all: a thin "
+                       "or sharp feature); built with G1 patches at every extraordinary vertex instead (%d faces fold), "
+                       "G1 across their edges (--ev-patch g2 keeps the G2 surface)", where, folded2, m->folded);
+        return;
+    }
+    /* no better, or the second build failed: the first surface as it was */
+    q2n_surface_free(m->surface);
+    free(m->edge_iv);
+    m->surface = s2;
+    m->edge_iv = iv2;
+    m->ev_stats = st2;
+    m->folded = folded2;
+    m->folded_face = face2;
+    m->continuity = 2;
+    m->opt.ev_patch = Q2N_EV_PATCH_DEFAULT;
+    memcpy(m->warning, warning2, sizeof m->warning);
+}
+
 /* Where the mesh is flat, does the surface stay flat?  A warning with the remedy when it leaves the
  * plane by more than Q2N_MODEL_FLAT_WARN (docs/extraordinary.md, "Flat fans"). */
 static void flat_warning(q2n_model *m)
@@ -287,6 +335,7 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (!st) q2n_progress_emit(&m->opt.progress, "build", NULL, 0, m->mesh->nf);
     if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
     if (!st) st = scan_patches(m, err);
+    if (!st) fold_fallback(m);
     if (st) return st;
     m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
     m->t_build = q2n_now() - t0;
@@ -399,6 +448,7 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.folded_faces = m->folded; /* the construction's scan, for the report */
     m->fit.vertices_moved_rel = m->moved_rel;
     m->fit.flat_vertices = m->ev_stats.flat_vertices;
+    m->fit.g2_folded_faces = m->g2_folded;
     m->fit.folded_face = m->folded_face;
     if (m->nurbs) { /* into output coordinates; relative figures stay */
         q2n_error e2;

@@ -33,6 +33,9 @@ typedef struct q2n_model_options {
     int ev_patch;                 /* augmented: a q2n_ev_patch_kind (0 default: G2 for C2 classes) */
     int ev_method;                /* augmented: a q2n_ev_method (0 default: the fair construction) */
     int keep_flat;                /* augmented, fair construction: flat fans stay flat (q2n_options) */
+    int fold_fallback;            /* augmented, default patches (G2): where they fold over, G1 patches at the
+                                     extraordinary vertices instead if those fold on fewer faces (the public
+                                     API sets it when neither ev_patch nor continuity is given) */
     int threads;                  /* worker threads of the construction (0: 1; results do not depend on it) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */
@@ -82,6 +85,7 @@ typedef struct q2n_model {
     double t_read, t_build, t_fit, t_write; /* seconds */
     double moved_rel;          /* --limit-points: largest vertex move / bbox diagonal (0: none) */
     q2n_extraordinary_stats ev_stats; /* the extraordinary regions' build (--keep-flat's vertices) */
+    int g2_folded;             /* opt.fold_fallback taken: the faces the G2 patches folded on (0: not taken) */
 } q2n_model;
 
 /* Read (any mesh format, q2n_mesh_read) and move into the internal frame, then construct:
