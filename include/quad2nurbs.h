@@ -214,9 +214,9 @@ typedef struct q2n_options {
     q2n_class spline_class;        /* augmented [D5C2P4S6] */
     q2n_param_method param;        /* augmented [centripetal] */
     double alpha;                  /* exponent of centripetal / mean, (0, 2]; 0: [0.5] */
-    q2n_ev_patch_kind ev_patch;    /* augmented [G2 for C2 classes, else G1; with continuity also
-                                      default, G1 where the G2 patches fold over and G1 ones fold on
-                                      fewer faces (a warning, and the report's g2_folded_faces)] */
+    q2n_ev_patch_kind ev_patch;    /* augmented [G2 for C2 classes, else G1; unless continuity is G2,
+                                      G1 where the G2 patches fold over and G1 ones fold on fewer
+                                      faces (a warning, and the report's g2_folded_faces)] */
     q2n_ev_method ev_construction; /* augmented [fair] */
     int keep_flat;                 /* augmented, fair construction: where the mesh is flat around a vertex
                                       (every corner of its faces in one plane) the surface stays in that

@@ -339,9 +339,9 @@ static void keep_flat(void)
 }
 
 /* G2 patches that fold on a thin part: a 1 x 1 plate 0.01 thick, 4 x 4 quads a side and one across
- * the thickness (test_robust builds the same through the model).  By default (neither --ev-patch nor
- * --continuity) the run builds G1 patches instead, which do not fold, says so and reports it; asked
- * for G2 it keeps the folded G2 surface and warns of the fold. */
+ * the thickness (test_robust builds the same through the model).  By default (no --ev-patch, and no
+ * --continuity g2) the run builds G1 patches instead, which do not fold, says so and reports it;
+ * asked for G2 it keeps the folded G2 surface and warns of the fold. */
 static void fold_fallback(void)
 {
     char text[16384] = "", err[4096];
@@ -378,6 +378,12 @@ static void fold_fallback(void)
               !strstr(err, "the surface folds over") && js && strstr(js, "\"continuity\": \"G1\"") &&
               jnum(js, "folded_faces") == 0 && jnum(js, "g2_folded_faces") >= 1,
           "thin plate, default: %d '%s' %s", rc, err, js ? js : "(no report)");
+    free(js);
+    /* asked for a G1 fit, the same (the G2 patches' curvature continuity was not asked for either) */
+    rc = run_sh("$Q plate.obj --continuity g1 -o plate.json", err, sizeof err);
+    js = report("plate.json");
+    CHECK(rc == 0 && strstr(err, "built with G1 patches") && js && jnum(js, "folded_faces") == 0 && jnum(js, "g2_folded_faces") >= 1,
+          "thin plate, --continuity g1: %d '%s'", rc, err);
     free(js);
     for (int i = 0; i < 2; i++) {
         rc = run_sh(i ? "$Q plate.obj --ev-patch g2 -o plate.json" : "$Q plate.obj --continuity g2 -o plate.json", err,

@@ -100,7 +100,7 @@ static void model_options(const q2n_options *o, q2n_model_options *mo)
     mo->ev_patch = (int)o->ev_patch;
     mo->ev_method = (int)o->ev_construction;
     mo->keep_flat = o->keep_flat;
-    mo->fold_fallback = o->ev_patch == Q2N_EV_PATCH_DEFAULT && o->continuity == 0;
+    mo->fold_fallback = o->ev_patch == Q2N_EV_PATCH_DEFAULT && o->continuity != Q2N_CONTINUITY_G2;
     mo->acc_strategy = o->acc_strategy;
     mo->subdivide = o->subdivide;
     mo->limit_points = o->limit_points;

@@ -35,7 +35,7 @@ typedef struct q2n_model_options {
     int keep_flat;                /* augmented, fair construction: flat fans stay flat (q2n_options) */
     int fold_fallback;            /* augmented, default patches (G2): where they fold over, G1 patches at the
                                      extraordinary vertices instead if those fold on fewer faces (the public
-                                     API sets it when neither ev_patch nor continuity is given) */
+                                     API sets it unless ev_patch is given or continuity is G2) */
     int threads;                  /* worker threads of the construction (0: 1; results do not depend on it) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */
