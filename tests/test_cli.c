@@ -14,6 +14,7 @@
 #include <sys/resource.h>
 
 #include "check.h"
+#include "meshgen.h"
 #include "patch/surface.h"
 
 static const char *EXE; /* chk_exe() */
@@ -339,38 +340,17 @@ static void keep_flat(void)
 }
 
 /* G2 patches that fold on a thin part: a 1 x 1 plate 0.01 thick, 4 x 4 quads a side and one across
- * the thickness (test_robust builds the same through the model).  By default (no --ev-patch, and no
+ * the thickness (meshgen.h mg_thin_plate; test_robust builds it through the model).  By default (no --ev-patch, and no
  * --continuity g2) the run builds G1 patches instead, which do not fold, says so and reports it;
  * asked for G2 it keeps the folded G2 surface and warns of the fold. */
 static void fold_fallback(void)
 {
-    char text[16384] = "", err[4096];
-    int n = 0, vid[5][5][2];
-    for (int z = 0; z < 2; z++)
-        for (int y = 0; y <= 4; y++)
-            for (int x = 0; x <= 4; x++) {
-                vid[x][y][z] = ++n;
-                size_t l = strlen(text);
-                snprintf(text + l, sizeof text - l, "v %g %g %g\n", x / 4.0, y / 4.0, z * 0.01);
-            }
-    for (int z = 0; z < 2; z++) /* bottom (z = 0) facing down, top facing up */
-        for (int y = 0; y < 4; y++)
-            for (int x = 0; x < 4; x++) {
-                int a = vid[x][y][z], b = vid[x + 1][y][z], c = vid[x + 1][y + 1][z], d = vid[x][y + 1][z];
-                size_t l = strlen(text);
-                if (z) snprintf(text + l, sizeof text - l, "f %d %d %d %d\n", a, b, c, d);
-                else snprintf(text + l, sizeof text - l, "f %d %d %d %d\n", a, d, c, b);
-            }
-    /* the rim: 16 boundary edges of the 4 x 4 grid, each a quad across the thickness, outward */
-    static const int walk[16][2] = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {4, 1}, {4, 2}, {4, 3},
-                                    {4, 4}, {3, 4}, {2, 4}, {1, 4}, {0, 4}, {0, 3}, {0, 2}, {0, 1}};
-    for (int i = 0; i < 16; i++) {
-        const int *p = walk[i], *q = walk[(i + 1) % 16];
-        size_t l = strlen(text);
-        snprintf(text + l, sizeof text - l, "f %d %d %d %d\n", vid[p[0]][p[1]][0], vid[q[0]][q[1]][0],
-                 vid[q[0]][q[1]][1], vid[p[0]][p[1]][1]);
-    }
-    write_file("plate.obj", text);
+    char err[4096], path[512];
+    q2n_mesh *pm = mg_thin_plate(4, 0.01);
+    q2n_error e;
+    snprintf(path, sizeof path, "%s/plate.obj", dir);
+    CHECK(pm && q2n_mesh_write_obj(pm, path, &e) == Q2N_OK, "thin plate: not written");
+    q2n_mesh_free(pm);
     int rc = run_sh("$Q plate.obj -o plate.json", err, sizeof err);
     char *js = report("plate.json");
     CHECK(rc == 0 && strstr(err, "plate.obj:") && strstr(err, "G2 patches at the extraordinary vertices fold over there") &&

@@ -134,7 +134,7 @@ static void fold_fallback(q2n_model *m)
     q2n_surface *s2 = m->surface;
     double *iv2 = m->edge_iv;
     q2n_extraordinary_stats st2 = m->ev_stats;
-    int folded2 = m->folded, face2 = m->folded_face;
+    int folded2 = m->folded, face2 = m->folded_face, cont2 = m->continuity;
     char warning2[sizeof m->warning];
     memcpy(warning2, m->warning, sizeof warning2);
     m->surface = NULL;
@@ -163,7 +163,7 @@ static void fold_fallback(q2n_model *m)
     m->ev_stats = st2;
     m->folded = folded2;
     m->folded_face = face2;
-    m->continuity = 2;
+    m->continuity = cont2;
     m->opt.ev_patch = Q2N_EV_PATCH_DEFAULT;
     memcpy(m->warning, warning2, sizeof m->warning);
 }
