@@ -294,6 +294,37 @@ static inline q2n_mesh *mg_thin_plate(int n, double t)
     return m;
 }
 
+/* A lip as a tessellator leaves it: a quarter turn of a surface of revolution (radius 8 about the y
+ * axis; a U-shaped profile of 5 points, 0.5 s wide and high: up the inner wall, over the top, down
+ * the outer one) on a grid of a angular steps, every quad cut into two triangles along a diagonal,
+ * then split into quads (mg_tri_to_quad).  Each angular step is ~3 long, each profile step
+ * 0.12-0.5 s: sliver triangles of aspect ~6-50 whose split leaves needle quads with 1-3-degree
+ * corners and nearly straight ones on a tightly curved fan (the charts' hard case: fan_angles). */
+static inline q2n_mesh *mg_lip(int a, double s)
+{
+    static const double prof[5][2] = {{0, 0}, {0.1, 0.37}, {0, 0.49}, {-0.23, 0.37}, {-0.5, 0}};
+    int nv = 5 * (a + 1), nt = 8 * a;
+    double *v = (double *)malloc(3 * (size_t)nv * sizeof *v);
+    int *t = (int *)malloc(3 * (size_t)nt * sizeof *t), k = 0;
+    for (int i = 0; i <= a; i++)
+        for (int j = 0; j < 5; j++) {
+            double th = 0.5 * M_PI * i / a, r = 8 + s * prof[j][0];
+            double *p = v + 3 * (5 * i + j);
+            p[0] = r * cos(th), p[1] = s * prof[j][1], p[2] = r * sin(th);
+        }
+    for (int i = 0; i < a; i++)
+        for (int j = 0; j < 4; j++) {
+            int q[4] = {5 * i + j, 5 * (i + 1) + j, 5 * (i + 1) + j + 1, 5 * i + j + 1};
+            int tri[6] = {q[0], q[1], q[2], q[2], q[3], q[0]};
+            for (int c = 0; c < 6; c++) t[k++] = tri[c];
+        }
+    const double one[3] = {1, 1, 1};
+    q2n_mesh *m = mg_tri_to_quad(nv, v, nt, t, 0, one, 0, 1, "lip");
+    free(v);
+    free(t);
+    return m;
+}
+
 /* A unit cube as a subdivision modeller builds a box with support loops: 4 x 4 quads per side at
  * the breakpoints 0, d, 1/2, 1 - d, 1 of every axis (holding edge loops at d from every edge;
  * corners valence 3; the 2 x 2 quads in the middle of each side have planar one-rings). */

@@ -266,22 +266,32 @@ typedef struct fan {
     double q[EV_MAXVAL][3], Xq[EV_MAXVAL][2]; /* far corner of face k (minus p0) and its position */
 } fan;
 
-/* Angles between consecutive edges (spatial, oriented by the fan's normal nrm: a sector whose
- * normal points against it counts as folded) mapped onto the fan's span, sectors capped at
- * EV_CHART_MAX_ANGLE (else the two faces at an edge would not lie on its two sides); folded fans
- * get uniform angles. */
-static void fan_angles(const q2n_mesh *m, int v, const fan *F, const double nrm[3], double *eta)
+/* Angles between consecutive edges (spatial), each oriented by the normal of its own face (the
+ * face's vector area): a corner that turns against its face is reflex (its sector is 2π minus the
+ * angle), or, when that angle is acute, the face overlaps itself at v and the fan counts as folded.
+ * Sectors narrower than EV_CHART_MIN_ANGLE count as that wide.  Mapped onto the fan's span, sectors
+ * capped at EV_CHART_MAX_ANGLE (else the two faces at an edge would not lie on its two sides);
+ * folded fans get uniform angles.  Why each face's normal and not the fan's (the mean of its
+ * sectors' normals, until stop 35): on a strongly curved fan the two differ by up to a right angle,
+ * and a nearly straight corner — two edges of a split sliver triangle — then flips its sign with
+ * the fan's normal; such fans were called folded and charted uniformly, a 3-degree needle corner
+ * drawn as a 60-degree one (docs/extraordinary.md, "Charts"). */
+static void fan_angles(const q2n_mesh *m, int v, const fan *F, double *eta)
 {
     double zeta[EV_MAXVAL], tot = 0, span = fan_span(m, v, F->n);
     int folded = 0;
     for (int k = 0; k < F->nfan; k++) {
-        double c[3];
+        double c[3], fa[3];
         const double *a = F->f[k], *b = F->f[(k + 1) % F->n];
         q2n_v3_cross(c, a, b);
         zeta[k] = atan2(q2n_v3_norm(c), q2n_v3_dot(a, b));
-        if (q2n_v3_dot(c, nrm) < 0) zeta[k] = -zeta[k];
-        folded |= !(zeta[k] > EV_CHART_MIN_ANGLE);
-        tot += fmax(zeta[k], EV_CHART_MIN_ANGLE);
+        q2n_mesh_face_area(m, F->faces[k], fa);
+        if (q2n_v3_dot(c, fa) < 0) {
+            folded |= zeta[k] < 0.5 * Q2N_PI;
+            zeta[k] = 2 * Q2N_PI - zeta[k];
+        }
+        zeta[k] = fmax(zeta[k], EV_CHART_MIN_ANGLE);
+        tot += zeta[k];
     }
     for (int k = 0; k < F->nfan; k++) zeta[k] = folded ? span / F->nfan : zeta[k] * span / tot;
     for (int it = 0; it < EV_CHART_CAP_PASSES; it++) {
@@ -327,7 +337,7 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, f
             len[k + 2] = sp * iv[F->edges[k + 2]];
         }
     } else {
-        fan_angles(m, v, F, nrm, eta);
+        fan_angles(m, v, F, eta);
     }
     for (int k = 0; k < F->n; k++) { /* regular: k quarter turns (patch/surface.h) */
         F->X[k][0] = len[k] * (regular ? q2n_side_along[k % 4][0] : cos(eta[k]));

@@ -109,10 +109,14 @@
 #define EV_JET_NORMAL_RIDGE 1e-9
 
 /* Chart of a vertex's fan (fan_angles): a sector narrower than EV_CHART_MIN_ANGLE radians counts
- * as folded (the fan then gets uniform angles), and no sector is wider than EV_CHART_MAX_ANGLE
+ * as that wide (the others shrink in proportion), and no sector is wider than EV_CHART_MAX_ANGLE
  * (else the two faces at an edge would not lie on its two sides; the excess goes to the others
  * in proportion, at most EV_CHART_CAP_PASSES times, which settles any fan of the valences
- * handled).  Why 0.05: a sector of 3 degrees has no usable direction pair.  Why 0.75π (a margin of
+ * handled).  Why 0.05: a sector of 3 degrees has hardly a usable direction pair; on split
+ * triangulated lips with 1.3-2.8-degree needle corners a floor of 0.05 came out as smooth as one
+ * of 0.01 or 0.001 or smoother (oscillation 3.5 against 4.2 on one; docs/extraordinary.md, "Charts"),
+ * while calling such fans folded, as until stop 35, charted them uniformly and folded the
+ * surface.  Why 0.75π (a margin of
  * 45 degrees to the straight angle): a face nearly a triangle at the vertex gets a patch corner
  * that stays regular; swept 0.6π-0.97π (docs/extraordinary.md "Why the policy values"), wider caps
  * give such corners near-degenerate Jacobians and ripples, narrower ones distort the other sectors
