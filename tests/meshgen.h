@@ -325,6 +325,49 @@ static inline q2n_mesh *mg_lip(int a, double s)
     return m;
 }
 
+/* Two rings of quads around a valence-5 vertex whose edges leave at 0, 40, 80, 120 and 160 degrees
+ * on a gently waved height field: the face of the last sector (200 degrees) is a dart, non-convex
+ * at the vertex, a reflex corner (fan_angles). */
+static inline q2n_mesh *mg_dart_fan(void)
+{
+    static const double ang[5] = {0, 40, 80, 120, 160};
+    double *pos = (double *)malloc(3 * 21 * sizeof *pos);
+    int *fs = (int *)malloc(16 * sizeof *fs), *fv = (int *)malloc(60 * sizeof *fv), nv = 1, spk[5][2], cor[5][2];
+    pos[0] = pos[1] = pos[2] = 0;
+#define MG_DART_PUT(X, Y)                                                                           \
+    do {                                                                                            \
+        double x_ = (X), y_ = (Y);                                                                  \
+        pos[3 * nv] = x_, pos[3 * nv + 1] = y_, pos[3 * nv + 2] = 0.15 * sin(1.3 * x_) * cos(0.9 * y_); \
+        nv++;                                                                                       \
+    } while (0)
+    for (int k = 0; k < 5; k++)
+        for (int r = 1; r <= 2; r++) {
+            spk[k][r - 1] = nv;
+            MG_DART_PUT(r * cos(ang[k] * M_PI / 180), r * sin(ang[k] * M_PI / 180));
+        }
+    for (int k = 0; k < 5; k++) {
+        double a0 = ang[k], a1 = k < 4 ? ang[k + 1] : 360, am = 0.5 * (a0 + a1) * M_PI / 180, rr = k < 4 ? 1.2 : 0.96;
+        for (int r = 1; r <= 2; r++) {
+            cor[k][r - 1] = nv;
+            MG_DART_PUT(r * rr * cos(am), r * rr * sin(am));
+        }
+    }
+#undef MG_DART_PUT
+    int f = 0;
+    for (int k = 0; k < 5; k++) {
+        int k1 = (k + 1) % 5;
+        int q[3][4] = {{0, spk[k][0], cor[k][0], spk[k1][0]},
+                       {spk[k][0], spk[k][1], cor[k][1], cor[k][0]},
+                       {cor[k][0], cor[k][1], spk[k1][1], spk[k1][0]}};
+        for (int i = 0; i < 3; i++, f++) {
+            fs[f] = 4 * f;
+            for (int c = 0; c < 4; c++) fv[4 * f + c] = q[i][c];
+        }
+    }
+    fs[15] = 60;
+    return mg_finish(nv, pos, 15, fs, fv, "dart fan");
+}
+
 /* A unit cube as a subdivision modeller builds a box with support loops: 4 x 4 quads per side at
  * the breakpoints 0, d, 1/2, 1 - d, 1 of every axis (holding edge loops at d from every edge;
  * corners valence 3; the 2 x 2 quads in the middle of each side have planar one-rings). */
