@@ -299,8 +299,9 @@ static inline q2n_mesh *mg_thin_plate(int n, double t)
  * the outer one) on a grid of a angular steps, every quad cut into two triangles along a diagonal,
  * then split into quads (mg_tri_to_quad).  Each angular step is ~3 long, each profile step
  * 0.12-0.5 s: sliver triangles of aspect ~6-50 whose split leaves needle quads with 1-3-degree
- * corners and nearly straight ones on a tightly curved fan (the charts' hard case: fan_angles). */
-static inline q2n_mesh *mg_lip(int a, double s)
+ * corners and nearly straight ones on a tightly curved fan (the charts' hard case: fan_angles).
+ * split 0: the triangles themselves, for Catmull-Clark (--subdivide 1) to split. */
+static inline q2n_mesh *mg_lip_split(int a, double s, int split)
 {
     static const double prof[5][2] = {{0, 0}, {0.1, 0.37}, {0, 0.49}, {-0.23, 0.37}, {-0.5, 0}};
     int nv = 5 * (a + 1), nt = 8 * a;
@@ -318,12 +319,19 @@ static inline q2n_mesh *mg_lip(int a, double s)
             int tri[6] = {q[0], q[1], q[2], q[2], q[3], q[0]};
             for (int c = 0; c < 6; c++) t[k++] = tri[c];
         }
+    if (!split) { /* the triangles themselves (for --subdivide) */
+        int *fs = (int *)malloc((size_t)(nt + 1) * sizeof *fs);
+        for (int f = 0; f <= nt; f++) fs[f] = 3 * f;
+        return mg_finish(nv, v, nt, fs, t, "triangulated lip");
+    }
     const double one[3] = {1, 1, 1};
     q2n_mesh *m = mg_tri_to_quad(nv, v, nt, t, 0, one, 0, 1, "lip");
     free(v);
     free(t);
     return m;
 }
+
+static inline q2n_mesh *mg_lip(int a, double s) { return mg_lip_split(a, s, 1); }
 
 /* Two rings of quads around a valence-5 vertex whose edges leave at 0, 40, 80, 120 and 160 degrees
  * on a gently waved height field: the face of the last sector (200 degrees) is a dart, non-convex

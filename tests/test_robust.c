@@ -415,6 +415,14 @@ static void test_folds(void)
     m = build_with(skew_spike(), 0, 2);
     CHECK(m && m->folded == 0, "skewed spike with --subdivide 2: %d faces fold (%s)", m ? m->folded : -1, m ? m->warning : "");
     q2n_model_free(m);
+    /* a triangulated lip through Catmull-Clark (--subdivide 1): sliver triangles of aspect ~6-25,
+     * split into needle quads, the charts' hard case (docs/extraordinary.md, "Each sector oriented by
+     * its own face").  Until stop 35 the G2 surface folded on 11 faces there (fairness.py on the
+     * fitted file: Jacobian ratio 0.004); now on none, and no warning */
+    m = build_with(mg_lip_split(4, 1, 0), 0, 1);
+    CHECK(m && m->folded == 0 && !m->warning[0], "triangulated lip, --subdivide 1: %d faces fold (%s)", m ? m->folded : -1,
+          m ? m->warning : "");
+    q2n_model_free(m);
     /* a cube's corner pulled out 7x: the fold guard's held local estimates fold too, its halving of
      * them does not (ev_fair.c shrink_stage); until it did, this warned */
     m = build(mg_spike_cube(7, 0));
