@@ -325,9 +325,7 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, f
         q2n_v3_cross(c, F->f[k], F->f[(k + 1) % F->n]);
         q2n_v3_add(nrm, nrm, c);
     }
-    double nn = q2n_v3_norm(nrm);
-    if (!(nn > 0)) return 0;
-    q2n_v3_scale(nrm, 1 / nn, nrm);
+    if (!(q2n_v3_norm(nrm) > 0)) return 0; /* no tangent plane: every sector degenerate */
     for (int k = 0; k < F->n; k++) len[k] = q2n_v3_norm(F->f[k]);
     int regular = m->vert_boundary[v] ? m->vert_nfaces[v] <= 2 : quarter && m->valence[v] == 4;
     if (regular) {
