@@ -228,6 +228,9 @@ typedef struct q2n_options {
                                       subdivision surface instead of the control vertices: 1 always, -1
                                       never, 0 [when subdivide > 0]; needs quads around every interior
                                       vertex */
+    int pair_triangles;            /* triangles paired into quads across their shared edges before
+                                      anything else (convex pairs, best shaped first; docs/mesh.md,
+                                      "Pairing triangles"): 1 yes, 0 [no]; triangles left need subdivide */
     double scale;                  /* multiplies the mesh coordinates, Q2N_SCALE_MIN..Q2N_SCALE_MAX [1] */
     q2n_units units;               /* unit of the CAD files [mm] */
     double tol;                    /* fit tolerance relative to the bounding-box diagonal, 1e-12..0.1 [1e-5] */
@@ -320,7 +323,9 @@ q2n_status q2n_patch_spline_get(const q2n_model *m, int k, q2n_patch_spline *out
 typedef struct q2n_report {
     /* the mesh and the construction (after q2n_read / q2n_build) */
     int input_faces;           /* faces as read */
-    int faces;                 /* faces the surface is built on (after subdivision) */
+    int faces;                 /* faces the surface is built on (after pairing and subdivision) */
+    int paired_quads;          /* pair_triangles: quads made of two input triangles */
+    int triangles_left;        /* pair_triangles: input triangles left unpaired */
     int patches;               /* faces covered by a patch (= faces unless uncovered) */
     int construction_continuity; /* 0, 1, 2: G^k across edges the construction guarantees */
     double diag;               /* bounding-box diagonal */

@@ -376,6 +376,55 @@ static void fold_fallback(void)
     }
 }
 
+/* --pair-triangles on an STL-style torus (12 x 32 quads of aspect ~20, each cut along a diagonal):
+ * through --subdivide 1 its needle quads cross (a bow-tie, exit 2) and the run says that the
+ * triangles would pair; paired, the torus is its quad grid again (384 regular faces, one span each,
+ * exact G1/G2); a cap fan left over asks for --subdivide, and with it the run succeeds. */
+static void pair_triangles(void)
+{
+    char err[4096], p[512];
+    snprintf(p, sizeof p, "%s/tt.obj", dir);
+    FILE *f = fopen(p, "w");
+    for (int i = 0; f && i < 12; i++)
+        for (int j = 0; j < 32; j++) {
+            double a = 2 * M_PI * i / 12, b = 2 * M_PI * j / 32;
+            fprintf(f, "v %.17g %.17g %.17g\n", (5 + 0.3 * cos(b)) * cos(a), (5 + 0.3 * cos(b)) * sin(a), 0.3 * sin(b));
+        }
+    for (int i = 0; f && i < 12; i++)
+        for (int j = 0; j < 32; j++) {
+            int a = i * 32 + j + 1, b = (i + 1) % 12 * 32 + j + 1, c = (i + 1) % 12 * 32 + (j + 1) % 32 + 1,
+                d = i * 32 + (j + 1) % 32 + 1;
+            fprintf(f, "f %d %d %d\nf %d %d %d\n", a, b, c, c, d, a);
+        }
+    if (f) fclose(f);
+    int rc = run_sh("$Q tt.obj --subdivide 1 -o out.step", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "768 of its 768 triangles pair into convex quads") && strstr(err, "self-crossing") &&
+              leftovers() == 0, "triangulated torus, --subdivide 1: %d '%s'", rc, err);
+    rc = run_sh("$Q tt.obj --pair-triangles -o tt.json", err, sizeof err);
+    char *js = report("tt.json");
+    CHECK(rc == 0 && strstr(err, "384 faces (384 pairs of triangles merged into quads, 0 triangles left)") && js &&
+              jnum(js, "paired_quads") == 384 && jnum(js, "triangles_left") == 0 && strstr(js, "\"tol_met\": true") &&
+              jnum(js, "g1_max_deg") < 1e-6 && jnum(js, "edge_spans_max") == 1,
+          "triangulated torus, --pair-triangles: %d '%s' %s", rc, err, js ? js : "(no report)");
+    free(js);
+    /* a hexagon's fan and two triangles beside it: three pairs (kites of 60 and 120 degrees, a
+     * parallelogram), two triangles left: --subdivide is still needed, and named */
+    write_file("fan.obj", "v 0 0 0\nv 1 0 0\nv 0.5 0.87 0\nv -0.5 0.87 0\nv -1 0 0\nv -0.5 -0.87 0\nv 0.5 -0.87 0\n"
+                          "v 2 0 0\nv 1.5 0.87 0\n"
+                          "f 1 2 3\nf 1 3 4\nf 1 4 5\nf 1 5 6\nf 1 6 7\nf 1 7 2\nf 2 8 9\nf 2 9 3\n");
+    rc = run_sh("$Q fan.obj --pair-triangles -o out.step", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "fan.obj:") && strstr(err, "(of the paired mesh) has 3 vertices") &&
+              strstr(err, "--subdivide 1") && !strstr(err, "--pair-triangles to") && leftovers() == 0,
+          "fan, --pair-triangles: %d '%s'", rc, err);
+    rc = run_sh("$Q fan.obj --pair-triangles --subdivide 1 -o fan.json", err, sizeof err);
+    js = report("fan.json");
+    CHECK(rc == 0 && js && jnum(js, "paired_quads") == 3 && jnum(js, "triangles_left") == 2,
+          "fan, --pair-triangles --subdivide 1: %d '%s'", rc, err);
+    free(js);
+    expect_error("triangle, no option", "tri2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", NULL,
+                 "or --pair-triangles to merge triangles into quads");
+}
+
 static void tolerances(void)
 {
     char err[4096];
@@ -697,6 +746,7 @@ int main(void)
     expect_error("too large", "huge.obj", "v 0 0 0\nv 1e308 0 0\nv 1e308 1e308 0\nv 0 1e308 0\nf 1 2 3 4\n",
                  NULL, "huge.obj: the bounding box is too large");
     write_file("quad.obj", quad);
+    pair_triangles();
     test_serial_blas();
     expect_error("bad --grid", "quad.obj", NULL, "--tess x", "--tess");
     expect_error("bad class", "quad.obj", NULL, "--class D9", "D9");

@@ -65,7 +65,8 @@ static void face_where(const q2n_model *m, int k, char *buf, size_t n)
 {
     const q2n_mesh *me = m->mesh;
     int line = me->face_line ? me->face_line[k] : 0;
-    const char *sub = me->nf != m->input_faces ? " (of the subdivided mesh)" : "";
+    const char *sub = me->nf == m->input_faces ? "" : m->paired && me->nf == m->input_faces - m->paired
+                      ? " (of the paired mesh)" : " (of the subdivided mesh)";
     if (line > 0) snprintf(buf, n, "%s:%d: face %d%s", me->name, line, k, sub);
     else snprintf(buf, n, "%s: face %d%s", me->name, k, sub);
 }
@@ -186,6 +187,22 @@ static void flat_warning(q2n_model *m)
                    "diagonal; %s", where, nflat, dev, why);
 }
 
+/* Triangles about to be split by Catmull–Clark that would pair into convex quads: say so, with the
+ * option (a tessellation's quads come back, instead of three needle-prone quads per triangle;
+ * docs/mesh.md, "Pairing triangles"). */
+static void pair_hint(q2n_model *m, char *hint, size_t n)
+{
+    q2n_mesh *pm = NULL;
+    q2n_error e;
+    int np = 0, left = 0, tri = 0;
+    for (int f = 0; f < m->mesh->nf; f++) tri += q2n_face_size(m->mesh, f) == 3;
+    if (q2n_mesh_pair_triangles(m->mesh, &pm, &np, &left, &e) == Q2N_OK && np > 0)
+        snprintf(hint, n, "%d of its %d triangles pair into convex quads across shared edges; --pair-triangles "
+                 "merges them before --subdivide (a triangulated quad mesh gets its quads back, and fewer, "
+                 "better-shaped faces)", 2 * np, tri);
+    q2n_mesh_free(pm);
+}
+
 /* A new model with its options (defaults filled in) and no mesh yet. */
 static q2n_status model_new(const q2n_model_options *opt, q2n_model **out, q2n_error *err)
 {
@@ -293,7 +310,14 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
 {
     double t0 = q2n_now();
     q2n_status st = Q2N_OK;
-    if (m->opt.subdivide > 0) {
+    if (m->opt.pair_triangles) { /* before subdividing: the quads a tessellator cut in two, back */
+        q2n_mesh *pm = NULL;
+        st = q2n_mesh_pair_triangles(m->mesh, &pm, &m->paired, &m->tri_left, err);
+        if (!st) { q2n_mesh_free(m->mesh); m->mesh = pm; }
+    }
+    char hint[320] = "";
+    if (!st && !m->opt.pair_triangles && m->opt.subdivide > 0 && !m->mesh->all_quads) pair_hint(m, hint, sizeof hint);
+    if (!st && m->opt.subdivide > 0) {
         q2n_progress_emit(&m->opt.progress, "subdivide", NULL, 0, m->opt.subdivide);
         q2n_mesh *sub = NULL;
         st = q2n_mesh_subdivide(m->mesh, m->opt.subdivide, &sub, err);
@@ -306,8 +330,10 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
         face_where(m, f, where, sizeof where);
         st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
                            "%s has %d vertices; only quad meshes are supported "
-                           "(use --subdivide 1 to apply one Catmull-Clark step first)",
-                           where, q2n_face_size(m->mesh, f));
+                           "(use --subdivide 1 to apply one Catmull-Clark step first%s)",
+                           where, q2n_face_size(m->mesh, f),
+                           m->opt.pair_triangles ? ""
+                           : q2n_face_size(m->mesh, f) == 3 ? ", or --pair-triangles to merge triangles into quads" : "");
     }
     /* limit points (after --subdivide unless --no-limit-points; --limit-points also without): the
      * vertices onto the subdivision surface.  The control vertices of a coarse mesh lie off it,
@@ -336,7 +362,12 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
     if (!st) st = scan_patches(m, err);
     if (!st) fold_fallback(m);
+    if (st && hint[0]) { /* the failure is often the split triangles' (needle quads, bow-ties): say the remedy */
+        size_t l = strlen(err->message);
+        if (l + 4 < sizeof err->message) snprintf(err->message + l, sizeof err->message - l, "; %s", hint);
+    }
     if (st) return st;
+    if (hint[0]) q2n_model_warn(m, "%s: %s", m->mesh->name, hint);
     m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
     m->t_build = q2n_now() - t0;
     if (m->warning[0]) q2n_model_warn(m, "%s", m->warning);
@@ -449,6 +480,8 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.vertices_moved_rel = m->moved_rel;
     m->fit.flat_vertices = m->ev_stats.flat_vertices;
     m->fit.g2_folded_faces = m->g2_folded;
+    m->fit.paired_quads = m->paired;
+    m->fit.triangles_left = m->tri_left;
     m->fit.folded_face = m->folded_face;
     if (m->nurbs) { /* into output coordinates; relative figures stay */
         q2n_error e2;

@@ -41,6 +41,7 @@ typedef struct q2n_model_options {
     int subdivide;                /* Catmull–Clark steps before building */
     int limit_points;             /* vertices moved to their Catmull–Clark limit positions (augmented):
                                      1 always, -1 never, 0 when subdivide > 0 */
+    int pair_triangles;           /* triangles paired into quads before subdivide (q2n_options) */
     double scale;                 /* multiplies every output coordinate (0: 1): --scale */
     q2n_progress_sink progress;   /* reports of every stage (fn NULL: none) */
 } q2n_model_options;
@@ -68,7 +69,8 @@ typedef struct q2n_model {
     int continuity;            /* 1 or 2: what the construction guarantees across edges (G^k) */
     char note[256];            /* e.g. why Catmull–Clark steps were applied by the ACC path */
     q2n_mesh_read_info read_info; /* format, ignored tags (for a warning) */
-    int input_faces;           /* faces of the mesh as read (before any subdivision) */
+    int input_faces;           /* faces of the mesh as read (before any pairing or subdivision) */
+    int paired, tri_left;      /* pair_triangles: quads made of two triangles, triangles left */
     char warning[512];         /* e.g. the first face whose surface folds over; "" when none */
     int folded;                /* faces whose surface folds over (normal against the face's) */
     int folded_face;           /* the first of them (-1: none) */

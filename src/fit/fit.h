@@ -84,6 +84,8 @@ typedef struct q2n_fit_report {
                                       plane; set by the caller, else 0 */
     int g2_folded_faces;           /* the construction's G2 patches folded on this many faces and G1 patches
                                       replaced them (q2n_model_options.fold_fallback); set by the caller, else 0 */
+    int paired_quads, triangles_left; /* --pair-triangles: quads made of two input triangles, triangles
+                                      left unpaired; set by the caller, else 0 */
     double t_sample, t_build, t_solve, t_measure, t_total;  /* seconds per stage */
     long step_bytes, iges_bytes;   /* sizes of the CAD files written from this fit (0: none; set by the writer's caller) */
     int solver, threads;        /* threads: the number used */

@@ -136,6 +136,14 @@ q2n_status q2n_mesh_check_crossing(const q2n_mesh *m, q2n_error *err);
  * the sub-quad at corner i being (v_i, e_i, f, e_{i-1}) so u runs along the old edge i. */
 q2n_status q2n_mesh_subdivide(const q2n_mesh *m, int steps, q2n_mesh **out, q2n_error *err);
 
+/* Triangles paired into quads (pair.c): the shared edge of two triangles is removed where the quad
+ * they make is convex with a margin and the two are not bent far apart (mesh_policy.h), the best
+ * shaped quads first.  Face order: the input's, each quad in the place of its lower-numbered
+ * triangle (the other one dropped), starting at that triangle's first vertex; other faces as they
+ * were, with their OBJ lines (a quad takes its first triangle's).  *paired: quads made; *left:
+ * triangles left (either may be NULL).  Vertices keep their indices. */
+q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paired, int *left, q2n_error *err);
+
 /* The same mesh with every vertex moved to its Catmull–Clark limit position (the rules of
  * q2n_mesh_subdivide, boundaries as infinitely sharp creases; subdivide.c for the masks): an
  * interpolant of the result passes through points of the subdivision surface.  Every face around an

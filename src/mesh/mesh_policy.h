@@ -25,4 +25,15 @@
  * below any corner that really turns back.  Two reflex corners make a bow-tie: rejected. */
 #define Q2N_MESH_REFLEX_SIN 1e-12
 
+/* Pairing triangles into quads (pair.c): every corner of the quad two triangles make must have a
+ * sine of at least Q2N_PAIR_MIN_SINE (so between 17.5 and 162.5 degrees: a convex quad whose patch
+ * corners stay regular; a nearly straight corner — two thin triangles of a fan, a quad that is
+ * nearly a triangle — would give a near-degenerate one, and a needle is what pairing is there to
+ * avoid), and the two triangles' normals may differ by at most Q2N_PAIR_MAX_BEND radians (60
+ * degrees: a pair bent further straddles a crease of the tessellation, and its quad would have to
+ * turn that far within one patch; the faces of an icosahedron, 42 degrees apart, still pair, an
+ * octahedron's, 71 degrees, do not). */
+#define Q2N_PAIR_MIN_SINE 0.3
+#define Q2N_PAIR_MAX_BEND (Q2N_PI / 3)
+
 #endif

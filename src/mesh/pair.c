@@ -1,0 +1,149 @@
+/* pair.c — triangles paired into quads across their shared edges (see mesh.h for the order of the
+ * result).
+ *
+ * Why.  Most triangle meshes handed to us are quad meshes whose quads a tessellator or an
+ * exporter cut along one diagonal: CAD tessellations (STL), the triangulated output of modellers,
+ * surfaces of revolution sampled on a grid.  One Catmull–Clark step (--subdivide 1) turns each
+ * triangle into three quads, makes every vertex extraordinary and, where the triangles are long
+ * and thin, leaves needle quads with corners of a few degrees, from which no interpolating patch
+ * stays regular (docs/mesh.md, "Pairing triangles").  Removing the diagonals instead gives the
+ * quads back, and with them the mesh's own regular structure.
+ *
+ * How.  Every interior edge between two triangles (x, y, c) and (y, x, d) is a candidate; removing
+ * it gives the quad (x, d, y, c), in the orientation of both.  A candidate is kept when the quad is
+ * convex with a margin — every corner's sine, signed by the quad's vector area (Newell), at least
+ * Q2N_PAIR_MIN_SINE — and the two triangles' normals lie within Q2N_PAIR_MAX_BEND of each other
+ * (mesh_policy.h).  Candidates are taken best first (the largest smallest corner sine: rectangles
+ * before rhombi before kites; ties by edge index, so the result does not depend on anything but
+ * the mesh), each triangle at most once: a greedy matching, not a maximum one, which on a
+ * triangulated quad grid finds every original quad (its diagonals are the only candidates whose
+ * quads are rectangles).  Triangles left unpaired stay triangles. */
+#include "mesh/mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/vec3.h"
+#include "mesh/mesh_policy.h"
+
+typedef struct pair_cand {
+    double q; /* smallest corner sine of the quad */
+    int e;    /* the edge removed */
+} pair_cand;
+
+static int cand_cmp(const void *a, const void *b)
+{
+    const pair_cand *x = a, *y = b;
+    if (x->q != y->q) return x->q > y->q ? -1 : 1;
+    return (x->e > y->e) - (x->e < y->e);
+}
+
+/* Smallest signed corner sine of the quad q (vertex indices), signed by its vector area; -1 when
+ * it has no area. */
+static double quad_min_sine(const q2n_mesh *m, const int q[4])
+{
+    const double *p[4];
+    double n[3] = {0, 0, 0}, c[3];
+    for (int i = 0; i < 4; i++) p[i] = q2n_mesh_vpos(m, q[i]);
+    for (int i = 0; i < 4; i++) {
+        q2n_v3_cross(c, p[i], p[(i + 1) & 3]);
+        q2n_v3_add(n, n, c);
+    }
+    double nn = q2n_v3_norm(n), s = 1;
+    if (!(nn > 0)) return -1;
+    for (int i = 0; i < 4; i++) {
+        double a[3], b[3];
+        q2n_v3_sub(a, p[(i + 1) & 3], p[i]);
+        q2n_v3_sub(b, p[(i + 3) & 3], p[i]);
+        q2n_v3_cross(c, a, b);
+        double la = q2n_v3_norm(a), lb = q2n_v3_norm(b);
+        if (!(la > 0 && lb > 0)) return -1;
+        s = fmin(s, q2n_v3_dot(c, n) / (nn * la * lb));
+    }
+    return s;
+}
+
+/* Cosine of the angle between the normals of triangles (x, y, c) and (y, x, d). */
+static double bend_cos(const q2n_mesh *m, int x, int y, int c, int d)
+{
+    double a[3], b[3], n1[3], n2[3];
+    q2n_v3_sub(a, q2n_mesh_vpos(m, y), q2n_mesh_vpos(m, x));
+    q2n_v3_sub(b, q2n_mesh_vpos(m, c), q2n_mesh_vpos(m, x));
+    q2n_v3_cross(n1, a, b);
+    q2n_v3_sub(a, q2n_mesh_vpos(m, x), q2n_mesh_vpos(m, y));
+    q2n_v3_sub(b, q2n_mesh_vpos(m, d), q2n_mesh_vpos(m, y));
+    q2n_v3_cross(n2, a, b);
+    double l = q2n_v3_norm(n1) * q2n_v3_norm(n2);
+    return l > 0 ? q2n_v3_dot(n1, n2) / l : -1;
+}
+
+/* The quad of edge e's two triangles, starting at the first corner of the lower-numbered one. */
+static void edge_quad(const q2n_mesh *m, int e, int q[4])
+{
+    int h = m->edge_he[e], t = m->he_twin[h];
+    int x = q2n_he_origin(m, h), y = q2n_he_dest(m, h);
+    int c = q2n_he_origin(m, q2n_he_prev(m, h)), d = q2n_he_origin(m, q2n_he_prev(m, t));
+    int r[4] = {x, d, y, c};
+    int f = m->he_face[h] < m->he_face[t] ? m->he_face[h] : m->he_face[t];
+    int first = m->face_vert[m->face_start[f]], k = 0;
+    while (r[k] != first) k++;
+    for (int i = 0; i < 4; i++) q[i] = r[(k + i) & 3];
+}
+
+q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paired, int *left, q2n_error *err)
+{
+    *out = NULL;
+    pair_cand *cand = malloc(sizeof *cand * ((size_t)m->ne + 1));
+    int *mate = malloc(sizeof(int) * ((size_t)m->nf + 1)), *mate_e = malloc(sizeof(int) * ((size_t)m->nf + 1));
+    int *fs = malloc(sizeof(int) * ((size_t)m->nf + 1)), *fv = malloc(sizeof(int) * ((size_t)m->nh + 1));
+    int *fl = malloc(sizeof(int) * ((size_t)m->nf + 1));
+    if (!cand || !mate || !mate_e || !fs || !fv || !fl) {
+        free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory pairing triangles", m->name);
+    }
+    int nc = 0;
+    for (int e = 0; e < m->ne; e++) {
+        int h = m->edge_he[e], t = m->he_twin[h];
+        if (t < 0 || q2n_face_size(m, m->he_face[h]) != 3 || q2n_face_size(m, m->he_face[t]) != 3) continue;
+        int x = q2n_he_origin(m, h), y = q2n_he_dest(m, h);
+        int c = q2n_he_origin(m, q2n_he_prev(m, h)), d = q2n_he_origin(m, q2n_he_prev(m, t));
+        if (c == d || bend_cos(m, x, y, c, d) < cos(Q2N_PAIR_MAX_BEND)) continue;
+        int q[4] = {x, d, y, c};
+        double s = quad_min_sine(m, q);
+        if (s >= Q2N_PAIR_MIN_SINE) cand[nc].q = s, cand[nc].e = e, nc++;
+    }
+    qsort(cand, (size_t)nc, sizeof *cand, cand_cmp);
+    for (int f = 0; f < m->nf; f++) mate[f] = -1;
+    int np = 0;
+    for (int i = 0; i < nc; i++) {
+        int h = m->edge_he[cand[i].e], a = m->he_face[h], b = m->he_face[m->he_twin[h]];
+        if (mate[a] >= 0 || mate[b] >= 0) continue;
+        mate[a] = b, mate[b] = a, mate_e[a] = mate_e[b] = cand[i].e, np++;
+    }
+    /* the quad takes the place of the lower-numbered triangle; the other one goes */
+    int nf = 0, nfv = 0, ntri = 0;
+    for (int f = 0; f < m->nf; f++) {
+        if (mate[f] >= 0 && mate[f] < f) continue;
+        fs[nf] = nfv;
+        fl[nf] = m->face_line ? m->face_line[f] : 0;
+        if (mate[f] >= 0) {
+            edge_quad(m, mate_e[f], fv + nfv);
+            nfv += 4;
+        } else {
+            int n = q2n_face_size(m, f);
+            memcpy(fv + nfv, m->face_vert + m->face_start[f], sizeof(int) * (size_t)n);
+            nfv += n;
+            ntri += n == 3;
+        }
+        nf++;
+    }
+    fs[nf] = nfv;
+    q2n_status st = q2n_mesh_from_arrays_lines(m->nv, m->pos, nf, fs, fv, m->face_line ? fl : NULL, m->name, out, err);
+    free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl);
+    if (!st) {
+        if (paired) *paired = np;
+        if (left) *left = ntri;
+    }
+    return st;
+}
