@@ -43,6 +43,19 @@ int q2n_fuzz_obj(const uint8_t *data, size_t size)
         else FZ_REQUIRE(s && s->all_quads && fz_mesh_valid(s) && s->nf == m->nh, "subdivided mesh");
         q2n_mesh_free(s);
     }
+    { /* --pair-triangles: a valid mesh, each pair two triangles fewer and one quad more */
+        int np = -1, left = -1, tri = 0, quads = 0, pquads = 0;
+        st = q2n_mesh_pair_triangles(m, &s, &np, &left, &err);
+        if (st) FZ_REQUIRE(fz_clean_error(st, &err) && !s, err.message);
+        else {
+            for (int f = 0; f < m->nf; f++) tri += q2n_face_size(m, f) == 3, quads += q2n_face_size(m, f) == 4;
+            for (int f = 0; f < s->nf; f++) pquads += q2n_face_size(s, f) == 4;
+            FZ_REQUIRE(fz_mesh_valid(s) && np >= 0 && s->nf == m->nf - np && left == tri - 2 * np &&
+                           pquads == quads + np && s->nv == m->nv, "paired mesh");
+        }
+        q2n_mesh_free(s);
+        s = NULL;
+    }
     int *rib = NULL, nrib = 0;
     FZ_REQUIRE(q2n_mesh_ribbons(m, &rib, &nrib, &err) == Q2N_OK && nrib >= 1 && nrib <= m->ne, "ribbons");
     for (int i = 0; i < m->ne; i++) FZ_REQUIRE(rib[i] >= 0 && rib[i] < nrib, "ribbon index");

@@ -43,6 +43,12 @@ awk 'BEGIN { n = 5; print "v 0 0 0.3"; for (i = 0; i < 2 * n; i++) { r = (i % 2)
     for (i = 0; i < n; i++) printf "f 1 %d %d %d\n", 2 + 2 * i, 3 + 2 * i, 2 + (2 * i + 2) % (2 * n) }' > "$obj/fan5.obj"
 seed lshape 'v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\nf 1 2 5 4\nf 2 3 6 5\nf 4 5 8 7\n'
 seed mixed 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0.5 0.2\nf 1 2 3 4\nf 2 5 3\n'
+# a wavy grid cut along alternating diagonals (--pair-triangles gives its quads back) and a triangle fan
+awk 'BEGIN { n = 3; for (j = 0; j <= n; j++) for (i = 0; i <= n; i++) printf "v %d %d %.4f\n", i, j, 0.3 * sin(i + 2 * j);
+    for (j = 0; j < n; j++) for (i = 0; i < n; i++) { a = j * (n + 1) + i + 1; b = a + 1; c = a + n + 2; d = a + n + 1;
+        if ((i + j) % 2) printf "f %d %d %d\nf %d %d %d\n", a, b, c, c, d, a;
+        else printf "f %d %d %d\nf %d %d %d\n", b, c, d, d, a, b } }' > "$obj/grid_triangulated.obj"
+seed fan 'v 0 0 0\nv 1 0 0\nv 0.5 0.87 0.1\nv -0.5 0.87 0\nv -1 0 0.1\nv -0.5 -0.87 0\nv 0.5 -0.87 0.1\nf 1 2 3\nf 1 3 4\nf 1 4 5\nf 1 5 6\nf 1 6 7\nf 1 7 2\n'
 seed pentagon 'v 0 0 0\nv 2 0 0\nv 2.6 1.5 0.3\nv 1 2.5 0\nv -0.6 1.5 0.3\nf 1 2 3 4 5\n'
 seed tetra 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n'
 # degenerate and folded shapes (issue 16)
