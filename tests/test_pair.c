@@ -135,6 +135,17 @@ static void test_no_pairs(void)
     CHECK(p && np == 0 && left == 8, "octahedron: %d pairs, %d left (expected 0, 8)", np, left);
     q2n_mesh_free(p);
     q2n_mesh_free(m);
+    /* an open square pyramid 0.8 high over a 2 x 2 base: both pairs of opposite triangles make convex
+     * quads (121 degrees at the apex, the triangles 52 degrees apart), but taking both would leave
+     * the apex two faces */
+    static const double sp[15] = {0, 0, 0.8, 1, -1, 0, 1, 1, 0, -1, 1, 0, -1, -1, 0};
+    static const int sf[12] = {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1};
+    int sfs[5] = {0, 3, 6, 9, 12};
+    m = mesh_of(5, sp, 4, sfs, sf, NULL);
+    p = m ? paired(m, &np, &left) : NULL;
+    CHECK(p && np == 1 && left == 2 && p->nf == 3, "pyramid: %d pairs, %d left (expected 1, 2)", np, left);
+    q2n_mesh_free(p);
+    q2n_mesh_free(m);
 }
 
 static void test_icosahedron_and_mixed(void)

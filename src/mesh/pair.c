@@ -15,9 +15,11 @@
  * Q2N_PAIR_MIN_SINE — and the two triangles' normals lie within Q2N_PAIR_MAX_BEND of each other
  * (mesh_policy.h).  Candidates are taken best first (the largest smallest corner sine: rectangles
  * before rhombi before kites; ties by edge index, so the result does not depend on anything but
- * the mesh), each triangle at most once: a greedy matching, not a maximum one, which on a
- * triangulated quad grid finds every original quad (its diagonals are the only candidates whose
- * quads are rectangles).  Triangles left unpaired stay triangles. */
+ * the mesh), each triangle at most once, and never so that an interior vertex is left with fewer
+ * than three faces (two would share two edges and leave it no tangent plane: the mesh's validation
+ * refuses that): a greedy matching, not a maximum one, which on a triangulated quad grid finds every
+ * original quad (its diagonals are the only candidates whose quads are rectangles).  Triangles left
+ * unpaired stay triangles. */
 #include "mesh/mesh.h"
 
 #include <math.h>
@@ -97,9 +99,9 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
     pair_cand *cand = malloc(sizeof *cand * ((size_t)m->ne + 1));
     int *mate = malloc(sizeof(int) * ((size_t)m->nf + 1)), *mate_e = malloc(sizeof(int) * ((size_t)m->nf + 1));
     int *fs = malloc(sizeof(int) * ((size_t)m->nf + 1)), *fv = malloc(sizeof(int) * ((size_t)m->nh + 1));
-    int *fl = malloc(sizeof(int) * ((size_t)m->nf + 1));
-    if (!cand || !mate || !mate_e || !fs || !fv || !fl) {
-        free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl);
+    int *fl = malloc(sizeof(int) * ((size_t)m->nf + 1)), *vfaces = malloc(sizeof(int) * ((size_t)m->nv + 1));
+    if (!cand || !mate || !mate_e || !fs || !fv || !fl || !vfaces) {
+        free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl), free(vfaces);
         return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory pairing triangles", m->name);
     }
     int nc = 0;
@@ -115,11 +117,16 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
     }
     qsort(cand, (size_t)nc, sizeof *cand, cand_cmp);
     for (int f = 0; f < m->nf; f++) mate[f] = -1;
+    for (int v = 0; v < m->nv; v++) vfaces[v] = m->vert_nfaces[v];
     int np = 0;
     for (int i = 0; i < nc; i++) {
         int h = m->edge_he[cand[i].e], a = m->he_face[h], b = m->he_face[m->he_twin[h]];
+        int x = q2n_he_origin(m, h), y = q2n_he_dest(m, h);
         if (mate[a] >= 0 || mate[b] >= 0) continue;
+        /* an interior vertex keeps three faces at least (two would share two edges: no tangent plane) */
+        if ((!m->vert_boundary[x] && vfaces[x] <= 3) || (!m->vert_boundary[y] && vfaces[y] <= 3)) continue;
         mate[a] = b, mate[b] = a, mate_e[a] = mate_e[b] = cand[i].e, np++;
+        vfaces[x]--, vfaces[y]--;
     }
     /* the quad takes the place of the lower-numbered triangle; the other one goes */
     int nf = 0, nfv = 0, ntri = 0;
@@ -140,7 +147,7 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
     }
     fs[nf] = nfv;
     q2n_status st = q2n_mesh_from_arrays_lines(m->nv, m->pos, nf, fs, fv, m->face_line ? fl : NULL, m->name, out, err);
-    free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl);
+    free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl), free(vfaces);
     if (!st) {
         if (paired) *paired = np;
         if (left) *left = ntri;
