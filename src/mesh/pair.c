@@ -1,7 +1,7 @@
 /* pair.c — triangles paired into quads across their shared edges (see mesh.h for the order of the
  * result).
  *
- * Why.  Most triangle meshes handed to us are quad meshes whose quads a tessellator or an
+ * Why.  Many triangle meshes handed to us are quad meshes whose quads a tessellator or an
  * exporter cut along one diagonal: CAD tessellations (STL), the triangulated output of modellers,
  * surfaces of revolution sampled on a grid.  One Catmull–Clark step (--subdivide 1) turns each
  * triangle into three quads, makes every vertex extraordinary and, where the triangles are long
