@@ -198,8 +198,8 @@ static void pair_hint(q2n_model *m, char *hint, size_t n)
     for (int f = 0; f < m->mesh->nf; f++) tri += q2n_face_size(m->mesh, f) == 3;
     if (q2n_mesh_pair_triangles(m->mesh, &pm, &np, &left, &e) == Q2N_OK && np > 0)
         snprintf(hint, n, "%d of its %d triangles pair into convex quads across shared edges; --pair-triangles "
-                 "merges them before --subdivide (a triangulated quad mesh gets its quads back, and fewer, "
-                 "better-shaped faces)", 2 * np, tri);
+                 "merges them before the Catmull-Clark step (a triangulated quad mesh gets its quads back, and "
+                 "fewer, better-shaped faces)", 2 * np, tri);
     q2n_mesh_free(pm);
 }
 
@@ -316,7 +316,9 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
         if (!st) { q2n_mesh_free(m->mesh); m->mesh = pm; }
     }
     char hint[320] = "";
-    if (!st && !m->opt.pair_triangles && m->opt.subdivide > 0 && !m->mesh->all_quads) pair_hint(m, hint, sizeof hint);
+    if (!st && !m->opt.pair_triangles && !m->mesh->all_quads &&
+        (m->opt.subdivide > 0 || m->opt.method != Q2N_SURFACE_AUGMENTED)) /* the ACC path subdivides non-quads itself */
+        pair_hint(m, hint, sizeof hint);
     if (!st && m->opt.subdivide > 0) {
         q2n_progress_emit(&m->opt.progress, "subdivide", NULL, 0, m->opt.subdivide);
         q2n_mesh *sub = NULL;
