@@ -402,10 +402,10 @@ static void pair_triangles(void)
               leftovers() == 0, "triangulated torus, --subdivide 1: %d '%s'", rc, err);
     /* the ACC path splits triangles by itself: the same note (its surface of the split torus folds on
      * 528 faces; paired, it is the torus' own bicubic patches) */
-    rc = run_sh("$Q tt.obj --surface acc-g1 -o out.step", err, sizeof err);
+    rc = run_sh("$Q tt.obj --surface acc-g1 -o ttacc.step", err, sizeof err);
     CHECK(rc == 0 && strstr(err, "768 of its 768 triangles pair into convex quads"), "triangulated torus, acc-g1: %d '%s'",
           rc, err);
-    rc = run_sh("$Q tt.obj --surface acc-g1 --pair-triangles -o out.step", err, sizeof err);
+    rc = run_sh("$Q tt.obj --surface acc-g1 --pair-triangles -o ttacc.step", err, sizeof err);
     CHECK(rc == 0 && !strstr(err, "folds over") && strstr(err, "384 faces"), "triangulated torus, acc-g1 paired: %d '%s'",
           rc, err);
     rc = run_sh("$Q tt.obj --pair-triangles -o tt.json", err, sizeof err);
