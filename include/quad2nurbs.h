@@ -276,7 +276,7 @@ q2n_status q2n_open_mesh(size_t nv, const double *positions, size_t nf, const in
 q2n_status q2n_read(const char *mesh_path, const q2n_options *opt, q2n_model **out, char *errbuf, size_t errlen);
 q2n_status q2n_read_mesh(size_t nv, const double *positions, size_t nf, const int *face_sizes, const int *face_verts,
                          const q2n_options *opt, q2n_model **out, char *errbuf, size_t errlen);
-/* Subdivide if asked, build the surface and check it (every value finite; folds are warnings),
+/* Pair triangles and subdivide if asked, build the surface and check it (every value finite; folds are warnings),
  * then resolve tol_abs against the bounding box.  Errors name the face and its line. */
 q2n_status q2n_build(q2n_model *m, char *errbuf, size_t errlen);
 
