@@ -4,7 +4,8 @@
  * place of its first triangle, with that triangle's OBJ line); shapes that must not pair (a flat
  * fan of 24 thin triangles: its pairs would be near-triangles; an octahedron: its faces 71 degrees
  * apart) and one that pairs (an icosahedron, 42 degrees) with counts that add up; a mesh of quads and
- * triangles keeps its quads.  End to end (public API): a thin lip of revolution whose quads were cut
+ * triangles keeps its quads; a strip whose best quad the greedy pass takes is re-paired by an augmenting
+ * path.  End to end (public API): a thin lip of revolution whose quads were cut
  * into sliver triangles (aspect ~50) — through --subdivide 1 its surface folds over; paired, it is
  * the quad grid's own surface (the same patches, to rounding) and fits to its targets. */
 #include <math.h>
@@ -148,6 +149,23 @@ static void test_no_pairs(void)
     q2n_mesh_free(m);
 }
 
+/* A strip of four triangles whose middle two make the best quad (a unit square), the outer pairs
+ * parallelograms (smallest sine 0.64): the greedy pass takes the square and leaves both ends alone; the
+ * augmenting path end - square - end trades it for the two parallelograms. */
+static void test_augmenting_path(void)
+{
+    static const double sp[18] = {-1.2, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 2.2, 1, 0};
+    static const int sf[12] = {0, 1, 3, 1, 4, 3, 1, 2, 4, 2, 5, 4};
+    int sfs[5] = {0, 3, 6, 9, 12}, np = -1, left = -1;
+    q2n_mesh *m = mesh_of(6, sp, 4, sfs, sf, NULL), *p = m ? paired(m, &np, &left) : NULL;
+    CHECK(p && np == 2 && left == 0 && p->all_quads, "strip: %d pairs, %d left (expected 2, 0)", np, left);
+    static const int want[2][4] = {{0, 1, 4, 3}, {1, 2, 5, 4}};
+    for (int k = 0; p && p->nf == 2 && k < 2; k++)
+        CHECK(same_cycle(p->face_vert + p->face_start[k], want[k]), "strip: face %d is not the parallelogram", k);
+    q2n_mesh_free(p);
+    q2n_mesh_free(m);
+}
+
 static void test_icosahedron_and_mixed(void)
 {
     /* icosahedron: faces 41.8 degrees apart, rhombi of 60/120 degrees: pairs, each triangle once */
@@ -261,6 +279,7 @@ int main(void)
 {
     test_grid_back();
     test_no_pairs();
+    test_augmenting_path();
     test_icosahedron_and_mixed();
     test_lip();
     CHECK_DONE("test_pair");

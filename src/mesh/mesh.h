@@ -138,7 +138,7 @@ q2n_status q2n_mesh_subdivide(const q2n_mesh *m, int steps, q2n_mesh **out, q2n_
 
 /* Triangles paired into quads (pair.c): the shared edge of two triangles is removed where the quad
  * they make is convex with a margin and the two are not bent far apart (mesh_policy.h), the best
- * shaped quads first.  Face order: the input's, each quad in the place of its lower-numbered
+ * shaped quads first, then more through augmenting paths.  Face order: the input's, each quad in the place of its lower-numbered
  * triangle (the other one dropped), starting at that triangle's first vertex; other faces as they
  * were, with their OBJ lines (a quad takes its first triangle's).  *paired: quads made; *left:
  * triangles left (either may be NULL).  Vertices keep their indices. */

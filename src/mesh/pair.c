@@ -16,10 +16,10 @@
  * (mesh_policy.h).  Candidates are taken best first (the largest smallest corner sine: rectangles
  * before rhombi before kites; ties by edge index, so the result does not depend on anything but
  * the mesh), each triangle at most once, and never so that an interior vertex is left with fewer
- * than three faces (two would share two edges and leave it no tangent plane: the mesh's validation
- * refuses that): a greedy matching, not a maximum one, which on a triangulated quad grid finds every
- * original quad (its diagonals are the only candidates whose quads are rectangles).  Triangles left
- * unpaired stay triangles. */
+ * than three faces (two would share two edges and leave it no tangent plane): a greedy pass, which
+ * on a triangulated quad grid finds every original quad (its diagonals are the only candidates whose
+ * quads are rectangles); then augmenting paths (augment) pair most of what a general triangulation
+ * leaves over.  Triangles left unpaired stay triangles. */
 #include "mesh/mesh.h"
 
 #include <math.h>
@@ -93,6 +93,83 @@ static void edge_quad(const q2n_mesh *m, int e, int q[4])
     for (int i = 0; i < 4; i++) q[i] = r[(k + i) & 3];
 }
 
+/* Would removing the pairs across old[0..no) and adding those across add[0..na) leave an interior
+ * vertex with fewer than three faces?  (Each pair takes one face from both ends of its edge.) */
+static int guard_fails(const q2n_mesh *m, const int *vfaces, const int *add, int na, const int *old, int no)
+{
+    int vx[4 * (Q2N_PAIR_AUG_DEPTH + 2)], dv[4 * (Q2N_PAIR_AUG_DEPTH + 2)], n = 0;
+    for (int k = 0; k < na + no; k++) {
+        int e = k < na ? add[k] : old[k - na], h = m->edge_he[e];
+        int ends[2] = {q2n_he_origin(m, h), q2n_he_dest(m, h)};
+        for (int j = 0; j < 2; j++) {
+            int i = 0;
+            while (i < n && vx[i] != ends[j]) i++;
+            if (i == n) vx[n] = ends[j], dv[n++] = 0;
+            dv[i] += k < na ? -1 : 1;
+        }
+    }
+    for (int i = 0; i < n; i++)
+        if (!m->vert_boundary[vx[i]] && vfaces[vx[i]] + dv[i] < 3 && dv[i] < 0) return 1;
+    return 0;
+}
+
+/* Augmenting paths (Berge 1957): from a triangle left unpaired, a path through candidate edges
+ * that alternates between an unpaired link and a pair, ending at another unpaired triangle, gives one
+ * pair more when its links and pairs trade places.  Breadth first, at most Q2N_PAIR_AUG_DEPTH pairs
+ * long (mesh_policy.h), the triangles in index order; a path that would leave an interior vertex two
+ * faces is not taken.  Returns the pairs gained. */
+static int augment(const q2n_mesh *m, const unsigned char *ok, int *mate, int *mate_e, int *vfaces, int *ws)
+{
+    int nf = m->nf, *prev = ws, *prev_e = ws + nf, *seen = ws + 2 * nf, *depth = ws + 3 * nf, *queue = ws + 4 * nf;
+    int gained = 0;
+    for (int f = 0; f < nf; f++) seen[f] = -1;
+    for (int t = 0; t < nf; t++) {
+        if (mate[t] >= 0 || q2n_face_size(m, t) != 3) continue;
+        int qh = 0, qt = 0, end = -1;
+        queue[qt++] = t, seen[t] = t, prev[t] = -1, depth[t] = 0;
+        while (qh < qt && end < 0) {
+            int a = queue[qh++];
+            for (int h = m->face_start[a]; h < m->face_start[a + 1] && end < 0; h++) {
+                int e = m->he_edge[h], tw = m->he_twin[h];
+                if (!ok[e] || tw < 0) continue;
+                int u = m->he_face[tw];
+                if (seen[u] == t) continue;
+                seen[u] = t, prev[u] = a, prev_e[u] = e;
+                if (mate[u] < 0) { end = u; break; }
+                int w = mate[u];
+                if (seen[w] == t || depth[a] + 1 > Q2N_PAIR_AUG_DEPTH) continue;
+                seen[w] = t, prev[w] = u, prev_e[w] = mate_e[u], depth[w] = depth[a] + 1;
+                queue[qt++] = w;
+            }
+        }
+        if (end < 0) continue;
+        int add[Q2N_PAIR_AUG_DEPTH + 1], old[Q2N_PAIR_AUG_DEPTH], na = 0, no = 0;
+        for (int u = end; u != t;) { /* u was reached from a over a link; a from its mate over their pair */
+            int a = prev[u];
+            add[na++] = prev_e[u];
+            if (a == t) break;
+            old[no++] = mate_e[a];
+            u = prev[a];
+        }
+        if (guard_fails(m, vfaces, add, na, old, no)) continue;
+        for (int u = end; u != t;) {
+            int a = prev[u], e = prev_e[u], next = a == t ? t : prev[a];
+            mate[u] = a, mate[a] = u, mate_e[u] = mate_e[a] = e;
+            u = next;
+        }
+        for (int k = 0; k < na; k++) {
+            int h = m->edge_he[add[k]];
+            vfaces[q2n_he_origin(m, h)]--, vfaces[q2n_he_dest(m, h)]--;
+        }
+        for (int k = 0; k < no; k++) {
+            int h = m->edge_he[old[k]];
+            vfaces[q2n_he_origin(m, h)]++, vfaces[q2n_he_dest(m, h)]++;
+        }
+        gained++;
+    }
+    return gained;
+}
+
 q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paired, int *left, q2n_error *err)
 {
     *out = NULL;
@@ -100,8 +177,10 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
     int *mate = malloc(sizeof(int) * ((size_t)m->nf + 1)), *mate_e = malloc(sizeof(int) * ((size_t)m->nf + 1));
     int *fs = malloc(sizeof(int) * ((size_t)m->nf + 1)), *fv = malloc(sizeof(int) * ((size_t)m->nh + 1));
     int *fl = malloc(sizeof(int) * ((size_t)m->nf + 1)), *vfaces = malloc(sizeof(int) * ((size_t)m->nv + 1));
-    if (!cand || !mate || !mate_e || !fs || !fv || !fl || !vfaces) {
-        free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl), free(vfaces);
+    int *ws = malloc(sizeof(int) * (5 * (size_t)m->nf + 1));
+    unsigned char *ok = calloc((size_t)m->ne + 1, 1);
+    if (!cand || !mate || !mate_e || !fs || !fv || !fl || !vfaces || !ws || !ok) {
+        free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl), free(vfaces), free(ws), free(ok);
         return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory pairing triangles", m->name);
     }
     int nc = 0;
@@ -113,7 +192,7 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
         if (c == d || bend_cos(m, x, y, c, d) < cos(Q2N_PAIR_MAX_BEND)) continue;
         int q[4] = {x, d, y, c};
         double s = quad_min_sine(m, q);
-        if (s >= Q2N_PAIR_MIN_SINE) cand[nc].q = s, cand[nc].e = e, nc++;
+        if (s >= Q2N_PAIR_MIN_SINE) cand[nc].q = s, cand[nc].e = e, ok[e] = 1, nc++;
     }
     qsort(cand, (size_t)nc, sizeof *cand, cand_cmp);
     for (int f = 0; f < m->nf; f++) mate[f] = -1;
@@ -128,6 +207,7 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
         mate[a] = b, mate[b] = a, mate_e[a] = mate_e[b] = cand[i].e, np++;
         vfaces[x]--, vfaces[y]--;
     }
+    np += augment(m, ok, mate, mate_e, vfaces, ws);
     /* the quad takes the place of the lower-numbered triangle; the other one goes */
     int nf = 0, nfv = 0, ntri = 0;
     for (int f = 0; f < m->nf; f++) {
@@ -147,7 +227,7 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
     }
     fs[nf] = nfv;
     q2n_status st = q2n_mesh_from_arrays_lines(m->nv, m->pos, nf, fs, fv, m->face_line ? fl : NULL, m->name, out, err);
-    free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl), free(vfaces);
+    free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl), free(vfaces), free(ws), free(ok);
     if (!st) {
         if (paired) *paired = np;
         if (left) *left = ntri;
