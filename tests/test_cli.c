@@ -408,6 +408,9 @@ static void pair_triangles(void)
     rc = run_sh("$Q tt.obj --surface acc-g1 --pair-triangles -o ttacc.step", err, sizeof err);
     CHECK(rc == 0 && !strstr(err, "folds over") && strstr(err, "384 faces"), "triangulated torus, acc-g1 paired: %d '%s'",
           rc, err);
+    /* the resource estimate is made for the paired mesh (384 faces), not for 768 triangles */
+    rc = run_sh("$Q tt.obj --pair-triangles --max-memory 1K -o out.step", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "(384 faces;") && leftovers() == 0, "triangulated torus, estimate: %d '%s'", rc, err);
     rc = run_sh("$Q tt.obj --pair-triangles -o tt.json", err, sizeof err);
     char *js = report("tt.json");
     CHECK(rc == 0 && strstr(err, "384 faces (384 pairs of triangles merged into quads, 0 triangles left)") && js &&

@@ -223,7 +223,8 @@ static q2n_status model_new(const q2n_model_options *opt, q2n_model **out, q2n_e
 
 /* Take the mesh over and move it into its frame (scale-free numerics: everything is built at
  * diagonal 1 and mapped back on the way out, times --scale); refuse a diagonal whose output
- * would leave the double range. */
+ * would leave the double range; pair triangles into quads when asked (--pair-triangles: the quads a
+ * tessellator cut in two, back, before subdivision and before the resource estimate). */
 static q2n_status model_take_mesh(q2n_model *m, q2n_mesh *mesh, q2n_error *err)
 {
     m->mesh = mesh;
@@ -241,6 +242,13 @@ static q2n_status model_take_mesh(q2n_model *m, q2n_mesh *mesh, q2n_error *err)
         if (!isfinite(m->origin[c] * m->opt.scale))
             return q2n_error_set(err, Q2N_ERR_ARG, "%s: the mesh's centre %g times scale %g overflows", m->mesh->name,
                                  m->origin[c], m->opt.scale);
+    if (m->opt.pair_triangles) { /* here, so that the resource estimate sees the paired mesh */
+        q2n_mesh *pm = NULL;
+        q2n_status st = q2n_mesh_pair_triangles(m->mesh, &pm, &m->paired, &m->tri_left, err);
+        if (st) return st;
+        q2n_mesh_free(m->mesh);
+        m->mesh = pm;
+    }
     return Q2N_OK;
 }
 
@@ -310,12 +318,7 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
 {
     double t0 = q2n_now();
     q2n_status st = Q2N_OK;
-    if (m->opt.pair_triangles) { /* before subdividing: the quads a tessellator cut in two, back */
-        q2n_mesh *pm = NULL;
-        st = q2n_mesh_pair_triangles(m->mesh, &pm, &m->paired, &m->tri_left, err);
-        if (!st) { q2n_mesh_free(m->mesh); m->mesh = pm; }
-    }
-    char hint[320] = "";
+    char hint[320] = ""; /* (--pair-triangles pairs as the mesh is taken over: model_take_mesh) */
     if (!st && !m->opt.pair_triangles && !m->mesh->all_quads &&
         (m->opt.subdivide > 0 || m->opt.method != Q2N_SURFACE_AUGMENTED)) /* the ACC path subdivides non-quads itself */
         pair_hint(m, hint, sizeof hint);
