@@ -4,7 +4,10 @@
  * the same to the bit; `quad2nurbs sample` prints the same bytes and the STEP file is the same for
  * every format.  Bad files give one "file:line" message (binary PLY: element and byte) and the
  * right status; the format is found by extension or by the first line; OBJ `t` tag lines
- * (OpenSubdiv's crease/corner tags) are counted, named and ignored. */
+ * (OpenSubdiv's crease/corner tags) are counted, named and ignored.  STL (binary, also with a header
+ * starting "solid", and ASCII) of a triangulated torus welds back to the OBJ's vertices and samples
+ * the same bytes through --pair-triangles; malformed STL gives one message naming line or byte. */
+#include <stdint.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 
@@ -125,6 +128,104 @@ static void formats_agree(const char *what, q2n_mesh *m, int flt_exact)
     q2n_mesh_free(ref);
 }
 
+/* ------------------------------------------------------------------ STL */
+
+static void put_f32(FILE *f, double x)
+{
+    float v = (float)x;
+    unsigned char b[4];
+    uint32_t u;
+    memcpy(&u, &v, 4);
+    for (int i = 0; i < 4; i++) b[i] = (unsigned char)(u >> (8 * i));
+    fwrite(b, 1, 4, f);
+}
+
+/* Triangle mesh m as binary STL (a header starting with "solid", as many exporters write) or ASCII
+ * STL (%.17g: the same doubles). */
+static void write_stl(const q2n_mesh *m, const char *path, int binary)
+{
+    FILE *f = fopen(path, binary ? "wb" : "w");
+    if (!f) return;
+    if (binary) {
+        char head[80];
+        memset(head, ' ', sizeof head);
+        memcpy(head, "solid exported by a CAD system", 30);
+        fwrite(head, 1, 80, f);
+        uint32_t n = (uint32_t)m->nf;
+        unsigned char nb[4] = {(unsigned char)n, (unsigned char)(n >> 8), (unsigned char)(n >> 16), (unsigned char)(n >> 24)};
+        fwrite(nb, 1, 4, f);
+    } else {
+        fprintf(f, "solid part\n");
+    }
+    for (int k = 0; k < m->nf; k++) {
+        if (binary) for (int c = 0; c < 3; c++) put_f32(f, 0.0);
+        else fprintf(f, "  facet normal 0 0 1\n    outer loop\n");
+        for (int i = 0; i < 3; i++) {
+            const double *p = q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + i]);
+            if (binary) for (int c = 0; c < 3; c++) put_f32(f, p[c]);
+            else fprintf(f, "      vertex %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+        }
+        if (binary) fwrite("\0\0", 1, 2, f);
+        else fprintf(f, "    endloop\n  endfacet\n");
+    }
+    if (!binary) fprintf(f, "endsolid part\n");
+    fclose(f);
+}
+
+/* A quad torus with float-exact coordinates cut into triangles, as OBJ, binary STL and ASCII STL:
+ * the STL readers weld the facets' corners back into the OBJ's vertices (the same count; every face
+ * the same corner positions in the same order), and `quad2nurbs sample --pair-triangles` prints the
+ * same bytes for all three. */
+static void stl_agrees(void)
+{
+    q2n_mesh *q = mg_torus(6, 5, 3.0, 1.0, 0.0, 0, 1u);
+    if (!q) { CHECK(0, "torus"); return; }
+    int nf = 2 * q->nf, *fs = malloc(sizeof(int) * ((size_t)nf + 1)), *fv = malloc(sizeof(int) * 3 * (size_t)nf);
+    for (int i = 0; i < 3 * q->nv; i++) q->pos[i] = (double)(float)q->pos[i];
+    for (int k = 0; k < q->nf; k++) {
+        const int *c = q->face_vert + q->face_start[k];
+        int t[6] = {c[0], c[1], c[2], c[2], c[3], c[0]};
+        memcpy(fv + 6 * k, t, sizeof t);
+    }
+    for (int k = 0; k <= nf; k++) fs[k] = 3 * k;
+    q2n_mesh *t = NULL;
+    q2n_error err;
+    CHECK(q2n_mesh_from_arrays(q->nv, q->pos, nf, fs, fv, "tri", &t, &err) == Q2N_OK, "triangulated torus: %s", err.message);
+    free(fs);
+    free(fv);
+    char obj[128], stl[2][128];
+    snprintf(obj, sizeof obj, "%s/t.obj", dir);
+    write_obj(t, obj, 0);
+    for (int b = 0; b < 2; b++) {
+        snprintf(stl[b], sizeof stl[b], "%s/%s", dir, b ? "t_bin.stl" : "t_ascii.stl");
+        write_stl(t, stl[b], b);
+        q2n_mesh *r = NULL;
+        q2n_mesh_read_info info;
+        q2n_status st = q2n_mesh_read(stl[b], &r, &info, &err);
+        CHECK(st == Q2N_OK && !strcmp(info.format, "stl"), "%s: %s", stl[b], err.message);
+        int same = r && r->nv == t->nv && r->nf == t->nf;
+        for (int k = 0; same && k < t->nf; k++)
+            for (int i = 0; i < 3; i++)
+                same &= !memcmp(q2n_mesh_vpos(r, r->face_vert[3 * k + i]), q2n_mesh_vpos(t, t->face_vert[3 * k + i]),
+                                3 * sizeof(double));
+        CHECK(same, "%s: not the triangulated torus (%d vertices, %d faces; want %d, %d)", stl[b], r ? r->nv : -1,
+              r ? r->nf : -1, t->nv, t->nf);
+        q2n_mesh_free(r);
+    }
+    char cmd[1024], out[3][4096];
+    const char *files[3] = {obj, stl[0], stl[1]};
+    for (int i = 0; i < 3; i++) {
+        snprintf(cmd, sizeof cmd, "%s sample %s --pair-triangles --grid 2 | md5sum", chk_exe(), files[i]);
+        FILE *p = popen(cmd, "r");
+        out[i][0] = 0;
+        if (p) { if (!fgets(out[i], sizeof out[i], p)) out[i][0] = 0; pclose(p); }
+    }
+    CHECK(out[0][0] && !strcmp(out[0], out[1]) && !strcmp(out[0], out[2]), "sample of OBJ / ASCII STL / binary STL: %s %s %s",
+          out[0], out[1], out[2]);
+    q2n_mesh_free(t);
+    q2n_mesh_free(q);
+}
+
 static void expect_error(const char *name, const char *text, size_t len, q2n_status code, const char *needle)
 {
     char path[128];
@@ -139,6 +240,41 @@ static void expect_error(const char *name, const char *text, size_t len, q2n_sta
     CHECK(!strchr(err.message, '\n'), "%s: message has a newline", name);
 }
 #define EXPECT(name, text, code, needle) expect_error(name, text, sizeof text - 1, code, needle)
+
+static void bad_stl(void)
+{
+    const char *tri = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+    char buf[512];
+    snprintf(buf, sizeof buf, "%sendsolid x\n", tri);
+    q2n_mesh *m = NULL;
+    q2n_error err;
+    CHECK(q2n_mesh_parse_stl(buf, strlen(buf), "one.stl", &m, &err) == Q2N_OK && m && m->nv == 3 && m->nf == 1,
+          "one facet: %s", err.message);
+    q2n_mesh_free(m);
+    EXPECT("two.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n",
+           Q2N_ERR_TOPOLOGY, "two.stl:2: a facet with 2 vertices");
+    EXPECT("four.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\n",
+           Q2N_ERR_TOPOLOGY, "four.stl:7: a facet with more than 3 vertices");
+    EXPECT("nan.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex nan 0 0\nvertex 0 1 0\n",
+           Q2N_ERR_PARSE, "nan.stl:5: non-finite coordinate");
+    EXPECT("word.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
+           "endfacet\nfoo\n", Q2N_ERR_PARSE, "word.stl:9: unexpected 'foo'");
+    EXPECT("open.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n", Q2N_ERR_PARSE,
+           "open.stl:2: the file ends inside a facet");
+    EXPECT("empty.stl", "solid x\nendsolid x\n", Q2N_ERR_TOPOLOGY, "empty.stl: no facets");
+    EXPECT("short.stl", "not an stl", Q2N_ERR_PARSE, "short.stl: not an STL file");
+    EXPECT("same.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 0\nendloop\n"
+           "endfacet\nendsolid\n", Q2N_ERR_TOPOLOGY, "same.stl:2:");
+    /* binary: a truncated file, a NaN corner (the facet and its byte) */
+    unsigned char b[84 + 50];
+    memset(b, 0, sizeof b);
+    b[80] = 2; /* two facets declared, one present */
+    expect_error("trunc.stl", (const char *)b, sizeof b, Q2N_ERR_PARSE, "binary STL of 2 facets should be 184 bytes, the file has 134");
+    b[80] = 1;
+    float nanf_ = NAN;
+    memcpy(b + 84 + 12 + 12 + 4, &nanf_, 4); /* facet 0, vertex 1, y */
+    expect_error("bnan.stl", (const char *)b, sizeof b, Q2N_ERR_PARSE, "bnan.stl: facet 0 (byte 112): non-finite");
+}
 
 static void bad_files(void)
 {
@@ -285,6 +421,8 @@ int main(void)
         SKIP("osd_catmark_rook.obj: ../shared/meshes absent");
     }
     bad_files();
+    bad_stl();
+    stl_agrees();
     tags_and_magic(torus);
     formats_agree("jittered torus", torus, 0); /* the files the executable reads */
     same_bytes_cli();

@@ -38,7 +38,7 @@ static void usage(FILE *f)
           "face's first edge v0->v1, v along v0->v3) and writes it; the output format follows the\n"
           "extension: .obj tessellation (--tess N points per patch side); .step/.stp STEP AP214 and\n"
           "           .igs/.iges IGES 5.3 of the fitted B-spline patches; .json the fit report.\n"
-          "MESH: Wavefront .obj, .off (ASCII) or .ply (ASCII or binary).\n"
+          "MESH: Wavefront .obj, .off (ASCII), .ply or .stl (ASCII or binary).\n"
           "`sample` prints one line per patch k and grid point: k u v x y z xu yu zu xv yv zv.\n"
           "\n"
           "options:\n"

@@ -60,7 +60,7 @@ typedef struct q2n_mesh_read_info {
     char tag_names[80];   /* their distinct names, e.g. "crease, corner" */
 } q2n_mesh_read_info;
 
-/* Any supported format, by extension (.obj, .off, .ply, any case), else by the first line ("ply",
+/* Any supported format, by extension (.obj, .off, .ply, .stl, any case), else by the first line ("ply",
  * "OFF", "COFF", ...), else OBJ; same validation and "file:line: reason" errors for all (binary
  * PLY: "file: face K (byte B): reason").  info may be NULL. */
 q2n_status q2n_mesh_read(const char *path, q2n_mesh **out, q2n_mesh_read_info *info, q2n_error *err);
@@ -75,6 +75,9 @@ q2n_status q2n_mesh_parse_off(const char *text, size_t len, const char *name, q2
  * numeric type), element face with the list vertex_indices (or vertex_index); other elements and
  * properties are skipped. */
 q2n_status q2n_mesh_parse_ply(const char *data, size_t len, const char *name, q2n_mesh **out, q2n_error *err);
+/* STL, binary (84 + 50 N bytes) or ASCII ("solid" ... "endsolid"): every facet a triangle, corners with
+ * the same coordinates welded into one vertex (stl_reader.c); errors name the facet (ASCII: its line). */
+q2n_status q2n_mesh_parse_stl(const char *data, size_t len, const char *name, q2n_mesh **out, q2n_error *err);
 
 /* Build (and validate) a mesh from borrowed arrays: face k has vertices
  * face_vert[face_start[k] .. face_start[k+1]-1]. Arrays are copied. */

@@ -184,7 +184,7 @@ void q2n_rd_locale_end(void *c, void *old)
 
 /* ------------------------------------------------------------------ format dispatch */
 
-typedef enum { FMT_OBJ, FMT_OFF, FMT_PLY } mesh_format;
+typedef enum { FMT_OBJ, FMT_OFF, FMT_PLY, FMT_STL } mesh_format;
 
 static int has_ext(const char *path, const char *ext)
 {
@@ -206,6 +206,7 @@ static mesh_format detect(const char *path, const char *head, size_t n)
     if (has_ext(path, ".obj")) return FMT_OBJ;
     if (has_ext(path, ".off")) return FMT_OFF;
     if (has_ext(path, ".ply")) return FMT_PLY;
+    if (has_ext(path, ".stl")) return FMT_STL;
     if (n >= 4 && !memcmp(head, "ply", 3) && (head[3] == '\n' || head[3] == '\r')) return FMT_PLY;
     if (off_magic(head, n)) return FMT_OFF;
     return FMT_OBJ;
@@ -257,8 +258,10 @@ q2n_status q2n_mesh_read(const char *path, q2n_mesh **out, q2n_mesh_read_info *i
     size_t len = 0;
     q2n_status st = slurp(path, &data, &len, err);
     if (st) return st;
-    snprintf(info->format, sizeof info->format, fmt == FMT_OFF ? "off" : "ply");
-    st = fmt == FMT_OFF ? q2n_mesh_parse_off(data, len, path, out, err) : q2n_mesh_parse_ply(data, len, path, out, err);
+    snprintf(info->format, sizeof info->format, fmt == FMT_OFF ? "off" : fmt == FMT_PLY ? "ply" : "stl");
+    st = fmt == FMT_OFF   ? q2n_mesh_parse_off(data, len, path, out, err)
+         : fmt == FMT_PLY ? q2n_mesh_parse_ply(data, len, path, out, err)
+                          : q2n_mesh_parse_stl(data, len, path, out, err);
     free(data);
     return st;
 }

@@ -25,6 +25,14 @@ int q2n_fuzz_obj(const uint8_t *data, size_t size)
 {
     q2n_mesh *m = (q2n_mesh *)&m, *s = NULL;
     q2n_error err = {Q2N_OK, ""};
+    { /* the same bytes as STL (binary when the size fits a facet count, else ASCII) */
+        q2n_mesh *sm = NULL;
+        q2n_error se = {Q2N_OK, ""};
+        q2n_status ss = q2n_mesh_parse_stl((const char *)data, size, FZ_NAME, &sm, &se);
+        if (ss) FZ_REQUIRE(fz_clean_error(ss, &se) && !sm, se.message);
+        else FZ_REQUIRE(sm && fz_mesh_valid(sm), "STL mesh is valid");
+        q2n_mesh_free(sm);
+    }
     q2n_status st = q2n_mesh_parse_obj((const char *)data, size, FZ_NAME, &m, &err);
     if (st) {
         FZ_REQUIRE(fz_clean_error(st, &err), err.message);

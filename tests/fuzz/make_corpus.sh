@@ -49,6 +49,7 @@ awk 'BEGIN { n = 3; for (j = 0; j <= n; j++) for (i = 0; i <= n; i++) printf "v 
         if ((i + j) % 2) printf "f %d %d %d\nf %d %d %d\n", a, b, c, c, d, a;
         else printf "f %d %d %d\nf %d %d %d\n", b, c, d, d, a, b } }' > "$obj/grid_triangulated.obj"
 seed fan 'v 0 0 0\nv 1 0 0\nv 0.5 0.87 0.1\nv -0.5 0.87 0\nv -1 0 0.1\nv -0.5 -0.87 0\nv 0.5 -0.87 0.1\nf 1 2 3\nf 1 3 4\nf 1 4 5\nf 1 5 6\nf 1 6 7\nf 1 7 2\n'
+seed stl_ascii 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 1 1 0\nvertex 0 1 0\nvertex 0 0 0\nendloop\nendfacet\nendsolid t\n'
 seed pentagon 'v 0 0 0\nv 2 0 0\nv 2.6 1.5 0.3\nv 1 2.5 0\nv -0.6 1.5 0.3\nf 1 2 3 4 5\n'
 seed tetra 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n'
 # degenerate and folded shapes (issue 16)
