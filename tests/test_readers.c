@@ -251,6 +251,9 @@ static void bad_stl(void)
     CHECK(q2n_mesh_parse_stl(buf, strlen(buf), "one.stl", &m, &err) == Q2N_OK && m && m->nv == 3 && m->nf == 1,
           "one facet: %s", err.message);
     q2n_mesh_free(m);
+    const char *caps = "SOLID X\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 1 0 0\nVERTEX 0 1 0\nENDLOOP\nENDFACET\nENDSOLID X\n";
+    CHECK(q2n_mesh_parse_stl(caps, strlen(caps), "caps.stl", &m, &err) == Q2N_OK && m && m->nf == 1, "capitals: %s", err.message);
+    q2n_mesh_free(m);
     EXPECT("two.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n",
            Q2N_ERR_TOPOLOGY, "two.stl:2: a facet with 2 vertices");
     EXPECT("four.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\n",

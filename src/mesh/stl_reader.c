@@ -5,7 +5,8 @@
  * [name]", then per facet "facet normal nx ny nz", "outer loop", three "vertex x y z" lines,
  * "endloop", "endfacet", and "endsolid [name]" (several solids are read one after the other).  A
  * file whose size is exactly 84 + 50 N for the count it states is binary, even when its header
- * starts with "solid" (many exporters write that); otherwise a file starting with "solid" is ASCII.
+ * starts with "solid" (many exporters write that); otherwise a file starting with "solid" is ASCII
+ * (keywords in any case: some exporters write them in capitals).
  *
  * STL lists every facet's corners by value: corners with the same coordinates (exactly; -0 and +0
  * alike) become one vertex, numbered in the order they first appear.  The normals are ignored (the
@@ -20,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* Exact-coordinate vertex welding: open addressing over the positions' bits. */
 typedef struct weld {
@@ -122,13 +124,13 @@ static q2n_status parse_ascii(const char *data, size_t len, const char *name, we
         }
         char *cur = s, *t = q2n_rd_tok(&cur);
         if (!t) continue;
-        if (!strcmp(t, "solid")) {
+        if (!strcasecmp(t, "solid")) {
             if (in_facet) { st = q2n_error_set(err, Q2N_ERR_PARSE, "%s:%ld: \"solid\" inside a facet", name, l.line); break; }
             solids++;
-        } else if (!strcmp(t, "facet")) {
+        } else if (!strcasecmp(t, "facet")) {
             if (in_facet) { st = q2n_error_set(err, Q2N_ERR_PARSE, "%s:%ld: \"facet\" before \"endfacet\"", name, l.line); break; }
             in_facet = 1, nvert = 0, facet_line = l.line;
-        } else if (!strcmp(t, "vertex")) {
+        } else if (!strcasecmp(t, "vertex")) {
             if (!in_facet) { st = q2n_error_set(err, Q2N_ERR_PARSE, "%s:%ld: \"vertex\" outside a facet", name, l.line); break; }
             if (nvert == 3) {
                 st = q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s:%ld: a facet with more than 3 vertices (STL facets are "
@@ -147,7 +149,7 @@ static q2n_status parse_ascii(const char *data, size_t len, const char *name, we
             }
             if (st) break;
             nvert++;
-        } else if (!strcmp(t, "endfacet")) {
+        } else if (!strcasecmp(t, "endfacet")) {
             if (!in_facet) { st = q2n_error_set(err, Q2N_ERR_PARSE, "%s:%ld: \"endfacet\" without \"facet\"", name, l.line); break; }
             if (nvert != 3) {
                 st = q2n_error_set(err, Q2N_ERR_TOPOLOGY, "%s:%ld: a facet with %d vert%s (STL facets are triangles)", name,
@@ -161,7 +163,7 @@ static q2n_status parse_ascii(const char *data, size_t len, const char *name, we
                 break;
             }
             in_facet = 0;
-        } else if (strcmp(t, "outer") && strcmp(t, "endloop") && strcmp(t, "endsolid")) {
+        } else if (strcasecmp(t, "outer") && strcasecmp(t, "endloop") && strcasecmp(t, "endsolid")) {
             st = q2n_error_set(err, Q2N_ERR_PARSE, "%s:%ld: unexpected '%s' in an ASCII STL file", name, l.line,
                                q2n_rd_quote(t, q, sizeof q));
             break;
@@ -179,7 +181,7 @@ q2n_status q2n_mesh_parse_stl(const char *data, size_t len, const char *name, q2
     const unsigned char *b = (const unsigned char *)data;
     uint32_t n = len >= 84 ? (uint32_t)b[80] | (uint32_t)b[81] << 8 | (uint32_t)b[82] << 16 | (uint32_t)b[83] << 24 : 0;
     int binary = len >= 84 && (size_t)n <= (len - 84) / 50 && 84 + 50 * (size_t)n == len;
-    int ascii = !binary && len >= 5 && !memcmp(data, "solid", 5) && (len == 5 || data[5] == ' ' || data[5] == '\t' ||
+    int ascii = !binary && len >= 5 && !strncasecmp(data, "solid", 5) && (len == 5 || data[5] == ' ' || data[5] == '\t' ||
                                                                       data[5] == '\n' || data[5] == '\r');
     if (!binary && !ascii) {
         if (len < 84) return q2n_error_set(err, Q2N_ERR_PARSE, "%s: not an STL file (%zu bytes: too short for a binary "
