@@ -65,8 +65,9 @@ static void face_where(const q2n_model *m, int k, char *buf, size_t n)
 {
     const q2n_mesh *me = m->mesh;
     int line = me->face_line ? me->face_line[k] : 0;
-    const char *sub = me->nf == m->input_faces ? "" : m->paired && me->nf == m->input_faces - m->paired
-                      ? " (of the paired mesh)" : " (of the subdivided mesh)";
+    const char *sub = me->nf != m->input_faces - m->paired ? " (of the subdivided mesh)"
+                      : m->paired                               ? " (of the paired mesh)"
+                                                                : "";
     if (line > 0) snprintf(buf, n, "%s:%d: face %d%s", me->name, line, k, sub);
     else snprintf(buf, n, "%s: face %d%s", me->name, k, sub);
 }
@@ -192,15 +193,11 @@ static void flat_warning(q2n_model *m)
  * docs/mesh.md, "Pairing triangles"). */
 static void pair_hint(q2n_model *m, char *hint, size_t n)
 {
-    q2n_mesh *pm = NULL;
-    q2n_error e;
-    int np = 0, left = 0, tri = 0;
-    for (int f = 0; f < m->mesh->nf; f++) tri += q2n_face_size(m->mesh, f) == 3;
-    if (q2n_mesh_pair_triangles(m->mesh, &pm, &np, &left, &e) == Q2N_OK && np > 0)
+    int tri = 0, np = q2n_mesh_pair_count(m->mesh, &tri);
+    if (np > 0)
         snprintf(hint, n, "%d of its %d triangles pair into convex quads across shared edges; --pair-triangles "
                  "merges them before the Catmull-Clark step (a triangulated quad mesh gets its quads back, and "
                  "fewer, better-shaped faces)", 2 * np, tri);
-    q2n_mesh_free(pm);
 }
 
 /* A new model with its options (defaults filled in) and no mesh yet. */
@@ -319,10 +316,10 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     double t0 = q2n_now();
     q2n_status st = Q2N_OK;
     char hint[320] = ""; /* (--pair-triangles pairs as the mesh is taken over: model_take_mesh) */
-    if (!st && !m->opt.pair_triangles && !m->mesh->all_quads &&
+    if (!m->opt.pair_triangles && !m->mesh->all_quads &&
         (m->opt.subdivide > 0 || m->opt.method != Q2N_SURFACE_AUGMENTED)) /* the ACC path subdivides non-quads itself */
         pair_hint(m, hint, sizeof hint);
-    if (!st && m->opt.subdivide > 0) {
+    if (m->opt.subdivide > 0) {
         q2n_progress_emit(&m->opt.progress, "subdivide", NULL, 0, m->opt.subdivide);
         q2n_mesh *sub = NULL;
         st = q2n_mesh_subdivide(m->mesh, m->opt.subdivide, &sub, err);

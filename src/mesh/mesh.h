@@ -146,6 +146,9 @@ q2n_status q2n_mesh_subdivide(const q2n_mesh *m, int steps, q2n_mesh **out, q2n_
  * were, with their OBJ lines (a quad takes its first triangle's).  *paired: quads made; *left:
  * triangles left (either may be NULL).  Vertices keep their indices. */
 q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paired, int *left, q2n_error *err);
+/* How many pairs q2n_mesh_pair_triangles would make (without building the mesh), and the mesh's
+ * triangles (may be NULL); -1 when out of memory. */
+int q2n_mesh_pair_count(const q2n_mesh *m, int *triangles);
 
 /* The same mesh with every vertex moved to its Catmull–Clark limit position (the rules of
  * q2n_mesh_subdivide, boundaries as infinitely sharp creases; subdivide.c for the masks): an

@@ -93,6 +93,15 @@ static void edge_quad(const q2n_mesh *m, int e, int q[4])
     for (int i = 0; i < 4; i++) q[i] = r[(k + i) & 3];
 }
 
+/* Add d to the face count of both ends of each of the n edges (a pair takes one face from each). */
+static void pair_counts(const q2n_mesh *m, int *vfaces, const int *edges, int n, int d)
+{
+    for (int k = 0; k < n; k++) {
+        int h = m->edge_he[edges[k]];
+        vfaces[q2n_he_origin(m, h)] += d, vfaces[q2n_he_dest(m, h)] += d;
+    }
+}
+
 /* Would removing the pairs across old[0..no) and adding those across add[0..na) leave an interior
  * vertex with fewer than three faces?  (Each pair takes one face from both ends of its edge.) */
 static int guard_fails(const q2n_mesh *m, const int *vfaces, const int *add, int na, const int *old, int no)
@@ -157,31 +166,23 @@ static int augment(const q2n_mesh *m, const unsigned char *ok, int *mate, int *m
             mate[u] = a, mate[a] = u, mate_e[u] = mate_e[a] = e;
             u = next;
         }
-        for (int k = 0; k < na; k++) {
-            int h = m->edge_he[add[k]];
-            vfaces[q2n_he_origin(m, h)]--, vfaces[q2n_he_dest(m, h)]--;
-        }
-        for (int k = 0; k < no; k++) {
-            int h = m->edge_he[old[k]];
-            vfaces[q2n_he_origin(m, h)]++, vfaces[q2n_he_dest(m, h)]++;
-        }
+        pair_counts(m, vfaces, add, na, -1);
+        pair_counts(m, vfaces, old, no, 1);
         gained++;
     }
     return gained;
 }
 
-q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paired, int *left, q2n_error *err)
+/* The matching: mate[f] the triangle paired with f (-1: none), mate_e[f] the edge between them;
+ * *np the pairs.  -1 when out of memory. */
+static int pair_match(const q2n_mesh *m, int *mate, int *mate_e, int *np)
 {
-    *out = NULL;
     pair_cand *cand = malloc(sizeof *cand * ((size_t)m->ne + 1));
-    int *mate = malloc(sizeof(int) * ((size_t)m->nf + 1)), *mate_e = malloc(sizeof(int) * ((size_t)m->nf + 1));
-    int *fs = malloc(sizeof(int) * ((size_t)m->nf + 1)), *fv = malloc(sizeof(int) * ((size_t)m->nh + 1));
-    int *fl = malloc(sizeof(int) * ((size_t)m->nf + 1)), *vfaces = malloc(sizeof(int) * ((size_t)m->nv + 1));
-    int *ws = malloc(sizeof(int) * (5 * (size_t)m->nf + 1));
+    int *vfaces = malloc(sizeof(int) * ((size_t)m->nv + 1)), *ws = malloc(sizeof(int) * (5 * (size_t)m->nf + 1));
     unsigned char *ok = calloc((size_t)m->ne + 1, 1);
-    if (!cand || !mate || !mate_e || !fs || !fv || !fl || !vfaces || !ws || !ok) {
-        free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl), free(vfaces), free(ws), free(ok);
-        return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory pairing triangles", m->name);
+    if (!cand || !vfaces || !ws || !ok) {
+        free(cand), free(vfaces), free(ws), free(ok);
+        return -1;
     }
     int nc = 0;
     for (int e = 0; e < m->ne; e++) {
@@ -197,17 +198,40 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
     qsort(cand, (size_t)nc, sizeof *cand, cand_cmp);
     for (int f = 0; f < m->nf; f++) mate[f] = -1;
     for (int v = 0; v < m->nv; v++) vfaces[v] = m->vert_nfaces[v];
-    int np = 0;
+    *np = 0;
     for (int i = 0; i < nc; i++) {
-        int h = m->edge_he[cand[i].e], a = m->he_face[h], b = m->he_face[m->he_twin[h]];
-        int x = q2n_he_origin(m, h), y = q2n_he_dest(m, h);
-        if (mate[a] >= 0 || mate[b] >= 0) continue;
-        /* an interior vertex keeps three faces at least (two would share two edges: no tangent plane) */
-        if ((!m->vert_boundary[x] && vfaces[x] <= 3) || (!m->vert_boundary[y] && vfaces[y] <= 3)) continue;
-        mate[a] = b, mate[b] = a, mate_e[a] = mate_e[b] = cand[i].e, np++;
-        vfaces[x]--, vfaces[y]--;
+        int e = cand[i].e, h = m->edge_he[e], a = m->he_face[h], b = m->he_face[m->he_twin[h]];
+        if (mate[a] >= 0 || mate[b] >= 0 || guard_fails(m, vfaces, &e, 1, NULL, 0)) continue;
+        mate[a] = b, mate[b] = a, mate_e[a] = mate_e[b] = e, ++*np;
+        pair_counts(m, vfaces, &e, 1, -1);
     }
-    np += augment(m, ok, mate, mate_e, vfaces, ws);
+    *np += augment(m, ok, mate, mate_e, vfaces, ws);
+    free(cand), free(vfaces), free(ws), free(ok);
+    return 0;
+}
+
+int q2n_mesh_pair_count(const q2n_mesh *m, int *triangles)
+{
+    int *mate = malloc(sizeof(int) * ((size_t)m->nf + 1)), *mate_e = malloc(sizeof(int) * ((size_t)m->nf + 1)), np = -1;
+    if (mate && mate_e && pair_match(m, mate, mate_e, &np)) np = -1;
+    free(mate), free(mate_e);
+    if (triangles) {
+        *triangles = 0;
+        for (int f = 0; f < m->nf; f++) *triangles += q2n_face_size(m, f) == 3;
+    }
+    return np;
+}
+
+q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paired, int *left, q2n_error *err)
+{
+    *out = NULL;
+    int *mate = malloc(sizeof(int) * ((size_t)m->nf + 1)), *mate_e = malloc(sizeof(int) * ((size_t)m->nf + 1));
+    int *fs = malloc(sizeof(int) * ((size_t)m->nf + 1)), *fv = malloc(sizeof(int) * ((size_t)m->nh + 1));
+    int *fl = malloc(sizeof(int) * ((size_t)m->nf + 1)), np = 0;
+    if (!mate || !mate_e || !fs || !fv || !fl || pair_match(m, mate, mate_e, &np)) {
+        free(mate), free(mate_e), free(fs), free(fv), free(fl);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory pairing triangles", m->name);
+    }
     /* the quad takes the place of the lower-numbered triangle; the other one goes */
     int nf = 0, nfv = 0, ntri = 0;
     for (int f = 0; f < m->nf; f++) {
@@ -227,7 +251,7 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
     }
     fs[nf] = nfv;
     q2n_status st = q2n_mesh_from_arrays_lines(m->nv, m->pos, nf, fs, fv, m->face_line ? fl : NULL, m->name, out, err);
-    free(cand), free(mate), free(mate_e), free(fs), free(fv), free(fl), free(vfaces), free(ws), free(ok);
+    free(mate), free(mate_e), free(fs), free(fv), free(fl);
     if (!st) {
         if (paired) *paired = np;
         if (left) *left = ntri;
