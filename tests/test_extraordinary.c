@@ -583,7 +583,7 @@ static void test_spikes(void)
 
 
 /* Corner compatibility (G2 patches): the two sides through every Coons–Gregory corner agree on
- * the mixed derivatives d_u^a d_v^b S, a, b in 1..2 (coons_gregory.c, harmonize_vertex), so the
+ * the mixed derivatives d_u^a d_v^b S, a, b in 1..2 (ev_harmonize.c, q2n_ev_harmonize_vertex), so the
  * rational Gregory blend is inactive and the patch is smooth there.  Reference: forward
  * differences (6 points, h = 1e-3) of the evaluated second derivatives along both edges through
  * the corner, which must agree with the values the construction reports

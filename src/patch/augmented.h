@@ -5,7 +5,7 @@
  * the patch is S(u,v) = Σ_ij p_ij ψ_i(u δ00(v); d(v)) ψ_j(v ε00(u); e(u)), with local
  * parameter vectors d(v), e(u) blended by the local parametrization functions δ, ε of degree
  * 2k+1 (eq. 7–8).  Faces without such a grid are left uncovered here (extraordinary regions,
- * see coons_gregory.h). */
+ * see extraordinary.h). */
 #ifndef Q2N_PATCH_AUGMENTED_H
 #define Q2N_PATCH_AUGMENTED_H
 

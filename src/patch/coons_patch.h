@@ -1,6 +1,6 @@
 /* coons_patch.h — the Boolean-sum Coons patch with Hermite blending (formulas.md §4.1), optional
  * Gregory corners (§4.2) and interior bubbles, shared by the extraordinary-vertex constructions
- * (ev_fair.c, ev_paper.c).  Internal to src/patch/.
+ * (ev_fair_patch.c, ev_paper.c).  Internal to src/patch/.
  *
  * A construction supplies, for each of the four sides (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0;
  * the side parameter s is u on sides 0, 2 and v on sides 1, 3: patch/surface.h), the uv fields

@@ -24,8 +24,8 @@
  *         compatibility, needed by the Coons patch), and both patches join G1/G2 exactly.
  * Corner compatibility (G2 mode): polynomial bumps local to one end (ev_edge: nb, g3, g4, a2,
  * b2, x1, x2, t1, t2) set the higher end derivatives that the 2-jets leave free, so that the two
- * sides of every patch corner agree on the mixed derivatives up to ∂u²∂v² (coons_gregory.c,
- * harmonize_vertex); they are zero as built here.
+ * sides of every patch corner agree on the mixed derivatives up to ∂u²∂v² (ev_harmonize.c,
+ * q2n_ev_harmonize_vertex); they are zero as built here.
  * The derived quantities are rational in t; they are evaluated with derivative arrays up to order
  * 3 (Leibniz, Faà di Bruno), since the patch needs ξ_R and its two t-derivatives.
  * Sides shared with a regular patch are not built here: q2n_ev_side_eval samples that patch's

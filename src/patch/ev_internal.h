@@ -1,5 +1,5 @@
 /* ev_internal.h — data shared by the extraordinary-patch sources (ev_derivatives.c,
- * curve_network.c, coons_gregory.c); not part of the public API.
+ * curve_network.c, ev_paper.c, ev_harmonize.c, ev_fair*.c); not part of the public API.
  *
  * Conventions.  Every vertex that is a corner of an extraordinary patch gets a 2-jet in local
  * variables: J1 = (∂x P, ∂y P), J2 = (∂xx P, ∂xy P, ∂yy P) of a local surface P(x,y) through
@@ -46,7 +46,7 @@ typedef struct ev_edge {
     double as[2][2], bs[2][2]; /* ... the t-slopes as, bs at the ends */
     ev_poly xi;          /* base side ξ (linear) */
     double tau[2][2];    /* derived side: tangential part of ξ = τ1 D + τ2 γ_x at each end [end][1|2] */
-    /* Corner-compatibility terms (coons_gregory.c, harmonize_vertex), all zero when built.
+    /* Corner-compatibility terms (ev_harmonize.c, q2n_ev_harmonize_vertex), all zero when built.
      * Each is a polynomial bump local to one end: B_end (t²(1-t)⁴/2 at end 0, its mirror at
      * end 1: second derivative 1 there) or C_end (t(1-t)⁴, mirror: first derivative 1), both
      * vanishing with three derivatives at the other end (γ's: four).  They change the second t-derivatives

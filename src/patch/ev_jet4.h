@@ -1,4 +1,4 @@
-/* ev_jet4.h — vertex jets of order up to 4 for the fair extraordinary construction (ev_fair.c).
+/* ev_jet4.h — vertex jets of order up to 4 for the fair extraordinary construction (ev_fair.c, ev_fair_patch.c, ev_fair_solve.c).
  *
  * A jet at vertex v is the Taylor polynomial P(x, y) of a local surface through v in the
  * vertex's chart (the 2D directions of its edges, in local variables: ev_internal.h):

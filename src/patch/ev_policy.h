@@ -52,7 +52,7 @@
  * second solve makes the plane exact. */
 #define EV_FLAT_PENALTY 1e4
 
-/* Fold guard of the fair solve (ev_fair.c fair_solve).  EV_FOLD_GRID points per direction judge
+/* Fold guard of the fair solve (ev_fair_solve.c, q2n_ev_fair_solve).  EV_FOLD_GRID points per direction judge
  * whether a patch folds: two neighbouring normals more than 90 degrees apart (a smooth patch turns
  * its normal by a few degrees per step of a 17-point grid, even around a thin plate's rim, while a
  * fold turns it over within one step).  Not the model scan's test (a normal against the face's

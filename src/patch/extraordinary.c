@@ -1,6 +1,6 @@
 /* extraordinary.c — the driver: gives every face that the regular augmented construction left
  * uncovered a patch of the chosen extraordinary-vertex construction (seed 003 §4):
- *   fair  (default) one jet per vertex, compatible Coons patches, fairness-energy solve (ev_fair.c);
+ *   fair  (default) one jet per vertex, compatible Coons patches, fairness-energy solve (ev_fair.c, ev_fair_patch.c, ev_fair_solve.c);
  *   paper the paper's augmented Coons–Gregory patches with Appendix-B-style jets, ribbon cross
  *         fields and corner harmonisation (ev_paper.c, ev_harmonize.c).
  * Both build on the Boolean-sum Coons patch of coons_patch.c. */

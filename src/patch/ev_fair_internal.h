@@ -1,0 +1,113 @@
+/* ev_fair_internal.h — what the three files of the fair extraordinary construction share
+ * (docs/extraordinary.md, "The fair construction"); internal to src/patch/:
+ *   ev_fair_patch.c  a face's patch: its constructed sides' fields from the jets of its corners,
+ *                    sides shared with a regular patch from that patch, the Coons side function;
+ *   ev_fair_solve.c  the energy: per-face forms, the sparse system, the passes, the fold guard;
+ *   ev_fair.c        the driver: vertex jets and unknowns, base faces, flat fans, the patches
+ *                    attached to the surface. */
+#ifndef Q2N_PATCH_EV_FAIR_INTERNAL_H
+#define Q2N_PATCH_EV_FAIR_INTERNAL_H
+
+#include "patch/coons_patch.h"
+#include "patch/ev_fair.h"
+#include "patch/ev_jet4.h"
+
+typedef struct fe_side {
+    int kind;            /* 0 constructed from the jets, 1 sampled from a regular neighbour */
+    ev_side reg;         /* kind 1 */
+    int c0, c1;          /* kind 0: patch corners at s = 0 and s = 1 */
+    double d;            /* the edge's interval */
+    double u0[2], u1[2]; /* the edge's direction in the charts of its two end vertices */
+    double w0[2], w1[2]; /* the base face's inward cross direction at the two ends */
+    double ew[2];        /* the base face's cross-edge intervals at the two ends */
+    int derived;         /* this face is the derived side */
+    double al[2], be[2]; /* α, β at the two ends */
+} fe_side;
+
+/* Side context of one patch (the Coons patch's ctx); lanes: fe_lanes, its constructed sides' fields
+ * as polynomials (fill_lanes, from the W-wide jets of the four corners). */
+typedef struct fe_ctx {
+    int K, kb;
+    double d0, d1, e0, e1; /* intervals of sides 0, 2 (u) and 3, 1 (v) */
+    fe_side side[4];
+} fe_ctx;
+
+/* The sides' three fields as polynomials in s, expanded about both ends: FE_TC(T, b, e, k) is the
+ * coefficient of (s - e)^k in field b (γ, then the face's first and second cross derivatives), k <=
+ * deg[b].  An evaluation expands about the nearer end (|s - e| <= 1/2: no cancellation grows with the
+ * degree), and at the ends the coefficients are the end data themselves (divided by k!): the
+ * corner values are exact. */
+#define FE_TDEG 17 /* ξ_G of order K = 2: degree 2(2K + 1) + 4K - 1 */
+#define FE_TRUNS 8  /* runs of nonzero lanes an evaluation visits (more: all lanes) */
+typedef struct fe_taylor {
+    int W, deg[3];
+    double *c;
+    int nrun, run[FE_TRUNS][2]; /* the lanes [run[r][0], run[r][1]) hold every nonzero coefficient */
+} fe_taylor;
+#define FE_TC(T, b, e, k) ((T)->c + (size_t)((((b) * 2 + (e)) * (FE_TDEG + 1)) + (k)) * (T)->W)
+#define FE_TAYLOR_SIZE(W) ((size_t)3 * 2 * (FE_TDEG + 1) * (W))
+
+/* The lanes a fair patch's side function reads: its sides' fields (fill_lanes). */
+typedef struct fe_lanes {
+    fe_taylor T[4];
+} fe_lanes;
+
+/* The production patch: the Coons evaluator first (the surface's data pointer is this struct). */
+typedef struct fe_eval {
+    cp_eval E;
+    fe_ctx X;
+    fe_lanes lanes;
+    double tayv[4][FE_TAYLOR_SIZE(3)];
+} fe_eval;
+
+/* The ridge of an unknown towards its local estimate (fair_pass). */
+typedef enum { RIDGE_HIGH = 0, RIDGE_LOW = 1, RIDGE_HELD = 2 } fe_ridge; /* orders 3, 4 and bubbles; orders 1, 2; held by the fold guard */
+
+typedef struct fe_build {
+    const q2n_mesh *m;
+    const q2n_surface *s;
+    const double *iv;
+    const double (*dir)[2];
+    const char *unc;
+    int K, kb;
+    int *base;                  /* per edge: base face (-1 when not constructed) */
+    double (*jet)[EV_JS][3];    /* per vertex: current jet values */
+    int *var;                   /* per vertex and slot: unknown index or -1 (fixed) */
+    int *bvar;                  /* per face of the list: first of its CP_NBUB bubble unknowns */
+    double (*bub)[CP_NBUB][3];  /* per face of the list: bubble values */
+    char *ridge;                /* per unknown: its ridge towards the local estimate, an fe_ridge */
+    int nvar;
+    const char *flat;           /* per vertex: its fan is flat (fan_flat) and the first solve keeps its
+                                   free jet terms in the plane (coupled_solve); NULL: none */
+    const double (*flatn)[3];   /* per vertex: the unit normal of a flat fan's plane */
+} fe_build;
+
+/* ------------------------------------------------------------ ev_fair_patch.c */
+
+/* Direction of edge e in the chart of its end vertex v (dir of q2n_ev_vertex_jets). */
+const double *q2n_ev_fair_edge_dir(const q2n_mesh *m, const double (*dir)[2], int e, int v);
+/* Face f's other edge at its corner v (e one of f's edges at v), and its direction in v's chart
+ * (NULL when e is not an edge of f at v). */
+int q2n_ev_fair_cross_edge(const q2n_mesh *m, int f, int e, int v);
+const double *q2n_ev_fair_cross_dir(const q2n_mesh *m, const double (*dir)[2], int f, int e, int v);
+/* |sin| of the angle between two chart directions. */
+double q2n_ev_fair_sine2(const double a[2], const double b[2]);
+/* Face f's side context X and Coons patch P (sides, α and β of its derived sides). */
+q2n_status q2n_ev_fair_setup_patch(const fe_build *B, int f, fe_ctx *X, cp_patch *P, q2n_error *err);
+/* The lanes of a patch whose corner jets are J (W lanes each, slot-major): the constructed sides'
+ * fields, in tayv (4 sides, FE_TAYLOR_SIZE(W) doubles each). */
+void q2n_ev_fair_fill_lanes(const fe_ctx *X, const double *const J[4], int W, fe_lanes *L, double *tayv);
+/* Patch i of the list (face f, context FX) with the current jets and bubbles, ready to evaluate
+ * (the caller frees it with q2n_ev_fair_eval_free). */
+fe_eval *q2n_ev_fair_make_eval(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P);
+void q2n_ev_fair_eval_free(void *d);
+
+/* ------------------------------------------------------------ ev_fair_solve.c */
+
+/* The energy solve over the nfaces faces of the list (their patches P, contexts FX): the jets'
+ * and bubbles' values in B become the minimiser, with the fold guard; *held_vertices, *folds_left
+ * and *shrinks describe the result (docs/extraordinary.md, "The fair construction", 5). */
+q2n_status q2n_ev_fair_solve(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX, int threads,
+                             int *held_vertices, int *folds_left, int *shrinks, q2n_error *err);
+
+#endif
