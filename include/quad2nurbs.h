@@ -231,6 +231,9 @@ typedef struct q2n_options {
     int pair_triangles;            /* triangles paired into quads across their shared edges before
                                       anything else (convex pairs, best shaped first; docs/mesh.md,
                                       "Pairing triangles"): 1 yes, 0 [no]; triangles left need subdivide */
+    int fill_ngons;                /* faces of an even number of sides >= 6 filled with quads (a ring and
+                                      a grid, no vertex of high valence) after pairing, before subdivide
+                                      (docs/mesh.md, "Filling n-gons"): 1 yes, 0 [no] */
     double scale;                  /* multiplies the mesh coordinates, Q2N_SCALE_MIN..Q2N_SCALE_MAX [1] */
     q2n_units units;               /* unit of the CAD files [mm] */
     double tol;                    /* fit tolerance relative to the bounding-box diagonal, 1e-12..0.1 [1e-5] */
@@ -323,9 +326,11 @@ q2n_status q2n_patch_spline_get(const q2n_model *m, int k, q2n_patch_spline *out
 typedef struct q2n_report {
     /* the mesh and the construction (after q2n_read / q2n_build) */
     int input_faces;           /* faces as read */
-    int faces;                 /* faces the surface is built on (after pairing and subdivision) */
+    int faces;                 /* faces the surface is built on (after pairing, filling and subdivision) */
     int paired_quads;          /* pair_triangles: quads made of two input triangles */
     int triangles_left;        /* pair_triangles: input triangles left unpaired */
+    int filled_faces;          /* fill_ngons: faces filled with quads */
+    int fill_quads;            /* fill_ngons: quads made for them */
     int patches;               /* faces covered by a patch (= faces unless uncovered) */
     int construction_continuity; /* 0, 1, 2: G^k across edges the construction guarantees */
     double diag;               /* bounding-box diagonal */

@@ -392,10 +392,9 @@ static inline q2n_mesh *mg_loop_box(double d)
     return m;
 }
 
-/* A cylinder of n sides and `rows` rows of quads, height h, closed by two flat n-gon caps, after
- * one Catmull–Clark step (each cap becomes n kites around a valence-n vertex, its rim n
- * valence-3 vertices). */
-static inline q2n_mesh *mg_capped_cylinder(int n, int rows, double h)
+/* A cylinder of n sides and `rows` rows of quads, height h (radius 1, axis z), closed by two flat
+ * n-gon caps: faces 0 .. n rows - 1 the side, then the bottom cap (z = 0) and the top one (z = h). */
+static inline q2n_mesh *mg_ngon_cylinder(int n, int rows, double h)
 {
     int nv = n * (rows + 1), nf = n * rows + 2;
     double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
@@ -421,7 +420,14 @@ static inline q2n_mesh *mg_capped_cylinder(int n, int rows, double h)
     fs[f++] = q;
     for (int k = 0; k < n; k++) fv[q++] = rows * n + k;
     fs[f] = q;
-    q2n_mesh *m = mg_finish(nv, pos, nf, fs, fv, "capped cylinder"), *sub = NULL;
+    return mg_finish(nv, pos, nf, fs, fv, "capped cylinder");
+}
+
+/* The same after one Catmull–Clark step (each cap becomes n kites around a valence-n vertex, its
+ * rim n valence-3 vertices). */
+static inline q2n_mesh *mg_capped_cylinder(int n, int rows, double h)
+{
+    q2n_mesh *m = mg_ngon_cylinder(n, rows, h), *sub = NULL;
     q2n_error err;
     if (m && q2n_mesh_subdivide(m, 1, &sub, &err)) fprintf(stderr, "capped cylinder: %s\n", err.message);
     q2n_mesh_free(m);

@@ -436,6 +436,49 @@ static void pair_triangles(void)
                  "or --pair-triangles to merge triangles into quads");
 }
 
+/* --fill-ngons on a 12-sided cylinder with flat 12-gon caps: without it the run names the option;
+ * with it each cap becomes a ring of 12 quads and a 3 x 3 grid (21 quads), the summary and the
+ * report count them, and the fit meets its targets; a star-shaped cap is refused, naming its line,
+ * and nothing is written. */
+static void fill_ngons(void)
+{
+    char err[4096], p[512];
+    for (int star = 0; star < 2; star++) {
+        snprintf(p, sizeof p, "%s/%s.obj", dir, star ? "star" : "cyl12");
+        FILE *f = fopen(p, "w");
+        for (int r = 0; f && r <= 2; r++)
+            for (int k = 0; k < 12; k++) {
+                double a = 2 * M_PI * k / 12, rad = star && k % 2 ? 0.3 : 1;
+                fprintf(f, "v %.17g %.17g %.17g\n", rad * cos(a), rad * sin(a), 0.6 * r);
+            }
+        for (int r = 0; f && r < 2; r++)
+            for (int k = 0; k < 12; k++)
+                fprintf(f, "f %d %d %d %d\n", r * 12 + k + 1, r * 12 + (k + 1) % 12 + 1, (r + 1) * 12 + (k + 1) % 12 + 1,
+                        (r + 1) * 12 + k + 1);
+        if (f) {
+            fprintf(f, "f");
+            for (int k = 11; k >= 0; k--) fprintf(f, " %d", k + 1);
+            fprintf(f, "\nf");
+            for (int k = 0; k < 12; k++) fprintf(f, " %d", 24 + k + 1);
+            fprintf(f, "\n");
+            fclose(f);
+        }
+    }
+    int rc = run_sh("$Q cyl12.obj -o out.step", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "cyl12.obj:61: face 24 has 12 vertices") && strstr(err, "or --fill-ngons") &&
+              leftovers() == 0, "12-gon caps, no option: %d '%s'", rc, err);
+    rc = run_sh("$Q cyl12.obj --fill-ngons -o cyl12.json", err, sizeof err);
+    char *js = report("cyl12.json");
+    CHECK(rc == 0 && strstr(err, "66 faces (2 faces of 6 or more sides filled with 42 quads)") && js &&
+              jnum(js, "filled_faces") == 2 && jnum(js, "fill_quads") == 42 && strstr(js, "\"tol_met\": true") &&
+              strstr(js, "\"g1_met\": true") && strstr(js, "\"g2_met\": true"),
+          "12-gon caps, --fill-ngons: %d '%s' %s", rc, err, js ? js : "(no report)");
+    free(js);
+    rc = run_sh("$Q star.obj --fill-ngons -o out.step", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "star.obj:61: face 24 (12 vertices) cannot be filled") && leftovers() == 0,
+          "star-shaped cap, --fill-ngons: %d '%s'", rc, err);
+}
+
 static void tolerances(void)
 {
     char err[4096];
@@ -758,6 +801,7 @@ int main(void)
                  NULL, "huge.obj: the bounding box is too large");
     write_file("quad.obj", quad);
     pair_triangles();
+    fill_ngons();
     test_serial_blas();
     expect_error("bad --grid", "quad.obj", NULL, "--tess x", "--tess");
     expect_error("bad class", "quad.obj", NULL, "--class D9", "D9");

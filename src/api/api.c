@@ -68,6 +68,8 @@ static q2n_status check_options(const q2n_options *o, char *errbuf, size_t errle
         return bad(errbuf, errlen, "invalid subdivide %d (expected 0 .. 6)", o->subdivide);
     if (o->pair_triangles < 0 || o->pair_triangles > 1)
         return bad(errbuf, errlen, "invalid pair_triangles %d (expected 0 or 1)", o->pair_triangles);
+    if (o->fill_ngons < 0 || o->fill_ngons > 1)
+        return bad(errbuf, errlen, "invalid fill_ngons %d (expected 0 or 1)", o->fill_ngons);
     if (o->keep_flat < 0 || o->keep_flat > 1) return bad(errbuf, errlen, "invalid keep_flat %d (expected 0 or 1)", o->keep_flat);
     if (o->limit_points < -1 || o->limit_points > 1)
         return bad(errbuf, errlen, "invalid limit_points %d (expected -1, 0 or 1)", o->limit_points);
@@ -107,6 +109,7 @@ static void model_options(const q2n_options *o, q2n_model_options *mo)
     mo->subdivide = o->subdivide;
     mo->limit_points = o->limit_points;
     mo->pair_triangles = o->pair_triangles;
+    mo->fill_ngons = o->fill_ngons;
     mo->threads = o->threads;
     mo->scale = o->scale;
     mo->progress.fn = o->progress;
@@ -334,6 +337,8 @@ q2n_status q2n_get_report(const q2n_model *m, q2n_report *r)
     r->faces = m->mesh->nf;
     r->paired_quads = m->paired;
     r->triangles_left = m->tri_left;
+    r->filled_faces = m->filled;
+    r->fill_quads = m->fill_quads;
     r->patches = m->surface ? m->mesh->nf - m->uncovered : 0;
     r->construction_continuity = m->continuity;
     r->diag = q2n_mesh_bbox_diag(m->mesh) * q2n_model_length_scale(m);

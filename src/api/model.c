@@ -65,9 +65,11 @@ static void face_where(const q2n_model *m, int k, char *buf, size_t n)
 {
     const q2n_mesh *me = m->mesh;
     int line = me->face_line ? me->face_line[k] : 0;
-    const char *sub = me->nf != m->input_faces - m->paired ? " (of the subdivided mesh)"
-                      : m->paired                               ? " (of the paired mesh)"
-                                                                : "";
+    const char *sub = me->nf != m->taken_faces          ? " (of the subdivided mesh)"
+                      : m->paired && m->filled             ? " (of the paired and filled mesh)"
+                      : m->filled                          ? " (of the filled mesh)"
+                      : m->paired                          ? " (of the paired mesh)"
+                                                           : "";
     if (line > 0) snprintf(buf, n, "%s:%d: face %d%s", me->name, line, k, sub);
     else snprintf(buf, n, "%s: face %d%s", me->name, k, sub);
 }
@@ -246,6 +248,14 @@ static q2n_status model_take_mesh(q2n_model *m, q2n_mesh *mesh, q2n_error *err)
         q2n_mesh_free(m->mesh);
         m->mesh = pm;
     }
+    if (m->opt.fill_ngons) { /* after pairing (triangles are not filled), before the estimate */
+        q2n_mesh *fm = NULL;
+        q2n_status st = q2n_mesh_fill_ngons(m->mesh, &fm, &m->filled, &m->fill_quads, err);
+        if (st) return st;
+        q2n_mesh_free(m->mesh);
+        m->mesh = fm;
+    }
+    m->taken_faces = m->mesh->nf;
     return Q2N_OK;
 }
 
@@ -330,12 +340,15 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
         while (f < m->mesh->nf && q2n_face_size(m->mesh, f) == 4) f++;
         char where[320];
         face_where(m, f, where, sizeof where);
+        int n = q2n_face_size(m->mesh, f);
         st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
                            "%s has %d vertices; only quad meshes are supported "
                            "(use --subdivide 1 to apply one Catmull-Clark step first%s)",
-                           where, q2n_face_size(m->mesh, f),
-                           m->opt.pair_triangles ? ""
-                           : q2n_face_size(m->mesh, f) == 3 ? ", or --pair-triangles to merge triangles into quads" : "");
+                           where, n,
+                           n == 3 && !m->opt.pair_triangles              ? ", or --pair-triangles to merge triangles into quads"
+                           : n >= 6 && n % 2 == 0 && !m->opt.fill_ngons ? ", or --fill-ngons to fill faces of an even number "
+                                                                          "of sides with quads"
+                                                                        : "");
     }
     /* limit points (after --subdivide unless --no-limit-points; --limit-points also without): the
      * vertices onto the subdivision surface.  The control vertices of a coarse mesh lie off it,
@@ -484,6 +497,8 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.g2_folded_faces = m->g2_folded;
     m->fit.paired_quads = m->paired;
     m->fit.triangles_left = m->tri_left;
+    m->fit.filled_faces = m->filled;
+    m->fit.fill_quads = m->fill_quads;
     m->fit.folded_face = m->folded_face;
     if (m->nurbs) { /* into output coordinates; relative figures stay */
         q2n_error e2;

@@ -42,6 +42,7 @@ typedef struct q2n_model_options {
     int limit_points;             /* vertices moved to their Catmull–Clark limit positions (augmented):
                                      1 always, -1 never, 0 when subdivide > 0 */
     int pair_triangles;           /* triangles paired into quads before subdivide (q2n_options) */
+    int fill_ngons;               /* even n-gons (n >= 6) filled with quads before subdivide (q2n_options) */
     double scale;                 /* multiplies every output coordinate (0: 1): --scale */
     q2n_progress_sink progress;   /* reports of every stage (fn NULL: none) */
 } q2n_model_options;
@@ -71,6 +72,8 @@ typedef struct q2n_model {
     q2n_mesh_read_info read_info; /* format, ignored tags (for a warning) */
     int input_faces;           /* faces of the mesh as read (before any pairing or subdivision) */
     int paired, tri_left;      /* pair_triangles: quads made of two triangles, triangles left */
+    int filled, fill_quads;    /* fill_ngons: faces filled, quads made for them */
+    int taken_faces;           /* faces after pairing and filling (before subdivision) */
     char warning[512];         /* e.g. the first face whose surface folds over; "" when none */
     int folded;                /* faces whose surface folds over (normal against the face's) */
     int folded_face;           /* the first of them (-1: none) */

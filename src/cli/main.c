@@ -66,6 +66,10 @@ static void usage(FILE *f)
           "                        edges (convex pairs, best shaped first): the quads of a\n"
           "                        triangulated quad mesh (an STL tessellation) come back; the\n"
           "                        triangles left need --subdivide\n"
+          "      --fill-ngons      fill every face of an even number n >= 6 of sides with quads (a\n"
+          "                        ring of n and a grid inside it): no vertex of valence n, and\n"
+          "                        the mesh's own vertices still interpolated (--subdivide would\n"
+          "                        split it into n kites around one)\n"
           "      --subdivide N     apply N Catmull-Clark steps first (needed for non-quad faces); the\n"
           "                        surface then passes through the subdivision surface's limit points\n"
           "      --limit-points    the same without --subdivide: every vertex moved to its\n"
@@ -179,7 +183,7 @@ static int parse_size(const char *s, double *out)
 enum {
     OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT, OPT_TOL,
     OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_FORMAT, OPT_SCALE, OPT_TOLABS, OPT_ANGLE,
-    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT, OPT_KEEPFLAT, OPT_PAIR
+    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT, OPT_KEEPFLAT, OPT_PAIR, OPT_FILL
 };
 
 static const struct option LONGOPTS[] = {
@@ -187,7 +191,7 @@ static const struct option LONGOPTS[] = {
     {"grid", required_argument, 0, OPT_GRID},       {"class", required_argument, 0, OPT_CLASS},
     {"param", required_argument, 0, OPT_PARAM},     {"alpha", required_argument, 0, OPT_ALPHA},
     {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
-    {"keep-flat", no_argument, 0, OPT_KEEPFLAT}, {"pair-triangles", no_argument, 0, OPT_PAIR}, {"limit-points", no_argument, 0, OPT_LIMIT},   {"no-limit-points", no_argument, 0, OPT_NOLIMIT},
+    {"keep-flat", no_argument, 0, OPT_KEEPFLAT}, {"pair-triangles", no_argument, 0, OPT_PAIR}, {"fill-ngons", no_argument, 0, OPT_FILL}, {"limit-points", no_argument, 0, OPT_LIMIT},   {"no-limit-points", no_argument, 0, OPT_NOLIMIT},
     {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
     {"tol", required_argument, 0, OPT_TOL},         {"threads", required_argument, 0, OPT_THREADS},
     {"units", required_argument, 0, OPT_UNITS},     {"ev-patch", required_argument, 0, OPT_EVPATCH},
@@ -227,6 +231,7 @@ static int parse_option(int c, const char *arg, cli_options *o)
     case OPT_SUBDIV: return parse_int(arg, "--subdivide", 0, 6, &q->subdivide) ? 2 : 0;
     case OPT_LIMIT: q->limit_points = 1; return 0;
     case OPT_PAIR: q->pair_triangles = 1; return 0;
+    case OPT_FILL: q->fill_ngons = 1; return 0;
     case OPT_KEEPFLAT: q->keep_flat = 1; return 0;
     case OPT_NOLIMIT: q->limit_points = -1; return 0;
     case OPT_THREADS: q->given |= Q2N_GIVEN_THREADS; return parse_int(arg, "--threads", 1, 4096, &q->threads) ? 2 : 0;
@@ -362,6 +367,9 @@ static void summary(const cli_options *o, const q2n_report *r, int fit, int utf8
     if (r->paired_quads || r->triangles_left)
         n += snprintf(line + n, sizeof line - (size_t)n, " (%d pairs of triangles merged into quads, %d triangles left)",
                       r->paired_quads, r->triangles_left);
+    if (r->filled_faces)
+        n += snprintf(line + n, sizeof line - (size_t)n, " (%d faces of 6 or more sides filled with %d quads)",
+                      r->filled_faces, r->fill_quads);
     n += snprintf(line + n, sizeof line - (size_t)n, ", %d patches, read %.3f s, build %.3f s", r->patches, r->t_read,
                   r->t_build);
     if (fit) {

@@ -86,6 +86,7 @@ typedef struct q2n_fit_report {
                                       replaced them (q2n_model_options.fold_fallback); set by the caller, else 0 */
     int paired_quads, triangles_left; /* --pair-triangles: quads made of two input triangles, triangles
                                       left unpaired; set by the caller, else 0 */
+    int filled_faces, fill_quads;  /* --fill-ngons: faces filled with quads, quads made; set by the caller, else 0 */
     double t_sample, t_build, t_solve, t_measure, t_total;  /* seconds per stage */
     long step_bytes, iges_bytes;   /* sizes of the CAD files written from this fit (0: none; set by the writer's caller) */
     int solver, threads;        /* threads: the number used */

@@ -50,6 +50,9 @@ awk 'BEGIN { n = 3; for (j = 0; j <= n; j++) for (i = 0; i <= n; i++) printf "v 
         else printf "f %d %d %d\nf %d %d %d\n", b, c, d, d, a, b } }' > "$obj/grid_triangulated.obj"
 seed fan 'v 0 0 0\nv 1 0 0\nv 0.5 0.87 0.1\nv -0.5 0.87 0\nv -1 0 0.1\nv -0.5 -0.87 0\nv 0.5 -0.87 0.1\nf 1 2 3\nf 1 3 4\nf 1 4 5\nf 1 5 6\nf 1 6 7\nf 1 7 2\n'
 seed stl_ascii 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nendloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 1 1 0\nvertex 0 1 0\nvertex 0 0 0\nendloop\nendfacet\nendsolid t\n'
+# a hexagonal prism with hexagon caps and a warped octagon (--fill-ngons fills them)
+seed hexprism 'v 1 0 0\nv 0.5 0.87 0\nv -0.5 0.87 0\nv -1 0 0\nv -0.5 -0.87 0\nv 0.5 -0.87 0\nv 1 0 1\nv 0.5 0.87 1\nv -0.5 0.87 1\nv -1 0 1\nv -0.5 -0.87 1\nv 0.5 -0.87 1\nf 1 2 8 7\nf 2 3 9 8\nf 3 4 10 9\nf 4 5 11 10\nf 5 6 12 11\nf 6 1 7 12\nf 6 5 4 3 2 1\nf 7 8 9 10 11 12\n'
+seed octagon_warped 'v 1 0 0.3\nv 0.71 0.42 0\nv 0 0.6 -0.3\nv -0.71 0.42 0\nv -1 0 0.3\nv -0.71 -0.42 0\nv 0 -0.6 -0.3\nv 0.71 -0.42 0\nf 1 2 3 4 5 6 7 8\n'
 seed pentagon 'v 0 0 0\nv 2 0 0\nv 2.6 1.5 0.3\nv 1 2.5 0\nv -0.6 1.5 0.3\nf 1 2 3 4 5\n'
 seed tetra 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n'
 # degenerate and folded shapes (issue 16)

@@ -1,0 +1,227 @@
+/* test_fill.c — q2n_mesh_fill_ngons (--fill-ngons) and what it does for a run.
+ * References, independent of fill.c's construction: counts from the ring-and-grid rule (n + a b
+ * quads and (a + 1)(b + 1) new vertices for a = floor(n/4), b = n/2 - a); the valences it promises
+ * (the polygon's vertices gain one face, four new vertices of valence 3, the rest 4), read from the
+ * built half-edge mesh; the harmonic property (every new vertex the mean of its neighbours, found
+ * by walking its fan) and the plane of a planar polygon; the face order and OBJ lines; a warped
+ * polygon filled, odd ones left, a star-shaped one refused.  End to end (public API): a 40-sided
+ * cylinder with flat caps fits to its targets through every vertex of the input, and the report
+ * counts the fill. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "mesh/mesh.h"
+#include "meshgen.h"
+#include "quad2nurbs.h"
+
+static q2n_mesh *fill(const q2n_mesh *m, int *nfill, int *nquads, q2n_error *err)
+{
+    q2n_mesh *out = NULL;
+    if (q2n_mesh_fill_ngons(m, &out, nfill, nquads, err)) return NULL;
+    q2n_error e2;
+    CHECK(q2n_mesh_check(out, &e2) == Q2N_OK, "filled mesh's half-edges: %s", e2.message);
+    return out;
+}
+
+/* Largest distance of a new vertex (index >= first) from the mean of its neighbours, and how many
+ * new vertices have valence 3, 4 or other. */
+static double harmonic_defect(const q2n_mesh *m, int first, int val[3])
+{
+    double worst = 0;
+    val[0] = val[1] = val[2] = 0;
+    for (int v = first; v < m->nv; v++) {
+        double mean[3] = {0, 0, 0};
+        int n = 0;
+        for (int h = 0; h < m->nh; h++) /* half-edges leaving v: their destinations are its neighbours */
+            if (q2n_he_origin(m, h) == v) {
+                const double *p = q2n_mesh_vpos(m, q2n_he_dest(m, h));
+                for (int c = 0; c < 3; c++) mean[c] += p[c];
+                n++;
+            }
+        val[m->valence[v] == 3 ? 0 : m->valence[v] == 4 ? 1 : 2]++;
+        const double *p = q2n_mesh_vpos(m, v);
+        for (int c = 0; c < 3; c++) worst = fmax(worst, fabs(mean[c] / n - p[c]));
+    }
+    return worst;
+}
+
+static void cylinder(int n)
+{
+    int rows = 2, side = n * rows;
+    q2n_mesh *m = mg_ngon_cylinder(n, rows, 1.0);
+    CHECK(m != NULL, "cylinder %d: generator", n);
+    if (!m) return;
+    int nf = -1, nq = -1, a = n / 4, b = n / 2 - a;
+    q2n_error err = {0, ""};
+    CHECK(q2n_mesh_fill_count(m) == 2, "cylinder %d: %d faces to fill, expected 2", n, q2n_mesh_fill_count(m));
+    q2n_mesh *f = fill(m, &nf, &nq, &err);
+    CHECK(f != NULL, "cylinder %d: %s", n, err.message);
+    if (f) {
+        int quads = n + a * b;
+        CHECK(nf == 2 && nq == 2 * quads && f->nf == side + 2 * quads && f->nv == m->nv + 2 * (a + 1) * (b + 1) &&
+                  f->all_quads,
+              "cylinder %d: %d filled, %d quads, %d faces, %d vertices", n, nf, nq, f->nf, f->nv);
+        /* the side is untouched: same faces, same order */
+        int same = 1;
+        for (int k = 0; k < side; k++)
+            for (int c = 0; c < 4; c++) same &= f->face_vert[f->face_start[k] + c] == m->face_vert[m->face_start[k] + c];
+        CHECK(same, "cylinder %d: the side's faces changed", n);
+        /* ring quad k of the bottom cap starts at the polygon's vertex k and runs along its edge k */
+        const int *o = m->face_vert + m->face_start[side];
+        int ring = 1;
+        for (int k = 0; k < n; k++) {
+            const int *q = f->face_vert + f->face_start[side + k];
+            ring &= q[0] == o[k] && q[1] == o[(k + 1) % n] && q[2] >= m->nv && q[3] >= m->nv;
+        }
+        CHECK(ring, "cylinder %d: the bottom cap's ring does not follow its polygon", n);
+        /* the rim is regular now (two side faces and two ring quads) */
+        int rim_ok = 1;
+        for (int v = 0; v < m->nv; v++) rim_ok &= f->valence[v] == 4;
+        int val[3];
+        double d = harmonic_defect(f, m->nv, val);
+        CHECK(rim_ok && val[0] == 8 && val[2] == 0, "cylinder %d: rim regular %d, new vertices of valence 3 / 4 / other: "
+              "%d / %d / %d (expected 8 / rest / 0)", n, rim_ok, val[0], val[1], val[2]);
+        CHECK(d <= 1e-13, "cylinder %d: a new vertex is %.3g from its neighbours' mean", n, d);
+        /* each cap's fill lies in its plane: the first new vertices are the bottom cap's */
+        double z = 0;
+        int per = (a + 1) * (b + 1);
+        for (int v = m->nv; v < f->nv; v++) z = fmax(z, fabs(q2n_mesh_vpos(f, v)[2] - (v < m->nv + per ? 0.0 : 1.0)));
+        CHECK(z <= 1e-14, "cylinder %d: the fill leaves its cap's plane by %.3g", n, z);
+    }
+    q2n_mesh_free(f);
+    q2n_mesh_free(m);
+}
+
+/* polygons on their own: a warped octagon is filled (harmonic), a heptagon and a pentagon are left
+ * as they are, a twelve-pointed star is refused, naming its line */
+static void single_faces(void)
+{
+    enum { N = 8 };
+    double pos[3 * N];
+    for (int k = 0; k < N; k++) {
+        double t = 2 * M_PI * k / N;
+        pos[3 * k] = cos(t), pos[3 * k + 1] = 0.6 * sin(t), pos[3 * k + 2] = 0.3 * cos(2 * t); /* a saddle */
+    }
+    int fs[2] = {0, N}, fv[N], line = 7;
+    for (int k = 0; k < N; k++) fv[k] = k;
+    q2n_mesh *m = NULL, *f = NULL;
+    q2n_error err = {0, ""};
+    CHECK(q2n_mesh_from_arrays_lines(N, pos, 1, fs, fv, &line, "oct", &m, &err) == Q2N_OK, "octagon: %s", err.message);
+    int nf = 0, nq = 0, val[3];
+    if (m && (f = fill(m, &nf, &nq, &err))) {
+        double d = harmonic_defect(f, N, val);
+        CHECK(nf == 1 && nq == 12 && f->nf == 12 && f->nv == N + 9 && d <= 1e-13 && val[0] == 4 && val[1] == 5,
+              "warped octagon: %d filled, %d quads, %d faces, %d vertices, defect %.3g, valences %d / %d", nf, nq, f->nf,
+              f->nv, d, val[0], val[1]);
+        int lines = 1;
+        for (int k = 0; k < f->nf; k++) lines &= f->face_line[k] == 7;
+        CHECK(lines, "warped octagon: its quads do not keep its line");
+        /* the polygon's boundary stays the mesh's boundary */
+        int bnd = 0;
+        for (int v = 0; v < f->nv; v++) bnd += f->vert_boundary[v];
+        CHECK(bnd == N, "warped octagon: %d boundary vertices, expected %d", bnd, N);
+    } else
+        CHECK(0, "warped octagon: %s", err.message);
+    q2n_mesh_free(f);
+    q2n_mesh_free(m);
+
+    /* a heptagon and a pentagon: odd, so left as they are */
+    double pp[3 * 12];
+    int fs2[3] = {0, 7, 12}, fv2[12];
+    for (int k = 0; k < 12; k++) {
+        int hep = k < 7, j = hep ? k : k - 7, n = hep ? 7 : 5;
+        double t = 2 * M_PI * j / n;
+        pp[3 * k] = cos(t) + (hep ? 0 : 3), pp[3 * k + 1] = sin(t), pp[3 * k + 2] = 0;
+        fv2[k] = k;
+    }
+    m = f = NULL;
+    CHECK(q2n_mesh_from_arrays(12, pp, 2, fs2, fv2, "odd", &m, &err) == Q2N_OK, "odd polygons: %s", err.message);
+    if (m) {
+        CHECK(q2n_mesh_fill_count(m) == 0, "odd polygons: %d to fill", q2n_mesh_fill_count(m));
+        f = fill(m, &nf, &nq, &err);
+        CHECK(f && nf == 0 && nq == 0 && f->nf == 2 && f->nv == 12, "odd polygons: changed (%d, %d)", nf, nq);
+    }
+    q2n_mesh_free(f);
+    q2n_mesh_free(m);
+
+    /* a twelve-pointed star (radii 1 and 0.3): its fill would turn against it */
+    enum { S = 12 };
+    double ps[3 * S];
+    for (int k = 0; k < S; k++) {
+        double t = 2 * M_PI * k / S, r = k % 2 ? 0.3 : 1;
+        ps[3 * k] = r * cos(t), ps[3 * k + 1] = r * sin(t), ps[3 * k + 2] = 0;
+    }
+    int fs3[2] = {0, S}, fv3[S], line3 = 42;
+    for (int k = 0; k < S; k++) fv3[k] = k;
+    m = f = NULL;
+    CHECK(q2n_mesh_from_arrays_lines(S, ps, 1, fs3, fv3, &line3, "star.obj", &m, &err) == Q2N_OK, "star: %s", err.message);
+    if (m) {
+        q2n_status st = q2n_mesh_fill_ngons(m, &f, &nf, &nq, &err);
+        CHECK(st == Q2N_ERR_GEOMETRY && !f && strstr(err.message, "star.obj:42: face 0 (12 vertices)") &&
+                  strstr(err.message, "--subdivide 1"),
+              "star: status %d, '%s'", st, err.message);
+    }
+    q2n_mesh_free(f);
+    q2n_mesh_free(m);
+}
+
+/* A 40-sided cylinder with flat caps through the public API, filled: it fits to its targets, every
+ * vertex of the input is interpolated (the patches of the side faces pass through their corners),
+ * and the report counts what was filled. */
+static void end_to_end(void)
+{
+    enum { N = 40, R = 2 };
+    q2n_mesh *m = mg_ngon_cylinder(N, R, 1.0);
+    if (!m) { CHECK(0, "cylinder: generator"); return; }
+    size_t nf = (size_t)m->nf;
+    int *sizes = malloc(nf * sizeof *sizes);
+    for (size_t k = 0; k < nf; k++) sizes[k] = q2n_face_size(m, (int)k);
+    q2n_options o;
+    memset(&o, 0, sizeof o);
+    o.fill_ngons = 1;
+    o.threads = 1;
+    q2n_model *q = NULL;
+    char eb[256] = "";
+    q2n_status st = q2n_open_mesh(m->nv, m->pos, nf, sizes, m->face_vert, &o, &q, eb, sizeof eb);
+    CHECK(st == Q2N_OK, "cylinder, fill_ngons: %s", eb);
+    if (st == Q2N_OK && (st = q2n_fit(q, eb, sizeof eb)) == Q2N_OK) {
+        q2n_report r;
+        q2n_get_report(q, &r);
+        CHECK(r.tol_met && r.g1_met && r.g2_met && r.filled_faces == 2 && r.fill_quads == 2 * (N + 100) &&
+                  r.faces == N * R + 2 * (N + 100) && r.input_faces == N * R + 2,
+              "cylinder fit: tol %d g1 %d g2 %d, %d filled, %d quads, %d faces of %d", r.tol_met, r.g1_met, r.g2_met,
+              r.filled_faces, r.fill_quads, r.faces, r.input_faces);
+        double dmax = 0;
+        for (int k = 0; k < N * R; k++)
+            for (int c = 0; c < 4; c++) {
+                double e[9], u = c == 1 || c == 2, v = c >= 2;
+                q2n_patch_eval(q, k, u, v, e);
+                const double *p = q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + c]);
+                for (int d = 0; d < 3; d++) dmax = fmax(dmax, fabs(e[d] - p[d]));
+            }
+        CHECK(dmax <= 1e-12, "cylinder: the side's corners are %.3g from the input vertices", dmax);
+    } else if (st)
+        CHECK(0, "cylinder fit: %s", eb);
+    /* the option's range */
+    o.fill_ngons = 2;
+    q2n_model *bad = NULL;
+    st = q2n_open_mesh(m->nv, m->pos, nf, sizes, m->face_vert, &o, &bad, eb, sizeof eb);
+    CHECK(st == Q2N_ERR_ARG && strstr(eb, "fill_ngons"), "fill_ngons 2: status %d '%s'", st, eb);
+    q2n_close(bad);
+    q2n_close(q);
+    free(sizes);
+    q2n_mesh_free(m);
+}
+
+int main(void)
+{
+    cylinder(40);
+    cylinder(12);
+    cylinder(6);
+    cylinder(10);
+    single_faces();
+    end_to_end();
+    CHECK_DONE("test_fill");
+}
