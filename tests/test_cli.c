@@ -436,7 +436,8 @@ static void pair_triangles(void)
                  "or --pair-triangles to merge triangles into quads");
 }
 
-/* --fill-ngons on a 12-sided cylinder with flat 12-gon caps: without it the run names the option;
+/* --fill-ngons on a 12-sided cylinder with flat 12-gon caps: without it the run names the option
+ * (an error without --subdivide, a warning with it);
  * with it each cap becomes a ring of 12 quads and a 3 x 3 grid (21 quads), the summary and the
  * report count them, and the fit meets its targets; a star-shaped cap is refused, naming its line,
  * and nothing is written. */
@@ -467,7 +468,10 @@ static void fill_ngons(void)
     int rc = run_sh("$Q cyl12.obj -o out.step", err, sizeof err);
     CHECK(rc == 2 && strstr(err, "cyl12.obj:61: face 24 has 12 vertices") && strstr(err, "or --fill-ngons") &&
               leftovers() == 0, "12-gon caps, no option: %d '%s'", rc, err);
-    rc = run_sh("$Q cyl12.obj --fill-ngons -o cyl12.json", err, sizeof err);
+    rc = run_sh("$Q cyl12.obj --subdivide 1 -o out.step", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "2 of its faces have an even number of sides (6 or more); --fill-ngons fills them"),
+          "12-gon caps, --subdivide 1: %d '%s'", rc, err);
+    rc = run_sh("rm -f out.step && $Q cyl12.obj --fill-ngons -o cyl12.json", err, sizeof err);
     char *js = report("cyl12.json");
     CHECK(rc == 0 && strstr(err, "66 faces (2 faces of 6 or more sides filled with 42 quads)") && js &&
               jnum(js, "filled_faces") == 2 && jnum(js, "fill_quads") == 42 && strstr(js, "\"tol_met\": true") &&

@@ -202,6 +202,17 @@ static void pair_hint(q2n_model *m, char *hint, size_t n)
                  "fewer, better-shaped faces)", 2 * np, tri);
 }
 
+/* Polygons of an even number n >= 6 of sides about to be split by Catmull–Clark into n kites around
+ * a vertex of valence n: say that --fill-ngons fills them without one (docs/mesh.md, "Filling
+ * n-gons"). */
+static void fill_hint(q2n_model *m, char *hint, size_t n)
+{
+    int k = q2n_mesh_fill_count(m->mesh);
+    if (k > 0)
+        snprintf(hint, n, "%d of its faces have an even number of sides (6 or more); --fill-ngons fills them with quads "
+                 "before the Catmull-Clark step, which splits each into kites around one vertex of high valence", k);
+}
+
 /* A new model with its options (defaults filled in) and no mesh yet. */
 static q2n_status model_new(const q2n_model_options *opt, q2n_model **out, q2n_error *err)
 {
@@ -325,10 +336,12 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
 {
     double t0 = q2n_now();
     q2n_status st = Q2N_OK;
-    char hint[320] = ""; /* (--pair-triangles pairs as the mesh is taken over: model_take_mesh) */
+    char hint[320] = "", fhint[320] = ""; /* (--pair-triangles and --fill-ngons act as the mesh is taken over) */
     if (!m->opt.pair_triangles && !m->mesh->all_quads &&
         (m->opt.subdivide > 0 || m->opt.method != Q2N_SURFACE_AUGMENTED)) /* the ACC path subdivides non-quads itself */
         pair_hint(m, hint, sizeof hint);
+    if (!m->opt.fill_ngons && !m->mesh->all_quads && m->opt.subdivide > 0 && m->opt.method == Q2N_SURFACE_AUGMENTED)
+        fill_hint(m, fhint, sizeof fhint);
     if (m->opt.subdivide > 0) {
         q2n_progress_emit(&m->opt.progress, "subdivide", NULL, 0, m->opt.subdivide);
         q2n_mesh *sub = NULL;
@@ -377,12 +390,14 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
     if (!st) st = scan_patches(m, err);
     if (!st) fold_fallback(m);
-    if (st && hint[0]) { /* the failure is often the split triangles' (needle quads, bow-ties): say the remedy */
+    for (int k = 0; k < 2 && st; k++) { /* the failure is often the split faces' (needles, bow-ties): say the remedy */
+        const char *h = k ? fhint : hint;
         size_t l = strlen(err->message);
-        if (l + 4 < sizeof err->message) snprintf(err->message + l, sizeof err->message - l, "; %s", hint);
+        if (h[0] && l + 4 < sizeof err->message) snprintf(err->message + l, sizeof err->message - l, "; %s", h);
     }
     if (st) return st;
     if (hint[0]) q2n_model_warn(m, "%s: %s", m->mesh->name, hint);
+    if (fhint[0]) q2n_model_warn(m, "%s: %s", m->mesh->name, fhint);
     m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
     m->t_build = q2n_now() - t0;
     if (m->warning[0]) q2n_model_warn(m, "%s", m->warning);
