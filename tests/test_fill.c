@@ -167,6 +167,60 @@ static void single_faces(void)
     q2n_mesh_free(m);
 }
 
+/* Smallest corner sine of faces first.. of f, signed by +z (the polygons here are in z = 0). */
+static double min_sine_z(const q2n_mesh *f, int first)
+{
+    double worst = 1;
+    for (int k = first; k < f->nf; k++)
+        for (int c = 0; c < 4; c++) {
+            const int *q = f->face_vert + f->face_start[k];
+            const double *p = q2n_mesh_vpos(f, q[c]), *pn = q2n_mesh_vpos(f, q[(c + 1) % 4]),
+                         *pp = q2n_mesh_vpos(f, q[(c + 3) % 4]);
+            double e1[2] = {pn[0] - p[0], pn[1] - p[1]}, e2[2] = {pp[0] - p[0], pp[1] - p[1]};
+            worst = fmin(worst, (e1[0] * e2[1] - e1[1] * e2[0]) / (hypot(e1[0], e1[1]) * hypot(e2[0], e2[1])));
+        }
+    return worst;
+}
+
+/* An elongated slot (a stadium 5 x 1, 34 vertices: 9 on each straight side, 8 on each arc): the
+ * balanced 8 x 9 grid would squeeze its cells to a smallest corner sine of 0.18 (a Python prototype
+ * of the same fill); the shape search takes a 3 x 14 grid (34 + 42 quads), whose corners are all
+ * above a sine of 0.6.  A circle of the same count keeps the balanced grid (34 + 8 x 9 quads). */
+static void slot(void)
+{
+    enum { N = 34 };
+    for (int round = 0; round < 2; round++) {
+        double pos[3 * N];
+        int k = 0;
+        for (int i = 0; i < 9; i++, k++) pos[3 * k] = -2 + 0.5 * i, pos[3 * k + 1] = -0.5;
+        for (int i = 1; i < 9; i++, k++) pos[3 * k] = 2 + 0.5 * sin(M_PI * i / 9), pos[3 * k + 1] = -0.5 * cos(M_PI * i / 9);
+        for (int i = 0; i < 9; i++, k++) pos[3 * k] = 2 - 0.5 * i, pos[3 * k + 1] = 0.5;
+        for (int i = 1; i < 9; i++, k++) pos[3 * k] = -2 - 0.5 * sin(M_PI * i / 9), pos[3 * k + 1] = 0.5 * cos(M_PI * i / 9);
+        for (k = 0; k < N; k++) {
+            if (round) pos[3 * k] = cos(2 * M_PI * k / N), pos[3 * k + 1] = sin(2 * M_PI * k / N);
+            pos[3 * k + 2] = 0;
+        }
+        int fs[2] = {0, N}, fv[N];
+        for (k = 0; k < N; k++) fv[k] = k;
+        q2n_mesh *m = NULL, *f = NULL;
+        q2n_error err = {0, ""};
+        int nf = 0, nq = 0;
+        CHECK(q2n_mesh_from_arrays(N, pos, 1, fs, fv, "slot", &m, &err) == Q2N_OK, "slot: %s", err.message);
+        if (m && (f = fill(m, &nf, &nq, &err))) {
+            double sn = min_sine_z(f, 0);
+            if (round)
+                CHECK(nq == N + 8 * 9 && sn > 0.6, "34-gon circle: %d quads (expected %d), smallest corner sine %.3f", nq,
+                      N + 72, sn);
+            else
+                CHECK(nq == N + 3 * 14 && sn > 0.6, "slot: %d quads (expected %d: a 3 x 14 grid), smallest corner sine %.3f",
+                      nq, N + 42, sn);
+        } else
+            CHECK(0, "slot: %s", err.message);
+        q2n_mesh_free(f);
+        q2n_mesh_free(m);
+    }
+}
+
 /* A 40-sided cylinder with flat caps through the public API, filled: it fits to its targets, every
  * vertex of the input is interpolated (the patches of the side faces pass through their corners),
  * and the report counts what was filled. */
@@ -222,6 +276,7 @@ int main(void)
     cylinder(6);
     cylinder(10);
     single_faces();
+    slot();
     end_to_end();
     CHECK_DONE("test_fill");
 }

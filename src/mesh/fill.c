@@ -8,22 +8,29 @@
  * the mesh to its limit point.  Filled instead, the cap has no vertex of high valence, its rim
  * vertices become regular, and every vertex of the mesh is still interpolated.
  *
- * How.  With a = floor(n/4) and b = n/2 - a (so 2(a + b) = n), the n-gon o_0 .. o_{n-1} gets an
- * (a + 1) x (b + 1) grid of new vertices g(i, j): its a x b quads, and a ring of n quads
- * (o_k, o_{k+1}, r_{k+1}, r_k) between the polygon and the grid's boundary r_0 .. r_{n-1}
- * (counterclockwise in (i, j) from g(0, 0), as the polygon runs).  The grid's four corners are the
- * only vertices that are not regular: three faces each; the polygon's own vertices gain one face.
- * The new vertices' positions are the discrete harmonic ones (each the mean of its neighbours, the
- * polygon fixed): a sparse SPD solve per polygon (core/sparse.h), which needs no parameter and
- * keeps a planar polygon's fill in its plane.  A fill whose quads do not all turn the polygon's way
- * at every corner (a strongly non-convex or warped polygon) is refused. */
+ * How.  With a + b = n/2, the n-gon o_0 .. o_{n-1} gets an (a + 1) x (b + 1) grid of new vertices
+ * g(i, j): its a x b quads, and a ring of n quads (o_{s+k}, o_{s+k+1}, r_{k+1}, r_k) between the
+ * polygon and the grid's boundary r_0 .. r_{n-1} (counterclockwise in (i, j) from g(0, 0), as the
+ * polygon runs), starting at the polygon's vertex s.  The grid's four corners are the only vertices
+ * that are not regular: three faces each; the polygon's own vertices gain one face.  The new
+ * vertices' positions are the discrete harmonic ones (each the mean of its neighbours, the polygon
+ * fixed): a sparse SPD solve (core/sparse.h), which keeps a planar polygon's fill in its plane and,
+ * for a convex planar polygon, is an embedding with convex faces (Tutte's theorem).  The shape a and
+ * the start s are those whose fill has the largest smallest corner sine (signed by the polygon's
+ * vector area): the balanced grid a = floor(n/4) on a round cap, a long thin grid in an elongated
+ * slot (mesh_policy.h, Q2N_FILL_SEARCH_MAX, Q2N_FILL_TIE; a >= b and the start shifted by n/2 give
+ * the same fills turned, so a <= n/4 and s < n/2 cover them all).  A polygon whose best fill still
+ * has a corner that does not turn its way (a strongly non-convex or warped polygon) is refused. */
 #include "mesh/mesh.h"
 
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/sparse.h"
 #include "core/vec3.h"
+#include "mesh/mesh_policy.h"
 
 /* Does face f get filled? */
 static int fillable(const q2n_mesh *m, int f)
@@ -44,17 +51,18 @@ static void ring_ij(int a, int b, int k, int *i, int *j)
     else *i = 0, *j = b - (k - a);
 }
 
-/* The quads of the fill of polygon o (n vertices; new vertices from g0) into fv, 4 per quad:
- * the ring (quad k starts at o_k), then the grid row by row.  Returns the quads written. */
-static int fill_quads(const int *o, int n, int g0, int *fv)
+/* The quads of the fill of polygon o (n vertices; grid a x (n/2 - a) cells, ring from o_s; new
+ * vertices from g0) into fv, 4 per quad: the ring (quad k starts at o_{s+k}), then the grid row by
+ * row.  Returns the quads written. */
+static int fill_quads(const int *o, int n, int a, int s, int g0, int *fv)
 {
-    int a = n / 4, b = n / 2 - a, q = 0;
+    int b = n / 2 - a, q = 0;
     for (int k = 0; k < n; k++) {
         int i0, j0, i1, j1;
         ring_ij(a, b, k, &i0, &j0);
         ring_ij(a, b, (k + 1) % n, &i1, &j1);
         int *Q = fv + 4 * q++;
-        Q[0] = o[k], Q[1] = o[(k + 1) % n], Q[2] = grid_at(g0, a, i1, j1), Q[3] = grid_at(g0, a, i0, j0);
+        Q[0] = o[(s + k) % n], Q[1] = o[(s + k + 1) % n], Q[2] = grid_at(g0, a, i1, j1), Q[3] = grid_at(g0, a, i0, j0);
     }
     for (int j = 0; j < b; j++)
         for (int i = 0; i < a; i++) {
@@ -65,7 +73,8 @@ static int fill_quads(const int *o, int n, int g0, int *fv)
     return q;
 }
 
-/* Harmonic positions of the fill's new vertices (pos, 3 per vertex, from g0; the polygon's are set):
+/* Harmonic positions of the fill's new vertices (pos, 3 per vertex, from g0; the polygon's are set;
+ * the new ones written there):
  * L x = (sum of the fixed neighbours) for every new vertex, L the graph Laplacian of the quads' edges
  * restricted to the new vertices. */
 static q2n_status harmonic(const int *fv, int nq, int g0, int ng, double *pos, q2n_error *err)
@@ -105,20 +114,24 @@ done:
     return st;
 }
 
-/* Does every corner of every quad turn the way of the polygon's vector area N? */
-static int fill_turns(const int *fv, int nq, const double *pos, const double N[3])
+/* The smallest sine over the corners of the quads, signed by the polygon's unit normal N (negative:
+ * a corner turning against the polygon; -2 for a degenerate corner). */
+static double fill_quality(const int *fv, int nq, const double *pos, const double N[3])
 {
+    double worst = 1;
     for (int q = 0; q < nq; q++)
         for (int c = 0; c < 4; c++) {
             const double *p = pos + 3 * (size_t)fv[4 * q + c], *pn = pos + 3 * (size_t)fv[4 * q + (c + 1) % 4],
                          *pp = pos + 3 * (size_t)fv[4 * q + (c + 3) % 4];
-            double e1[3], e2[3], x[3];
+            double e1[3], e2[3], x[3], l = 0;
             q2n_v3_sub(e1, pn, p);
             q2n_v3_sub(e2, pp, p);
             q2n_v3_cross(x, e1, e2);
-            if (!(q2n_v3_dot(x, N) > 0)) return 0;
+            l = q2n_v3_norm(e1) * q2n_v3_norm(e2);
+            double sn = l > 0 ? q2n_v3_dot(x, N) / l : -2;
+            if (!(sn >= worst)) worst = isfinite(sn) ? sn : -2;
         }
-    return 1;
+    return worst;
 }
 
 int q2n_mesh_fill_count(const q2n_mesh *m)
@@ -159,15 +172,30 @@ q2n_status q2n_mesh_fill_ngons(const q2n_mesh *m, q2n_mesh **out, int *filled, i
             w += n;
             continue;
         }
-        int a = n / 4, b = n / 2 - a, ng = (a + 1) * (b + 1), nq = fill_quads(o, n, g0, fv + w);
-        if ((st = harmonic(fv + w, nq, g0, ng, pos, err))) goto done;
-        double N[3] = {0, 0, 0}; /* vector area (Newell) */
+        double N[3] = {0, 0, 0}; /* vector area (Newell), unit */
         for (int c = 0; c < n; c++) {
             double x[3];
             q2n_v3_cross(x, q2n_mesh_vpos(m, o[c]), q2n_mesh_vpos(m, o[(c + 1) % n]));
             for (int d = 0; d < 3; d++) N[d] += x[d];
         }
-        if (!fill_turns(fv + w, nq, pos, N)) {
+        double nn = q2n_v3_norm(N);
+        for (int d = 0; d < 3; d++) N[d] = nn > 0 ? N[d] / nn : 0;
+        /* the shapes and starts, balanced grid from vertex 0 first; the best fill ends in fv + w and
+         * pos (rebuilt when a later candidate was the last one tried) */
+        int amax = n / 4, best_a = amax, best_s = 0, last_a = -1, last_s = -1;
+        double best = -3;
+        for (int a = amax; a >= 1; a--)
+            for (int s0 = 0; s0 < n / 2; s0++) {
+                if (n > Q2N_FILL_SEARCH_MAX && (a != amax || s0 != 0)) continue;
+                int ng = (a + 1) * (n / 2 - a + 1), nq = fill_quads(o, n, a, s0, g0, fv + w);
+                if ((st = harmonic(fv + w, nq, g0, ng, pos, err))) goto done;
+                last_a = a, last_s = s0;
+                double qv = fill_quality(fv + w, nq, pos, N);
+                if (qv > best + Q2N_FILL_TIE * fabs(best)) best = qv, best_a = a, best_s = s0;
+            }
+        int a = best_a, b = n / 2 - a, ng = (a + 1) * (b + 1), nq = fill_quads(o, n, a, best_s, g0, fv + w);
+        if ((last_a != a || last_s != best_s) && (st = harmonic(fv + w, nq, g0, ng, pos, err))) goto done;
+        if (!(best > 0)) {
             char at[300];
             if (line > 0) snprintf(at, sizeof at, "%s:%d", m->name, line);
             else snprintf(at, sizeof at, "%s", m->name);
@@ -183,7 +211,9 @@ q2n_status q2n_mesh_fill_ngons(const q2n_mesh *m, q2n_mesh **out, int *filled, i
         nfill++, nquads += nq;
     }
     fs[k] = w;
-    st = q2n_mesh_from_arrays_lines((int)nv, pos, (int)nf, fs, fv, m->face_line ? fl : NULL, m->name, out, err);
+    /* (nv and nf counted balanced grids, the most vertices and quads a fill can have; g0 and k are
+     * what the chosen ones have) */
+    st = q2n_mesh_from_arrays_lines(g0, pos, k, fs, fv, m->face_line ? fl : NULL, m->name, out, err);
     if (!st) {
         if (filled) *filled = nfill;
         if (quads) *quads = nquads;

@@ -42,4 +42,17 @@
  * (three candidates per triangle at most) while reaching nearly all the paths that exist. */
 #define Q2N_PAIR_AUG_DEPTH 8
 
+/* Filling n-gons (fill.c): the grid's shape (a x b cells, a + b = n/2) and where the ring starts
+ * are chosen by the smallest corner sine of the harmonic fill, over every shape and start for
+ * polygons of up to Q2N_FILL_SEARCH_MAX sides (at most 16 x 32 = 512 candidate fills of at most
+ * 17 x 17 vertices: well under a millisecond each); a larger polygon takes the balanced grid (a =
+ * n/4) from its first vertex, which the search picks anyway on the round caps such polygons
+ * usually are (a 40-gon: a = 10, from vertex 0), while an elongated slot of 34 sides gets a 3 x 14
+ * grid instead of 8 x 9 (smallest corner sine 0.69 against 0.18; its fitted cap 8.1 -> 0.035
+ * curvature oscillation per diagonal at the grid's corners).  A candidate must beat the best so far
+ * by Q2N_FILL_TIE relatively: the symmetric shapes of a regular polygon differ by rounding only,
+ * and the first (the balanced grid from vertex 0) then stays. */
+#define Q2N_FILL_SEARCH_MAX 64
+#define Q2N_FILL_TIE 1e-9
+
 #endif
