@@ -423,6 +423,32 @@ static inline q2n_mesh *mg_ngon_cylinder(int n, int rows, double h)
     return mg_finish(nv, pos, nf, fs, fv, "capped cylinder");
 }
 
+/* A unit UV sphere of n sectors and `rings` rings of vertices (none at the poles), closed by two
+ * n-gons around the poles: faces 0 .. n (rings - 1) - 1 the quads, then the north and south n-gon. */
+static inline q2n_mesh *mg_uv_ngon_sphere(int n, int rings)
+{
+    int nv = n * rings, nf = n * (rings - 1) + 2;
+    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = (int *)malloc(((size_t)nf + 1) * sizeof *fs), *fv = (int *)malloc((4 * (size_t)n * rings + 2 * (size_t)n) * sizeof *fv);
+    for (int r = 0; r < rings; r++)
+        for (int k = 0; k < n; k++) {
+            double th = M_PI * (r + 1) / (rings + 1), ph = 2 * M_PI * k / n, *p = pos + 3 * (r * n + k);
+            p[0] = sin(th) * cos(ph), p[1] = sin(th) * sin(ph), p[2] = cos(th);
+        }
+    int f = 0, q = 0;
+    for (int r = 0; r + 1 < rings; r++)
+        for (int k = 0; k < n; k++, f++) {
+            fs[f] = q;
+            fv[q++] = r * n + k, fv[q++] = (r + 1) * n + k, fv[q++] = (r + 1) * n + (k + 1) % n, fv[q++] = r * n + (k + 1) % n;
+        }
+    fs[f++] = q;
+    for (int k = 0; k < n; k++) fv[q++] = k;
+    fs[f++] = q;
+    for (int k = n - 1; k >= 0; k--) fv[q++] = (rings - 1) * n + k;
+    fs[f] = q;
+    return mg_finish(nv, pos, nf, fs, fv, "UV sphere with n-gon poles");
+}
+
 /* The same after one Catmull–Clark step (each cap becomes n kites around a valence-n vertex, its
  * rim n valence-3 vertices). */
 static inline q2n_mesh *mg_capped_cylinder(int n, int rows, double h)

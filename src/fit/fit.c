@@ -29,7 +29,7 @@ void q2n_fit_options_default(q2n_fit_options *o)
     o->threads = 1;
     o->solver = Q2N_FIT_SOLVER_CERES;
     o->max_spans = Q2N_FIT_MAX_SPANS_DEFAULT;
-    o->max_rounds = Q2N_FIT_MAX_ROUNDS_DEFAULT;
+    o->max_rounds = 0; /* automatic: fit_all */
     o->g1_weight = Q2N_FIT_G1_WEIGHT_DEFAULT;
 }
 
@@ -49,7 +49,6 @@ static void fill_defaults(q2n_fit_options *o, const q2n_fit_options *in)
     if (o->threads <= 0) o->threads = d.threads;
     if (o->threads > Q2N_FIT_MAX_THREADS) o->threads = Q2N_FIT_MAX_THREADS;
     if (o->max_spans <= 0) o->max_spans = d.max_spans;
-    if (o->max_rounds <= 0) o->max_rounds = d.max_rounds;
     if (o->g1_weight <= 0) o->g1_weight = d.g1_weight;
 }
 
@@ -455,6 +454,11 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
         c->e[e].fitted = -1;
         if (pthread_mutex_init(&c->e[e].amu, NULL)) return q2n_error_set(c->err, Q2N_ERR_NOMEM, "fit: out of resources (mutex)");
         c->amu_n = e + 1;
+    }
+    if (c->o.max_rounds <= 0) { /* automatic: the depth's rounds and a wave around the highest valence */
+        int vmax = 0;
+        for (int v = 0; v < m->nv; v++) vmax = m->valence[v] > vmax ? m->valence[v] : vmax;
+        c->o.max_rounds = Q2N_FIT_MAX_ROUNDS_DEFAULT + vmax;
     }
     q2n_status st = q2n_fit_glue_measure(c);
     if (!st) st = q2n_fit_target_setup(c);

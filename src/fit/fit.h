@@ -31,7 +31,7 @@ typedef struct q2n_fit_options {
     int threads;           /* worker threads [1] (--threads) */
     int solver;            /* q2n_fit_solver [Q2N_FIT_SOLVER_CERES] */
     int max_spans;         /* cap on knot spans per patch direction [64] (--max-spans) */
-    int max_rounds;        /* refinement rounds [12] */
+    int max_rounds;        /* refinement rounds [0: 12 plus the mesh's largest valence, fit_policy.h] */
     double g1_tol_deg;     /* G1 acceptance: normal-angle jump across edges [0.01 degrees at tol <=
                               1e-5, times tol / 1e-5 above, at most 0.5: q2n_fit_default_target];
                               refinement aims at 0.9 of it (Q2N_FIT_REFINE_AIM) */
