@@ -231,9 +231,10 @@ typedef struct q2n_options {
     int pair_triangles;            /* triangles paired into quads across their shared edges before
                                       anything else (convex pairs, best shaped first; docs/mesh.md,
                                       "Pairing triangles"): 1 yes, 0 [no]; triangles left need subdivide */
-    int fill_ngons;                /* faces of an even number of sides >= 6 filled with quads (a ring and
-                                      a grid, no vertex of high valence) after pairing, before subdivide
-                                      (docs/mesh.md, "Filling n-gons"): 1 yes, 0 [no] */
+    int fill_ngons;                /* polygons of n >= 6 sides, n even, filled with quads (a ring and a
+                                      grid, no vertex of high valence), odd ones of 5 or more sides in
+                                      pairs made even along a strip of quads, after pairing, before
+                                      subdivide (docs/mesh.md, "Filling n-gons"): 1 yes, 0 [no] */
     double scale;                  /* multiplies the mesh coordinates, Q2N_SCALE_MIN..Q2N_SCALE_MAX [1] */
     q2n_units units;               /* unit of the CAD files [mm] */
     double tol;                    /* fit tolerance relative to the bounding-box diagonal, 1e-12..0.1 [1e-5] */

@@ -168,6 +168,51 @@ static void single_faces(void)
     q2n_mesh_free(m);
 }
 
+/* Odd polygons, paired by strips: a 21-sided cylinder of two rows has one strip of two wall quads
+ * between its caps (each cap 22-sided after it, filled; the wall 44 quads; 148 faces in all); the
+ * three new vertices on the crossed edges are regular and lie where the four-point rule puts them,
+ * 1.9e-4 inside the unit circle (the chord's midpoint would be 1.1e-2 inside).  A pentagon beside a
+ * heptagon (sharing an edge: a strip of no quads) becomes a hexagon and an octagon, both filled. */
+static void odd_polygons(void)
+{
+    enum { N = 21, R = 2 };
+    q2n_mesh *m = mg_ngon_cylinder(N, R, 1.0), *f = NULL;
+    q2n_error err = {0, ""};
+    int nf = 0, nq = 0;
+    CHECK(m && q2n_mesh_fill_count(m) == 2, "21-sided cylinder: %d to fill, expected 2", m ? q2n_mesh_fill_count(m) : -1);
+    if (m && (f = fill(m, &nf, &nq, &err))) {
+        CHECK(f->all_quads && nf == 2 && nq == 104 && f->nf == N * R + R + 104, "21-sided cylinder: %d filled, %d quads, %d faces",
+              nf, nq, f->nf);
+        double worst = 0;
+        int regular = 1;
+        for (int v = m->nv; v < m->nv + R + 1 && v < f->nv; v++) {
+            const double *p = q2n_mesh_vpos(f, v);
+            worst = fmax(worst, fabs(hypot(p[0], p[1]) - 1));
+            regular &= f->valence[v] == 4;
+        }
+        CHECK(worst < 5e-4 && regular, "21-sided cylinder: strip vertices %.3g off the circle (four-point: 1.9e-4), regular %d",
+              worst, regular);
+    } else
+        CHECK(0, "21-sided cylinder: %s", err.message);
+    q2n_mesh_free(f);
+    q2n_mesh_free(m);
+
+    /* pentagon 0 1 2 3 4 and heptagon 1 0 5 6 7 8 9 sharing the edge 0-1 */
+    double pos[3 * 10] = {0, 0, 0, 1, 0, 0, 1.3, 0.9, 0, 0.5, 1.5, 0, -0.3, 0.9, 0,
+                          -0.2, -0.8, 0, 0.2, -1.5, 0, 0.8, -1.6, 0, 1.2, -1.4, 0, 1.3, -0.7, 0};
+    int fs[3] = {0, 5, 12}, fv[12] = {0, 1, 2, 3, 4, 1, 0, 5, 6, 7, 8, 9};
+    m = f = NULL;
+    CHECK(q2n_mesh_from_arrays(10, pos, 2, fs, fv, "pent-hept", &m, &err) == Q2N_OK, "pentagon and heptagon: %s", err.message);
+    if (m) {
+        CHECK(q2n_mesh_fill_count(m) == 2, "pentagon and heptagon: %d to fill", q2n_mesh_fill_count(m));
+        f = fill(m, &nf, &nq, &err);
+        CHECK(f && f->all_quads && nf == 2 && nq == (6 + 2) + (8 + 4), "pentagon and heptagon: %s, %d filled, %d quads",
+              f ? "filled" : err.message, nf, nq);
+    }
+    q2n_mesh_free(f);
+    q2n_mesh_free(m);
+}
+
 /* Smallest corner sine of faces first.. of f, signed by +z (the polygons here are in z = 0). */
 static double min_sine_z(const q2n_mesh *f, int first)
 {
@@ -314,6 +359,7 @@ int main(void)
     cylinder(10);
     single_faces();
     slot();
+    odd_polygons();
     end_to_end();
     uv_sphere();
     CHECK_DONE("test_fill");

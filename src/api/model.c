@@ -202,14 +202,14 @@ static void pair_hint(q2n_model *m, char *hint, size_t n)
                  "fewer, better-shaped faces)", 2 * np, tri);
 }
 
-/* Polygons of an even number n >= 6 of sides about to be split by Catmull–Clark into n kites around
- * a vertex of valence n: say that --fill-ngons fills them without one (docs/mesh.md, "Filling
- * n-gons"). */
+/* Polygons of n >= 5 sides about to be split by Catmull–Clark into n kites around a vertex of
+ * valence n: say that --fill-ngons fills them without one (the even ones, and odd ones that a strip of
+ * quads pairs: docs/mesh.md, "Filling n-gons"). */
 static void fill_hint(q2n_model *m, char *hint, size_t n)
 {
     int k = q2n_mesh_fill_count(m->mesh);
     if (k > 0)
-        snprintf(hint, n, "%d of its faces have an even number of sides (6 or more); --fill-ngons fills them with quads "
+        snprintf(hint, n, "%d of its faces have 5 or more sides and can be filled with quads; --fill-ngons fills them "
                  "before the Catmull-Clark step, which splits each into kites around one vertex of high valence", k);
 }
 
@@ -359,8 +359,7 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
                            "(use --subdivide 1 to apply one Catmull-Clark step first%s)",
                            where, n,
                            n == 3 && !m->opt.pair_triangles              ? ", or --pair-triangles to merge triangles into quads"
-                           : n >= 6 && n % 2 == 0 && !m->opt.fill_ngons ? ", or --fill-ngons to fill faces of an even number "
-                                                                          "of sides with quads"
+                           : n >= 5 && !m->opt.fill_ngons ? ", or --fill-ngons to fill polygons of 5 or more sides with quads"
                                                                         : "");
     }
     /* limit points (after --subdivide unless --no-limit-points; --limit-points also without): the

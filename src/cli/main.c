@@ -66,8 +66,9 @@ static void usage(FILE *f)
           "                        edges (convex pairs, best shaped first): the quads of a\n"
           "                        triangulated quad mesh (an STL tessellation) come back; the\n"
           "                        triangles left need --subdivide\n"
-          "      --fill-ngons      fill every face of an even number n >= 6 of sides with quads (a\n"
-          "                        ring of n and a grid inside it, shaped to the polygon): no\n"
+          "      --fill-ngons      fill every face of n >= 6 sides, n even, with quads (a ring of n\n"
+          "                        and a grid inside it, shaped to the polygon; odd ones in pairs,\n"
+          "                        one vertex more each on a strip of quads between them): no\n"
           "                        vertex of valence n (--subdivide would split it into n kites\n"
           "                        around one), and the mesh's own vertices still interpolated\n"
           "      --subdivide N     apply N Catmull-Clark steps first (needed for non-quad faces); the\n"
@@ -368,7 +369,7 @@ static void summary(const cli_options *o, const q2n_report *r, int fit, int utf8
         n += snprintf(line + n, sizeof line - (size_t)n, " (%d pairs of triangles merged into quads, %d triangles left)",
                       r->paired_quads, r->triangles_left);
     if (r->filled_faces)
-        n += snprintf(line + n, sizeof line - (size_t)n, " (%d faces of 6 or more sides filled with %d quads)",
+        n += snprintf(line + n, sizeof line - (size_t)n, " (%d faces of 5 or more sides filled with %d quads)",
                       r->filled_faces, r->fill_quads);
     n += snprintf(line + n, sizeof line - (size_t)n, ", %d patches, read %.3f s, build %.3f s", r->patches, r->t_read,
                   r->t_build);

@@ -1,5 +1,5 @@
-/* fill.c — faces of an even number n >= 6 of sides filled with quads (see mesh.h for the order of
- * the result; docs/mesh.md, "Filling n-gons").
+/* fill.c — polygons of 5 or more sides filled with quads (see mesh.h for the order of the result;
+ * docs/mesh.md, "Filling n-gons").
  *
  * Why.  A polygon modeller's cylinder or boss has n-gon caps.  One Catmull–Clark step (--subdivide
  * 1) splits an n-gon into n kites around a new vertex of valence n, whose sectors are 360°/n wide:
@@ -20,7 +20,15 @@
  * vector area): the balanced grid a = floor(n/4) on a round cap, a long thin grid in an elongated
  * slot (mesh_policy.h, Q2N_FILL_SEARCH_MAX, Q2N_FILL_TIE; a >= b and the start shifted by n/2 give
  * the same fills turned, so a <= n/4 and s < n/2 cover them all).  A polygon whose best fill still
- * has a corner that does not turn its way (a strongly non-convex or warped polygon) is refused. */
+ * has a corner that does not turn its way (a strongly non-convex or warped polygon) is refused.
+ *
+ * Odd polygons.  A quad mesh of a disk has an even boundary, so an odd polygon cannot be filled on
+ * its own; but a strip of quads from one odd polygon to another (entered through an edge, left
+ * through the opposite one) can give each a vertex more: a vertex on every edge the strip crosses,
+ * each strip quad split in two across it.  The new vertices are regular (four faces each), and
+ * they sit where the four-point rule puts them, on a smooth curve through the mesh line, not on the
+ * chord.  Polygons are paired in face order with the nearest free odd polygon along a strip; a
+ * polygon without one is left as it is (and needs --subdivide). */
 #include "mesh/mesh.h"
 
 #include <math.h>
@@ -134,14 +142,196 @@ static double fill_quality(const int *fv, int nq, const double *pos, const doubl
     return worst;
 }
 
+/* ------------------------------------------------------------------ odd polygons in pairs */
+
+/* Is face f an odd polygon that a strip may make even (5 sides or more: a triangle with one more
+ * vertex would be a quad with a straight corner)? */
+static int odd_polygon(const q2n_mesh *m, int f)
+{
+    int n = q2n_face_size(m, f);
+    return n >= 5 && n % 2 == 1;
+}
+
+/* The strip from odd polygon f across its half-edge h: quads entered through an edge and left
+ * through the opposite one, until a face that is not a quad.  Returns the number of quads (their
+ * entry half-edges in path[], at most cap) when that face is another odd polygon not yet paired
+ * and no quad is used twice (used[] marks quads of earlier strips; walk[] is scratch, all 0 on
+ * entry and on return), with its half-edge on the strip in *hend; -1 otherwise. */
+static int strip(const q2n_mesh *m, int f, int h, const char *paired, const char *used, char *walk, int *path, int cap,
+                 int *hend)
+{
+    int len = -1, np = 0, t = m->he_twin[h];
+    while (t >= 0) {
+        int g = m->he_face[t];
+        if (q2n_face_size(m, g) != 4) {
+            if (g != f && odd_polygon(m, g) && !paired[g]) len = np, *hend = t;
+            break;
+        }
+        if (used[g] || walk[g] || np >= cap) break;
+        walk[g] = 1;
+        path[np++] = t;
+        t = m->he_twin[m->face_start[g] + (t - m->face_start[g] + 2) % 4];
+    }
+    for (int q = 0; q < np; q++) walk[m->he_face[path[q]]] = 0;
+    return len;
+}
+
+/* Odd polygons paired by strips, each polygon in face order with the first odd polygon the shortest
+ * strip from it reaches (ties: its first edge).  pair_he[f]: for a paired polygon, its half-edge on
+ * the strip (-1 otherwise); crossed[h] = 1 on both half-edges of every edge a strip crosses, the
+ * entry half-edge of each strip quad in entry[q] (-1 for other faces).  Returns the strips found, -1
+ * out of memory. */
+static int pair_odd(const q2n_mesh *m, int *pair_he, char *crossed, int *entry)
+{
+    char *paired = calloc((size_t)m->nf + 1, 1), *used = calloc((size_t)m->nf + 1, 1), *walk = calloc((size_t)m->nf + 1, 1);
+    int *path = malloc(sizeof(int) * ((size_t)m->nf + 1)), *best = malloc(sizeof(int) * ((size_t)m->nf + 1)), n = 0;
+    if (!paired || !used || !walk || !path || !best) n = -1;
+    for (int f = 0; f < m->nf; f++) pair_he[f] = -1, entry[f] = -1;
+    for (int f = 0; f < m->nf && n >= 0; f++) {
+        if (!odd_polygon(m, f) || paired[f]) continue;
+        int blen = -1, bh = -1, bend = -1;
+        for (int i = 0; i < q2n_face_size(m, f); i++) {
+            int h = m->face_start[f] + i, hend = -1;
+            int len = strip(m, f, h, paired, used, walk, path, m->nf, &hend);
+            if (len >= 0 && (blen < 0 || len < blen)) {
+                blen = len, bh = h, bend = hend;
+                memcpy(best, path, sizeof(int) * (size_t)len);
+            }
+        }
+        if (blen < 0) continue;
+        int g = m->he_face[bend];
+        paired[f] = paired[g] = 1;
+        pair_he[f] = bh, pair_he[g] = bend;
+        crossed[bh] = 1, crossed[m->he_twin[bh]] = 1;
+        for (int q = 0; q < blen; q++) {
+            int t = best[q], k = m->he_face[t], x = m->face_start[k] + (t - m->face_start[k] + 2) % 4;
+            used[k] = 1, entry[k] = t;
+            crossed[x] = 1, crossed[m->he_twin[x]] = 1;
+        }
+        n++;
+    }
+    free(paired), free(used), free(walk), free(path), free(best);
+    return n;
+}
+
+/* Where the vertex on the edge of half-edge h goes: the four-point rule (-p0 + 9 p1 + 9 p2 - p3) / 16
+ * along the mesh line through the edge (Dyn, Levin and Gregory's interpolatory scheme: a point of
+ * a smooth curve through the line's vertices, where the midpoint would cut the chord: 1 - cos(pi/n)
+ * inside a round n-gon's rim), the line continuing straight through valence-4 vertices, else along
+ * polygon f's boundary when h is one of its half-edges; the midpoint where the line ends. */
+static void edge_point(const q2n_mesh *m, int h, int f, double *out)
+{
+    int v1 = q2n_he_origin(m, h), v2 = q2n_he_dest(m, h), v0 = -1, v3 = -1, t = m->he_twin[h];
+    int g = q2n_mesh_continue(m, h), g0 = t >= 0 ? q2n_mesh_continue(m, t) : -1;
+    if (g >= 0) v3 = q2n_he_dest(m, g);
+    if (g0 >= 0) v0 = q2n_he_dest(m, g0);
+    if (f >= 0 && (v0 < 0 || v3 < 0)) {
+        int n = q2n_face_size(m, f), i = h - m->face_start[f];
+        if (i >= 0 && i < n) {
+            v0 = m->face_vert[m->face_start[f] + (i + n - 1) % n];
+            v3 = m->face_vert[m->face_start[f] + (i + 2) % n];
+        }
+    }
+    const double *p1 = q2n_mesh_vpos(m, v1), *p2 = q2n_mesh_vpos(m, v2);
+    for (int d = 0; d < 3; d++) out[d] = 0.5 * (p1[d] + p2[d]);
+    if (v0 < 0 || v3 < 0 || v0 == v2 || v3 == v1) return;
+    const double *p0 = q2n_mesh_vpos(m, v0), *p3 = q2n_mesh_vpos(m, v3);
+    for (int d = 0; d < 3; d++) out[d] = (-p0[d] + 9 * p1[d] + 9 * p2[d] - p3[d]) / 16;
+}
+
+/* The odd polygons paired by strips made even: a vertex on every edge a strip crosses, each strip
+ * quad split in two across it, each polygon one vertex more.  *out is NULL when no strip was found. */
+static q2n_status split_strips(const q2n_mesh *m, q2n_mesh **out, q2n_error *err)
+{
+    *out = NULL;
+    int *pair_he = malloc(sizeof(int) * ((size_t)m->nf + 1)), *entry = malloc(sizeof(int) * ((size_t)m->nf + 1));
+    int *vat = malloc(sizeof(int) * ((size_t)m->nh + 1));
+    char *crossed = calloc((size_t)m->nh + 1, 1);
+    double *pos = NULL;
+    int *fs = NULL, *fv = NULL, *fl = NULL;
+    q2n_status st = Q2N_OK;
+    int ns = pair_he && entry && vat && crossed ? pair_odd(m, pair_he, crossed, entry) : -1;
+    if (ns < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory filling faces", m->name); goto done; }
+    if (ns == 0) goto done;
+    int nnew = 0, nf = m->nf, nfv = m->nh;
+    for (int h = 0; h < m->nh; h++) vat[h] = -1;
+    for (int h = 0; h < m->nh; h++)
+        if (crossed[h] && vat[h] < 0) vat[h] = vat[m->he_twin[h]] = m->nv + nnew++;
+    for (int f = 0; f < m->nf; f++) {
+        if (entry[f] >= 0) nf++, nfv += 4;
+        if (pair_he[f] >= 0) nfv++;
+    }
+    pos = malloc(sizeof(double) * 3 * ((size_t)m->nv + nnew));
+    fs = malloc(sizeof(int) * ((size_t)nf + 1)), fv = malloc(sizeof(int) * ((size_t)nfv + 1)), fl = malloc(sizeof(int) * ((size_t)nf + 1));
+    if (!pos || !fs || !fv || !fl) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory filling faces", m->name); goto done; }
+    memcpy(pos, m->pos, sizeof(double) * 3 * (size_t)m->nv);
+    /* each new vertex once: on a polygon's edge from the polygon's half-edge (its boundary is the
+     * line where the mesh's ends), elsewhere from either */
+    char *done = calloc((size_t)nnew + 1, 1);
+    if (!done) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory filling faces", m->name); goto done; }
+    for (int f = 0; f < m->nf; f++)
+        if (pair_he[f] >= 0 && !done[vat[pair_he[f]] - m->nv]) {
+            edge_point(m, pair_he[f], f, pos + 3 * (size_t)vat[pair_he[f]]);
+            done[vat[pair_he[f]] - m->nv] = 1;
+        }
+    for (int h = 0; h < m->nh; h++)
+        if (crossed[h] && !done[vat[h] - m->nv]) {
+            edge_point(m, h, -1, pos + 3 * (size_t)vat[h]);
+            done[vat[h] - m->nv] = 1;
+        }
+    free(done);
+    int k = 0, w = 0;
+    for (int f = 0; f < m->nf; f++) {
+        const int *v = m->face_vert + m->face_start[f];
+        int n = q2n_face_size(m, f), line = m->face_line ? m->face_line[f] : 0;
+        if (entry[f] >= 0) { /* quad (q_a, q_a+1, q_a+2, q_a+3) entered at q_a -> q_a+1 */
+            int a = entry[f] - m->face_start[f], mi = vat[entry[f]], mo = vat[m->face_start[f] + (a + 2) % 4];
+            int q0 = v[a], q1 = v[(a + 1) % 4], q2 = v[(a + 2) % 4], q3 = v[(a + 3) % 4];
+            fs[k] = w, fl[k++] = line;
+            fv[w++] = q0, fv[w++] = mi, fv[w++] = mo, fv[w++] = q3;
+            fs[k] = w, fl[k++] = line;
+            fv[w++] = mi, fv[w++] = q1, fv[w++] = q2, fv[w++] = mo;
+            continue;
+        }
+        fs[k] = w, fl[k++] = line;
+        for (int i = 0; i < n; i++) {
+            fv[w++] = v[i];
+            if (m->face_start[f] + i == pair_he[f]) fv[w++] = vat[pair_he[f]];
+        }
+    }
+    fs[k] = w;
+    st = q2n_mesh_from_arrays_lines(m->nv + nnew, pos, k, fs, fv, m->face_line ? fl : NULL, m->name, out, err);
+done:
+    free(pair_he), free(entry), free(vat), free(crossed), free(pos), free(fs), free(fv), free(fl);
+    return st;
+}
+
+/* ------------------------------------------------------------------ the fill */
+
+static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int *quads, q2n_error *err);
+
 int q2n_mesh_fill_count(const q2n_mesh *m)
 {
     int k = 0;
     for (int f = 0; f < m->nf; f++) k += fillable(m, f);
-    return k;
+    int *pair_he = malloc(sizeof(int) * ((size_t)m->nf + 1)), *entry = malloc(sizeof(int) * ((size_t)m->nf + 1));
+    char *crossed = calloc((size_t)m->nh + 1, 1);
+    int ns = pair_he && entry && crossed ? pair_odd(m, pair_he, crossed, entry) : 0;
+    free(pair_he), free(entry), free(crossed);
+    return k + 2 * (ns > 0 ? ns : 0);
 }
 
 q2n_status q2n_mesh_fill_ngons(const q2n_mesh *m, q2n_mesh **out, int *filled, int *quads, q2n_error *err)
+{
+    q2n_mesh *even = NULL;
+    q2n_status st = split_strips(m, &even, err);
+    if (st) return st;
+    st = fill_even(even ? even : m, out, filled, quads, err);
+    q2n_mesh_free(even);
+    return st;
+}
+
+static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int *quads, q2n_error *err)
 {
     *out = NULL;
     long nv = m->nv, nf = 0, nfv = 0;

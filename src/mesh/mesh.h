@@ -151,14 +151,18 @@ q2n_status q2n_mesh_pair_triangles(const q2n_mesh *m, q2n_mesh **out, int *paire
 int q2n_mesh_pair_count(const q2n_mesh *m, int *triangles);
 
 /* Faces of an even number n >= 6 of sides filled with quads (fill.c): a ring of n quads inside the
- * polygon and a floor(n/4) x (n/2 - floor(n/4)) grid of quads inside the ring, on new vertices at
- * their discrete harmonic positions.  Face order: the input's, each filled face replaced in place by
- * its ring (quad k from the polygon's vertex k) and then its grid, all with the face's OBJ line;
- * other faces as they were; the new vertices after the input's, which keep their indices.  A face
+ * polygon and an a x (n/2 - a) grid of quads inside the ring, on new vertices at their discrete
+ * harmonic positions, a and the ring's start those of the best-shaped quads.  Odd polygons of 5 or
+ * more sides are first paired by strips of quads between them (each strip quad split in two, each
+ * polygon a vertex more, on the crossed edges by the four-point rule), then filled; an odd polygon
+ * without a strip to another is left as it is.  Face order: the input's, each filled face replaced
+ * in place by its ring (quad k from the polygon's vertex s + k) and then its grid, each split strip
+ * quad by its two halves, all with the face's OBJ line; other faces as they were; the new vertices
+ * after the input's, which keep their indices.  A face
  * whose fill would have a corner turning against the face's vector area fails (Q2N_ERR_GEOMETRY,
  * naming it).  *filled: faces filled; *quads: quads made (either may be NULL). */
 q2n_status q2n_mesh_fill_ngons(const q2n_mesh *m, q2n_mesh **out, int *filled, int *quads, q2n_error *err);
-/* How many faces q2n_mesh_fill_ngons would fill. */
+/* How many faces q2n_mesh_fill_ngons would fill (odd ones included). */
 int q2n_mesh_fill_count(const q2n_mesh *m);
 
 /* The same mesh with every vertex moved to its Catmull–Clark limit position (the rules of
