@@ -202,15 +202,17 @@ static void pair_hint(q2n_model *m, char *hint, size_t n)
                  "fewer, better-shaped faces)", 2 * np, tri);
 }
 
-/* Polygons of n >= 5 sides about to be split by Catmull–Clark into n kites around a vertex of
- * valence n: say that --fill-ngons fills them without one (the even ones, and odd ones that a strip of
- * quads pairs: docs/mesh.md, "Filling n-gons"). */
+/* Polygons of many sides about to be split by Catmull–Clark into thin kites around a vertex of high
+ * valence: say that --fill-ngons fills them without one (docs/mesh.md, "Filling n-gons"; only from
+ * Q2N_MODEL_FILL_HINT_SIDES sides on, where it pays). */
 static void fill_hint(q2n_model *m, char *hint, size_t n)
 {
-    int k = q2n_mesh_fill_count(m->mesh);
-    if (k > 0)
-        snprintf(hint, n, "%d of its faces have 5 or more sides and can be filled with quads; --fill-ngons fills them "
-                 "before the Catmull-Clark step, which splits each into kites around one vertex of high valence", k);
+    int k = 0;
+    for (int f = 0; f < m->mesh->nf; f++) k += q2n_face_size(m->mesh, f) >= Q2N_MODEL_FILL_HINT_SIDES;
+    if (k > 0 && q2n_mesh_fill_count(m->mesh) > 0)
+        snprintf(hint, n, "%d of its faces have %d or more sides; --fill-ngons fills them with quads before the "
+                 "Catmull-Clark step, which splits each into thin kites around one vertex of high valence", k,
+                 Q2N_MODEL_FILL_HINT_SIDES);
 }
 
 /* A new model with its options (defaults filled in) and no mesh yet. */
