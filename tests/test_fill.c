@@ -56,7 +56,7 @@ static void cylinder(int n)
     if (!m) return;
     int nf = -1, nq = -1, a = n / 4, b = n / 2 - a;
     q2n_error err = {0, ""};
-    CHECK(q2n_mesh_fill_count(m) == 2, "cylinder %d: %d faces to fill, expected 2", n, q2n_mesh_fill_count(m));
+    CHECK(q2n_mesh_fill_count(m, 0) == 2, "cylinder %d: %d faces to fill, expected 2", n, q2n_mesh_fill_count(m, 0));
     q2n_mesh *f = fill(m, &nf, &nq, &err);
     CHECK(f != NULL, "cylinder %d: %s", n, err.message);
     if (f) {
@@ -140,7 +140,7 @@ static void single_faces(void)
     m = f = NULL;
     CHECK(q2n_mesh_from_arrays(12, pp, 2, fs2, fv2, "odd", &m, &err) == Q2N_OK, "odd polygons: %s", err.message);
     if (m) {
-        CHECK(q2n_mesh_fill_count(m) == 0, "odd polygons: %d to fill", q2n_mesh_fill_count(m));
+        CHECK(q2n_mesh_fill_count(m, 0) == 0, "odd polygons: %d to fill", q2n_mesh_fill_count(m, 0));
         f = fill(m, &nf, &nq, &err);
         CHECK(f && nf == 0 && nq == 0 && f->nf == 2 && f->nv == 12, "odd polygons: changed (%d, %d)", nf, nq);
     }
@@ -179,7 +179,7 @@ static void odd_polygons(void)
     q2n_mesh *m = mg_ngon_cylinder(N, R, 1.0), *f = NULL;
     q2n_error err = {0, ""};
     int nf = 0, nq = 0;
-    CHECK(m && q2n_mesh_fill_count(m) == 2, "21-sided cylinder: %d to fill, expected 2", m ? q2n_mesh_fill_count(m) : -1);
+    CHECK(m && q2n_mesh_fill_count(m, 0) == 2, "21-sided cylinder: %d to fill, expected 2", m ? q2n_mesh_fill_count(m, 0) : -1);
     if (m && (f = fill(m, &nf, &nq, &err))) {
         CHECK(f->all_quads && nf == 2 && nq == 104 && f->nf == N * R + R + 104, "21-sided cylinder: %d filled, %d quads, %d faces",
               nf, nq, f->nf);
@@ -204,7 +204,7 @@ static void odd_polygons(void)
     m = f = NULL;
     CHECK(q2n_mesh_from_arrays(10, pos, 2, fs, fv, "pent-hept", &m, &err) == Q2N_OK, "pentagon and heptagon: %s", err.message);
     if (m) {
-        CHECK(q2n_mesh_fill_count(m) == 2, "pentagon and heptagon: %d to fill", q2n_mesh_fill_count(m));
+        CHECK(q2n_mesh_fill_count(m, 0) == 2, "pentagon and heptagon: %d to fill", q2n_mesh_fill_count(m, 0));
         f = fill(m, &nf, &nq, &err);
         CHECK(f && f->all_quads && nf == 2 && nq == (6 + 2) + (8 + 4), "pentagon and heptagon: %s, %d filled, %d quads",
               f ? "filled" : err.message, nf, nq);

@@ -207,9 +207,8 @@ static void pair_hint(q2n_model *m, char *hint, size_t n)
  * Q2N_MODEL_FILL_HINT_SIDES sides on, where it pays). */
 static void fill_hint(q2n_model *m, char *hint, size_t n)
 {
-    int k = 0;
-    for (int f = 0; f < m->mesh->nf; f++) k += q2n_face_size(m->mesh, f) >= Q2N_MODEL_FILL_HINT_SIDES;
-    if (k > 0 && q2n_mesh_fill_count(m->mesh) > 0)
+    int k = q2n_mesh_fill_count(m->mesh, Q2N_MODEL_FILL_HINT_SIDES);
+    if (k > 0)
         snprintf(hint, n, "%d of its faces have %d or more sides; --fill-ngons fills them with quads before the "
                  "Catmull-Clark step, which splits each into thin kites around one vertex of high valence", k,
                  Q2N_MODEL_FILL_HINT_SIDES);
@@ -338,12 +337,15 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
 {
     double t0 = q2n_now();
     q2n_status st = Q2N_OK;
-    char hint[320] = "", fhint[320] = ""; /* (--pair-triangles and --fill-ngons act as the mesh is taken over) */
+    /* remedies for faces Catmull–Clark is about to split (--pair-triangles and --fill-ngons act as
+     * the mesh is taken over): warnings, or part of the error message when the run fails */
+    char pair_note[320] = "", fill_note[320] = "";
+    const char *hint[2] = {pair_note, fill_note};
     if (!m->opt.pair_triangles && !m->mesh->all_quads &&
         (m->opt.subdivide > 0 || m->opt.method != Q2N_SURFACE_AUGMENTED)) /* the ACC path subdivides non-quads itself */
-        pair_hint(m, hint, sizeof hint);
+        pair_hint(m, pair_note, sizeof pair_note);
     if (!m->opt.fill_ngons && !m->mesh->all_quads && m->opt.subdivide > 0 && m->opt.method == Q2N_SURFACE_AUGMENTED)
-        fill_hint(m, fhint, sizeof fhint);
+        fill_hint(m, fill_note, sizeof fill_note);
     if (m->opt.subdivide > 0) {
         q2n_progress_emit(&m->opt.progress, "subdivide", NULL, 0, m->opt.subdivide);
         q2n_mesh *sub = NULL;
@@ -360,9 +362,9 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
                            "%s has %d vertices; only quad meshes are supported "
                            "(use --subdivide 1 to apply one Catmull-Clark step first%s)",
                            where, n,
-                           n == 3 && !m->opt.pair_triangles              ? ", or --pair-triangles to merge triangles into quads"
-                           : n >= 5 && !m->opt.fill_ngons ? ", or --fill-ngons to fill polygons of 5 or more sides with quads"
-                                                                        : "");
+                           n == 3 && !m->opt.pair_triangles ? ", or --pair-triangles to merge triangles into quads"
+                           : n >= 5 && !m->opt.fill_ngons   ? ", or --fill-ngons to fill polygons of 5 or more sides with quads"
+                                                            : "");
     }
     /* limit points (after --subdivide unless --no-limit-points; --limit-points also without): the
      * vertices onto the subdivision surface.  The control vertices of a coarse mesh lie off it,
@@ -391,14 +393,14 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
     if (!st) st = scan_patches(m, err);
     if (!st) fold_fallback(m);
-    for (int k = 0; k < 2 && st; k++) { /* the failure is often the split faces' (needles, bow-ties): say the remedy */
-        const char *h = k ? fhint : hint;
-        size_t l = strlen(err->message);
-        if (h[0] && l + 4 < sizeof err->message) snprintf(err->message + l, sizeof err->message - l, "; %s", h);
+    for (int k = 0; k < 2; k++) { /* a failure is often the split faces' (needles, bow-ties) */
+        const char *h = hint[k];
+        size_t l = st ? strlen(err->message) : 0;
+        if (!h[0]) continue;
+        if (!st) q2n_model_warn(m, "%s: %s", m->mesh->name, h);
+        else if (l + 4 < sizeof err->message) snprintf(err->message + l, sizeof err->message - l, "; %s", h);
     }
     if (st) return st;
-    if (hint[0]) q2n_model_warn(m, "%s: %s", m->mesh->name, hint);
-    if (fhint[0]) q2n_model_warn(m, "%s: %s", m->mesh->name, fhint);
     m->uncovered = q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED);
     m->t_build = q2n_now() - t0;
     if (m->warning[0]) q2n_model_warn(m, "%s", m->warning);

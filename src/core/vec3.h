@@ -23,6 +23,20 @@ static inline void q2n_v3_cross(double r[3], const double a[3], const double b[3
     r[0] = x; r[1] = y; r[2] = z;
 }
 static inline double q2n_v3_norm(const double a[3]) { return sqrt(q2n_v3_dot(a, a)); }
+/* Sine of the corner at p between its edges to `next` and `prev` (next - p turning towards prev - p),
+ * signed by the normal n of length nn: positive where the corner turns n's way.  -2 when an edge has
+ * no length. */
+static inline double q2n_v3_corner_sine(const double p[3], const double next[3], const double prev[3], const double n[3],
+                                        double nn)
+{
+    double a[3], b[3], c[3];
+    q2n_v3_sub(a, next, p);
+    q2n_v3_sub(b, prev, p);
+    double la = q2n_v3_norm(a), lb = q2n_v3_norm(b);
+    if (!(la > 0 && lb > 0)) return -2;
+    q2n_v3_cross(c, a, b);
+    return q2n_v3_dot(c, n) / (nn * la * lb);
+}
 static inline double q2n_v3_dist(const double a[3], const double b[3])
 { double d[3]; q2n_v3_sub(d, a, b); return q2n_v3_norm(d); }
 

@@ -129,14 +129,9 @@ static double fill_quality(const int *fv, int nq, const double *pos, const doubl
     double worst = 1;
     for (int q = 0; q < nq; q++)
         for (int c = 0; c < 4; c++) {
-            const double *p = pos + 3 * (size_t)fv[4 * q + c], *pn = pos + 3 * (size_t)fv[4 * q + (c + 1) % 4],
-                         *pp = pos + 3 * (size_t)fv[4 * q + (c + 3) % 4];
-            double e1[3], e2[3], x[3], l = 0;
-            q2n_v3_sub(e1, pn, p);
-            q2n_v3_sub(e2, pp, p);
-            q2n_v3_cross(x, e1, e2);
-            l = q2n_v3_norm(e1) * q2n_v3_norm(e2);
-            double sn = l > 0 ? q2n_v3_dot(x, N) / l : -2;
+            const int *Q = fv + 4 * q;
+            double sn = q2n_v3_corner_sine(pos + 3 * (size_t)Q[c], pos + 3 * (size_t)Q[(c + 1) % 4],
+                                           pos + 3 * (size_t)Q[(c + 3) % 4], N, 1.0);
             if (!(sn >= worst)) worst = isfinite(sn) ? sn : -2;
         }
     return worst;
@@ -239,20 +234,36 @@ static void edge_point(const q2n_mesh *m, int h, int f, double *out)
     for (int d = 0; d < 3; d++) out[d] = (-p0[d] + 9 * p1[d] + 9 * p2[d] - p3[d]) / 16;
 }
 
+/* pair_odd's result with its arrays (odd_plan_make; n < 0: out of memory). */
+typedef struct odd_plan {
+    int *pair_he, *entry;
+    char *crossed;
+    int n;
+} odd_plan;
+
+static odd_plan odd_plan_make(const q2n_mesh *m)
+{
+    odd_plan P = {malloc(sizeof(int) * ((size_t)m->nf + 1)), malloc(sizeof(int) * ((size_t)m->nf + 1)),
+                  calloc((size_t)m->nh + 1, 1), -1};
+    if (P.pair_he && P.entry && P.crossed) P.n = pair_odd(m, P.pair_he, P.crossed, P.entry);
+    return P;
+}
+
+static void odd_plan_free(odd_plan *P) { free(P->pair_he), free(P->entry), free(P->crossed); }
+
 /* The odd polygons paired by strips made even: a vertex on every edge a strip crosses, each strip
  * quad split in two across it, each polygon one vertex more.  *out is NULL when no strip was found. */
 static q2n_status split_strips(const q2n_mesh *m, q2n_mesh **out, q2n_error *err)
 {
     *out = NULL;
-    int *pair_he = malloc(sizeof(int) * ((size_t)m->nf + 1)), *entry = malloc(sizeof(int) * ((size_t)m->nf + 1));
-    int *vat = malloc(sizeof(int) * ((size_t)m->nh + 1));
-    char *crossed = calloc((size_t)m->nh + 1, 1);
+    odd_plan P = odd_plan_make(m);
+    int *pair_he = P.pair_he, *entry = P.entry, *vat = malloc(sizeof(int) * ((size_t)m->nh + 1));
+    char *crossed = P.crossed;
     double *pos = NULL;
     int *fs = NULL, *fv = NULL, *fl = NULL;
     q2n_status st = Q2N_OK;
-    int ns = pair_he && entry && vat && crossed ? pair_odd(m, pair_he, crossed, entry) : -1;
-    if (ns < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory filling faces", m->name); goto done; }
-    if (ns == 0) goto done;
+    if (P.n < 0 || !vat) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory filling faces", m->name); goto done; }
+    if (P.n == 0) goto done;
     int nnew = 0, nf = m->nf, nfv = m->nh;
     for (int h = 0; h < m->nh; h++) vat[h] = -1;
     for (int h = 0; h < m->nh; h++)
@@ -302,7 +313,8 @@ static q2n_status split_strips(const q2n_mesh *m, q2n_mesh **out, q2n_error *err
     fs[k] = w;
     st = q2n_mesh_from_arrays_lines(m->nv + nnew, pos, k, fs, fv, m->face_line ? fl : NULL, m->name, out, err);
 done:
-    free(pair_he), free(entry), free(vat), free(crossed), free(pos), free(fs), free(fv), free(fl);
+    odd_plan_free(&P);
+    free(vat), free(pos), free(fs), free(fv), free(fl);
     return st;
 }
 
@@ -310,19 +322,19 @@ done:
 
 static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int *quads, q2n_error *err);
 
-int q2n_mesh_fill_count(const q2n_mesh *m)
+int q2n_mesh_fill_count(const q2n_mesh *m, int min_sides)
 {
+    odd_plan P = odd_plan_make(m);
     int k = 0;
-    for (int f = 0; f < m->nf; f++) k += fillable(m, f);
-    int *pair_he = malloc(sizeof(int) * ((size_t)m->nf + 1)), *entry = malloc(sizeof(int) * ((size_t)m->nf + 1));
-    char *crossed = calloc((size_t)m->nh + 1, 1);
-    int ns = pair_he && entry && crossed ? pair_odd(m, pair_he, crossed, entry) : 0;
-    free(pair_he), free(entry), free(crossed);
-    return k + 2 * (ns > 0 ? ns : 0);
+    for (int f = 0; f < m->nf; f++)
+        k += q2n_face_size(m, f) >= min_sides && (fillable(m, f) || (P.n > 0 && P.pair_he[f] >= 0));
+    odd_plan_free(&P);
+    return k;
 }
 
 q2n_status q2n_mesh_fill_ngons(const q2n_mesh *m, q2n_mesh **out, int *filled, int *quads, q2n_error *err)
 {
+    *out = NULL;
     q2n_mesh *even = NULL;
     q2n_status st = split_strips(m, &even, err);
     if (st) return st;
@@ -362,12 +374,8 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
             w += n;
             continue;
         }
-        double N[3] = {0, 0, 0}; /* vector area (Newell), unit */
-        for (int c = 0; c < n; c++) {
-            double x[3];
-            q2n_v3_cross(x, q2n_mesh_vpos(m, o[c]), q2n_mesh_vpos(m, o[(c + 1) % n]));
-            for (int d = 0; d < 3; d++) N[d] += x[d];
-        }
+        double N[3]; /* vector area, unit */
+        q2n_mesh_face_area(m, f, N);
         double nn = q2n_v3_norm(N);
         for (int d = 0; d < 3; d++) N[d] = nn > 0 ? N[d] / nn : 0;
         /* the shapes and starts, balanced grid from vertex 0 first; the best fill ends in fv + w and
@@ -387,8 +395,7 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
         if ((last_a != a || last_s != best_s) && (st = harmonic(fv + w, nq, g0, ng, pos, err))) goto done;
         if (!(best > 0)) {
             char at[300];
-            if (line > 0) snprintf(at, sizeof at, "%s:%d", m->name, line);
-            else snprintf(at, sizeof at, "%s", m->name);
+            q2n_mesh_face_where(m, f, at, sizeof at);
             st = q2n_error_set(err, Q2N_ERR_GEOMETRY,
                                "%s: face %d (%d vertices) cannot be filled with quads that all turn its way (strongly "
                                "non-convex or warped); use --subdivide 1 instead of --fill-ngons",

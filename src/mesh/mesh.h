@@ -162,8 +162,8 @@ int q2n_mesh_pair_count(const q2n_mesh *m, int *triangles);
  * whose fill would have a corner turning against the face's vector area fails (Q2N_ERR_GEOMETRY,
  * naming it).  *filled: faces filled; *quads: quads made (either may be NULL). */
 q2n_status q2n_mesh_fill_ngons(const q2n_mesh *m, q2n_mesh **out, int *filled, int *quads, q2n_error *err);
-/* How many faces q2n_mesh_fill_ngons would fill (odd ones included). */
-int q2n_mesh_fill_count(const q2n_mesh *m);
+/* How many faces of at least min_sides sides q2n_mesh_fill_ngons would fill (odd ones included). */
+int q2n_mesh_fill_count(const q2n_mesh *m, int min_sides);
 
 /* The same mesh with every vertex moved to its Catmull–Clark limit position (the rules of
  * q2n_mesh_subdivide, boundaries as infinitely sharp creases; subdivide.c for the masks): an

@@ -55,13 +55,9 @@ static double quad_min_sine(const q2n_mesh *m, const int q[4])
     double nn = q2n_v3_norm(n), s = 1;
     if (!(nn > 0)) return -1;
     for (int i = 0; i < 4; i++) {
-        double a[3], b[3];
-        q2n_v3_sub(a, p[(i + 1) & 3], p[i]);
-        q2n_v3_sub(b, p[(i + 3) & 3], p[i]);
-        q2n_v3_cross(c, a, b);
-        double la = q2n_v3_norm(a), lb = q2n_v3_norm(b);
-        if (!(la > 0 && lb > 0)) return -1;
-        s = fmin(s, q2n_v3_dot(c, n) / (nn * la * lb));
+        double si = q2n_v3_corner_sine(p[i], p[(i + 1) & 3], p[(i + 3) & 3], n, nn);
+        if (si == -2) return -1;
+        s = fmin(s, si);
     }
     return s;
 }

@@ -74,7 +74,7 @@ int q2n_fuzz_obj(const uint8_t *data, size_t size)
             if (n >= 6 && n % 2 == 0) even++, lo += n + n / 2 - 1, hi += n + n / 4 * (n / 2 - n / 4);
         }
         if (!big && m->nh <= FZ_OBJ_MAX_SUBDIVIDE_HE) {
-            int count = q2n_mesh_fill_count(m);
+            int count = q2n_mesh_fill_count(m, 0);
             FZ_REQUIRE(count >= even, "fill count");
             st = q2n_mesh_fill_ngons(m, &s, &nfill, &nq, &err);
             if (st) FZ_REQUIRE(fz_clean_error(st, &err) && !s, err.message);
