@@ -324,10 +324,10 @@ static q2n_status check_valence(const q2n_model *m, q2n_error *err)
             return q2n_error_set(err, Q2N_ERR_TOPOLOGY,
                                  "%s: vertex %d (of this face) is an interior vertex of only %d faces: they share two "
                                  "edges there and leave no tangent plane to interpolate (merge them into one face)",
-                                 where, v + 1, me->valence[v]);
+                                 where, v, me->valence[v]);
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
                              "%s: vertex %d (of this face) has valence %d; the augmented construction handles at "
-                             "most %d (--surface acc3 or acc-g1 have no limit)", where, v + 1, me->valence[v],
+                             "most %d (--surface acc3 or acc-g1 have no limit)", where, v, me->valence[v],
                              Q2N_EV_MAX_VALENCE);
     }
     return Q2N_OK;
@@ -518,6 +518,11 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.filled_faces = m->filled;
     m->fit.fill_quads = m->fill_quads;
     m->fit.folded_face = m->folded_face;
+    if (!st && m->g2_folded && !m->fit.note[0]) /* the report says so as well as the warning (-q hides that) */
+        snprintf(m->fit.note, sizeof m->fit.note,
+                 "G2 patches folded over on %d faces (a thin or sharp feature): built with G1 patches at the "
+                 "extraordinary vertices, G1 across their edges, G2 not imposed (--ev-patch g2 keeps G2)",
+                 m->g2_folded);
     if (m->nurbs) { /* into output coordinates; relative figures stay */
         q2n_error e2;
         q2n_status st2 = map_nurbs(m, &e2);

@@ -583,7 +583,7 @@ q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const dou
             char where[300];
             q2n_mesh_vertex_where(m, v, where, sizeof where);
             return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: vertex %d (of this face): no local surface fits its "
-                                 "neighbours (Appendix B): a degenerate fan?", where, v + 1);
+                                 "neighbours (Appendix B): a degenerate fan?", where, v);
         }
     }
     free(need);
