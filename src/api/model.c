@@ -493,6 +493,35 @@ static q2n_status map_nurbs(q2n_model *m, q2n_error *err)
     return Q2N_OK;
 }
 
+/* An interpolating patch's side joins two mesh vertices, and the CAD file states the fit tolerance
+ * as its distance accuracy (docs/export.md): an edge shorter than that has ends an importer takes
+ * for one point, so its face degenerates there.  Such an edge is refused before the fit, with its
+ * face, its length and the tolerance (the fit would otherwise chase the construction's spike at
+ * that corner and fail, or succeed with a face a CAD system repairs).  tol: internal frame. */
+static q2n_status check_short_edges(const q2n_model *m, double tol, q2n_error *err)
+{
+    const q2n_mesh *me = m->mesh;
+    double diag = q2n_mesh_bbox_diag(me), scale = q2n_model_length_scale(m);
+    for (int f = 0; f < me->nf; f++) {
+        int s = me->face_start[f], n = me->face_start[f + 1] - s;
+        for (int i = 0; i < n; i++) {
+            int v = me->face_vert[s + i], w = me->face_vert[s + (i + 1) % n];
+            const double *a = me->pos + 3 * (size_t)v, *b = me->pos + 3 * (size_t)w;
+            double len = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                              (a[2] - b[2]) * (a[2] - b[2]));
+            if (!(len < tol)) continue;
+            char where[320];
+            face_where(m, f, where, sizeof where);
+            return q2n_error_set(err, Q2N_ERR_ARG,
+                                 "%s has an edge %d-%d of length %.3g (%.2g of the bounding-box diagonal), "
+                                 "shorter than the fit tolerance %.3g: a CAD importer takes its ends for one "
+                                 "point (a degenerate face); collapse the edge or give a smaller --tol",
+                                 where, v, w, len * scale, len / diag, tol * scale);
+        }
+    }
+    return Q2N_OK;
+}
+
 q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *err)
 {
     q2n_fit_options o;
@@ -504,6 +533,10 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
                              "fit: %d faces are not covered by a patch; cannot fit an incomplete surface",
                              m->uncovered);
+    if (m->opt.method == Q2N_SURFACE_AUGMENTED) { /* the ACC patches' corners are limit points, not vertices */
+        q2n_status sc = check_short_edges(m, o.tol_abs > 0 ? o.tol_abs : o.tol * q2n_mesh_bbox_diag(m->mesh), err);
+        if (sc) return sc;
+    }
     if (!o.progress && m->opt.progress.fn) o.progress = &m->opt.progress;
     double t0 = q2n_now();
     q2n_nurbs_model_free(m->nurbs);
