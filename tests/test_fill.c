@@ -14,6 +14,7 @@
 
 #include "check.h"
 #include "mesh/mesh.h"
+#include "mesh/mesh_policy.h"
 #include "meshgen.h"
 #include "quad2nurbs.h"
 
@@ -267,6 +268,56 @@ static void slot(void)
     }
 }
 
+/* Larger slots (a stadium 5 x 1 sampled evenly along its perimeter): 80 sides, where every shape
+ * and start is tried, and 200, where a lattice of them is tried and then its best's neighbours
+ * (mesh_policy.h Q2N_FILL_SEARCH_MAX).  Until stop 38 polygons of more than 64 sides took the
+ * balanced grid, which squeezes a slot's cells until they turn over (an 80-sided slot's fitted
+ * surface folded on 8 faces).  Both get a thin grid whose corners all turn their way with a margin;
+ * the 80-gon's fill does not depend on which vertex the polygon starts at. */
+static void stadium(int N, int rot, double *pos)
+{
+    double per = 2 * 4 + M_PI; /* straight sides 4, half circles of radius 0.5 */
+    for (int k = 0; k < N; k++) {
+        double t = per * ((k + rot) % N) / N, x, y;
+        if (t < 4) x = -2 + t, y = -0.5;
+        else if ((t -= 4) < M_PI / 2) x = 2 + 0.5 * sin(t / 0.5), y = -0.5 * cos(t / 0.5);
+        else if ((t -= M_PI / 2) < 4) x = 2 - t, y = 0.5;
+        else t -= 4, x = -2 - 0.5 * sin(t / 0.5), y = 0.5 * cos(t / 0.5);
+        pos[3 * k] = x, pos[3 * k + 1] = y, pos[3 * k + 2] = 0;
+    }
+}
+
+static void large_slots(void)
+{
+    static const int sizes[] = {80, 200};
+    for (int c = 0; c < 2; c++) {
+        int N = sizes[c], nq0 = -1;
+        double sn0 = 0;
+        for (int rot = 0; rot < (N <= Q2N_FILL_SEARCH_MAX ? 2 : 1); rot++) {
+            double *pos = malloc(sizeof(double) * 3 * N);
+            int *fv = malloc(sizeof(int) * N), fs[2] = {0, N};
+            stadium(N, rot ? 7 : 0, pos);
+            for (int k = 0; k < N; k++) fv[k] = k;
+            q2n_mesh *m = NULL, *f = NULL;
+            q2n_error err = {0, ""};
+            int nf = 0, nq = 0, balanced = N + (N / 4) * (N / 2 - N / 4), thin = N + (N / 8) * (N / 2 - N / 8);
+            CHECK(q2n_mesh_from_arrays(N, pos, 1, fs, fv, "slot", &m, &err) == Q2N_OK, "slot %d: %s", N, err.message);
+            if (m && (f = fill(m, &nf, &nq, &err))) {
+                double sn = min_sine_z(f, 0);
+                CHECK(nq < thin && sn > 0.3, "%d-gon slot: %d quads (a grid of N/8 rows: %d; balanced: %d), smallest corner "
+                      "sine %.3f", N, nq, thin, balanced, sn);
+                if (rot) CHECK(nq == nq0 && fabs(sn - sn0) < 1e-12, "%d-gon slot turned by 7 vertices: %d quads, sine %.15g (from "
+                               "vertex 0: %d, %.15g)", N, nq, sn, nq0, sn0);
+                nq0 = nq, sn0 = sn;
+            } else
+                CHECK(0, "slot %d: %s", N, err.message);
+            q2n_mesh_free(f);
+            q2n_mesh_free(m);
+            free(pos), free(fv);
+        }
+    }
+}
+
 /* A 40-sided cylinder with flat caps through the public API, filled: it fits to its targets, every
  * vertex of the input is interpolated (the patches of the side faces pass through their corners),
  * and the report counts what was filled. */
@@ -359,6 +410,7 @@ int main(void)
     cylinder(10);
     single_faces();
     slot();
+    large_slots();
     odd_polygons();
     end_to_end();
     uv_sphere();

@@ -81,45 +81,49 @@ static int fill_quads(const int *o, int n, int a, int s, int g0, int *fv)
     return q;
 }
 
-/* Harmonic positions of the fill's new vertices (pos, 3 per vertex, from g0; the polygon's are set;
- * the new ones written there):
- * L x = (sum of the fixed neighbours) for every new vertex, L the graph Laplacian of the quads' edges
- * restricted to the new vertices. */
-static q2n_status harmonic(const int *fv, int nq, int g0, int ng, double *pos, q2n_error *err)
+/* Harmonic positions of the new vertices of the fills of shape a (grid a x (n/2 - a) cells) of
+ * polygon o, one fill per start in starts[0 .. ns - 1]: L x = (sum of the fixed neighbours) for
+ * every new vertex, L the graph Laplacian of the fill's edges restricted to the new vertices.  L
+ * depends on the shape only (the ring joins its k-th boundary vertex r_k to the polygon's vertex
+ * o_{s+k}, whatever s is), so one factorisation serves every start: X gets 3 columns per start
+ * (x, y, z; column-major, ng rows, the grid's vertices in grid_at order from 0). */
+static q2n_status harmonic(const int *o, int n, int a, const double *pos, int ns, const int *starts, double *X,
+                           q2n_error *err)
 {
-    /* every edge of the fill once: each quad's four sides, an edge shared by two quads counted by
-     * the one that runs it from lower to higher index (the other runs it backwards); the ring's
-     * outer sides (between polygon vertices) join no new vertex */
-    long cap = 4L * nq + ng, nt = 0;
+    int b = n / 2 - a, ng = (a + 1) * (b + 1);
+    long cap = 2L * a * b + a + b + ng, nt = 0;
     int *ti = malloc(sizeof(int) * (size_t)cap), *tj = malloc(sizeof(int) * (size_t)cap);
-    double *tv = malloc(sizeof(double) * (size_t)cap), *rhs = calloc(3 * (size_t)ng, sizeof(double));
-    double *deg = calloc((size_t)ng, sizeof(double));
+    double *tv = malloc(sizeof(double) * (size_t)cap), *deg = calloc((size_t)ng, sizeof(double));
     q2n_status st = Q2N_OK;
-    if (!ti || !tj || !tv || !rhs || !deg) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory filling a face"); goto done; }
-    for (int q = 0; q < nq; q++)
-        for (int c = 0; c < 4; c++) {
-            int x = fv[4 * q + c], y = fv[4 * q + (c + 1) % 4];
-            int inner = x >= g0 && y >= g0;
-            /* inner edges are run once each way (each by one quad); count the forward one only.
-             * Edges with a polygon vertex belong to one quad each (the ring's radial sides are shared
-             * by two ring quads, in opposite directions): count the one leaving the polygon vertex */
-            if (inner ? x > y : !(x < g0 && y >= g0)) continue;
-            int u = inner ? x : y, w = inner ? y : x; /* u new; w new (inner) or on the polygon */
-            deg[u - g0] += 1;
-            if (inner) {
-                deg[w - g0] += 1;
-                ti[nt] = (u < w ? u : w) - g0, tj[nt] = (u < w ? w : u) - g0, tv[nt++] = -1;
-            } else
-                for (int d = 0; d < 3; d++) rhs[(size_t)d * ng + (u - g0)] += pos[3 * (size_t)w + d];
+    if (!ti || !tj || !tv || !deg) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory filling a face"); goto done; }
+    for (int j = 0; j <= b; j++) /* the grid's edges, each once */
+        for (int i = 0; i <= a; i++) {
+            int u = grid_at(0, a, i, j);
+            if (i < a) ti[nt] = u, tj[nt] = grid_at(0, a, i + 1, j), tv[nt++] = -1, deg[u] += 1, deg[u + 1] += 1;
+            if (j < b) ti[nt] = u, tj[nt] = grid_at(0, a, i, j + 1), tv[nt++] = -1, deg[u] += 1, deg[grid_at(0, a, i, j + 1)] += 1;
         }
+    memset(X, 0, sizeof(double) * 3 * (size_t)ns * (size_t)ng);
+    for (int k = 0; k < n; k++) { /* the ring's radial edges: r_k to o_{s+k} */
+        int i, j;
+        ring_ij(a, b, k, &i, &j);
+        int u = grid_at(0, a, i, j);
+        deg[u] += 1;
+        for (int t = 0; t < ns; t++)
+            for (int d = 0; d < 3; d++)
+                X[(size_t)(3 * t + d) * ng + u] += pos[3 * (size_t)o[(starts[t] + k) % n] + d];
+    }
     for (int k = 0; k < ng; k++) ti[nt] = tj[nt] = k, tv[nt++] = deg[k];
-    st = q2n_sparse_spd_solve(ng, nt, ti, tj, tv, 3, rhs, rhs, err);
-    if (!st)
-        for (int k = 0; k < ng; k++)
-            for (int d = 0; d < 3; d++) pos[3 * (size_t)(g0 + k) + d] = rhs[(size_t)d * ng + k];
+    st = q2n_sparse_spd_solve(ng, nt, ti, tj, tv, 3 * ns, X, X, err);
 done:
-    free(ti), free(tj), free(tv), free(rhs), free(deg);
+    free(ti), free(tj), free(tv), free(deg);
     return st;
+}
+
+/* Column t of harmonic()'s X into pos (the new vertices from g0). */
+static void fill_place(const double *X, int ng, int t, int g0, double *pos)
+{
+    for (int k = 0; k < ng; k++)
+        for (int d = 0; d < 3; d++) pos[3 * (size_t)(g0 + k) + d] = X[(size_t)(3 * t + d) * ng + k];
 }
 
 /* The smallest sine over the corners of the quads, signed by the polygon's unit normal N (negative:
@@ -343,6 +347,46 @@ q2n_status q2n_mesh_fill_ngons(const q2n_mesh *m, q2n_mesh **out, int *filled, i
     return st;
 }
 
+/* One polygon's search for the best fill: its inputs, scratch and the best so far. */
+typedef struct fill_search {
+    const int *o;
+    int n, g0;
+    const double *N;
+    double *pos;
+    int *fv;
+    double *X;
+    int *starts;
+    double best;
+    int best_a, best_s;
+} fill_search;
+
+/* Try the shapes a = a_hi, a_hi - da, ... down to a_lo and, for each, the starts s0, s0 + ds, ...
+ * (count of them: ns_total; taken modulo n/2, where the start shifted by n/2 gives the same fill
+ * turned), keeping the best by the smallest corner sine (a later candidate must beat it by
+ * Q2N_FILL_TIE).  Each shape's fills share one factorisation, Q2N_FILL_BATCH starts at a time. */
+static q2n_status search(fill_search *S, int a_hi, int a_lo, int da, int s0, int ns_total, int ds, q2n_error *err)
+{
+    int n = S->n, h = n / 2;
+    for (int a = a_hi; a >= a_lo; a -= da) {
+        int ng = (a + 1) * (h - a + 1);
+        for (int t0 = 0; t0 < ns_total; t0 += Q2N_FILL_BATCH) {
+            int ns = 0;
+            for (int t = t0; t < ns_total && ns < Q2N_FILL_BATCH; t++) {
+                S->starts[ns++] = ((s0 + t * ds) % h + h) % h;
+            }
+            q2n_status st = harmonic(S->o, n, a, S->pos, ns, S->starts, S->X, err);
+            if (st) return st;
+            for (int t = 0; t < ns; t++) {
+                int nq = fill_quads(S->o, n, a, S->starts[t], S->g0, S->fv);
+                fill_place(S->X, ng, t, S->g0, S->pos);
+                double qv = fill_quality(S->fv, nq, S->pos, S->N);
+                if (qv > S->best + Q2N_FILL_TIE * fabs(S->best)) S->best = qv, S->best_a = a, S->best_s = S->starts[t];
+            }
+        }
+    }
+    return Q2N_OK;
+}
+
 static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int *quads, q2n_error *err)
 {
     *out = NULL;
@@ -360,9 +404,15 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
     double *pos = malloc(sizeof(double) * 3 * (size_t)nv);
     int *fs = malloc(sizeof(int) * ((size_t)nf + 1)), *fv = malloc(sizeof(int) * ((size_t)nfv + 1));
     int *fl = malloc(sizeof(int) * ((size_t)nf + 1));
+    int nmax = 4; /* the largest filled polygon: X holds a batch of its fills' solutions */
+    for (int f = 0; f < m->nf; f++)
+        if (fillable(m, f) && q2n_face_size(m, f) > nmax) nmax = q2n_face_size(m, f);
+    long ngmax = (long)(nmax / 4 + 1) * (nmax / 2 - nmax / 4 + 1);
+    double *X = malloc(sizeof(double) * 3 * Q2N_FILL_BATCH * (size_t)ngmax);
+    int starts[Q2N_FILL_BATCH];
     q2n_status st = Q2N_OK;
     int nfill = 0, nquads = 0;
-    if (!pos || !fs || !fv || !fl) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory filling faces", m->name); goto done; }
+    if (!pos || !fs || !fv || !fl || !X) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "%s: out of memory filling faces", m->name); goto done; }
     memcpy(pos, m->pos, sizeof(double) * 3 * (size_t)m->nv);
     int g0 = m->nv, k = 0, w = 0;
     for (int f = 0; f < m->nf; f++) {
@@ -378,21 +428,27 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
         q2n_mesh_face_area(m, f, N);
         double nn = q2n_v3_norm(N);
         for (int d = 0; d < 3; d++) N[d] = nn > 0 ? N[d] / nn : 0;
-        /* the shapes and starts, balanced grid from vertex 0 first; the best fill ends in fv + w and
-         * pos (rebuilt when a later candidate was the last one tried) */
-        int amax = n / 4, best_a = amax, best_s = 0, last_a = -1, last_s = -1;
-        double best = -3;
-        for (int a = amax; a >= 1; a--)
-            for (int s0 = 0; s0 < n / 2; s0++) {
-                if (n > Q2N_FILL_SEARCH_MAX && (a != amax || s0 != 0)) continue;
-                int ng = (a + 1) * (n / 2 - a + 1), nq = fill_quads(o, n, a, s0, g0, fv + w);
-                if ((st = harmonic(fv + w, nq, g0, ng, pos, err))) goto done;
-                last_a = a, last_s = s0;
-                double qv = fill_quality(fv + w, nq, pos, N);
-                if (qv > best + Q2N_FILL_TIE * fabs(best)) best = qv, best_a = a, best_s = s0;
-            }
+        /* the shapes and starts, balanced grid from vertex 0 first (ties keep the first): all of
+         * them up to Q2N_FILL_SEARCH_MAX sides, else a coarse lattice of them, then every shape and
+         * every start within a lattice step of the best */
+        fill_search S = {o, n, g0, N, pos, fv + w, X, starts, -3, n / 4, 0};
+        int amax = n / 4, h = n / 2;
+        if (n <= Q2N_FILL_SEARCH_MAX) st = search(&S, amax, 1, 1, 0, h, 1, err);
+        else {
+            int da = (amax + Q2N_FILL_COARSE - 1) / Q2N_FILL_COARSE, ds = (h + Q2N_FILL_COARSE - 1) / Q2N_FILL_COARSE;
+            st = search(&S, amax, 1, da, 0, (h + ds - 1) / ds, ds, err);
+            int ca = S.best_a; /* then the shapes between the lattice's, at the best start, */
+            if (!st) st = search(&S, ca + da - 1 < amax ? ca + da - 1 : amax, ca - da + 1 > 1 ? ca - da + 1 : 1, 1,
+                                 S.best_s, 1, 1, err);
+            int cs = S.best_s; /* and the starts between, with the best shape */
+            if (!st) st = search(&S, S.best_a, S.best_a, 1, cs - ds + 1, 2 * ds - 1, 1, err);
+        }
+        if (st) goto done;
+        double best = S.best;
+        int best_a = S.best_a, best_s = S.best_s;
         int a = best_a, b = n / 2 - a, ng = (a + 1) * (b + 1), nq = fill_quads(o, n, a, best_s, g0, fv + w);
-        if ((last_a != a || last_s != best_s) && (st = harmonic(fv + w, nq, g0, ng, pos, err))) goto done;
+        if ((st = harmonic(o, n, a, pos, 1, &best_s, X, err))) goto done;
+        fill_place(X, ng, 0, g0, pos);
         if (!(best > 0)) {
             char at[300];
             q2n_mesh_face_where(m, f, at, sizeof at);
@@ -416,6 +472,6 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
         if (quads) *quads = nquads;
     }
 done:
-    free(pos), free(fs), free(fv), free(fl);
+    free(pos), free(fs), free(fv), free(fl), free(X);
     return st;
 }

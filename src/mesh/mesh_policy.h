@@ -43,16 +43,24 @@
 #define Q2N_PAIR_AUG_DEPTH 8
 
 /* Filling n-gons (fill.c): the grid's shape (a x b cells, a + b = n/2) and where the ring starts
- * are chosen by the smallest corner sine of the harmonic fill, over every shape and start for
- * polygons of up to Q2N_FILL_SEARCH_MAX sides (at most 16 x 32 = 512 candidate fills of at most
- * 17 x 17 vertices: well under a millisecond each); a larger polygon takes the balanced grid (a =
- * n/4) from its first vertex, which the search picks anyway on the round caps such polygons
- * usually are (a 40-gon: a = 10, from vertex 0), while an elongated slot of 34 sides gets a 3 x 14
- * grid instead of 8 x 9 (smallest corner sine 0.69 against 0.18; its fitted cap 8.1 -> 0.035
- * curvature oscillation per diagonal at the grid's corners).  A candidate must beat the best so far
- * by Q2N_FILL_TIE relatively: the symmetric shapes of a regular polygon differ by rounding only,
- * and the first (the balanced grid from vertex 0) then stays. */
-#define Q2N_FILL_SEARCH_MAX 64
+ * are chosen by the smallest corner sine of the harmonic fill.  Every shape and every start is
+ * tried for polygons of up to Q2N_FILL_SEARCH_MAX sides; a larger polygon tries a lattice of about
+ * Q2N_FILL_COARSE shapes x Q2N_FILL_COARSE starts, then, with the best of those, every shape within
+ * one lattice step at its start, then every start within one lattice step with the best shape.  A shape's fills share one factorisation and are solved
+ * Q2N_FILL_BATCH starts at a time (3 right-hand sides each).  Why the search: the balanced grid
+ * (a = n/4) is what a round cap gets anyway (a 40-gon: a = 10, from vertex 0), but an elongated slot
+ * needs a long thin grid — 34 sides: 3 x 14 instead of 8 x 9, smallest corner sine 0.69 against
+ * 0.18, its fitted cap 8.1 -> 0.035 curvature oscillation per diagonal at the grid's corners; a
+ * 66- or 80-sided slot on the balanced grid folds on 8 faces (stop 38; until then larger polygons
+ * took the balanced grid), and on a searched one does not.  Why 128 and 16: the whole search of a
+ * 128-gon (32 shapes x 64 starts) takes 0.2 s here, of a 200-gon 1.4 s; the lattice takes 0.1 s
+ * on a 200-gon (the same fill as the whole search) and 1.8 s on a 500-gon (its whole search: 27 s).  Why
+ * batches of 32: 3 x 32 columns of at most 126 x 126 grid vertices (a 500-gon) take 12 MB.  A candidate must beat the best so far by
+ * Q2N_FILL_TIE relatively: the symmetric shapes of a regular polygon differ by rounding only, and
+ * the first (the balanced grid from vertex 0) then stays. */
+#define Q2N_FILL_SEARCH_MAX 128
+#define Q2N_FILL_COARSE 16
+#define Q2N_FILL_BATCH 32
 #define Q2N_FILL_TIE 1e-9
 
 #endif
