@@ -39,5 +39,16 @@ static inline double q2n_v3_corner_sine(const double p[3], const double next[3],
 }
 static inline double q2n_v3_dist(const double a[3], const double b[3])
 { double d[3]; q2n_v3_sub(d, a, b); return q2n_v3_norm(d); }
+/* The same without overflow or underflow in the squares: for vectors whose components may pass
+ * 1e154 (a model at 1e200 units, where rounding alone puts points 1e184 apart). */
+static inline double q2n_v3_norm_scaled(const double a[3])
+{
+    double m = fmax(fabs(a[0]), fmax(fabs(a[1]), fabs(a[2])));
+    if (!(m > 0) || !isfinite(m)) return m;
+    double x = a[0] / m, y = a[1] / m, z = a[2] / m;
+    return m * sqrt(x * x + y * y + z * z);
+}
+static inline double q2n_v3_dist_scaled(const double a[3], const double b[3])
+{ double d[3]; q2n_v3_sub(d, a, b); return q2n_v3_norm_scaled(d); }
 
 #endif

@@ -385,7 +385,7 @@ static q2n_status check_watertight(const q2n_nurbs_model *m, q2n_export_topo *t,
             double a[3], b[3];
             side_point(&m->patches[fh], sh, j / 8.0, a);
             q2n_bspline_curve_eval(&m->edges[e], j / 8.0, b, NULL);
-            double d = q2n_v3_dist(a, b);
+            double d = q2n_v3_dist_scaled(a, b);
             if (!(d <= tol))
                 return q2n_error_set(err, Q2N_ERR_GEOMETRY,
                                      "export: edge %d: its curve and the boundary of face %d differ by %.3g at t = %g "
@@ -395,7 +395,7 @@ static q2n_status check_watertight(const q2n_nurbs_model *m, q2n_export_topo *t,
             double a[3], b[3];
             side_point(&m->patches[fh], sh, j / 8.0, a);
             side_point(&m->patches[fg], sg, 1.0 - j / 8.0, b);
-            double d = q2n_v3_dist(a, b);
+            double d = q2n_v3_dist_scaled(a, b);
             if (!(d <= tol))
                 return q2n_error_set(err, Q2N_ERR_GEOMETRY,
                                      "export: edge %d (faces %d and %d) is not watertight: the two patch "
@@ -407,7 +407,7 @@ static q2n_status check_watertight(const q2n_nurbs_model *m, q2n_export_topo *t,
         int f = me->he_face[h], side = h - me->face_start[f], v = me->face_vert[h];
         double p[3];
         side_point(&m->patches[f], side, 0.0, p);
-        double d = q2n_v3_dist(p, t->vpos + 3 * v);
+        double d = q2n_v3_dist_scaled(p, t->vpos + 3 * v);
         if (!(d <= tol))
             return q2n_error_set(err, Q2N_ERR_GEOMETRY,
                                  "export: patch corners at vertex %d differ by %.3g (face %d corner %d)", v, d, f, side);
@@ -431,7 +431,7 @@ static double model_bbox_diag(const q2n_nurbs_model *m, double *max_coord)
     *max_coord = mc;
     double d[3];
     q2n_v3_sub(d, hi, lo);
-    return q2n_v3_norm(d);
+    return q2n_v3_norm_scaled(d);
 }
 
 /* Signed volume enclosed by each closed component, from its faces' corner quads split into two
