@@ -254,6 +254,20 @@ static void bad_stl(void)
     const char *caps = "SOLID X\nFACET NORMAL 0 0 1\nOUTER LOOP\nVERTEX 0 0 0\nVERTEX 1 0 0\nVERTEX 0 1 0\nENDLOOP\nENDFACET\nENDSOLID X\n";
     CHECK(q2n_mesh_parse_stl(caps, strlen(caps), "caps.stl", &m, &err) == Q2N_OK && m && m->nf == 1, "capitals: %s", err.message);
     q2n_mesh_free(m);
+    /* a UTF-8 byte order mark before "solid" (it was read as a binary header: "binary STL of
+     * 808922674 facets"), and before a PLY's "ply" (it was "not a PLY file") */
+    snprintf(buf, sizeof buf, "\xEF\xBB\xBF%sendsolid x\n", tri);
+    m = NULL;
+    CHECK(q2n_mesh_parse_stl(buf, strlen(buf), "bom.stl", &m, &err) == Q2N_OK && m && m->nf == 1, "STL after a BOM: %s",
+          err.message);
+    q2n_mesh_free(m);
+    const char *ply = "\xEF\xBB\xBFply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    m = NULL;
+    CHECK(q2n_mesh_parse_ply(ply, strlen(ply), "bom.ply", &m, &err) == Q2N_OK && m && m->nf == 1 && m->nv == 3,
+          "PLY after a BOM: %s", err.message);
+    q2n_mesh_free(m);
     EXPECT("two.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n",
            Q2N_ERR_TOPOLOGY, "two.stl:2: a facet with 2 vertices");
     EXPECT("four.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\n",

@@ -358,6 +358,7 @@ q2n_status q2n_mesh_parse_ply(const char *data, size_t len, const char *name, q2
     c.err = err;
     c.data = (const unsigned char *)data;
     c.end = c.data + len;
+    if (len >= 3 && !memcmp(data, "\xEF\xBB\xBF", 3)) data += 3, len -= 3; /* a UTF-8 byte order mark */
     c.l.p = data;
     c.l.end = data + len;
     rd_mesh d = {0};

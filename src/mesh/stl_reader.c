@@ -181,6 +181,7 @@ q2n_status q2n_mesh_parse_stl(const char *data, size_t len, const char *name, q2
     const unsigned char *b = (const unsigned char *)data;
     uint32_t n = len >= 84 ? (uint32_t)b[80] | (uint32_t)b[81] << 8 | (uint32_t)b[82] << 16 | (uint32_t)b[83] << 24 : 0;
     int binary = len >= 84 && (size_t)n <= (len - 84) / 50 && 84 + 50 * (size_t)n == len;
+    if (!binary && len >= 3 && !memcmp(data, "\xEF\xBB\xBF", 3)) data += 3, len -= 3; /* ASCII after a UTF-8 BOM */
     int ascii = !binary && len >= 5 && !strncasecmp(data, "solid", 5) && (len == 5 || data[5] == ' ' || data[5] == '\t' ||
                                                                       data[5] == '\n' || data[5] == '\r');
     if (!binary && !ascii) {
