@@ -40,6 +40,8 @@ static q2n_status build_augmented(q2n_model *m, q2n_error *err)
     return st;
 }
 
+static void mark_derived(q2n_model *m);
+
 static q2n_status build_acc(q2n_model *m, q2n_error *err)
 {
     q2n_acc_options ao = {m->opt.method == Q2N_SURFACE_ACC3 ? Q2N_ACC_3 : Q2N_ACC_G1, m->opt.acc_strategy, 0};
@@ -52,6 +54,7 @@ static q2n_status build_acc(q2n_model *m, q2n_error *err)
         q2n_mesh_free(m->mesh);
         m->mesh = info.mesh;
         info.mesh = NULL;
+        mark_derived(m);
     }
     q2n_acc_info_free(&info);
     /* acc3 is C0 across edges that end at an EV (C2 elsewhere); acc-g1 is G1 everywhere */
@@ -65,13 +68,23 @@ static void face_where(const q2n_model *m, int k, char *buf, size_t n)
 {
     const q2n_mesh *me = m->mesh;
     int line = me->face_line ? me->face_line[k] : 0;
-    const char *sub = me->nf != m->taken_faces          ? " (of the subdivided mesh)"
-                      : m->paired && m->filled             ? " (of the paired and filled mesh)"
-                      : m->filled                          ? " (of the filled mesh)"
-                      : m->paired                          ? " (of the paired mesh)"
-                                                           : "";
+    char of[48], sub[56] = "";
+    q2n_mesh_of(me, of, sizeof of);
+    if (of[0]) snprintf(sub, sizeof sub, " (%s)", of + 1);
     if (line > 0) snprintf(buf, n, "%s:%d: face %d%s", me->name, line, k, sub);
     else snprintf(buf, n, "%s: face %d%s", me->name, k, sub);
+}
+
+/* What made the model's mesh, for its messages (q2n_mesh_of): set whenever a step replaces it. */
+static void mark_derived(q2n_model *m)
+{
+    q2n_mesh *me = m->mesh;
+    snprintf(me->derived, sizeof me->derived, "%s",
+             me->nf != m->taken_faces && m->taken_faces > 0 ? "subdivided"
+             : m->paired && m->filled                       ? "paired and filled"
+             : m->filled                                    ? "filled"
+             : m->paired                                    ? "paired"
+                                                            : "");
 }
 
 static q2n_status not_finite(const q2n_model *m, int k, double u, double v, const char *what,
@@ -268,6 +281,7 @@ static q2n_status model_take_mesh(q2n_model *m, q2n_mesh *mesh, q2n_error *err)
         m->mesh = fm;
     }
     m->taken_faces = m->mesh->nf;
+    mark_derived(m);
     return Q2N_OK;
 }
 
@@ -318,16 +332,17 @@ static q2n_status check_valence(const q2n_model *m, q2n_error *err)
     for (int v = 0; v < me->nv; v++) {
         int low = !me->vert_boundary[v] && me->valence[v] < 3 && me->valence[v] > 0;
         if (me->valence[v] <= Q2N_EV_MAX_VALENCE && !low) continue;
-        char where[300];
+        char where[300], of[48];
         q2n_mesh_vertex_where(me, v, where, sizeof where);
+        q2n_mesh_of(me, of, sizeof of);
         if (low)
             return q2n_error_set(err, Q2N_ERR_TOPOLOGY,
-                                 "%s: vertex %d (of this face) is an interior vertex of only %d faces: they share two "
+                                 "%s: vertex %d (of this face%s) is an interior vertex of only %d faces: they share two "
                                  "edges there and leave no tangent plane to interpolate (merge them into one face)",
-                                 where, v, me->valence[v]);
+                                 where, v, of, me->valence[v]);
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
-                             "%s: vertex %d (of this face) has valence %d; the augmented construction handles at "
-                             "most %d (--surface acc3 or acc-g1 have no limit)", where, v, me->valence[v],
+                             "%s: vertex %d (of this face%s) has valence %d; the augmented construction handles at "
+                             "most %d (--surface acc3 or acc-g1 have no limit)", where, v, of, me->valence[v],
                              Q2N_EV_MAX_VALENCE);
     }
     return Q2N_OK;
@@ -350,7 +365,7 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
         q2n_progress_emit(&m->opt.progress, "subdivide", NULL, 0, m->opt.subdivide);
         q2n_mesh *sub = NULL;
         st = q2n_mesh_subdivide(m->mesh, m->opt.subdivide, &sub, err);
-        if (!st) { q2n_mesh_free(m->mesh); m->mesh = sub; }
+        if (!st) { q2n_mesh_free(m->mesh); m->mesh = sub; mark_derived(m); }
     }
     if (!st && !m->mesh->all_quads && m->opt.method == Q2N_SURFACE_AUGMENTED) {
         int f = 0;
@@ -364,6 +379,8 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
                            where, n,
                            n == 3 && !m->opt.pair_triangles ? ", or --pair-triangles to merge triangles into quads"
                            : n >= 5 && !m->opt.fill_ngons   ? ", or --fill-ngons to fill polygons of 5 or more sides with quads"
+                           : n >= 5 && n % 2                ? "; --fill-ngons pairs an odd polygon with another along a "
+                                                              "strip of quads, and found none free for this one"
                                                             : "");
     }
     /* limit points (after --subdivide unless --no-limit-points; --limit-points also without): the
@@ -381,6 +398,7 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
             m->moved_rel = diag > 0 ? d / diag : 0;
             q2n_mesh_free(m->mesh);
             m->mesh = lim;
+            mark_derived(m);
         }
     }
     /* an interpolating patch follows its quad's sides: a bow-tie's would cross (Catmull–Clark

@@ -580,10 +580,11 @@ q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const dou
         if (!need[v] || jets[v].source) continue;
         if (!(sections && jet_from_sections(m, iv, cls, v, &jets[v], dir)) && !jet_from_fit(m, iv, v, &jets[v], dir, sections)) {
             free(need);
-            char where[300];
+            char where[300], of[48];
             q2n_mesh_vertex_where(m, v, where, sizeof where);
-            return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: vertex %d (of this face): no local surface fits its "
-                                 "neighbours (Appendix B): a degenerate fan?", where, v);
+            q2n_mesh_of(m, of, sizeof of);
+            return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: vertex %d (of this face%s): no local surface fits its "
+                                 "neighbours (Appendix B): a degenerate fan?", where, v, of);
         }
     }
     free(need);
