@@ -477,7 +477,8 @@ static int run(run_state *s)
     warnings(s);
     if (fit && (st = q2n_fit(m, err, sizeof err))) {
         size_t li = strlen(o->input); /* a message that names the file itself is not prefixed again */
-        if (strncmp(err, o->input, li) == 0 && err[li] == ':') snprintf(msg, sizeof msg, "%s", err);
+        const char *at = strstr(err, o->input);
+        if (at && at[li] == ':') snprintf(msg, sizeof msg, "%s", err);
         else snprintf(msg, sizeof msg, "%s: %s", o->input, err);
         return fail(s, st == Q2N_ERR_GEOMETRY || st == Q2N_ERR_NOMEM || st == Q2N_ERR_NUMERIC ? 1 : 2, msg);
     }

@@ -486,15 +486,21 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
         /* say whether the construction itself is to blame: a derivative far above its median on
          * the patch is a feature narrower than any knot spacing (docs/fit.md, Limits) */
         double ratio = 1.0, su = 0.0, sv = 0.0, dmax = 0.0;
-        char why[200] = "";
+        char why[320] = "";
         if (!q2n_fit_scan_construction(c->s, worst, Q2N_FIT_SCAN_N, &ratio, &su, &sv, &dmax) &&
             !(ratio <= Q2N_FIT_SPIKE_RATIO))
             snprintf(why, sizeof why,
                      "; the construction is not smooth there: |dS| = %.3g at (u %.3f, v %.3f) is %.3g x its "
-                     "median on the face (a spike narrower than any knot spacing)", dmax, su, sv, ratio);
+                     "median on the face (a spike narrower than any knot spacing: a near-degenerate face nearby? "
+                     "--subdivide 1 smooths the mesh first)", dmax, su, sv, ratio);
+        char where[300], of[48], par[56] = "";
+        q2n_mesh_face_where(m, worst, where, sizeof where);
+        q2n_mesh_of(m, of, sizeof of);
+        if (of[0]) snprintf(par, sizeof par, " (%s)", of + 1);
         st = q2n_error_set(c->err, Q2N_ERR_GEOMETRY,
-                           "fit: face %d: deviation %.3g (relative) > tol %.3g with %d x %d spans (max_spans %d)%s",
-                           worst, c->p[worst].dev, c->o.tol, c->p[worst].mu, c->p[worst].mv, c->o.max_spans, why);
+                           "fit: %s: face %d%s: deviation %.3g (relative) > tol %.3g with %d x %d spans (max_spans %d)%s",
+                           where, worst, par, c->p[worst].dev, c->o.tol, c->p[worst].mu, c->p[worst].mv,
+                           c->o.max_spans, why);
     }
     return st;
 }
