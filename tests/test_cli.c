@@ -553,6 +553,10 @@ static void tolerances(void)
           jnum(a, "max_dev_rel") * diag <= 0.01, "--tol-abs 0.01: tol %.17g (want %.17g), deviation %g mm",
           jnum(a, "tol"), 0.01 / diag, jnum(a, "max_dev_rel") * diag);
     free(a);
+    /* a tolerance the span cap cannot meet: exit 1, the face named with its line, the file once */
+    rc = run_sh("$Q cube.obj --max-spans 1 --tol 1e-8 -o out.step", err, sizeof err);
+    CHECK(rc == 1 && strstr(err, "quad2nurbs: fit: cube.obj:13: face 4: deviation") && strstr(err, "(max_spans 1)") &&
+              leftovers() == 0, "tolerance beyond the span cap: %d '%s'", rc, err);
     rc = run_sh("$Q cube.obj --tol-abs 5 -o t4.json", err, sizeof err);
     CHECK(rc == 2 && strstr(err, "--tol-abs 5 is 0.289 times the bounding-box diagonal"), "--tol-abs too large: '%s'", err);
     /* an edge shorter than the fit tolerance (the CAD file's distance accuracy) is refused before the
