@@ -318,6 +318,38 @@ static void large_slots(void)
     }
 }
 
+/* A unit cube whose faces are a 7-gon, a 5-gon, a 7-gon, a 5-gon, a hexagon and a quad (vertices
+ * added at edge midpoints): the odd polygons pair across the cube's edges, and the vertex each pair
+ * gets sits on a 90° edge.  The four-point rule along the polygons' boundaries put it 6 % of the
+ * edge out of both faces (fill.c edge_point, before stop 38), and the fills of the flat faces
+ * warped by 1.6 % of the diagonal; on planar polygons it is now projected into their planes.  Every
+ * vertex of the filled mesh lies on the cube's surface (a coordinate 0 or 1) to rounding. */
+static void cube_polygons(void)
+{
+    static const double pos[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 0, 1, 1, 0, 1, 0, 1, 1,
+                                 1, 1, 1, 0.5, 0, 0, 0, 0.5, 0, 0.5, 1, 0, 0.5, 0, 1, 0, 0, 0.5};
+    static const int fv[] = {0, 9, 2, 10, 3, 1, 8, /**/ 4, 11, 5, 7, 6, /**/ 0, 8, 1, 5, 11, 4, 12,
+                             /**/ 2, 6, 7, 3, 10, /**/ 0, 12, 4, 6, 2, 9, /**/ 1, 3, 7, 5};
+    static const int fs[] = {0, 7, 12, 19, 24, 30, 34};
+    q2n_mesh *m = NULL, *f = NULL;
+    q2n_error err = {0, ""};
+    int nf = 0, nq = 0;
+    CHECK(q2n_mesh_from_arrays(13, pos, 6, fs, fv, "cube567", &m, &err) == Q2N_OK, "cube567: %s", err.message);
+    if (m && (f = fill(m, &nf, &nq, &err))) {
+        double worst = 0;
+        for (int v = 0; v < f->nv; v++) {
+            const double *p = q2n_mesh_vpos(f, v);
+            double d = 1;
+            for (int c = 0; c < 3; c++) d = fmin(d, fmin(fabs(p[c]), fabs(p[c] - 1)));
+            worst = fmax(worst, d);
+        }
+        CHECK(nf == 5 && worst < 1e-15, "cube567: %d polygons filled; a vertex %.3g off the cube's faces", nf, worst);
+    } else
+        CHECK(0, "cube567: %s", err.message);
+    q2n_mesh_free(f);
+    q2n_mesh_free(m);
+}
+
 /* A 40-sided cylinder with flat caps through the public API, filled: it fits to its targets, every
  * vertex of the input is interpolated (the patches of the side faces pass through their corners),
  * and the report counts what was filled. */
@@ -411,6 +443,7 @@ int main(void)
     single_faces();
     slot();
     large_slots();
+    cube_polygons();
     odd_polygons();
     end_to_end();
     uv_sphere();

@@ -63,4 +63,12 @@
 #define Q2N_FILL_BATCH 32
 #define Q2N_FILL_TIE 1e-9
 
+/* A polygon is planar, for the odd pairing's new vertex on its edge (fill.c edge_point: kept in the
+ * polygon's plane), when its vertices lie within Q2N_FILL_PLANAR_REL of its largest distance from
+ * its centroid of the plane through the centroid normal to its vector area.  Why 1e-9: far above
+ * the rounding of the coordinates and of that plane (1e-16 relative), far below any warp a
+ * modeller means (a nanometre on a metre); a cube's flat 7-gon then stays flat when its new vertex
+ * sits on a 90° edge (the four-point point was 6 % of the edge out of both faces). */
+#define Q2N_FILL_PLANAR_REL 1e-9
+
 #endif
