@@ -524,9 +524,7 @@ static q2n_status check_short_edges(const q2n_model *m, double tol, q2n_error *e
         int s = me->face_start[f], n = me->face_start[f + 1] - s;
         for (int i = 0; i < n; i++) {
             int v = me->face_vert[s + i], w = me->face_vert[s + (i + 1) % n];
-            const double *a = me->pos + 3 * (size_t)v, *b = me->pos + 3 * (size_t)w;
-            double len = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                              (a[2] - b[2]) * (a[2] - b[2]));
+            double len = q2n_v3_dist(q2n_mesh_vpos(me, v), q2n_mesh_vpos(me, w)); /* diagonal ~1 here */
             if (!(len < tol)) continue;
             char where[320];
             face_where(m, f, where, sizeof where);

@@ -273,7 +273,7 @@ static void edge_point(const q2n_mesh *m, int h, int f, double *out)
     if (np == 2) {
         double c = q2n_v3_dot(N[0], N[1]), det = 1 - c * c;
         double r0 = q2n_v3_dot(N[0], out) - off[0], r1 = q2n_v3_dot(N[1], out) - off[1];
-        if (det > 1e-12) { /* x - a N0 - b N1 in both planes */
+        if (det > 1e-12) { /* x - a N0 - b N1 in both planes (else parallel: the same plane twice) */
             double al = (r0 - c * r1) / det, be = (r1 - c * r0) / det;
             q2n_v3_axpy(out, -al, N[0]);
             q2n_v3_axpy(out, -be, N[1]);
