@@ -318,6 +318,36 @@ static void large_slots(void)
     }
 }
 
+/* A chain of four pentagons A-B-C-D in a row (unit squares side by side, each with one more vertex
+ * above its top edge), listed B, C, A, D: each pairs with a neighbour across their shared edge.
+ * Paired in face order, B took C and left A and D with no partner (exit 2 through the CLI); with
+ * the polygons of fewest partners first (A and D: one each) all four are filled. */
+static void pentagon_chain(void)
+{
+    double pos[3 * 14];
+    for (int i = 0; i <= 4; i++) {
+        pos[3 * i] = i, pos[3 * i + 1] = 0, pos[3 * i + 2] = 0;             /* bottom: 0..4 */
+        pos[3 * (5 + i)] = i, pos[3 * (5 + i) + 1] = 1, pos[3 * (5 + i) + 2] = 0; /* top: 5..9 */
+    }
+    for (int i = 0; i < 4; i++) pos[3 * (10 + i)] = i + 0.5, pos[3 * (10 + i) + 1] = 1.2, pos[3 * (10 + i) + 2] = 0;
+    static const int col[4] = {1, 2, 0, 3}; /* B, C, A, D */
+    int fv[20], fs[5] = {0, 5, 10, 15, 20};
+    for (int k = 0; k < 4; k++) {
+        int i = col[k], *q = fv + 5 * k;
+        q[0] = i, q[1] = i + 1, q[2] = 5 + i + 1, q[3] = 10 + i, q[4] = 5 + i;
+    }
+    q2n_mesh *m = NULL, *f = NULL;
+    q2n_error err = {0, ""};
+    int nf = 0, nq = 0;
+    CHECK(q2n_mesh_from_arrays(14, pos, 4, fs, fv, "chain", &m, &err) == Q2N_OK, "pentagon chain: %s", err.message);
+    if (m && (f = fill(m, &nf, &nq, &err)))
+        CHECK(nf == 4 && f->all_quads, "pentagon chain listed B, C, A, D: %d of 4 filled", nf);
+    else
+        CHECK(0, "pentagon chain: %s", err.message);
+    q2n_mesh_free(f);
+    q2n_mesh_free(m);
+}
+
 /* A unit cube whose faces are a 7-gon, a 5-gon, a 7-gon, a 5-gon, a hexagon and a quad (vertices
  * added at edge midpoints): the odd polygons pair across the cube's edges, and the vertex each pair
  * gets sits on a 90° edge.  The four-point rule along the polygons' boundaries put it 6 % of the
@@ -444,6 +474,7 @@ int main(void)
     slot();
     large_slots();
     cube_polygons();
+    pentagon_chain();
     odd_polygons();
     end_to_end();
     uv_sphere();

@@ -27,8 +27,8 @@
  * through the opposite one) can give each a vertex more: a vertex on every edge the strip crosses,
  * each strip quad split in two across it.  The new vertices are regular (four faces each), and
  * they sit where the four-point rule puts them, on a smooth curve through the mesh line, not on the
- * chord.  Polygons are paired in face order with the nearest free odd polygon along a strip; a
- * polygon without one is left as it is (and needs --subdivide). */
+ * chord.  Polygons are paired fewest partners first, each with the nearest free odd polygon along a
+ * strip; a polygon without one is left as it is (and needs --subdivide). */
 #include "mesh/mesh.h"
 
 #include <math.h>
@@ -175,8 +175,19 @@ static int strip(const q2n_mesh *m, int f, int h, const char *paired, const char
     return len;
 }
 
-/* Odd polygons paired by strips, each polygon in face order with the first odd polygon the shortest
- * strip from it reaches (ties: its first edge).  pair_he[f]: for a paired polygon, its half-edge on
+/* Odd polygon and how many others its strips reach, for pair_odd's order. */
+typedef struct odd_rank { int f, reach; } odd_rank;
+
+static int odd_rank_cmp(const void *a, const void *b)
+{
+    const odd_rank *x = a, *y = b;
+    return x->reach != y->reach ? (x->reach > y->reach) - (x->reach < y->reach) : (x->f > y->f) - (x->f < y->f);
+}
+
+/* Odd polygons paired by strips: those with the fewest partners within reach first (ties: face
+ * order), each with the odd polygon the shortest strip from it reaches (ties: its first edge).  In
+ * face order alone a chain A-B-C-D listed B, C first paired B with C and left A and D without a
+ * partner; the polygons with one partner going first pair a chain, a tree or two caps completely.  pair_he[f]: for a paired polygon, its half-edge on
  * the strip (-1 otherwise); crossed[h] = 1 on both half-edges of every edge a strip crosses, the
  * entry half-edge of each strip quad in entry[q] (-1 for other faces).  Returns the strips found, -1
  * out of memory. */
@@ -186,8 +197,24 @@ static int pair_odd(const q2n_mesh *m, int *pair_he, char *crossed, int *entry)
     int *path = malloc(sizeof(int) * ((size_t)m->nf + 1)), *best = malloc(sizeof(int) * ((size_t)m->nf + 1)), n = 0;
     if (!paired || !used || !walk || !path || !best) n = -1;
     for (int f = 0; f < m->nf; f++) pair_he[f] = -1, entry[f] = -1;
-    for (int f = 0; f < m->nf && n >= 0; f++) {
-        if (!odd_polygon(m, f) || paired[f]) continue;
+    int nodd = 0, *seen = calloc((size_t)m->nf + 1, sizeof(int));
+    odd_rank *order = malloc(sizeof(odd_rank) * ((size_t)m->nf + 1));
+    if (!seen || !order) n = -1;
+    for (int f = 0; f < m->nf && n >= 0; f++) { /* how many partners each odd polygon's strips reach */
+        if (!odd_polygon(m, f)) continue;
+        int reach = 0;
+        for (int i = 0; i < q2n_face_size(m, f); i++) {
+            int hend = -1;
+            if (strip(m, f, m->face_start[f] + i, paired, used, walk, path, m->nf, &hend) < 0) continue;
+            int g = m->he_face[hend];
+            if (seen[g] != f + 1) seen[g] = f + 1, reach++;
+        }
+        order[nodd].f = f, order[nodd++].reach = reach;
+    }
+    if (n >= 0) qsort(order, (size_t)nodd, sizeof *order, odd_rank_cmp);
+    for (int k = 0; k < nodd && n >= 0; k++) {
+        int f = order[k].f;
+        if (paired[f]) continue;
         int blen = -1, bh = -1, bend = -1;
         for (int i = 0; i < q2n_face_size(m, f); i++) {
             int h = m->face_start[f] + i, hend = -1;
@@ -209,7 +236,7 @@ static int pair_odd(const q2n_mesh *m, int *pair_he, char *crossed, int *entry)
         }
         n++;
     }
-    free(paired), free(used), free(walk), free(path), free(best);
+    free(paired), free(used), free(walk), free(path), free(best), free(seen), free(order);
     return n;
 }
 
