@@ -348,6 +348,27 @@ static void pentagon_chain(void)
     q2n_mesh_free(m);
 }
 
+/* An L-shaped hexagon (a 2 x 2 square less one quadrant): no ring and grid fills a reflex corner,
+ * and until stop 38 it was refused; now it is split into two quads at the reflex corner, both
+ * turning its way. */
+static void l_hexagon(void)
+{
+    static const double pos[] = {0, 0, 0, 2, 0, 0, 2, 1, 0, 1, 1, 0, 1, 2, 0, 0, 2, 0};
+    static const int fv[] = {0, 1, 2, 3, 4, 5}, fs[] = {0, 6};
+    q2n_mesh *m = NULL, *f = NULL;
+    q2n_error err = {0, ""};
+    int nf = 0, nq = 0;
+    CHECK(q2n_mesh_from_arrays(6, pos, 1, fs, fv, "L", &m, &err) == Q2N_OK, "L hexagon: %s", err.message);
+    if (m && (f = fill(m, &nf, &nq, &err))) {
+        double sn = min_sine_z(f, 0);
+        CHECK(nf == 1 && nq == 2 && f->nv == 6 && sn > 0.7, "L hexagon: %d filled with %d quads, %d vertices, smallest corner "
+              "sine %.3f", nf, nq, f->nv, sn);
+    } else
+        CHECK(0, "L hexagon: %s", err.message);
+    q2n_mesh_free(f);
+    q2n_mesh_free(m);
+}
+
 /* A unit cube whose faces are a 7-gon, a 5-gon, a 7-gon, a 5-gon, a hexagon and a quad (vertices
  * added at edge midpoints): the odd polygons pair across the cube's edges, and the vertex each pair
  * gets sits on a 90° edge.  The four-point rule along the polygons' boundaries put it 6 % of the
@@ -475,6 +496,7 @@ int main(void)
     large_slots();
     cube_polygons();
     pentagon_chain();
+    l_hexagon();
     odd_polygons();
     end_to_end();
     uv_sphere();

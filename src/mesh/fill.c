@@ -522,6 +522,19 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
         int a = best_a, b = n / 2 - a, ng = (a + 1) * (b + 1), nq = fill_quads(o, n, a, best_s, g0, fv + w);
         if ((st = harmonic(o, n, a, pos, 1, &best_s, X, err))) goto done;
         fill_place(X, ng, 0, g0, pos);
+        if (!(best > 0) && n == 6) { /* a hexagon no ring fills (an L): its best split into two quads */
+            int two[8], bi = -1;
+            double b2 = best;
+            for (int i = 0; i < 3; i++) {
+                for (int c = 0; c < 4; c++) two[c] = o[(i + c) % 6], two[4 + c] = o[(i + 3 + c) % 6];
+                double qv = fill_quality(two, 2, pos, N);
+                if (qv > b2) b2 = qv, bi = i;
+            }
+            if (bi >= 0 && b2 > 0) {
+                for (int c = 0; c < 4; c++) fv[w + c] = o[(bi + c) % 6], fv[w + 4 + c] = o[(bi + 3 + c) % 6];
+                best = b2, nq = 2, ng = 0;
+            }
+        }
         if (!(best > 0)) {
             char at[300];
             q2n_mesh_face_where(m, f, at, sizeof at);
