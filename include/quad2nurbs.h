@@ -302,9 +302,8 @@ q2n_status q2n_write_all(q2n_model *m, const char *const *paths, int n, char *er
 
 /* Fit the surface into B-spline patches (or convert the Catmull–Clark path's polynomial patches
  * exactly), unless m is fitted already; q2n_write_all does it when an output needs it.  Fails
- * with Q2N_ERR_GEOMETRY (the worst face named) when the tolerance cannot be met within max_spans,
- * and before fitting the interpolating surface with Q2N_ERR_ARG (face and lengths named) when a mesh
- * edge is shorter than the tolerance (the CAD file's distance accuracy would merge its ends);
+ * with Q2N_ERR_GEOMETRY (the worst face named; first a mesh edge shorter than the tolerance, when
+ * there is one: its face is nearly degenerate) when the tolerance cannot be met within max_spans;
  * continuity targets that cannot be met are not an error (q2n_report: g1_met, g2_met, note).  On
  * failure m has no fit. */
 q2n_status q2n_fit(q2n_model *m, char *errbuf, size_t errlen);

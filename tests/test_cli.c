@@ -559,13 +559,14 @@ static void tolerances(void)
               leftovers() == 0, "tolerance beyond the span cap: %d '%s'", rc, err);
     rc = run_sh("$Q cube.obj --tol-abs 5 -o t4.json", err, sizeof err);
     CHECK(rc == 2 && strstr(err, "--tol-abs 5 is 0.289 times the bounding-box diagonal"), "--tol-abs too large: '%s'", err);
-    /* an edge shorter than the fit tolerance (the CAD file's distance accuracy) is refused before the
-     * fit, naming its face: a 3 x 3 grid (diagonal 3 sqrt 2 + a little) whose vertex (1, 0) is moved to
-     * 2e-5 from (0, 0); at --tol 1e-6 (4.3e-6 absolute) the edge is longer than the tolerance */
+    /* an edge shorter than the fit tolerance makes a nearly degenerate face whose patch spikes: a 3 x 3
+     * grid (diagonal 3 sqrt 2 + a little) whose vertex (1, 0) is moved to 2e-5 from (0, 0).  At the
+     * default tolerance (4.25e-5 absolute) the fit fails, and the message names that edge first; at
+     * --tol 1e-2 the fit meets its tolerance (such an edge is not refused: rook --subdivide 1 at --tol
+     * 1e-3 has edges of 7.5e-4 of its diagonal, and OCCT imports its file as it is) */
     char grid[1024] = "", *g = grid;
     for (int j = 0; j < 4; j++)
-        for (int i = 0; i < 4; i++)
-        {
+        for (int i = 0; i < 4; i++) {
             double x = i == 1 && j == 0 ? 2e-5 : (double)i;
             g += sprintf(g, "v %.17g %d %.17g\n", x, j, 0.1 * sin(x + 2.0 * j));
         }
@@ -574,13 +575,12 @@ static void tolerances(void)
             g += sprintf(g, "f %d %d %d %d\n", 4 * j + i + 1, 4 * j + i + 2, 4 * j + i + 6, 4 * j + i + 5);
     write_file("short.obj", grid);
     rc = run_sh("$Q short.obj -o out.step -o out.json", err, sizeof err);
-    CHECK(rc == 2 && strstr(err, "short.obj:17: face 0 has an edge 0-1 of length 2.01e-05 (") &&
-              strstr(err, "shorter than the fit tolerance 4.2") && strstr(err, "quad2nurbs: short.obj: short.obj") == NULL &&
-              leftovers() == 0,
+    CHECK(rc == 1 && strstr(err, "quad2nurbs: fit: short.obj:17: face 0 has an edge 0-1 of length 2.01e-05 (") &&
+              strstr(err, "shorter than the fit tolerance 4.2") && strstr(err, "; then short.obj:") && leftovers() == 0,
           "edge shorter than the tolerance: %d '%s'", rc, err);
-    rc = run_sh("$Q short.obj --tol 1e-6 -o t5.json", err, sizeof err);
-    CHECK(strstr(err, "shorter than the fit tolerance") == NULL, "edge longer than --tol 1e-6 refused: '%s'", err);
-    rc = run_sh("$Q short.obj -o out.obj", err, sizeof err); /* no fit, no tolerance: the tessellation is written */
+    rc = run_sh("$Q short.obj --tol 1e-2 -q -o t6.json", err, sizeof err);
+    CHECK(rc == 0, "edge shorter than a loose tolerance: %d '%s'", rc, err);
+    rc = run_sh("$Q short.obj -o out.obj", err, sizeof err); /* no fit: the tessellation is written */
     CHECK(rc == 0, "short edge, tessellation only: %d '%s'", rc, err);
     char op[512];
     snprintf(op, sizeof op, "%s/out.obj", dir);

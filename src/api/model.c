@@ -511,31 +511,31 @@ static q2n_status map_nurbs(q2n_model *m, q2n_error *err)
     return Q2N_OK;
 }
 
-/* An interpolating patch's side joins two mesh vertices, and the CAD file states the fit tolerance
- * as its distance accuracy (docs/export.md): an edge shorter than that has ends an importer takes
- * for one point, so its face degenerates there.  Such an edge is refused before the fit, with its
- * face, its length and the tolerance (the fit would otherwise chase the construction's spike at
- * that corner and fail, or succeed with a face a CAD system repairs).  tol: internal frame. */
-static q2n_status check_short_edges(const q2n_model *m, double tol, q2n_error *err)
+/* The first edge of the mesh (face order) shorter than tol (internal frame), as "FILE:LINE: face F
+ * has an edge V-W of length L (R of the bounding-box diagonal)" in buf; 0 when there is none.  A fit
+ * that misses its tolerance says so first: such an edge makes a nearly degenerate face, whose
+ * patch spikes at that corner (a torus with one edge 1e-5 of the others: "the construction is not
+ * smooth there"), and the remedy is the mesh's.  Not refused before the fit: at a loose tolerance
+ * (rook --subdivide 1 at --tol 1e-3: edges 7.5e-4 of the diagonal) the fit meets it, and OCCT
+ * imports the file as it is. */
+static int short_edge(const q2n_model *m, double tol, char *buf, size_t n)
 {
     const q2n_mesh *me = m->mesh;
     double diag = q2n_mesh_bbox_diag(me), scale = q2n_model_length_scale(m);
     for (int f = 0; f < me->nf; f++) {
-        int s = me->face_start[f], n = me->face_start[f + 1] - s;
-        for (int i = 0; i < n; i++) {
-            int v = me->face_vert[s + i], w = me->face_vert[s + (i + 1) % n];
+        int s = me->face_start[f], k = me->face_start[f + 1] - s;
+        for (int i = 0; i < k; i++) {
+            int v = me->face_vert[s + i], w = me->face_vert[s + (i + 1) % k];
             double len = q2n_v3_dist(q2n_mesh_vpos(me, v), q2n_mesh_vpos(me, w)); /* diagonal ~1 here */
             if (!(len < tol)) continue;
             char where[320];
             face_where(m, f, where, sizeof where);
-            return q2n_error_set(err, Q2N_ERR_ARG,
-                                 "%s has an edge %d-%d of length %.3g (%.2g of the bounding-box diagonal), "
-                                 "shorter than the fit tolerance %.3g: a CAD importer takes its ends for one "
-                                 "point (a degenerate face); collapse the edge or give a smaller --tol",
-                                 where, v, w, len * scale, len / diag, tol * scale);
+            snprintf(buf, n, "%s has an edge %d-%d of length %.3g (%.2g of the bounding-box diagonal)", where, v, w,
+                     len * scale, len / diag);
+            return 1;
         }
     }
-    return Q2N_OK;
+    return 0;
 }
 
 q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *err)
@@ -549,10 +549,6 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
         return q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
                              "fit: %d faces are not covered by a patch; cannot fit an incomplete surface",
                              m->uncovered);
-    if (m->opt.method == Q2N_SURFACE_AUGMENTED) { /* the ACC patches' corners are limit points, not vertices */
-        q2n_status sc = check_short_edges(m, o.tol_abs > 0 ? o.tol_abs : o.tol * q2n_mesh_bbox_diag(m->mesh), err);
-        if (sc) return sc;
-    }
     if (!o.progress && m->opt.progress.fn) o.progress = &m->opt.progress;
     double t0 = q2n_now();
     q2n_nurbs_model_free(m->nurbs);
@@ -588,6 +584,15 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     if (!st && (!m->fit.g1_met || !m->fit.g2_met))
         q2n_model_warn(m, "continuity target not met: %s (max G1 %.3g deg, G2 %.3g)",
                        m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
+    char se[400];
+    double tol_in = o.tol_abs > 0 ? o.tol_abs : o.tol * q2n_mesh_bbox_diag(m->mesh);
+    if (st == Q2N_ERR_GEOMETRY && err && m->opt.method == Q2N_SURFACE_AUGMENTED && short_edge(m, tol_in, se, sizeof se)) {
+        char msg[sizeof err->message];
+        snprintf(msg, sizeof msg, "%s", err->message);
+        q2n_error_set(err, st, "fit: %s, shorter than the fit tolerance %.3g: its face is nearly degenerate (collapse "
+                      "the edge; --subdivide 1 smooths the mesh first); then %s", se, tol_in * q2n_model_length_scale(m),
+                      strncmp(msg, "fit: ", 5) ? msg : msg + 5);
+    }
     if (st && err && strncmp(err->message, "fit: ", 5) != 0) { /* every fit message says where it comes from */
         char msg[sizeof err->message];
         snprintf(msg, sizeof msg, "%s", err->message);
