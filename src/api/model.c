@@ -516,8 +516,8 @@ static q2n_status map_nurbs(q2n_model *m, q2n_error *err)
  * that misses its tolerance says so first: such an edge makes a nearly degenerate face, whose
  * patch spikes at that corner (a torus with one edge 1e-5 of the others: "the construction is not
  * smooth there"), and the remedy is the mesh's.  Not refused before the fit: at a loose tolerance
- * (rook --subdivide 1 at --tol 1e-3: edges 7.5e-4 of the diagonal) the fit meets it, and OCCT
- * imports the file as it is. */
+ * a dense mesh has such edges, the fit meets it, and OCCT imports the file as it is (docs/mesh.md,
+ * "Errors"). */
 static int short_edge(const q2n_model *m, double tol, char *buf, size_t n)
 {
     const q2n_mesh *me = m->mesh;
