@@ -80,7 +80,7 @@ q2n_status q2n_acc_rings_build(const q2n_mesh *m, q2n_acc_rings *r, q2n_error *e
         if (!r->bnd[v] && k < 3) {
             char where[300], of[48];
             q2n_mesh_vertex_where(m, v, where, sizeof where);
-            q2n_mesh_of(m, of, sizeof of);
+            q2n_mesh_of(m, 0, of, sizeof of);
             q2n_status st = q2n_error_set(err, Q2N_ERR_UNSUPPORTED,
                                           "%s: vertex %d (of this face%s) is an interior vertex of only %d faces: "
                                           "the Catmull-Clark limit has no tangent plane there (merge them into one face)",

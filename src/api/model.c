@@ -68,11 +68,9 @@ static void face_where(const q2n_model *m, int k, char *buf, size_t n)
 {
     const q2n_mesh *me = m->mesh;
     int line = me->face_line ? me->face_line[k] : 0;
-    char of[48], sub[56] = "";
-    q2n_mesh_of(me, of, sizeof of);
-    if (of[0]) snprintf(sub, sizeof sub, " (%s)", of + 1);
-    if (line > 0) snprintf(buf, n, "%s:%d: face %d%s", me->name, line, k, sub);
-    else snprintf(buf, n, "%s: face %d%s", me->name, k, sub);
+    const char *d = me->derived, *pre = d[0] ? " (of the " : "", *post = d[0] ? " mesh)" : ""; /* as q2n_mesh_of */
+    if (line > 0) snprintf(buf, n, "%s:%d: face %d%s%s%s", me->name, line, k, pre, d, post);
+    else snprintf(buf, n, "%s: face %d%s%s%s", me->name, k, pre, d, post);
 }
 
 /* What made the model's mesh, for its messages (q2n_mesh_of): set whenever a step replaces it. */
@@ -334,7 +332,7 @@ static q2n_status check_valence(const q2n_model *m, q2n_error *err)
         if (me->valence[v] <= Q2N_EV_MAX_VALENCE && !low) continue;
         char where[300], of[48];
         q2n_mesh_vertex_where(me, v, where, sizeof where);
-        q2n_mesh_of(me, of, sizeof of);
+        q2n_mesh_of(me, 0, of, sizeof of);
         if (low)
             return q2n_error_set(err, Q2N_ERR_TOPOLOGY,
                                  "%s: vertex %d (of this face%s) is an interior vertex of only %d faces: they share two "
@@ -585,7 +583,7 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
         q2n_model_warn(m, "continuity target not met: %s (max G1 %.3g deg, G2 %.3g)",
                        m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
     char se[400];
-    double tol_in = o.tol_abs > 0 ? o.tol_abs : o.tol * q2n_mesh_bbox_diag(m->mesh);
+    double tol_in = st == Q2N_ERR_GEOMETRY ? (o.tol_abs > 0 ? o.tol_abs : o.tol * q2n_mesh_bbox_diag(m->mesh)) : 0;
     if (st == Q2N_ERR_GEOMETRY && err && m->opt.method == Q2N_SURFACE_AUGMENTED && short_edge(m, tol_in, se, sizeof se)) {
         char msg[sizeof err->message];
         snprintf(msg, sizeof msg, "%s", err->message);

@@ -493,10 +493,9 @@ static q2n_status fit_all(fit_ctx *c, q2n_nurbs_model **out)
                      "; the construction is not smooth there: |dS| = %.3g at (u %.3f, v %.3f) is %.3g x its "
                      "median on the face (a spike narrower than any knot spacing: a near-degenerate face nearby? "
                      "--subdivide 1 smooths the mesh first)", dmax, su, sv, ratio);
-        char where[300], of[48], par[56] = "";
+        char where[300], par[56];
         q2n_mesh_face_where(m, worst, where, sizeof where);
-        q2n_mesh_of(m, of, sizeof of);
-        if (of[0]) snprintf(par, sizeof par, " (%s)", of + 1);
+        q2n_mesh_of(m, 1, par, sizeof par);
         st = q2n_error_set(c->err, Q2N_ERR_GEOMETRY,
                            "fit: %s: face %d%s: deviation %.3g (relative) > tol %.3g with %d x %d spans (max_spans %d)%s",
                            where, worst, par, c->p[worst].dev, c->o.tol, c->p[worst].mu, c->p[worst].mv,

@@ -187,10 +187,10 @@ static int odd_rank_cmp(const void *a, const void *b)
 /* Odd polygons paired by strips: those with the fewest partners within reach first (ties: face
  * order), each with the odd polygon the shortest strip from it reaches (ties: its first edge).  In
  * face order alone a chain A-B-C-D listed B, C first paired B with C and left A and D without a
- * partner; the polygons with one partner going first pair a chain, a tree or two caps completely.  pair_he[f]: for a paired polygon, its half-edge on
- * the strip (-1 otherwise); crossed[h] = 1 on both half-edges of every edge a strip crosses, the
- * entry half-edge of each strip quad in entry[q] (-1 for other faces).  Returns the strips found, -1
- * out of memory. */
+ * partner; the polygons with one partner going first pair a chain, a tree or two caps completely.
+ * pair_he[f]: for a paired polygon, its half-edge on the strip (-1 otherwise); crossed[h] = 1 on
+ * both half-edges of every edge a strip crosses, the entry half-edge of each strip quad in entry[q]
+ * (-1 for other faces).  Returns the strips found, -1 out of memory. */
 static int pair_odd(const q2n_mesh *m, int *pair_he, char *crossed, int *entry)
 {
     char *paired = calloc((size_t)m->nf + 1, 1), *used = calloc((size_t)m->nf + 1, 1), *walk = calloc((size_t)m->nf + 1, 1);
@@ -240,6 +240,16 @@ static int pair_odd(const q2n_mesh *m, int *pair_he, char *crossed, int *entry)
     return n;
 }
 
+/* Face f's unit normal (its vector area's direction; 0 for a face of no area) into N; the area's
+ * length is returned. */
+static double unit_normal(const q2n_mesh *m, int f, double N[3])
+{
+    q2n_mesh_face_area(m, f, N);
+    double nn = q2n_v3_norm(N);
+    for (int d = 0; d < 3; d++) N[d] = nn > 0 ? N[d] / nn : 0;
+    return nn;
+}
+
 /* Is face f a planar polygon of 5 sides or more (its vertices within Q2N_FILL_PLANAR_REL of their
  * largest distance from the centroid of the plane through the centroid normal to its vector area)?
  * Then its unit normal N and offset (N . x = off on the plane). */
@@ -249,10 +259,7 @@ static int polygon_plane(const q2n_mesh *m, int f, double N[3], double *off)
     if (n < 5) return 0;
     const int *fv = m->face_vert + m->face_start[f];
     double c[3] = {0, 0, 0}, dev = 0, size = 0;
-    q2n_mesh_face_area(m, f, N);
-    double nn = q2n_v3_norm(N);
-    if (!(nn > 0)) return 0;
-    for (int d = 0; d < 3; d++) N[d] /= nn;
+    if (!(unit_normal(m, f, N) > 0)) return 0;
     for (int k = 0; k < n; k++) q2n_v3_axpy(c, 1.0 / n, q2n_mesh_vpos(m, fv[k]));
     for (int k = 0; k < n; k++) {
         double r[3];
@@ -444,9 +451,7 @@ static q2n_status search(fill_search *S, int a_hi, int a_lo, int da, int s0, int
         int ng = (a + 1) * (h - a + 1);
         for (int t0 = 0; t0 < ns_total; t0 += Q2N_FILL_BATCH) {
             int ns = 0;
-            for (int t = t0; t < ns_total && ns < Q2N_FILL_BATCH; t++) {
-                S->starts[ns++] = ((s0 + t * ds) % h + h) % h;
-            }
+            for (int t = t0; t < ns_total && ns < Q2N_FILL_BATCH; t++) S->starts[ns++] = ((s0 + t * ds) % h + h) % h;
             q2n_status st = harmonic(S->o, n, a, S->pos, ns, S->starts, S->X, err);
             if (st) return st;
             for (int t = 0; t < ns; t++) {
@@ -497,10 +502,8 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
             w += n;
             continue;
         }
-        double N[3]; /* vector area, unit */
-        q2n_mesh_face_area(m, f, N);
-        double nn = q2n_v3_norm(N);
-        for (int d = 0; d < 3; d++) N[d] = nn > 0 ? N[d] / nn : 0;
+        double N[3];
+        unit_normal(m, f, N);
         /* the shapes and starts, balanced grid from vertex 0 first (ties keep the first): all of
          * them up to Q2N_FILL_SEARCH_MAX sides, else a coarse lattice of them, then every shape and
          * every start within a lattice step of the best */

@@ -41,8 +41,9 @@ typedef struct q2n_mesh {
     int n_boundary_loops;
     int all_quads;    /* 1 when every face has 4 vertices */
     char name[256];   /* file name (for messages) */
-    char derived[24]; /* "" for the mesh as read, else what made it ("subdivided", "filled", ...):
-                         messages then say "face 13 (of the subdivided mesh)" (q2n_mesh_of) */
+    char derived[18]; /* "" for the mesh as read, else what made it ("subdivided", "filled", at most
+                         "paired and filled"): messages then say "face 13 (of the subdivided
+                         mesh)" (q2n_mesh_of) */
 } q2n_mesh;
 
 /* Read a Wavefront OBJ file: `v x y z [w]`, `f a b c ...` with a, a/b, a//c, a/b/c forms and
@@ -98,9 +99,9 @@ void q2n_mesh_free(q2n_mesh *m); /* NULL is a no-op */
 /* Where a message about vertex v points: "NAME:LINE" (the input line of a face at v), or
  * "NAME: face F" when the mesh has no lines; the message goes on with "vertex V (of this face)". */
 void q2n_mesh_vertex_where(const q2n_mesh *m, int v, char *buf, size_t n);
-/* " of the subdivided mesh" (m->derived) or "": what a message adds to the face or vertex it
- * numbers when the numbers are not the input's. */
-void q2n_mesh_of(const q2n_mesh *m, char *buf, size_t n);
+/* " of the subdivided mesh" (m->derived; paren: " (of the subdivided mesh)") or "": what a message
+ * adds to the face or vertex it numbers when the numbers are not the input's. */
+void q2n_mesh_of(const q2n_mesh *m, int paren, char *buf, size_t n);
 /* Where a message about face f points: "NAME:LINE" (its input line), or "NAME"; the message goes on
  * with ": face F ...", as the validation messages do. */
 void q2n_mesh_face_where(const q2n_mesh *m, int f, char *buf, size_t n);

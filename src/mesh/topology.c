@@ -41,9 +41,9 @@ static void line_note(char *buf, size_t n, const int *face_line, int f)
 
 void q2n_mesh_face_where(const q2n_mesh *m, int f, char *buf, size_t n) { face_loc(buf, n, m->name, m->face_line, f); }
 
-void q2n_mesh_of(const q2n_mesh *m, char *buf, size_t n)
+void q2n_mesh_of(const q2n_mesh *m, int paren, char *buf, size_t n)
 {
-    if (m->derived[0]) snprintf(buf, n, " of the %s mesh", m->derived);
+    if (m->derived[0]) snprintf(buf, n, paren ? " (of the %s mesh)" : " of the %s mesh", m->derived);
     else if (n) buf[0] = '\0';
 }
 
@@ -682,9 +682,8 @@ q2n_status q2n_mesh_check_crossing(const q2n_mesh *m, q2n_error *err)
         q2n_mesh_face_area(m, f, area);
         if (quad_reflex_corners(q, area, r) < 2) continue;
         face_loc(loc, sizeof loc, m->name, m->face_line, f);
-        char of[48], par[56] = "";
-        q2n_mesh_of(m, of, sizeof of);
-        if (of[0]) snprintf(par, sizeof par, " (%s)", of + 1);
+        char par[56];
+        q2n_mesh_of(m, 1, par, sizeof par);
         return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: face %d%s is self-crossing (a bow-tie): seen "
                              "along its normal, its corners at vertices %d and %d turn the other way",
                              loc, f, par, m->face_vert[m->face_start[f] + r[0]],

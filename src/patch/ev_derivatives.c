@@ -582,7 +582,7 @@ q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const dou
             free(need);
             char where[300], of[48];
             q2n_mesh_vertex_where(m, v, where, sizeof where);
-            q2n_mesh_of(m, of, sizeof of);
+            q2n_mesh_of(m, 0, of, sizeof of);
             return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: vertex %d (of this face%s): no local surface fits its "
                                  "neighbours (Appendix B): a degenerate fan?", where, v, of);
         }
