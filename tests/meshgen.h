@@ -392,6 +392,30 @@ static inline q2n_mesh *mg_loop_box(double d)
     return m;
 }
 
+/* An open n-sided pyramid of n quads around its apex (0, 0, h), the only extraordinary vertex
+ * (n != 4): quad k is (apex, rim vertex k, rim point k, rim vertex k + 1), rim vertices on the
+ * unit circle at z = 0, rim point k at `bulge` times the distance of the rim edge's midpoint from
+ * the axis.  Every rim point is a boundary corner of one face, every rim vertex a boundary vertex
+ * of two; bulge 1 puts the rim points on the rim edges (straight corners, up to rounding), above 1
+ * the faces have a reflex corner there. */
+static inline q2n_mesh *mg_rim_pyramid(int n, double h, double bulge)
+{
+    int nv = 2 * n + 1, nf = n;
+    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = (int *)malloc((size_t)(nf + 1) * sizeof *fs), *fv = (int *)malloc(4 * (size_t)nf * sizeof *fv);
+    if (!pos || !fs || !fv) { free(pos); free(fs); free(fv); return NULL; }
+    pos[0] = 0, pos[1] = 0, pos[2] = h;
+    for (int k = 0; k < n; k++) {
+        double a = 2 * M_PI * k / n, r = cos(M_PI / n) * bulge, *p = pos + 3 * (1 + k), *q = pos + 3 * (1 + n + k);
+        p[0] = cos(a), p[1] = sin(a), p[2] = 0;
+        q[0] = r * cos(a + M_PI / n), q[1] = r * sin(a + M_PI / n), q[2] = 0;
+        fs[k] = 4 * k;
+        fv[4 * k] = 0, fv[4 * k + 1] = 1 + k, fv[4 * k + 2] = 1 + n + k, fv[4 * k + 3] = 1 + (k + 1) % n;
+    }
+    fs[nf] = 4 * nf;
+    return mg_finish(nv, pos, nf, fs, fv, "rim pyramid");
+}
+
 /* A cylinder of n sides and `rows` rows of quads, height h (radius 1, axis z), closed by two flat
  * n-gon caps: faces 0 .. n rows - 1 the side, then the bottom cap (z = 0) and the top one (z = h). */
 static inline q2n_mesh *mg_ngon_cylinder(int n, int rows, double h)

@@ -122,12 +122,15 @@ int q2n_ev_vertex_fan(const q2n_mesh *m, int v, int maxn, int *edges, int *other
     return n;
 }
 
-/* Total angle the fan of v spans in the parameter plane: a full turn inside, a half turn on the
- * boundary, a quarter turn at a corner (one face). */
-static double fan_span(const q2n_mesh *m, int v, int n)
+/* Total angle the fan of v spans in the parameter plane: a full turn inside (the fan closes), a
+ * half turn at an extraordinary boundary vertex (three faces or more); 0 where the fan keeps its
+ * own total — a boundary vertex of one or two faces, which the fair construction charts by its
+ * spatial angles (fan_gather): nothing closes there, and the discrete exponential map leaves the
+ * angles as they are. */
+static double fan_span(const q2n_mesh *m, int v, int nfan)
 {
     if (!m->vert_boundary[v]) return 2 * Q2N_PI;
-    return n <= 2 ? 0.5 * Q2N_PI : Q2N_PI;
+    return nfan <= 2 ? 0 : Q2N_PI;
 }
 
 /* ------------------------------------------------------------ jets */
@@ -260,6 +263,7 @@ static int solve_sys(int n, const double N[9][9], double r[9])
 /* The fan of a vertex mapped onto the parameter plane (the η, r of (B.3)). */
 typedef struct fan {
     int n, nfan;                       /* edges, faces */
+    int far;                           /* fit_first fits the far corner too (fair construction, one face) */
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
     double f[EV_MAXVAL][3];            /* edge vectors p_k - p0 */
     double X[EV_MAXVAL][2];            /* planar positions of the neighbours, in local variables */
@@ -278,7 +282,7 @@ typedef struct fan {
  * drawn as a 60-degree one (docs/extraordinary.md, "Charts"). */
 static void fan_angles(const q2n_mesh *m, int v, const fan *F, double *eta)
 {
-    double zeta[EV_MAXVAL], tot = 0, span = fan_span(m, v, F->n);
+    double zeta[EV_MAXVAL], tot = 0, span = fan_span(m, v, F->nfan);
     int folded = 0;
     for (int k = 0; k < F->nfan; k++) {
         double c[3], fa[3];
@@ -293,6 +297,7 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, double *eta)
         zeta[k] = fmax(zeta[k], EV_CHART_MIN_ANGLE);
         tot += zeta[k];
     }
+    if (span == 0) span = folded ? 0.5 * Q2N_PI * F->nfan : tot; /* folded: quarter turns */
     for (int k = 0; k < F->nfan; k++) zeta[k] = folded ? span / F->nfan : zeta[k] * span / tot;
     for (int it = 0; it < EV_CHART_CAP_PASSES; it++) {
         double cap = EV_CHART_MAX_ANGLE, over = 0, rest = 0;
@@ -308,10 +313,14 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, double *eta)
     for (int k = 1; k < F->n; k++) eta[k] = eta[k - 1] + zeta[k - 1];
 }
 
-/* Gather the fan of v and map it onto the plane: angles from fan_angles, or kπ/2 at boundary
- * vertices with at most two faces and, when `quarter` (the paper's construction), at valence-4
+/* Gather the fan of v and map it onto the plane: angles from fan_angles, or, in the paper's
+ * construction (`quarter`), kπ/2 at boundary vertices with at most two faces and at valence-4
  * interior vertices — opposite edges then sharing their length so that section lines through v
- * stay C2 — each neighbour at its distance from v.  0 when the fan has no normal (area-weighted). */
+ * stay C2 — each neighbour at its distance from v.  0 when the fan has no normal (area-weighted;
+ * a fan of one face takes that face's, which a straight corner has too).  Why the fair
+ * construction charts boundary vertices of one or two faces by their own angles (stop 39): quarter
+ * turns drew a one-face corner of 172 degrees as a right angle, and a hexagonal pyramid whose rim
+ * has such corners rippled (docs/extraordinary.md, "Charts"). */
 static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, fan *F)
 {
     F->n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, F->edges, F->other, F->faces);
@@ -325,9 +334,11 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, f
         q2n_v3_cross(c, F->f[k], F->f[(k + 1) % F->n]);
         q2n_v3_add(nrm, nrm, c);
     }
+    F->far = !quarter && F->nfan == 1;
+    if (F->far) q2n_mesh_face_area(m, F->faces[0], nrm);
     if (!(q2n_v3_norm(nrm) > 0)) return 0; /* no tangent plane: every sector degenerate */
     for (int k = 0; k < F->n; k++) len[k] = q2n_v3_norm(F->f[k]);
-    int regular = m->vert_boundary[v] ? m->vert_nfaces[v] <= 2 : quarter && m->valence[v] == 4;
+    int regular = quarter && (m->vert_boundary[v] ? m->vert_nfaces[v] <= 2 : m->valence[v] == 4);
     if (regular) {
         for (int k = 0; k + 2 < F->n; k++) { /* equal speeds (len/d) on the two sides */
             double sp = 0.5 * (len[k] / iv[F->edges[k]] + len[k + 2] / iv[F->edges[k + 2]]);
@@ -363,16 +374,20 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, f
 }
 
 /* J1: the linear map X_k -> f_k in the least-squares sense, weights 1/|X_k|^2 (relative errors,
- * so short and long edges count alike). */
+ * so short and long edges count alike).  In the fair construction a fan of one face (a corner of
+ * the mesh's boundary) fits its far corner too, like a third neighbour: its two edges alone would fix J1 by
+ * interpolation, and not at all where they are collinear — a straight corner, whose cross
+ * direction only the far corner gives (such a vertex was refused as "a degenerate fan" until
+ * stop 39). */
 static int fit_first(const fan *F, ev_vjet *J)
 {
     double A[2][2] = {{0, 0}, {0, 0}}, r[2][3] = {{0}};
-    for (int k = 0; k < F->n; k++) {
-        const double *X = F->X[k];
+    for (int k = 0; k < F->n + F->far; k++) {
+        const double *X = k < F->n ? F->X[k] : F->Xq[0], *f = k < F->n ? F->f[k] : F->q[0];
         double w = 1 / (X[0] * X[0] + X[1] * X[1]);
         for (int i = 0; i < 2; i++) {
             for (int j = 0; j < 2; j++) A[i][j] += w * X[i] * X[j];
-            for (int c = 0; c < 3; c++) r[i][c] += w * X[i] * F->f[k][c];
+            for (int c = 0; c < 3; c++) r[i][c] += w * X[i] * f[c];
         }
     }
     double det = A[0][0] * A[1][1] - A[0][1] * A[1][0], tr = A[0][0] + A[1][1];
