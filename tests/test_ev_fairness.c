@@ -113,6 +113,28 @@ static int default_build(const q2n_mesh *m, int g1, double **iv, q2n_surface **s
     return regular_stage(m, iv, s, err) && q2n_extraordinary_build(m, &xo, *iv, *s, err) == Q2N_OK;
 }
 
+/* The paper's construction still charts a one-face boundary corner as a right angle, and at a
+ * straight corner no local surface fits: the refusal says so and names the construction that
+ * builds it (until stop 39: "a degenerate fan?"). */
+static void paper_straight_corner(void)
+{
+    q2n_mesh *m = mg_rim_pyramid(6, 1, 1);
+    CHECK(m != NULL, "rim pyramid: generator");
+    if (!m) return;
+    double *iv = NULL;
+    q2n_surface *s = NULL;
+    q2n_error err = {0, ""};
+    q2n_param_options po = {0};
+    q2n_extraordinary_options xo = {NULL, po, Q2N_EV_PATCH_G2, Q2N_EV_METHOD_PAPER, 2, 0};
+    int ok = regular_stage(m, &iv, &s, &err) && q2n_extraordinary_build(m, &xo, iv, s, &err) == Q2N_OK;
+    CHECK(!ok && strstr(err.message, "is a boundary corner of one face with an angle of 180.0 degrees") &&
+              strstr(err.message, "--ev-construction fair"),
+          "paper construction, straight one-face corner: %s", ok ? "built" : err.message);
+    q2n_surface_free(s);
+    free(iv);
+    q2n_mesh_free(m);
+}
+
 /* Generated meshes go through the library's stages directly (no file); jac_min > 0: also a bound on
  * the smallest Jacobian ratio, where a change is known to have lowered it. */
 static void generated_jac(const char *label, q2n_mesh *m, double osc_g2, double osc_g1, double e_bound, double jac_min)
@@ -389,6 +411,7 @@ int main(void)
     generated("pyramid, 6 sides, straight rim corners *", mg_rim_pyramid(6, 1, 1), 1.3, 1.79, 16.3);
     generated("pyramid, 3 sides, straight rim corners *", mg_rim_pyramid(3, 1, 1), 5.77, 6.71, 39.7);
     generated_jac("pyramid, 6 sides, reflex rim corners *", mg_rim_pyramid(6, 0.5, 1.15), 0.51, 0.6, 4.67, 0.25);
+    paper_straight_corner();
     sphere_pole(24);
     sphere_pole(48);
     fold_guard("cube with a spike (5x)", mg_spike_cube(5, 0), 1, 0);
