@@ -1,0 +1,178 @@
+#!/usr/bin/python3
+"""q2n_ripple_bound.py — how much any fair interpolant of a height-field mesh must ripple.
+
+    /usr/bin/python3 tools/q2n_ripple_bound.py MESH.obj [--self-test]
+
+Issue 11's ripple figure (../shared/tools/fairness.py: curvature oscillation per diagonal of the
+faces at extraordinary vertices, osc = (TV(H) - |H_end - H_start|) * L / 2 along each diagonal)
+asks an interpolant of the mesh's vertices for at most 0.3 per diagonal.  On meshes whose
+vertices lie off any smooth surface (random heights, dropped creases) no interpolant may reach it.
+This script measures that for meshes that are height fields over their best-fit plane (every face
+keeps its orientation when projected): it builds the interpolant that minimises the (linearised)
+curvature variation int |D^3 z|^2 over the whole plane — the polyharmonic spline
+z(p) = sum_i w_i phi(|p - p_i|) + a quadratic, phi(r) = r^4 log r (Duchon), the third-order
+analogue of the thin-plate spline, whose curvature is continuous at the data points (the
+thin-plate spline's is log-singular there) — and reports its oscillation along the straight
+diagonals (in the plane) of the faces at extraordinary vertices, with fairness.py's definitions
+(extraordinary: interior valence != 4, boundary valence not 2 or 3; mean curvature of the graph).
+
+It is an independent reference, not a lower bound in the strict sense: the construction minimises
+a parametric energy per patch, fairness.py follows the patches' parameter diagonals; but where the
+fairest interpolant of this kind ripples more than the target allows, the target asks the
+interpolation for what the data do not have (docs/extraordinary.md, "Where the ripple target is
+not met, and why").  numpy only.  Prints one JSON object; exit 0, 1 when the mesh is not a height
+field, 2 on bad input.  --self-test checks the spline against a quadratic it must reproduce and
+against finite differences, then exits.
+"""
+import json
+import sys
+
+import numpy as np
+
+
+def read_obj(path):
+    V, F = [], []
+    with open(path, encoding='utf-8-sig') as fh:
+        for line in fh:
+            s = line.split()
+            if not s:
+                continue
+            if s[0] == 'v':
+                V.append([float(x) for x in s[1:4]])
+            elif s[0] == 'f':
+                F.append([int(x.split('/')[0]) for x in s[1:]])
+    V = np.array(V, dtype=float)
+    F = [[i - 1 if i > 0 else len(V) + i for i in f] for f in F]
+    return V, F
+
+
+def extraordinary(nv, F):
+    edges = {}
+    for f in F:
+        for i in range(len(f)):
+            a, b = f[i], f[(i + 1) % len(f)]
+            k = (min(a, b), max(a, b))
+            edges[k] = edges.get(k, 0) + 1
+    val = np.zeros(nv, int)
+    bd = np.zeros(nv, bool)
+    for (a, b), c in edges.items():
+        val[a] += 1
+        val[b] += 1
+        if c == 1:
+            bd[a] = bd[b] = True
+    return {v for v in range(nv) if (bd[v] and val[v] not in (2, 3)) or (not bd[v] and val[v] != 4)}
+
+
+def quad_basis(P):
+    x, y = P[:, 0], P[:, 1]
+    o, z = np.ones_like(x), np.zeros_like(x)
+    return (np.stack([o, x, y, x * x, x * y, y * y], 1), np.stack([z, o, z, 2 * x, y, z], 1),
+            np.stack([z, z, o, z, x, 2 * y], 1))
+
+
+def fit(P, h):
+    """weights and quadratic of the r^4 log r spline through (P, h)"""
+    n = len(P)
+    r2 = ((P[:, None, :] - P[None, :, :]) ** 2).sum(2)
+    with np.errstate(divide='ignore', invalid='ignore'):
+        K = np.where(r2 > 0, 0.25 * r2 * r2 * np.log(r2), 0.0)   # s^2 log(s) / 4 = r^4 log(r) / 2, s = r^2
+    Q = quad_basis(P)[0]
+    A = np.zeros((n + 6, n + 6))
+    A[:n, :n], A[:n, n:], A[n:, :n] = K, Q, Q.T
+    sol = np.linalg.solve(A, np.concatenate([h, np.zeros(6)]))
+    return sol[:n], sol[n:]
+
+
+def evaluate(P, w, a, X):
+    """value, gradient (2) and Hessian (xx, xy, yy) of the spline at X"""
+    d = X[:, None, :] - P[None, :, :]
+    s = np.maximum((d ** 2).sum(2), 1e-300)
+    ls = np.log(s)
+    # phi = s^2 log(s) / 4: dphi/ds = s log(s) / 2 + s / 4, d2phi/ds2 = log(s) / 2 + 3 / 4
+    f1, f2 = 0.5 * s * ls + 0.25 * s, 0.5 * ls + 0.75
+    Q, Qx, Qy = quad_basis(X)
+    z = (w * 0.25 * s * s * ls).sum(1) + Q @ a
+    g = (w[None, :, None] * 2 * d * f1[..., None]).sum(1) + np.stack([Qx @ a, Qy @ a], 1)
+    hxx = (w * (2 * f1 + 4 * d[..., 0] ** 2 * f2)).sum(1) + 2 * a[3]
+    hyy = (w * (2 * f1 + 4 * d[..., 1] ** 2 * f2)).sum(1) + 2 * a[5]
+    hxy = (w * 4 * d[..., 0] * d[..., 1] * f2).sum(1) + a[4]
+    return z, g, hxx, hxy, hyy
+
+
+def mean_curvature(g, hxx, hxy, hyy):
+    p, q = g[:, 0], g[:, 1]
+    W = 1 + p * p + q * q
+    return ((1 + q * q) * hxx - 2 * p * q * hxy + (1 + p * p) * hyy) / (2 * W ** 1.5)
+
+
+def osc(H, X3):
+    """fairness.py's oscillation of one line"""
+    L = float(np.linalg.norm(np.diff(X3, axis=0), axis=1).sum())
+    return (float(np.abs(np.diff(H)).sum()) - abs(float(H[-1] - H[0]))) * L / 2
+
+
+def self_test():
+    rng = np.random.default_rng(1)
+    P = rng.uniform(-1, 1, (30, 2))
+    quad = lambda X: 0.3 * X[:, 0] ** 2 - 0.2 * X[:, 0] * X[:, 1] + 0.1 * X[:, 1] ** 2 + 0.5 * X[:, 0]
+    w, a = fit(P, quad(P))
+    X = rng.uniform(-1, 1, (50, 2))
+    err_quad = float(np.abs(evaluate(P, w, a, X)[0] - quad(X)).max())
+    w, a = fit(P, rng.uniform(0, 1, 30))
+    h, e = 1e-5, np.array([1.0, 0.0])
+    z, g, hxx, hxy, hyy = evaluate(P, w, a, X)
+    zp, gp = evaluate(P, w, a, X + h * e)[:2]
+    zm, gm = evaluate(P, w, a, X - h * e)[:2]
+    err_fd = max(float(np.abs((zp - zm) / (2 * h) - g[:, 0]).max()), float(np.abs((gp[:, 0] - gm[:, 0]) / (2 * h) - hxx).max()),
+                 float(np.abs((gp[:, 1] - gm[:, 1]) / (2 * h) - hxy).max()))
+    hv = rng.uniform(0, 1, 30)
+    w, a = fit(P, hv)
+    err_interp = float(np.abs(evaluate(P, w, a, P)[0] - hv).max())
+    ok = err_quad < 1e-9 and err_fd < 1e-5 and err_interp < 1e-9
+    print(json.dumps({'self_test': 'ok' if ok else 'FAILED', 'quadratic_reproduction': err_quad, 'finite_differences': err_fd,
+                      'interpolation': err_interp}))
+    return 0 if ok else 1
+
+
+def main(argv):
+    if '--self-test' in argv:
+        return self_test()
+    if len(argv) != 1:
+        print(__doc__.split('\n\n')[1], file=sys.stderr)
+        return 2
+    try:
+        V, F = read_obj(argv[0])
+    except (OSError, ValueError, IndexError) as e:
+        print(f'q2n_ripple_bound: {argv[0]}: {e}', file=sys.stderr)
+        return 2
+    if len(V) < 7 or not F:
+        print(f'q2n_ripple_bound: {argv[0]}: too few vertices or no faces', file=sys.stderr)
+        return 2
+    c = V.mean(0)
+    W = np.linalg.svd(V - c)[2]
+    P = np.stack([(V - c) @ W[0], (V - c) @ W[1]], 1)
+    h = (V - c) @ W[2]
+    signs = [np.sign(sum(P[f[i], 0] * P[f[(i + 1) % len(f)], 1] - P[f[(i + 1) % len(f)], 0] * P[f[i], 1]
+                          for i in range(len(f)))) for f in F]
+    if len(set(signs)) != 1 or signs[0] == 0:
+        print(json.dumps({'mesh': argv[0], 'height_field': False}))
+        return 1
+    w, a = fit(P, h)
+    ev = extraordinary(len(V), F)
+    lines = []
+    t = np.linspace(0, 1, 400)[:, None]
+    for f in F:
+        if len(f) != 4 or not ev.intersection(f):
+            continue
+        for i, j in ((0, 2), (1, 3)):
+            X = P[f[i]] * (1 - t) + P[f[j]] * t
+            z, g, hxx, hxy, hyy = evaluate(P, w, a, X)
+            lines.append(osc(mean_curvature(g, hxx, hxy, hyy), np.hstack([X, z[:, None]])))
+    out = {'mesh': argv[0], 'height_field': True, 'extraordinary_vertices': len(ev), 'lines': len(lines),
+           'osc_ev_mean': float(np.mean(lines)) if lines else 0.0, 'osc_ev_max': float(np.max(lines)) if lines else 0.0}
+    print(json.dumps(out))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv[1:]))
