@@ -74,17 +74,22 @@ def quad_basis(P):
             np.stack([z, z, o, z, x, 2 * y], 1))
 
 
-def fit(P, h):
-    """weights and quadratic of the r^4 log r spline through (P, h)"""
-    n = len(P)
+def solve_spline(P, h, phi, Q):
+    """weights w and polynomial coefficients a of sum_i w_i phi(|p - p_i|^2) + Q(p) . a through
+    (P, h), with Q(P)^T w = 0 (the side conditions of a polyharmonic spline)"""
+    n, q = len(P), Q.shape[1]
     r2 = ((P[:, None, :] - P[None, :, :]) ** 2).sum(2)
     with np.errstate(divide='ignore', invalid='ignore'):
-        K = np.where(r2 > 0, 0.25 * r2 * r2 * np.log(r2), 0.0)   # s^2 log(s) / 4 = r^4 log(r) / 2, s = r^2
-    Q = quad_basis(P)[0]
-    A = np.zeros((n + 6, n + 6))
+        K = np.where(r2 > 0, phi(r2), 0.0)
+    A = np.zeros((n + q, n + q))
     A[:n, :n], A[:n, n:], A[n:, :n] = K, Q, Q.T
-    sol = np.linalg.solve(A, np.concatenate([h, np.zeros(6)]))
+    sol = np.linalg.solve(A, np.concatenate([h, np.zeros(q)]))
     return sol[:n], sol[n:]
+
+
+def fit(P, h):
+    """the r^4 log r spline through (P, h): phi = s^2 log(s) / 4 = r^4 log(r) / 2 (s = r^2), a quadratic"""
+    return solve_spline(P, h, lambda s: 0.25 * s * s * np.log(s), quad_basis(P)[0])
 
 
 def evaluate(P, w, a, X):
@@ -105,15 +110,7 @@ def evaluate(P, w, a, X):
 
 def fit_thin_plate(P, h):
     """the thin-plate spline through (P, h): phi = s log(s) / 2 = r^2 log r, a linear part"""
-    n = len(P)
-    r2 = ((P[:, None, :] - P[None, :, :]) ** 2).sum(2)
-    with np.errstate(divide='ignore', invalid='ignore'):
-        K = np.where(r2 > 0, 0.5 * r2 * np.log(r2), 0.0)
-    L = np.hstack([np.ones((n, 1)), P])
-    A = np.zeros((n + 3, n + 3))
-    A[:n, :n], A[:n, n:], A[n:, :n] = K, L, L.T
-    sol = np.linalg.solve(A, np.concatenate([h, np.zeros(3)]))
-    return sol[:n], sol[n:]
+    return solve_spline(P, h, lambda s: 0.5 * s * np.log(s), np.hstack([np.ones((len(P), 1)), P]))
 
 
 def evaluate_thin_plate(P, w, a, X):
@@ -180,6 +177,11 @@ def self_test():
     zm, gm = evaluate(P, w, a, X - h * e)[:2]
     err_fd = max(float(np.abs((zp - zm) / (2 * h) - g[:, 0]).max()), float(np.abs((gp[:, 0] - gm[:, 0]) / (2 * h) - hxx).max()),
                  float(np.abs((gp[:, 1] - gm[:, 1]) / (2 * h) - hxy).max()))
+    wt, at = fit_thin_plate(P, rng.uniform(0, 1, 30))
+    gt, txx, txy, _ = evaluate_thin_plate(P, wt, at, X)
+    gtp, gtm = evaluate_thin_plate(P, wt, at, X + h * e)[0], evaluate_thin_plate(P, wt, at, X - h * e)[0]
+    err_fd = max(err_fd, float(np.abs((gtp[:, 0] - gtm[:, 0]) / (2 * h) - txx).max()),
+                 float(np.abs((gtp[:, 1] - gtm[:, 1]) / (2 * h) - txy).max()))
     hv = rng.uniform(0, 1, 30)
     w, a = fit(P, hv)
     err_interp = float(np.abs(evaluate(P, w, a, P)[0] - hv).max())
