@@ -397,7 +397,7 @@ static inline q2n_mesh *mg_loop_box(double d)
  * unit circle at z = 0, rim point k at `bulge` times the distance of the rim edge's midpoint from
  * the axis.  Every rim point is a boundary corner of one face, every rim vertex a boundary vertex
  * of two; bulge 1 puts the rim points on the rim edges (straight corners, up to rounding), above 1
- * the faces have a reflex corner there. */
+ * the faces' corners there are convex (n = 6, bulge 1.15: 151 degrees), below 1 reflex (0.9: 199). */
 static inline q2n_mesh *mg_rim_pyramid(int n, double h, double bulge)
 {
     int nv = 2 * n + 1, nf = n;
