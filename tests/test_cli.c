@@ -885,6 +885,27 @@ int main(void)
     snprintf(args, sizeof args, "sample --grid 2 %s/dart.obj", dir);
     CHECK(run(args, err, sizeof err, NULL) == 0 && strstr(err, "warning: ") &&
           strstr(err, "dart.obj:21: face 4: the surface folds over"), "dart: %s", err);
+    CHECK(!strstr(err, "nearly a triangle"), "dart: not a near-triangle: %s", err);
+    /* a near-triangle quad (one edge 1/1000 of the others, a regular torus): the fold warning names
+     * the short edge and the remedies (docs/mesh.md) */
+    {
+        q2n_mesh *tm = mg_torus(20, 10, 2.0, 0.7, 0, 0, 1);
+        q2n_error e;
+        char tp[600];
+        snprintf(tp, sizeof tp, "%s/neartri.obj", dir);
+        if (tm) {
+            int a = tm->face_vert[tm->face_start[52]], b = tm->face_vert[tm->face_start[52] + 1];
+            for (int c = 0; c < 3; c++) tm->pos[3 * a + c] = tm->pos[3 * b + c] + 1e-3 * (tm->pos[3 * a + c] - tm->pos[3 * b + c]);
+        }
+        CHECK(tm && q2n_mesh_write_obj(tm, tp, &e) == Q2N_OK, "near-triangle torus: not written");
+        q2n_mesh_free(tm);
+        snprintf(args, sizeof args, "sample --grid 2 %s", tp);
+        CHECK(run(args, err, sizeof err, NULL) == 0 && strstr(err, "the surface folds over") &&
+                  strstr(err, "the face is nearly a triangle, its edge") && strstr(err, "--limit-points"),
+              "near-triangle torus: %s", err);
+        snprintf(args, sizeof args, "sample --grid 2 --limit-points %s", tp);
+        CHECK(run(args, err, sizeof err, NULL) == 0 && !strstr(err, "folds over"), "near-triangle torus, --limit-points: %s", err);
+    }
     /* and counted in the fit report, under the construction */
     snprintf(args, sizeof args, "-q %s/dart.obj -o %s/dart.json", dir, dir);
     char *dj = run(args, err, sizeof err, NULL) == 0 ? report("dart.json") : NULL;

@@ -9,6 +9,13 @@
  * of a build; a narrower fold is below the fit's own sampling too. */
 #define Q2N_MODEL_SCAN_GRID 8
 
+/* A folded face whose shortest edge is below this fraction of its longest is called nearly a
+ * triangle in the fold warning, which then names that edge and the remedies (docs/mesh.md,
+ * "near-triangle quad").  Why 0.02: on a regular torus with one edge shortened, the faces beside it
+ * fold at a ratio of 0.0025 and not at 0.008; above 0.02 a fold has other causes (a dart, a warped
+ * face, a thin feature), which the warning's other hints cover. */
+#define Q2N_MODEL_NEAR_TRIANGLE 0.02
+
 /* Where the mesh is flat (q2n_flat_faces_dev: faces whose corners' fans lie in the face's plane), a
  * build whose surface leaves that plane by more than this fraction of the diagonal says so, with
  * the remedy (--keep-flat).  Why 1e-4: ten times the default fit tolerance, so the bulge is the

@@ -94,6 +94,20 @@ static q2n_status not_finite(const q2n_model *m, int k, double u, double v, cons
                          where, what, u, v);
 }
 
+/* The ratio of face f's shortest edge to its longest, and that edge's vertices. */
+static double near_triangle(const q2n_mesh *me, int f, int *a, int *b)
+{
+    int s = me->face_start[f], k = me->face_start[f + 1] - s;
+    double lo = INFINITY, hi = 0;
+    for (int i = 0; i < k; i++) {
+        int v = me->face_vert[s + i], w = me->face_vert[s + (i + 1) % k];
+        double len = q2n_v3_dist(q2n_mesh_vpos(me, v), q2n_mesh_vpos(me, w));
+        if (len < lo) lo = len, *a = v, *b = w;
+        if (len > hi) hi = len;
+    }
+    return hi > 0 ? lo / hi : 1;
+}
+
 /* Every covered patch at the scan grid: finite values (else fail), and folds (counted; the first
  * named in m->warning). */
 static q2n_status scan_patches(q2n_model *m, q2n_error *err)
@@ -116,7 +130,14 @@ static q2n_status scan_patches(q2n_model *m, q2n_error *err)
         if (folded && m->folded++ == 0) face_where(m, k, where, sizeof where), fu = u, fv = v, m->folded_face = k;
     }
     if (m->folded) {
-        int len = snprintf(m->warning, sizeof m->warning, "%s: the surface folds over (at u %.3g, "
+        int len, a = -1, b = -1;
+        double ratio = near_triangle(m->mesh, m->folded_face, &a, &b);
+        if (ratio < Q2N_MODEL_NEAR_TRIANGLE)
+            len = snprintf(m->warning, sizeof m->warning, "%s: the surface folds over (at u %.3g, v %.3g its normal "
+                           "points against the face's): the face is nearly a triangle, its edge %d-%d %.2g times its "
+                           "longest (collapse that edge, or --limit-points)", where, fu, fv, a, b, ratio);
+        else
+            len = snprintf(m->warning, sizeof m->warning, "%s: the surface folds over (at u %.3g, "
                            "v %.3g its normal points against the face's: a non-convex or strongly "
                            "warped face?)", where, fu, fv);
         if (m->folded > 1 && len > 0 && (size_t)len < sizeof m->warning)
