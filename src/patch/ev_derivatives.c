@@ -375,9 +375,9 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, f
 
 /* J1: the linear map X_k -> f_k in the least-squares sense, weights 1/|X_k|^2 (relative errors,
  * so short and long edges count alike).  In the fair construction a fan of one face (a corner of
- * the mesh's boundary) fits its far corner too, like a third neighbour: its two edges alone would fix J1 by
- * interpolation, and not at all where they are collinear — a straight corner, whose cross
- * direction only the far corner gives (such a vertex was refused as "a degenerate fan" until
+ * the mesh's boundary) fits its far corner too, like a third neighbour: its two edges alone would
+ * fix J1 by interpolation, and not at all where they are collinear — a straight corner, whose
+ * cross direction only the far corner gives (such a vertex was refused as "a degenerate fan" until
  * stop 39). */
 static int fit_first(const fan *F, ev_vjet *J)
 {
