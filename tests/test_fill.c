@@ -369,6 +369,47 @@ static void l_hexagon(void)
     q2n_mesh_free(m);
 }
 
+/* Strongly non-convex polygons beyond the hexagon (stop 39; refused before: no ring and grid turns
+ * their way): a U (8 vertices, two reflex corners), a T (8, two), an L with every side halved (12,
+ * one) and a U with every side halved (16, two) are split along chords from their reflex corners
+ * into even polygons (fill.c fill_poly).  Every quad turns the polygon's way (smallest corner sine
+ * in the plane above 0.2), and the polygon's own vertices are kept. */
+static void nonconvex(void)
+{
+    static const double U[] = {0, 0, 3, 0, 3, 3, 2, 3, 2, 1, 1, 1, 1, 3, 0, 3};
+    static const double T[] = {0, 2, 1, 2, 1, 0, 2, 0, 2, 2, 3, 2, 3, 3, 0, 3};
+    static const double L[] = {0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2};
+    struct { const char *name; const double *xy; int n, halve; } cases[] = {
+        {"U", U, 8, 0}, {"T", T, 8, 0}, {"L, sides halved", L, 6, 1}, {"U, sides halved", U, 8, 1}};
+    for (int c = 0; c < 4; c++) {
+        int n = cases[c].n * (1 + cases[c].halve), fv[16], fs[2] = {0, n};
+        double pos[48];
+        for (int k = 0; k < cases[c].n; k++) {
+            const double *a = cases[c].xy + 2 * k, *b = cases[c].xy + 2 * ((k + 1) % cases[c].n);
+            for (int t = 0; t <= cases[c].halve; t++) {
+                double *p = pos + 3 * (k * (1 + cases[c].halve) + t), s = t / 2.0;
+                p[0] = a[0] + s * (b[0] - a[0]), p[1] = a[1] + s * (b[1] - a[1]), p[2] = 0;
+            }
+        }
+        for (int k = 0; k < n; k++) fv[k] = k;
+        q2n_mesh *m = NULL, *f = NULL;
+        q2n_error err = {0, ""};
+        int nf = 0, nq = 0;
+        CHECK(q2n_mesh_from_arrays(n, pos, 1, fs, fv, cases[c].name, &m, &err) == Q2N_OK, "%s: %s", cases[c].name, err.message);
+        if (m && (f = fill(m, &nf, &nq, &err))) {
+            double sn = min_sine_z(f, 0);
+            int kept = 1;
+            for (int v = 0; v < n; v++) kept &= q2n_mesh_vpos(f, v)[0] == pos[3 * v] && q2n_mesh_vpos(f, v)[1] == pos[3 * v + 1];
+            printf("%s: %d quads, %d vertices, smallest corner sine %.3f\n", cases[c].name, nq, f->nv, sn);
+            CHECK(nf == 1 && nq == f->nf && sn > 0.2 && kept, "%s: %d filled with %d quads, smallest corner sine %.3f, vertices kept %d",
+                  cases[c].name, nf, nq, sn, kept);
+        } else
+            CHECK(0, "%s: %s", cases[c].name, err.message);
+        q2n_mesh_free(f);
+        q2n_mesh_free(m);
+    }
+}
+
 /* A unit cube whose faces are a 7-gon, a 5-gon, a 7-gon, a 5-gon, a hexagon and a quad (vertices
  * added at edge midpoints): the odd polygons pair across the cube's edges, and the vertex each pair
  * gets sits on a 90° edge.  The four-point rule along the polygons' boundaries put it 6 % of the
@@ -497,6 +538,7 @@ int main(void)
     cube_polygons();
     pentagon_chain();
     l_hexagon();
+    nonconvex();
     odd_polygons();
     end_to_end();
     uv_sphere();

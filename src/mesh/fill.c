@@ -20,7 +20,9 @@
  * vector area): the balanced grid a = floor(n/4) on a round cap, a long thin grid in an elongated
  * slot (mesh_policy.h, Q2N_FILL_SEARCH_MAX, Q2N_FILL_TIE; a >= b and the start shifted by n/2 give
  * the same fills turned, so a <= n/4 and s < n/2 cover them all).  A polygon whose best fill still
- * has a corner that does not turn its way (a strongly non-convex or warped polygon) is refused.
+ * has a corner that does not turn its way (a strongly non-convex polygon: an L, a U) is split along
+ * a chord from a reflex corner into two even polygons filled the same way (fill_poly); one that
+ * still does not fill (a star, a warped polygon) is refused.
  *
  * Odd polygons.  A quad mesh of a disk has an even boundary, so an odd polygon cannot be filled on
  * its own; but a strip of quads from one odd polygon to another (entered through an edge, left
@@ -465,15 +467,150 @@ static q2n_status search(fill_search *S, int a_hi, int a_lo, int da, int s0, int
     return Q2N_OK;
 }
 
+/* A polygon's fill being built: the output arrays, where its next quad and new vertex go, its unit
+ * normal, the searches' scratch, and how many split candidates are left to try. */
+typedef struct fill_ctx {
+    double *pos;
+    int *fv;
+    double *X;
+    int *starts;
+    const double *N;
+    int w, g0, budget;
+} fill_ctx;
+
+/* The ring and grid of polygon o (n even, >= 6): the best shape and start (search), its smallest
+ * corner sine in *quality; with commit, its quads and new vertices written at C->w and C->g0 (both
+ * advanced) and their count in *nq. */
+static q2n_status ring_grid(fill_ctx *C, const int *o, int n, int commit, double *quality, int *nq, q2n_error *err)
+{
+    /* the shapes and starts, balanced grid from vertex 0 first (ties keep the first): all of them up
+     * to Q2N_FILL_SEARCH_MAX sides, else a coarse lattice of them, then every shape and every start
+     * within a lattice step of the best */
+    fill_search S = {o, n, C->g0, C->N, C->pos, C->fv + C->w, C->X, C->starts, -3, n / 4, 0};
+    int amax = n / 4, h = n / 2;
+    q2n_status st;
+    if (n <= Q2N_FILL_SEARCH_MAX) st = search(&S, amax, 1, 1, 0, h, 1, err);
+    else {
+        int da = (amax + Q2N_FILL_COARSE - 1) / Q2N_FILL_COARSE, ds = (h + Q2N_FILL_COARSE - 1) / Q2N_FILL_COARSE;
+        st = search(&S, amax, 1, da, 0, (h + ds - 1) / ds, ds, err);
+        int ca = S.best_a; /* then the shapes between the lattice's, at the best start, */
+        if (!st) st = search(&S, ca + da - 1 < amax ? ca + da - 1 : amax, ca - da + 1 > 1 ? ca - da + 1 : 1, 1, S.best_s, 1, 1, err);
+        int cs = S.best_s; /* and the starts between, with the best shape */
+        if (!st) st = search(&S, S.best_a, S.best_a, 1, cs - ds + 1, 2 * ds - 1, 1, err);
+    }
+    if (st) return st;
+    *quality = S.best;
+    if (!commit) return Q2N_OK;
+    int a = S.best_a, ng = (a + 1) * (n / 2 - a + 1);
+    *nq = fill_quads(o, n, a, S.best_s, C->g0, C->fv + C->w);
+    if ((st = harmonic(o, n, a, C->pos, 1, &S.best_s, C->X, err))) return st;
+    fill_place(C->X, ng, 0, C->g0, C->pos);
+    C->w += 4 * *nq, C->g0 += ng;
+    return Q2N_OK;
+}
+
+/* Does the chord o_i o_j lie inside polygon o (n vertices), seen along the unit normal N: it crosses
+ * no side (other than at o_i, o_j) and its midpoint is inside (winding number)? */
+static int chord_inside(const double *pos, const int *o, int n, int i, int j, const double N[3])
+{
+    double e1[3] = {1, 0, 0}, e2[3];
+    if (fabs(N[0]) > 0.9) e1[0] = 0, e1[1] = 1;
+    q2n_v3_axpy(e1, -q2n_v3_dot(e1, N), N);
+    q2n_v3_scale(e1, 1 / q2n_v3_norm(e1), e1);
+    q2n_v3_cross(e2, N, e1);
+#define FILL_UV(k, u) (u)[0] = q2n_v3_dot(pos + 3 * (size_t)o[k], e1), (u)[1] = q2n_v3_dot(pos + 3 * (size_t)o[k], e2)
+    double a[2], b[2], p[2], q[2];
+    FILL_UV(i, a);
+    FILL_UV(j, b);
+    for (int k = 0; k < n; k++) {
+        int l = (k + 1) % n;
+        if (k == i || k == j || l == i || l == j) continue;
+        FILL_UV(k, p);
+        FILL_UV(l, q);
+        double d1 = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+        double d2 = (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]);
+        double d3 = (q[0] - p[0]) * (a[1] - p[1]) - (q[1] - p[1]) * (a[0] - p[0]);
+        double d4 = (q[0] - p[0]) * (b[1] - p[1]) - (q[1] - p[1]) * (b[0] - p[0]);
+        if ((d1 > 0) != (d2 > 0) && (d3 > 0) != (d4 > 0)) return 0;
+    }
+    double c[2] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])}, wind = 0;
+    for (int k = 0; k < n; k++) {
+        FILL_UV(k, p);
+        FILL_UV((k + 1) % n, q);
+        wind += atan2((p[0] - c[0]) * (q[1] - c[1]) - (p[1] - c[1]) * (q[0] - c[0]),
+                      (p[0] - c[0]) * (q[0] - c[0]) + (p[1] - c[1]) * (q[1] - c[1]));
+    }
+#undef FILL_UV
+    return wind > Q2N_PI;
+}
+
+/* The fill of polygon o (n even, >= 4) with the largest smallest corner sine (*quality): a quad is
+ * itself; a larger polygon gets its ring and grid, or, where that has a corner turning against the
+ * polygon (a strongly non-convex one: an L, a U), is split along a chord from a reflex corner into
+ * two even polygons filled the same way, the split whose worse part is best (at most
+ * Q2N_FILL_SPLIT_DEPTH levels, Q2N_FILL_SPLIT_TRIES candidates a polygon).  commit: as ring_grid. */
+static q2n_status fill_poly(fill_ctx *C, const int *o, int n, int depth, int commit, double *quality, int *nq,
+                            q2n_error *err)
+{
+    if (n == 4) {
+        *quality = fill_quality(o, 1, C->pos, C->N);
+        if (commit) memcpy(C->fv + C->w, o, 4 * sizeof(int)), C->w += 4, *nq = 1;
+        return Q2N_OK;
+    }
+    q2n_status st = ring_grid(C, o, n, 0, quality, nq, err);
+    if (st || *quality > 0 || depth >= Q2N_FILL_SPLIT_DEPTH) return st || !commit ? st : ring_grid(C, o, n, 1, quality, nq, err);
+    int *piece = malloc(sizeof(int) * 2 * (size_t)n), bi = -1, bj = -1;
+    if (!piece) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory filling a face");
+    double best = *quality;
+    for (int i = 0; i < n && !st; i++)
+        for (int j = i + 3; j <= i + n - 3 && j < n && !st; j += 2) {
+            int reflex = 0;
+            for (int e = 0; e < 2; e++) {
+                int k = e ? j : i;
+                reflex |= q2n_v3_corner_sine(C->pos + 3 * (size_t)o[k], C->pos + 3 * (size_t)o[(k + 1) % n],
+                                             C->pos + 3 * (size_t)o[(k + n - 1) % n], C->N, 1.0) < 0;
+            }
+            if (!reflex || C->budget <= 0 || !chord_inside(C->pos, o, n, i, j, C->N)) continue;
+            C->budget--;
+            double q1 = 0, q2 = 0;
+            int n1 = j - i + 1, n2 = n - (j - i) + 1, dummy;
+            for (int k = 0; k < n1; k++) piece[k] = o[i + k];
+            for (int k = 0; k < n2; k++) piece[n + k] = o[(j + k) % n];
+            if ((st = fill_poly(C, piece, n1, depth + 1, 0, &q1, &dummy, err)) || !(q1 > best)) continue;
+            if ((st = fill_poly(C, piece + n, n2, depth + 1, 0, &q2, &dummy, err))) continue;
+            if (fmin(q1, q2) > best) best = fmin(q1, q2), bi = i, bj = j;
+        }
+    if (!st && commit) {
+        if (bi < 0) st = ring_grid(C, o, n, 1, quality, nq, err);
+        else {
+            int n1 = bj - bi + 1, n2 = n - (bj - bi) + 1, nq1 = 0, nq2 = 0;
+            double q1, q2;
+            for (int k = 0; k < n1; k++) piece[k] = o[bi + k];
+            for (int k = 0; k < n2; k++) piece[n + k] = o[(bj + k) % n];
+            C->budget = Q2N_FILL_SPLIT_TRIES;
+            if (!(st = fill_poly(C, piece, n1, depth + 1, 1, &q1, &nq1, err))) {
+                C->budget = Q2N_FILL_SPLIT_TRIES;
+                st = fill_poly(C, piece + n, n2, depth + 1, 1, &q2, &nq2, err);
+            }
+            *nq = nq1 + nq2;
+        }
+    }
+    if (!st) *quality = best;
+    free(piece);
+    return st;
+}
+
 static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int *quads, q2n_error *err)
 {
     *out = NULL;
     long nv = m->nv, nf = 0, nfv = 0;
     for (int f = 0; f < m->nf; f++) {
         int n = q2n_face_size(m, f);
-        if (fillable(m, f)) {
-            long a = n / 4, b = n / 2 - a;
-            nv += (a + 1) * (b + 1), nf += n + a * b, nfv += 4 * (n + a * b);
+        if (fillable(m, f)) { /* the balanced grid, and room for the pieces of a split polygon (at most
+                                 2^depth pieces, their sides n + 2 per split in all) and a trial fill */
+            long a = n / 4, b = n / 2 - a, ns = n + 2L * (1L << Q2N_FILL_SPLIT_DEPTH);
+            long pv = (ns / 4 + 1) * (ns / 4 + 1) + 2 * ns, pq = ns + ns * ns / 16;
+            nv += (a + 1) * (b + 1) + pv, nf += n + a * b + pq, nfv += 4 * (n + a * b + pq);
         } else
             nf++, nfv += n;
     }
@@ -504,40 +641,10 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
         }
         double N[3];
         unit_normal(m, f, N);
-        /* the shapes and starts, balanced grid from vertex 0 first (ties keep the first): all of
-         * them up to Q2N_FILL_SEARCH_MAX sides, else a coarse lattice of them, then every shape and
-         * every start within a lattice step of the best */
-        fill_search S = {o, n, g0, N, pos, fv + w, X, starts, -3, n / 4, 0};
-        int amax = n / 4, h = n / 2;
-        if (n <= Q2N_FILL_SEARCH_MAX) st = search(&S, amax, 1, 1, 0, h, 1, err);
-        else {
-            int da = (amax + Q2N_FILL_COARSE - 1) / Q2N_FILL_COARSE, ds = (h + Q2N_FILL_COARSE - 1) / Q2N_FILL_COARSE;
-            st = search(&S, amax, 1, da, 0, (h + ds - 1) / ds, ds, err);
-            int ca = S.best_a; /* then the shapes between the lattice's, at the best start, */
-            if (!st) st = search(&S, ca + da - 1 < amax ? ca + da - 1 : amax, ca - da + 1 > 1 ? ca - da + 1 : 1, 1,
-                                 S.best_s, 1, 1, err);
-            int cs = S.best_s; /* and the starts between, with the best shape */
-            if (!st) st = search(&S, S.best_a, S.best_a, 1, cs - ds + 1, 2 * ds - 1, 1, err);
-        }
-        if (st) goto done;
-        double best = S.best;
-        int best_a = S.best_a, best_s = S.best_s;
-        int a = best_a, b = n / 2 - a, ng = (a + 1) * (b + 1), nq = fill_quads(o, n, a, best_s, g0, fv + w);
-        if ((st = harmonic(o, n, a, pos, 1, &best_s, X, err))) goto done;
-        fill_place(X, ng, 0, g0, pos);
-        if (!(best > 0) && n == 6) { /* a hexagon no ring fills (an L): its best split into two quads */
-            int two[8], bi = -1;
-            double b2 = best;
-            for (int i = 0; i < 3; i++) {
-                for (int c = 0; c < 4; c++) two[c] = o[(i + c) % 6], two[4 + c] = o[(i + 3 + c) % 6];
-                double qv = fill_quality(two, 2, pos, N);
-                if (qv > b2) b2 = qv, bi = i;
-            }
-            if (bi >= 0 && b2 > 0) {
-                for (int c = 0; c < 4; c++) fv[w + c] = o[(bi + c) % 6], fv[w + 4 + c] = o[(bi + 3 + c) % 6];
-                best = b2, nq = 2, ng = 0;
-            }
-        }
+        fill_ctx C = {pos, fv, X, starts, N, w, g0, Q2N_FILL_SPLIT_TRIES};
+        double best;
+        int nq;
+        if ((st = fill_poly(&C, o, n, 0, 0, &best, &nq, err))) goto done;
         if (!(best > 0)) {
             char at[300];
             q2n_mesh_face_where(m, f, at, sizeof at);
@@ -547,6 +654,9 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
                                at, f, n);
             goto done;
         }
+        C.budget = Q2N_FILL_SPLIT_TRIES;
+        if ((st = fill_poly(&C, o, n, 0, 1, &best, &nq, err))) goto done;
+        int ng = C.g0 - g0;
         for (int q = 0; q < nq; q++) fs[k] = w + 4 * q, fl[k++] = line;
         w += 4 * nq;
         g0 += ng;

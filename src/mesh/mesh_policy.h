@@ -63,6 +63,16 @@
 #define Q2N_FILL_BATCH 32
 #define Q2N_FILL_TIE 1e-9
 
+/* A polygon whose best ring and grid has a corner turning against it (an L, a U: its reflex
+ * corners) is split along a chord from a reflex corner into two even polygons, each filled the same
+ * way (fill.c fill_poly), at most Q2N_FILL_SPLIT_DEPTH levels deep and Q2N_FILL_SPLIT_TRIES chords
+ * tried per polygon.  Why 3: each level resolves at least one reflex corner, and three cover a U
+ * (two) with one to spare; a polygon needing more is refused, as before stop 39.  Why 64: every
+ * chord of a 16-gon from its reflex corners, in a few milliseconds; larger polygons try the first
+ * 64 (from the lowest corner index). */
+#define Q2N_FILL_SPLIT_DEPTH 3
+#define Q2N_FILL_SPLIT_TRIES 64
+
 /* A polygon is planar, for the odd pairing's new vertex on its edge (fill.c edge_point: kept in the
  * polygon's plane), when its vertices lie within Q2N_FILL_PLANAR_REL of its largest distance from
  * its centroid of the plane through the centroid normal to its vector area.  Why 1e-9: far above
