@@ -228,7 +228,14 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
         free(B.ridge);
         if (!(B.ridge = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
         for (int i = 0; i < m->nv * EV_JS; i++)
-            if (B.var[i] >= 0) B.ridge[B.var[i]] = i % EV_JS <= EV_SLOT(2, 2) ? RIDGE_LOW : RIDGE_HIGH;
+            if (B.var[i] >= 0) {
+                /* G2: a corner of the mesh's boundary (one face) keeps its curvature near its local
+                 * estimate and its orders 3 and 4 at zero (ev_policy.h, EV_FAIR_RIDGE_CORNER) */
+                int v = i / EV_JS, sl = i % EV_JS, corner = B.K >= 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 1;
+                B.ridge[B.var[i]] = sl < EV_SLOT(2, 0) ? RIDGE_LOW
+                                    : sl <= EV_SLOT(2, 2) ? (corner ? RIDGE_CORNER : RIDGE_LOW)
+                                    : corner ? RIDGE_HELD : RIDGE_HIGH;
+            }
         if ((st = q2n_ev_fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, &shrinks, err))) goto done;
     }
     if (stats) stats->unknowns = B.nvar, stats->held_vertices = held, stats->folded_faces = folds, stats->shrinks = shrinks;

@@ -61,7 +61,7 @@ typedef struct fe_eval {
 } fe_eval;
 
 /* The ridge of an unknown towards its local estimate (fair_pass). */
-typedef enum { RIDGE_HIGH = 0, RIDGE_LOW = 1, RIDGE_HELD = 2 } fe_ridge; /* orders 3, 4 and bubbles; orders 1, 2; held by the fold guard */
+typedef enum { RIDGE_HIGH = 0, RIDGE_LOW = 1, RIDGE_HELD = 2, RIDGE_CORNER = 3 } fe_ridge; /* orders 3, 4 and bubbles; orders 1, 2; held (fold guard, a boundary corner's orders 3, 4); a boundary corner's order 2 (G2) */
 
 typedef struct fe_build {
     const q2n_mesh *m;

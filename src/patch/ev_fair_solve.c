@@ -344,7 +344,10 @@ static q2n_status fair_pass(const fe_build *B, fe_sys *Y, int nfaces, const fe_f
     Bm = malloc(3 * (size_t)(n ? n : 1) * sizeof *Bm);
     if (!dg || !Bm) { st = Q2N_ERR_NOMEM; goto done; }
     for (int x = 0; x < n; x++) {
-        lam[x] = (B->ridge[x] == RIDGE_HELD ? EV_FOLD_HOLD : B->ridge[x] == RIDGE_LOW ? EV_FAIR_RIDGE_LOW : EV_FAIR_RIDGE_HIGH) * diag[x];
+        lam[x] = (B->ridge[x] == RIDGE_HELD     ? EV_FOLD_HOLD
+                  : B->ridge[x] == RIDGE_CORNER ? EV_FAIR_RIDGE_CORNER
+                  : B->ridge[x] == RIDGE_LOW    ? EV_FAIR_RIDGE_LOW
+                                                : EV_FAIR_RIDGE_HIGH) * diag[x];
         if (!(lam[x] > 0)) lam[x] = 1;
         for (int c = 0; c < 3; c++) rhs[3 * x + c] += lam[x] * x0[3 * x + c];
         double d = diag[x] + lam[x];

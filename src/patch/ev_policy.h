@@ -39,6 +39,19 @@
 #define EV_FAIR_RIDGE_LOW 1e-3
 #define EV_FAIR_RIDGE_HIGH 1e-6
 
+/* G2 patches: at a corner of the mesh's boundary (a vertex of one face) the jet's second order is
+ * held towards its local estimate by EV_FAIR_RIDGE_CORNER, and its orders 3 and 4 at zero (the
+ * fold guard's EV_FOLD_HOLD).  Only that face's corner sees them, and with the ridges above the
+ * energy bought a smoother face with a curvature spike at the corner (|H| x diagonal up to 78
+ * on a shared mesh whose boundary apices have fans of 3-6 faces; G1 patches there: 19;
+ * docs/extraordinary.md).  Swept at stop 39 over 57 open meshes (G2,
+ * fitted; geometric means against 1e-3, the rest of the ridge as above): 0.1 ripple 0.86 x
+ * (better on 16, worse on 8: three-sided pyramids), Jacobian ratio 1.12 x, energy 1.00 x, largest
+ * |H| 0.92 x; 1 and 100: ripple 0.90 / 0.92 x, energy 1.02 / 1.06 x (a flat star's 4 x at 100);
+ * orders 3 and 4 alone: ripple 0.96 x but the spike stronger (121).  G1 patches have no such
+ * spike and keep the ridges above (0.1 there: that mesh's ripple 0.50 -> 0.88). */
+#define EV_FAIR_RIDGE_CORNER 0.1
+
 /* --keep-flat (ev_fair.c fan_flat): a vertex whose fan — every corner of every face around it, two
  * faces at least — lies within this fraction of the fan's radius of one plane is flat, and its jet
  * stays in that plane (without it the energy spreads neighbouring bends into flat panels: up to
