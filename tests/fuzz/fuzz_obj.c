@@ -8,6 +8,7 @@
  *   replayed:   tests/test_fuzz_corpus.c (make check) over the seeds of make_corpus.sh */
 #include "fuzz_common.h"
 #include "mesh/mesh.h"
+#include "mesh/mesh_policy.h"
 
 /* Caps that keep one input fast (a fuzzer wants thousands per second). */
 #define FZ_OBJ_MAX_SUBDIVIDE_HE 4096
@@ -66,13 +67,14 @@ int q2n_fuzz_obj(const uint8_t *data, size_t size)
     }
     { /* --fill-ngons: a valid mesh, every fillable polygon filled (odd ones paired by strips); without
          odd pairs each even n-gon (n >= 6) replaced by n + a (n/2 - a) quads, a in 1 .. floor(n/4),
-         or a hexagon no ring fills by 2 (faces of at most 64 sides: a bigger one's fill grows with
-         n^2) */
+         or, split along chords from reflex corners (fill.c fill_poly), by pieces: at least (n - 2)/2
+         quads (a quad mesh of an n-gon without inner vertices), at most what fill.c makes room for
+         (faces of at most 64 sides: a bigger one's fill grows with n^2) */
         int big = 0, nfill = 0, nq = 0, even = 0, lo = 0, hi = 0;
         for (int f = 0; f < m->nf; f++) {
-            int n = q2n_face_size(m, f);
+            int n = q2n_face_size(m, f), ns = n + 2 * (1 << Q2N_FILL_SPLIT_DEPTH);
             big |= n > 64;
-            if (n >= 6 && n % 2 == 0) even++, lo += n == 6 ? 2 : n + n / 2 - 1, hi += n + n / 4 * (n / 2 - n / 4);
+            if (n >= 6 && n % 2 == 0) even++, lo += (n - 2) / 2, hi += n + n / 4 * (n / 2 - n / 4) + ns + ns * ns / 16;
         }
         if (!big && m->nh <= FZ_OBJ_MAX_SUBDIVIDE_HE) {
             int count = q2n_mesh_fill_count(m, 0);
