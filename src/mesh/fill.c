@@ -468,20 +468,19 @@ static q2n_status search(fill_search *S, int a_hi, int a_lo, int da, int s0, int
 }
 
 /* A polygon's fill being built: the output arrays, where its next quad and new vertex go, its unit
- * normal, the searches' scratch, and how many split candidates are left to try. */
+ * normal and the searches' scratch. */
 typedef struct fill_ctx {
     double *pos;
     int *fv;
     double *X;
     int *starts;
     const double *N;
-    int w, g0, budget;
+    int w, g0;
 } fill_ctx;
 
-/* The ring and grid of polygon o (n even, >= 6): the best shape and start (search), its smallest
- * corner sine in *quality; with commit, its quads and new vertices written at C->w and C->g0 (both
- * advanced) and their count in *nq. */
-static q2n_status ring_grid(fill_ctx *C, const int *o, int n, int commit, double *quality, int *nq, q2n_error *err)
+/* The ring and grid of polygon o (n even, >= 6): the best shape and start (search) in *a, *s, its
+ * smallest corner sine in *quality. */
+static q2n_status ring_grid(fill_ctx *C, const int *o, int n, double *quality, int *a, int *s, q2n_error *err)
 {
     /* the shapes and starts, balanced grid from vertex 0 first (ties keep the first): all of them up
      * to Q2N_FILL_SEARCH_MAX sides, else a coarse lattice of them, then every shape and every start
@@ -498,12 +497,18 @@ static q2n_status ring_grid(fill_ctx *C, const int *o, int n, int commit, double
         int cs = S.best_s; /* and the starts between, with the best shape */
         if (!st) st = search(&S, S.best_a, S.best_a, 1, cs - ds + 1, 2 * ds - 1, 1, err);
     }
+    *quality = S.best, *a = S.best_a, *s = S.best_s;
+    return st;
+}
+
+/* Write the ring and grid of shape a from start s of polygon o at C->w and C->g0 (both advanced);
+ * its quads in *nq. */
+static q2n_status ring_grid_write(fill_ctx *C, const int *o, int n, int a, int s, int *nq, q2n_error *err)
+{
+    int ng = (a + 1) * (n / 2 - a + 1);
+    *nq = fill_quads(o, n, a, s, C->g0, C->fv + C->w);
+    q2n_status st = harmonic(o, n, a, C->pos, 1, &s, C->X, err);
     if (st) return st;
-    *quality = S.best;
-    if (!commit) return Q2N_OK;
-    int a = S.best_a, ng = (a + 1) * (n / 2 - a + 1);
-    *nq = fill_quads(o, n, a, S.best_s, C->g0, C->fv + C->w);
-    if ((st = harmonic(o, n, a, C->pos, 1, &S.best_s, C->X, err))) return st;
     fill_place(C->X, ng, 0, C->g0, C->pos);
     C->w += 4 * *nq, C->g0 += ng;
     return Q2N_OK;
@@ -548,32 +553,36 @@ static int chord_inside(const double *pos, const int *o, int n, int i, int j, co
  * itself; a larger polygon gets its ring and grid, or, where that has a corner turning against the
  * polygon (a strongly non-convex one: an L, a U), is split along a chord from a reflex corner into
  * two even polygons filled the same way, the split whose worse part is best (at most
- * Q2N_FILL_SPLIT_DEPTH levels, Q2N_FILL_SPLIT_TRIES candidates a polygon).  commit: as ring_grid. */
+ * Q2N_FILL_SPLIT_DEPTH levels, Q2N_FILL_SPLIT_TRIES candidates a polygon).  commit: the fill is
+ * written at C->w and C->g0 (both advanced), its quads counted in *nq; else only measured. */
 static q2n_status fill_poly(fill_ctx *C, const int *o, int n, int depth, int commit, double *quality, int *nq,
                             q2n_error *err)
 {
+    *nq = 0;
     if (n == 4) {
         *quality = fill_quality(o, 1, C->pos, C->N);
         if (commit) memcpy(C->fv + C->w, o, 4 * sizeof(int)), C->w += 4, *nq = 1;
         return Q2N_OK;
     }
-    q2n_status st = ring_grid(C, o, n, 0, quality, nq, err);
-    if (st || *quality > 0 || depth >= Q2N_FILL_SPLIT_DEPTH) return st || !commit ? st : ring_grid(C, o, n, 1, quality, nq, err);
-    int *piece = malloc(sizeof(int) * 2 * (size_t)n), bi = -1, bj = -1;
+    int a, s;
+    q2n_status st = ring_grid(C, o, n, quality, &a, &s, err);
+    if (st) return st;
+    if (*quality > 0 || depth >= Q2N_FILL_SPLIT_DEPTH) return commit ? ring_grid_write(C, o, n, a, s, nq, err) : Q2N_OK;
+    int *piece = malloc(sizeof(int) * 2 * (size_t)n), bi = -1, bj = -1, budget = Q2N_FILL_SPLIT_TRIES, dummy;
     if (!piece) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory filling a face");
     double best = *quality;
     for (int i = 0; i < n && !st; i++)
-        for (int j = i + 3; j <= i + n - 3 && j < n && !st; j += 2) {
+        for (int j = i + 3; j <= i + n - 3 && j < n && !st && budget > 0; j += 2) {
             int reflex = 0;
             for (int e = 0; e < 2; e++) {
                 int k = e ? j : i;
                 reflex |= q2n_v3_corner_sine(C->pos + 3 * (size_t)o[k], C->pos + 3 * (size_t)o[(k + 1) % n],
                                              C->pos + 3 * (size_t)o[(k + n - 1) % n], C->N, 1.0) < 0;
             }
-            if (!reflex || C->budget <= 0 || !chord_inside(C->pos, o, n, i, j, C->N)) continue;
-            C->budget--;
+            if (!reflex || !chord_inside(C->pos, o, n, i, j, C->N)) continue;
+            budget--;
             double q1 = 0, q2 = 0;
-            int n1 = j - i + 1, n2 = n - (j - i) + 1, dummy;
+            int n1 = j - i + 1, n2 = n - (j - i) + 1;
             for (int k = 0; k < n1; k++) piece[k] = o[i + k];
             for (int k = 0; k < n2; k++) piece[n + k] = o[(j + k) % n];
             if ((st = fill_poly(C, piece, n1, depth + 1, 0, &q1, &dummy, err)) || !(q1 > best)) continue;
@@ -581,17 +590,14 @@ static q2n_status fill_poly(fill_ctx *C, const int *o, int n, int depth, int com
             if (fmin(q1, q2) > best) best = fmin(q1, q2), bi = i, bj = j;
         }
     if (!st && commit) {
-        if (bi < 0) st = ring_grid(C, o, n, 1, quality, nq, err);
+        if (bi < 0) st = ring_grid_write(C, o, n, a, s, nq, err);
         else {
             int n1 = bj - bi + 1, n2 = n - (bj - bi) + 1, nq1 = 0, nq2 = 0;
             double q1, q2;
             for (int k = 0; k < n1; k++) piece[k] = o[bi + k];
             for (int k = 0; k < n2; k++) piece[n + k] = o[(bj + k) % n];
-            C->budget = Q2N_FILL_SPLIT_TRIES;
-            if (!(st = fill_poly(C, piece, n1, depth + 1, 1, &q1, &nq1, err))) {
-                C->budget = Q2N_FILL_SPLIT_TRIES;
+            if (!(st = fill_poly(C, piece, n1, depth + 1, 1, &q1, &nq1, err)))
                 st = fill_poly(C, piece + n, n2, depth + 1, 1, &q2, &nq2, err);
-            }
             *nq = nq1 + nq2;
         }
     }
@@ -641,10 +647,10 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
         }
         double N[3];
         unit_normal(m, f, N);
-        fill_ctx C = {pos, fv, X, starts, N, w, g0, Q2N_FILL_SPLIT_TRIES};
+        fill_ctx C = {pos, fv, X, starts, N, w, g0};
         double best;
         int nq;
-        if ((st = fill_poly(&C, o, n, 0, 0, &best, &nq, err))) goto done;
+        if ((st = fill_poly(&C, o, n, 0, 1, &best, &nq, err))) goto done;
         if (!(best > 0)) {
             char at[300];
             q2n_mesh_face_where(m, f, at, sizeof at);
@@ -654,8 +660,6 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
                                at, f, n);
             goto done;
         }
-        C.budget = Q2N_FILL_SPLIT_TRIES;
-        if ((st = fill_poly(&C, o, n, 0, 1, &best, &nq, err))) goto done;
         int ng = C.g0 - g0;
         for (int q = 0; q < nq; q++) fs[k] = w + 4 * q, fl[k++] = line;
         w += 4 * nq;
