@@ -27,6 +27,8 @@ typedef struct fair_figures {
                         face is more degenerate than both 0.1 and (within 25 %) its own mesh quad */
     int jac_rel_face;
     int failed;     /* evaluation errors */
+    double maxH;    /* largest |H| along the face diagonals, their ends (the face corners) included */
+    int maxH_face;
 } fair_figures;
 
 static inline int fair_is_ev(const q2n_mesh *m, int v)
@@ -122,6 +124,7 @@ static inline void fair_measure(const q2n_mesh *m, const q2n_surface *s, fair_fi
                 double t = k / 128.0, o[18], H, K, W;
                 if (q2n_surface_eval(s, f, t, d ? 1 - t : t, 2, o)) { out->failed++; break; }
                 fair_curv(o, &H, &K, &W);
+                if (fabs(H) > out->maxH) out->maxH = fabs(H), out->maxH_face = f;
                 if (k == 0) H0 = H;
                 else {
                     tv += fabs(H - Hp);

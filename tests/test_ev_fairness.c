@@ -82,6 +82,7 @@ static void shared_mesh(const fcase *c)
 {
     const char *path = chk_shared_mesh(c->file);
     if (!path) return; /* reported by chk_shared_mesh */
+    double maxH[2] = {-1, -1};
     for (int g = 0; g < 2; g++) {
         q2n_model_options o;
         memset(&o, 0, sizeof o);
@@ -94,8 +95,16 @@ static void shared_mesh(const fcase *c)
         char lab[96];
         snprintf(lab, sizeof lab, "%s%s", c->file, c->met ? "" : " *");
         measure(lab, mo->mesh, mo->surface, c->osc[g], c->energy, !g, &F);
+        maxH[g] = F.maxH;
         q2n_model_free(mo);
     }
+    /* G2 patches add no curvature spike that G1 patches do not have: the largest |H| along the
+     * face diagonals (their corners included) at most 1.25 x G1's (at most 1.03 x on the shared
+     * meshes; osd_catmark_xord_boundary's boundary corners reached 103.6 against 18.8 until stop
+     * 39, 7.2 since: ev_policy.h EV_FAIR_RIDGE_CORNER) */
+    if (maxH[0] >= 0 && maxH[1] >= 0)
+        CHECK(maxH[0] <= 1.25 * maxH[1] + 1e-9, "%s: largest |H| x diagonal %.3g with G2 patches, %.3g with G1 ones",
+              c->file, maxH[0], maxH[1]);
 }
 
 /* The stages before the extraordinary regions, with the default options: edge intervals and
