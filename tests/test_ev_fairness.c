@@ -150,22 +150,26 @@ static void paper_straight_corner(void)
  * reference for the ripple target; docs/extraordinary.md): its self-test, and the claim the docs
  * make with it — on the valence-5 carpet that interpolant ripples past the issue's 0.3 per
  * diagonal (2.16), more than the construction does (1.46). */
+/* Run tools/q2n_ripple_bound.py with args; its output (stdout and stderr) into buf; its exit status. */
+static int ripple_script(const char *args, char *buf, size_t len)
+{
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "/usr/bin/python3 tools/q2n_ripple_bound.py %s 2>&1", args);
+    FILE *p = popen(cmd, "r");
+    size_t n = p ? fread(buf, 1, len - 1, p) : 0;
+    buf[n] = 0;
+    return p ? pclose(p) : -1;
+}
+
 static void ripple_bound(void)
 {
-    FILE *p = popen("/usr/bin/python3 tools/q2n_ripple_bound.py --self-test 2>&1", "r");
-    char buf[512] = "";
-    size_t n = p ? fread(buf, 1, sizeof buf - 1, p) : 0;
-    buf[n] = 0;
-    int rc = p ? pclose(p) : -1;
+    char buf[512], arg[600];
+    int rc = ripple_script("--self-test", buf, sizeof buf);
     CHECK(rc == 0 && strstr(buf, "\"self_test\": \"ok\""), "q2n_ripple_bound.py --self-test: %s", buf);
     const char *path = chk_shared_mesh("gismo_ev_valence5_carpet.obj");
     if (!path) return;
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "/usr/bin/python3 tools/q2n_ripple_bound.py '%s' 2>&1", path);
-    p = popen(cmd, "r");
-    n = p ? fread(buf, 1, sizeof buf - 1, p) : 0;
-    buf[n] = 0;
-    rc = p ? pclose(p) : -1;
+    snprintf(arg, sizeof arg, "'%s'", path);
+    rc = ripple_script(arg, buf, sizeof buf);
     const char *o = strstr(buf, "\"osc_ev_mean\": ");
     double osc = o ? atof(o + 15) : -1;
     printf("polyharmonic interpolant of the valence-5 carpet: %.3f per EV diagonal\n", osc);

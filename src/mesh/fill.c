@@ -549,6 +549,15 @@ static int chord_inside(const double *pos, const int *o, int n, int i, int j, co
     return wind > Q2N_PI;
 }
 
+/* The two polygons polygon o (n vertices) splits into along its chord o_i o_j (i < j): o_i .. o_j in
+ * piece[0 ..], o_j .. o_i in piece[n ..]; returns the first one's size (the second has n + 2 less it). */
+static int split_pieces(const int *o, int n, int i, int j, int *piece)
+{
+    for (int k = 0; k <= j - i; k++) piece[k] = o[i + k];
+    for (int k = 0; k <= n - (j - i); k++) piece[n + k] = o[(j + k) % n];
+    return j - i + 1;
+}
+
 /* The fill of polygon o (n even, >= 4) with the largest smallest corner sine (*quality): a quad is
  * itself; a larger polygon gets its ring and grid, or, where that has a corner turning against the
  * polygon (a strongly non-convex one: an L, a U), is split along a chord from a reflex corner into
@@ -569,40 +578,35 @@ static q2n_status fill_poly(fill_ctx *C, const int *o, int n, int depth, int com
     if (st) return st;
     if (*quality > 0 || depth >= Q2N_FILL_SPLIT_DEPTH) return commit ? ring_grid_write(C, o, n, a, s, nq, err) : Q2N_OK;
     int *piece = malloc(sizeof(int) * 2 * (size_t)n), bi = -1, bj = -1, budget = Q2N_FILL_SPLIT_TRIES, dummy;
-    if (!piece) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory filling a face");
-    double best = *quality;
+    char *reflex = malloc((size_t)n);
+    if (!piece || !reflex) {
+        free(piece), free(reflex);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory filling a face");
+    }
+    for (int k = 0; k < n; k++)
+        reflex[k] = q2n_v3_corner_sine(C->pos + 3 * (size_t)o[k], C->pos + 3 * (size_t)o[(k + 1) % n],
+                                       C->pos + 3 * (size_t)o[(k + n - 1) % n], C->N, 1.0) < 0;
+    double best = *quality, q1 = 0, q2 = 0;
     for (int i = 0; i < n && !st; i++)
         for (int j = i + 3; j <= i + n - 3 && j < n && !st && budget > 0; j += 2) {
-            int reflex = 0;
-            for (int e = 0; e < 2; e++) {
-                int k = e ? j : i;
-                reflex |= q2n_v3_corner_sine(C->pos + 3 * (size_t)o[k], C->pos + 3 * (size_t)o[(k + 1) % n],
-                                             C->pos + 3 * (size_t)o[(k + n - 1) % n], C->N, 1.0) < 0;
-            }
-            if (!reflex || !chord_inside(C->pos, o, n, i, j, C->N)) continue;
+            if (!(reflex[i] || reflex[j]) || !chord_inside(C->pos, o, n, i, j, C->N)) continue;
             budget--;
-            double q1 = 0, q2 = 0;
-            int n1 = j - i + 1, n2 = n - (j - i) + 1;
-            for (int k = 0; k < n1; k++) piece[k] = o[i + k];
-            for (int k = 0; k < n2; k++) piece[n + k] = o[(j + k) % n];
+            int n1 = split_pieces(o, n, i, j, piece);
             if ((st = fill_poly(C, piece, n1, depth + 1, 0, &q1, &dummy, err)) || !(q1 > best)) continue;
-            if ((st = fill_poly(C, piece + n, n2, depth + 1, 0, &q2, &dummy, err))) continue;
+            if ((st = fill_poly(C, piece + n, n + 2 - n1, depth + 1, 0, &q2, &dummy, err))) continue;
             if (fmin(q1, q2) > best) best = fmin(q1, q2), bi = i, bj = j;
         }
     if (!st && commit) {
         if (bi < 0) st = ring_grid_write(C, o, n, a, s, nq, err);
-        else {
-            int n1 = bj - bi + 1, n2 = n - (bj - bi) + 1, nq1 = 0, nq2 = 0;
-            double q1, q2;
-            for (int k = 0; k < n1; k++) piece[k] = o[bi + k];
-            for (int k = 0; k < n2; k++) piece[n + k] = o[(bj + k) % n];
+        else { /* the chosen pieces, written (each searched again: the trials kept no fill) */
+            int n1 = split_pieces(o, n, bi, bj, piece), nq1 = 0, nq2 = 0;
             if (!(st = fill_poly(C, piece, n1, depth + 1, 1, &q1, &nq1, err)))
-                st = fill_poly(C, piece + n, n2, depth + 1, 1, &q2, &nq2, err);
+                st = fill_poly(C, piece + n, n + 2 - n1, depth + 1, 1, &q2, &nq2, err);
             *nq = nq1 + nq2;
         }
     }
     if (!st) *quality = best;
-    free(piece);
+    free(piece), free(reflex);
     return st;
 }
 
@@ -667,8 +671,7 @@ static q2n_status fill_even(const q2n_mesh *m, q2n_mesh **out, int *filled, int 
         nfill++, nquads += nq;
     }
     fs[k] = w;
-    /* (nv and nf counted balanced grids, the most vertices and quads a fill can have; g0 and k are
-     * what the chosen ones have) */
+    /* (nv and nf counted the room a fill may need; g0 and k are what the chosen ones have) */
     st = q2n_mesh_from_arrays_lines(g0, pos, k, fs, fv, m->face_line ? fl : NULL, m->name, out, err);
     if (!st) {
         if (filled) *filled = nfill;
