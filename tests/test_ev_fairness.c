@@ -124,12 +124,14 @@ static int default_build(const q2n_mesh *m, int g1, double **iv, q2n_surface **s
     return regular_stage(m, iv, s, err) && q2n_extraordinary_build(m, &xo, *iv, *s, err) == Q2N_OK;
 }
 
-/* The paper's construction still charts a one-face boundary corner as a right angle, and at a
- * straight corner no local surface fits: the refusal says so and names the construction that
- * builds it (until stop 39: "a degenerate fan?"). */
-static void paper_straight_corner(void)
+/* The paper's construction still charts a boundary vertex of one or two faces by right angles.
+ * At a straight one-face corner no local surface fits, and at the 52-degree rim corners of a
+ * three-sided pyramid (two faces) its ribbon finds no direction across the rim edge: each refusal
+ * says so and names the construction that builds the mesh (until stop 39 "a degenerate fan?",
+ * until stop 40 "degenerate ribbon"). */
+static void paper_refusal(int sides, const char *want, const char *want2)
 {
-    q2n_mesh *m = mg_rim_pyramid(6, 1, 1);
+    q2n_mesh *m = mg_rim_pyramid(sides, 1, 1);
     CHECK(m != NULL, "rim pyramid: generator");
     if (!m) return;
     double *iv = NULL;
@@ -138,12 +140,17 @@ static void paper_straight_corner(void)
     q2n_param_options po = {0};
     q2n_extraordinary_options xo = {NULL, po, Q2N_EV_PATCH_G2, Q2N_EV_METHOD_PAPER, 2, 0};
     int ok = regular_stage(m, &iv, &s, &err) && q2n_extraordinary_build(m, &xo, iv, s, &err) == Q2N_OK;
-    CHECK(!ok && strstr(err.message, "is a boundary corner of one face with an angle of 180.0 degrees") &&
-              strstr(err.message, "--ev-construction fair"),
-          "paper construction, straight one-face corner: %s", ok ? "built" : err.message);
+    CHECK(!ok && strstr(err.message, want) && strstr(err.message, want2) && strstr(err.message, "--ev-construction fair"),
+          "paper construction, %d-sided straight pyramid: %s", sides, ok ? "built" : err.message);
     q2n_surface_free(s);
     free(iv);
     q2n_mesh_free(m);
+}
+
+static void paper_straight_corner(void)
+{
+    paper_refusal(6, "is a boundary corner of one face with an angle of 180.0 degrees", "right angle");
+    paper_refusal(3, "finds no direction across edge", "degrees, and its chart draws a boundary vertex of one or two faces with right angles");
 }
 
 /* tools/q2n_ripple_bound.py (the fairest interpolant of a height-field mesh, an independent

@@ -174,6 +174,33 @@ static int decompose(const double D[3], const double G[3], const double r[3], do
 }
 
 
+/* The refusal of an edge whose cross-boundary ribbon has no direction across it at its end vertex
+ * v (the face's other edge there is ew): named by the vertex, with the face's corner angle there.
+ * The usual cause is the paper's chart of a boundary vertex of one or two faces, quarter turns
+ * whatever its angles (a three-sided pyramid's 52-degree rim corners; until stop 40 the message
+ * was "degenerate ribbon"). */
+static q2n_status ribbon_error(const q2n_mesh *m, int e, int v, int ew, q2n_error *err)
+{
+    char where[300], of[48];
+    q2n_mesh_vertex_where(m, v, where, sizeof where);
+    q2n_mesh_of(m, 0, of, sizeof of);
+    int h = m->edge_he[e], o = q2n_he_origin(m, h) == v ? q2n_he_dest(m, h) : q2n_he_origin(m, h);
+    int hw = m->edge_he[ew], ow = q2n_he_origin(m, hw) == v ? q2n_he_dest(m, hw) : q2n_he_origin(m, hw);
+    double a[3], b[3], c[3];
+    q2n_v3_sub(a, q2n_mesh_vpos(m, o), q2n_mesh_vpos(m, v));
+    q2n_v3_sub(b, q2n_mesh_vpos(m, ow), q2n_mesh_vpos(m, v));
+    q2n_v3_cross(c, a, b);
+    double ang = atan2(q2n_v3_norm(c), q2n_v3_dot(a, b)) * 180 / Q2N_PI;
+    int quarter = m->vert_boundary[v] && m->vert_nfaces[v] <= 2; /* charted by quarter turns */
+    return q2n_error_set(err, Q2N_ERR_GEOMETRY,
+                         "%s: vertex %d (of this face%s): the paper's construction finds no direction across "
+                         "edge %d-%d there (the face's corner between it and edge %d-%d is %.1f degrees%s); the "
+                         "default, --ev-construction fair, charts every vertex by its own angles",
+                         where, v, of, v, o, v, ow, ang,
+                         quarter ? ", and its chart draws a boundary vertex of one or two faces with right angles"
+                                 : ": a degenerate fan?");
+}
+
 q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet *jets,
                          const double (*dir)[2], int order, int e, ev_edge *out, q2n_error *err)
 {
@@ -265,9 +292,9 @@ q2n_status q2n_ev_build_edge(const q2n_mesh *m, const double *iv, const ev_vjet 
         q2n_ev_jet_d1(Jq, wc, c1);
         q2n_ev_jet_d2(Jp, wb, wb, x0);
         q2n_ev_jet_d2(Jq, wc, wc, x1);
-        if (!decompose(D0, G0, c0, &out->a[side][0], &out->b[side][0]) ||
-            !decompose(D1, G1, c1, &out->a[side][1], &out->b[side][1]))
-            return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: edge %d (%d-%d): degenerate ribbon", m->name, e, p, q);
+        int ok0 = decompose(D0, G0, c0, &out->a[side][0], &out->b[side][0]);
+        if (!ok0 || !decompose(D1, G1, c1, &out->a[side][1], &out->b[side][1]))
+            return ribbon_error(m, e, ok0 ? q : p, ok0 ? eq : ep, err);
         /* slopes of a, b: the field's t-derivative at each end is the jet's twist d·J2[u,w]
          * (its normal part holds by the choice of n'; the slopes fix the tangential part), so
          * that the two sides of a patch corner that both come from one jet have compatible
