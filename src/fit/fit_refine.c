@@ -406,10 +406,15 @@ void q2n_fit_accept(fit_ctx *c)
     if (worst_e1 >= 0 || worst_e2 >= 0) {
         int e = worst_e1 >= 0 ? worst_e1 : worst_e2;
         const fit_edge *E = &c->e[e];
-        snprintf(rep->note, sizeof rep->note,
-                 "edge %d (faces %d, %d): normal jump %.3g deg, curvature jump %.3g (targets %.3g deg, %.3g; "
-                 "the construction's own: %.3g deg, %.3g) not reached", e, m->he_face[m->edge_he[e]],
-                 m->he_face[m->he_twin[m->edge_he[e]]], E->g1d, E->g2d, c->o.g1_tol_deg, c->o.g2_tol_rel, E->g1c,
-                 E->g2c);
+        int f0 = m->he_face[m->edge_he[e]], f1 = m->he_face[m->he_twin[m->edge_he[e]]];
+        if (c->o.continuity == 2)
+            snprintf(rep->note, sizeof rep->note,
+                     "edge %d (faces %d, %d): normal jump %.3g deg, curvature jump %.3g (targets %.3g deg, %.3g; "
+                     "the construction's own: %.3g deg, %.3g) not reached", e, f0, f1, E->g1d, E->g2d, c->o.g1_tol_deg,
+                     c->o.g2_tol_rel, E->g1c, E->g2c);
+        else /* G1: no curvature target */
+            snprintf(rep->note, sizeof rep->note,
+                     "edge %d (faces %d, %d): normal jump %.3g deg (target %.3g deg; the construction's own: %.3g deg) "
+                     "not reached", e, f0, f1, E->g1d, c->o.g1_tol_deg, E->g1c);
     }
 }
