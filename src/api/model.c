@@ -601,12 +601,10 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.tol_abs = out_vector(m, m->fit.tol_abs);
     m->t_fit = q2n_now() - t0;
     if (!st && (!m->fit.g1_met || !m->fit.g2_met)) {
-        if (m->fit.continuity == 2)
-            q2n_model_warn(m, "continuity target not met: %s (max G1 %.3g deg, G2 %.3g)",
-                           m->fit.note[0] ? m->fit.note : "see the report", m->fit.g1_max_deg, m->fit.g2_max_rel);
-        else
-            q2n_model_warn(m, "continuity target not met: %s (max G1 %.3g deg)", m->fit.note[0] ? m->fit.note : "see the report",
-                           m->fit.g1_max_deg);
+        char g2[32] = ""; /* a G1 fit imposes no curvature target */
+        if (m->fit.continuity == 2) snprintf(g2, sizeof g2, ", G2 %.3g", m->fit.g2_max_rel);
+        q2n_model_warn(m, "continuity target not met: %s (max G1 %.3g deg%s)", m->fit.note[0] ? m->fit.note : "see the report",
+                       m->fit.g1_max_deg, g2);
     }
     char se[400];
     double tol_in = st == Q2N_ERR_GEOMETRY ? (o.tol_abs > 0 ? o.tol_abs : o.tol * q2n_mesh_bbox_diag(m->mesh)) : 0;

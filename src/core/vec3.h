@@ -23,6 +23,19 @@ static inline void q2n_v3_cross(double r[3], const double a[3], const double b[3
     r[0] = x; r[1] = y; r[2] = z;
 }
 static inline double q2n_v3_norm(const double a[3]) { return sqrt(q2n_v3_dot(a, a)); }
+/* Angle between a and b in radians, 0..pi (atan2 of |a x b| and a . b: accurate near 0 and pi). */
+static inline double q2n_v3_angle(const double a[3], const double b[3])
+{
+    double c[3];
+    q2n_v3_cross(c, a, b);
+    return atan2(q2n_v3_norm(c), q2n_v3_dot(a, b));
+}
+/* Angle in degrees of the corner at p between its edges to q and r. */
+static inline double q2n_v3_corner_deg(const double p[3], const double q[3], const double r[3])
+{
+    double a[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, b[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+    return q2n_v3_angle(a, b) * (180.0 / 3.14159265358979323846);
+}
 /* Sine of the corner at p between its edges to `next` and `prev` (next - p turning towards prev - p),
  * signed by the normal n of length nn: positive where the corner turns n's way.  -2 when an edge has
  * no length. */

@@ -154,6 +154,13 @@ static const double *edge_dir(const q2n_mesh *m, const double (*dir)[2], int e, 
     return dir[2 * e + (q2n_he_origin(m, m->edge_he[e]) == v ? 0 : 1)];
 }
 
+/* The end of edge e other than v. */
+static int edge_other(const q2n_mesh *m, int e, int v)
+{
+    int h = m->edge_he[e];
+    return q2n_he_origin(m, h) == v ? q2n_he_dest(m, h) : q2n_he_origin(m, h);
+}
+
 /* The face's other edges at p and q for the half-edge hF of edge e (p = origin(edge_he)). */
 static void other_edges(const q2n_mesh *m, int hF, int p, int *ep, int *eq)
 {
@@ -184,13 +191,8 @@ static q2n_status ribbon_error(const q2n_mesh *m, int e, int v, int ew, q2n_erro
     char where[300], of[48];
     q2n_mesh_vertex_where(m, v, where, sizeof where);
     q2n_mesh_of(m, 0, of, sizeof of);
-    int h = m->edge_he[e], o = q2n_he_origin(m, h) == v ? q2n_he_dest(m, h) : q2n_he_origin(m, h);
-    int hw = m->edge_he[ew], ow = q2n_he_origin(m, hw) == v ? q2n_he_dest(m, hw) : q2n_he_origin(m, hw);
-    double a[3], b[3], c[3];
-    q2n_v3_sub(a, q2n_mesh_vpos(m, o), q2n_mesh_vpos(m, v));
-    q2n_v3_sub(b, q2n_mesh_vpos(m, ow), q2n_mesh_vpos(m, v));
-    q2n_v3_cross(c, a, b);
-    double ang = atan2(q2n_v3_norm(c), q2n_v3_dot(a, b)) * 180 / Q2N_PI;
+    int o = edge_other(m, e, v), ow = edge_other(m, ew, v);
+    double ang = q2n_v3_corner_deg(q2n_mesh_vpos(m, v), q2n_mesh_vpos(m, o), q2n_mesh_vpos(m, ow));
     int quarter = m->vert_boundary[v] && m->vert_nfaces[v] <= 2; /* charted by quarter turns */
     return q2n_error_set(err, Q2N_ERR_GEOMETRY,
                          "%s: vertex %d (of this face%s): the paper's construction finds no direction across "

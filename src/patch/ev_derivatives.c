@@ -600,11 +600,7 @@ q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const dou
             q2n_mesh_of(m, 0, of, sizeof of);
             int n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, edges, other, faces);
             if (sections && m->vert_boundary[v] && n == 2) { /* a corner of one face */
-                double a[3], b[3], c[3];
-                q2n_v3_sub(a, q2n_mesh_vpos(m, other[0]), q2n_mesh_vpos(m, v));
-                q2n_v3_sub(b, q2n_mesh_vpos(m, other[1]), q2n_mesh_vpos(m, v));
-                q2n_v3_cross(c, a, b);
-                double ang = atan2(q2n_v3_norm(c), q2n_v3_dot(a, b)) * 180 / Q2N_PI;
+                double ang = q2n_v3_corner_deg(q2n_mesh_vpos(m, v), q2n_mesh_vpos(m, other[0]), q2n_mesh_vpos(m, other[1]));
                 return q2n_error_set(err, Q2N_ERR_GEOMETRY, "%s: vertex %d (of this face%s) is a boundary corner of one "
                                      "face with an angle of %.1f degrees: the paper's construction charts it as a right "
                                      "angle and no local surface fits it (the default, --ev-construction fair, charts "
