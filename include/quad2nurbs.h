@@ -221,6 +221,12 @@ typedef struct q2n_options {
     int keep_flat;                 /* augmented, fair construction: where the mesh is flat around a vertex
                                       (every corner of its faces in one plane) the surface stays in that
                                       plane exactly: 1 yes, 0 [no] (docs/extraordinary.md, "Flat fans") */
+    int ev_smooth_gluing;          /* augmented, fair construction, G1 patches: 1 glues every
+                                      constructed edge by smoothsteps (as before stop 41: least squares
+                                      in the fit); 0 [polynomial gluing wherever its corner equations
+                                      hold: those patches are bi-quintic polynomials, fitted with one
+                                      span and exactly G1] (docs/extraordinary.md, "Polynomial gluing
+                                      of G1 patches") */
     q2n_acc_strategy acc_strategy; /* acc-g1 [cs-s] */
     int subdivide;                 /* Catmull–Clark steps before building, 0..6 [0] */
     int limit_points;              /* every vertex (after subdivide) moved to its Catmull–Clark limit

@@ -546,10 +546,22 @@ static void tolerances(void)
     free(d);
     free(l);
     free(t);
+    /* G1 mode with G1 patches: every edge of the cube glued by polynomials (stop 41), so the fit is
+     * exactly G1 with one span per patch, and the report counts the edges */
+    rc = run_sh("$Q cube.obj -q --ev-patch g1 --continuity g1 -o t6.json", err, sizeof err);
+    char *p6 = report("t6.json");
+    CHECK(rc == 0 && jnum(p6, "polynomial_edges") == 12 && jnum(p6, "g1_max_deg") <= 1e-6 && jnum(p6, "max_dev_rel") <= 1e-12,
+          "G1 mode, polynomial gluing: %g polynomial edges, G1 %g deg, deviation %g", jnum(p6, "polynomial_edges"),
+          jnum(p6, "g1_max_deg"), jnum(p6, "max_dev_rel"));
+    free(p6);
+    rc = run_sh("$Q cube.obj --ev-gluing cubic -o t7.json", err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "--ev-gluing: unknown 'cubic' (expected polynomial or smoothstep)"), "--ev-gluing cubic: %d '%s'", rc, err);
+    rc = run_sh("$Q cube.obj --ev-gluing smoothstep -o t7.json", err, sizeof err);
+    CHECK(rc == 0 && strstr(err, "--ev-gluing smoothstep is ignored with G2 patches"), "--ev-gluing with G2 patches: %d '%s'", rc, err);
     /* targets the span cap cannot reach: the warning names the edge with the figures of the continuity
      * the fit imposes — in G1 mode the normal jump alone (until stop 40 it listed a curvature target
-     * there too) */
-    rc = run_sh("$Q cube.obj --ev-patch g1 --continuity g1 --tol 1e-2 --max-spans 2 --angle-tol 1e-5 -o t5.json", err,
+     * there too); the smoothsteps' gluing, least squares in the fit, since polynomial gluing is exact */
+    rc = run_sh("$Q cube.obj --ev-patch g1 --continuity g1 --ev-gluing smoothstep --tol 1e-2 --max-spans 2 --angle-tol 1e-5 -o t5.json", err,
                 sizeof err);
     CHECK(rc == 0 && strstr(err, "warning: continuity target not met: edge ") && strstr(err, "(target 1e-05 deg; the construction's own: ") &&
               !strstr(err, "curvature jump") && !strstr(err, "G2 "),

@@ -29,7 +29,8 @@ static q2n_status build_augmented(q2n_model *m, q2n_error *err)
 {
     q2n_augmented_options ao = {m->opt.cls, m->opt.param};
     q2n_extraordinary_options eo = {m->opt.cls, m->opt.param, (q2n_ev_patch_kind)m->opt.ev_patch,
-                                    (q2n_ev_method)m->opt.ev_method, m->opt.threads, m->opt.keep_flat};
+                                    (q2n_ev_method)m->opt.ev_method, m->opt.threads, m->opt.keep_flat,
+                                    m->opt.smooth_gluing};
     q2n_status st = q2n_param_edge_intervals(m->mesh, &m->opt.param, &m->edge_iv, err);
     if (!st) st = q2n_augmented_build(m->mesh, &ao, m->edge_iv, &m->surface, err);
     /* faces at extraordinary vertices: augmented Coons–Gregory patches (§4) */
@@ -156,6 +157,48 @@ static q2n_status scan_patches(q2n_model *m, q2n_error *err)
     return Q2N_OK;
 }
 
+/* G1 patches glued by polynomials (ev_fair_gluing.c) whose surface folds over: the extraordinary
+ * regions are built again with the smoothsteps and kept if they fold on fewer faces.  The gluing's
+ * twist corrections are fixed before the energy solve, which the fold guard cannot undo, and on a
+ * thin plate they turned four faces over where the smoothsteps turn none (docs/extraordinary.md,
+ * "Polynomial gluing of G1 patches").  An error of the second build keeps the first. */
+static void gluing_fallback(q2n_model *m)
+{
+    if (m->opt.smooth_gluing || m->folded == 0 || m->ev_stats.polynomial_edges == 0) return;
+    q2n_surface *s2 = m->surface;
+    double *iv2 = m->edge_iv;
+    q2n_extraordinary_stats st2 = m->ev_stats;
+    int folded2 = m->folded, face2 = m->folded_face, cont2 = m->continuity;
+    char warning2[sizeof m->warning];
+    memcpy(warning2, m->warning, sizeof warning2);
+    m->surface = NULL;
+    m->edge_iv = NULL;
+    m->warning[0] = 0;
+    m->opt.smooth_gluing = 1;
+    q2n_error e1;
+    q2n_status st = build_augmented(m, &e1);
+    if (!st) st = scan_patches(m, &e1);
+    m->opt.smooth_gluing = 0;
+    if (!st && m->folded < folded2) {
+        char where[320];
+        face_where(m, face2, where, sizeof where);
+        q2n_surface_free(s2);
+        free(iv2);
+        q2n_model_warn(m, "%s: G1 patches glued by polynomials fold over there (on %d faces in all); glued by smoothsteps "
+                       "instead (%d faces fold; least squares across their edges in the fit)", where, folded2, m->folded);
+        return;
+    }
+    q2n_surface_free(m->surface);
+    free(m->edge_iv);
+    m->surface = s2;
+    m->edge_iv = iv2;
+    m->ev_stats = st2;
+    m->folded = folded2;
+    m->folded_face = face2;
+    m->continuity = cont2;
+    memcpy(m->warning, warning2, sizeof m->warning);
+}
+
 /* G2 patches at extraordinary vertices fold over on a thin or sharp feature: the curvature a G2
  * surface must carry across a few faces there (docs/extraordinary.md, "Found and not fixed").  With
  * opt.fold_fallback the extraordinary regions are built again with G1 patches, which need no
@@ -180,6 +223,7 @@ static void fold_fallback(q2n_model *m)
     q2n_error e1;
     q2n_status st = build_augmented(m, &e1);
     if (!st) st = scan_patches(m, &e1);
+    if (!st) gluing_fallback(m);
     if (!st && m->folded < folded2) {
         char where[320];
         face_where(m, face2, where, sizeof where);
@@ -429,6 +473,7 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (!st) q2n_progress_emit(&m->opt.progress, "build", NULL, 0, m->mesh->nf);
     if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
     if (!st) st = scan_patches(m, err);
+    if (!st) gluing_fallback(m);
     if (!st) fold_fallback(m);
     for (int k = 0; k < 2; k++) { /* a failure is often the split faces' (needles, bow-ties) */
         const char *h = hint[k];
@@ -576,6 +621,7 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.folded_faces = m->folded; /* the construction's scan, for the report */
     m->fit.vertices_moved_rel = m->moved_rel;
     m->fit.flat_vertices = m->ev_stats.flat_vertices;
+    m->fit.polynomial_edges = m->ev_stats.polynomial_edges;
     m->fit.g2_folded_faces = m->g2_folded;
     m->fit.paired_quads = m->paired;
     m->fit.triangles_left = m->tri_left;

@@ -55,6 +55,11 @@ static void usage(FILE *f)
           "                        biquintic Coons-Gregory) or g1 (bicubic; default for C1 classes)\n"
           "      --ev-construction M  extraordinary regions: fair (default: one jet per vertex,\n"
           "                        bending-energy solve) or paper (Coons-Gregory of the paper)\n"
+          "      --ev-gluing G     G1 patches of the fair construction: polynomial (default: their\n"
+          "                        edges glued by polynomials wherever the corners allow it, so\n"
+          "                        the patches are bi-quintic and the fit is exactly G1 with one\n"
+          "                        span) or smoothstep (every edge as before: least squares in the\n"
+          "                        fit)\n"
           "      --keep-flat       where the mesh is flat around a vertex (its faces' corners in\n"
           "                        one plane), the fair construction keeps the surface in that\n"
           "                        plane exactly (flat panels stay flat; the bends beside them\n"
@@ -184,7 +189,7 @@ static int parse_size(const char *s, double *out)
 enum {
     OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT, OPT_TOL,
     OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_FORMAT, OPT_SCALE, OPT_TOLABS, OPT_ANGLE,
-    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT, OPT_KEEPFLAT, OPT_PAIR, OPT_FILL
+    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_EVGLUING, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT, OPT_KEEPFLAT, OPT_PAIR, OPT_FILL
 };
 
 static const struct option LONGOPTS[] = {
@@ -201,6 +206,7 @@ static const struct option LONGOPTS[] = {
     {"tol-abs", required_argument, 0, OPT_TOLABS},  {"angle-tol", required_argument, 0, OPT_ANGLE},
     {"curvature-tol", required_argument, 0, OPT_CURV}, {"max-memory", required_argument, 0, OPT_MAXMEM},
     {"ev-construction", required_argument, 0, OPT_EVMETHOD},
+    {"ev-gluing", required_argument, 0, OPT_EVGLUING},
     {"max-spans", required_argument, 0, OPT_MAXSPANS}, {"gluing", required_argument, 0, OPT_GLUING},
     {"progress", no_argument, 0, OPT_PROGRESS},     {"help", no_argument, 0, 'h'},
     {"version", no_argument, 0, 'V'},               {0, 0, 0, 0}};
@@ -240,6 +246,13 @@ static int parse_option(int c, const char *arg, cli_options *o)
     case OPT_GLUING:
         if (parse_choice(Q2N_CHOICE_GLUING, "--gluing", arg, &v)) return 2;
         q->gluing = (q2n_gluing)v;
+        return 0;
+    case OPT_EVGLUING:
+        if (strcmp(arg, "polynomial") && strcmp(arg, "smoothstep")) {
+            fprintf(stderr, "quad2nurbs: --ev-gluing: unknown '%s' (expected polynomial or smoothstep)\n", arg);
+            return 2;
+        }
+        q->ev_smooth_gluing = !strcmp(arg, "smoothstep");
         return 0;
     case OPT_EVMETHOD:
         if (parse_choice(Q2N_CHOICE_EV_CONSTRUCTION, "--ev-construction", arg, &v)) return 2;

@@ -102,8 +102,9 @@ static void assign_unknowns(fe_build *B, const ev_vjet *vj, int nf, const char *
     }
 }
 
+
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
-                         int keep_flat, int threads, ev_fair_stats *stats, q2n_error *err)
+                         int keep_flat, int poly_gluing, int threads, ev_fair_stats *stats, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
     fe_build B = {0};
@@ -188,56 +189,83 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     }
     for (int i = 0; i < nf && !st; i++) st = q2n_ev_fair_setup_patch(&B, faces[i], &X[i], &CP[i], err);
     if (st) goto done;
-
-    /* corners whose two sides disagree (possible only where a side comes from a regular patch:
-     * constructed data are jet contractions, and they involve only the fixed terms there) keep a
-     * Gregory blend */
-    for (int i = 0; i < nf; i++) {
-        double ctv[3 * 36 * 3], tayv[4 * FE_TAYLOR_SIZE(3)];
-        cp_corner C = {3, ctv};
-        const double *J[4];
-        fe_lanes L;
-        for (int c = 0; c < 4; c++) J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
-        q2n_ev_fair_fill_lanes(&X[i], J, 3, &L, tayv);
-        q2n_cp_corner_terms(&CP[i], &L, 3, &C);
-        for (int ci = 0; ci < 2; ci++)
-            for (int cj = 0; cj < 2; cj++) {
-                double mis = q2n_cp_corner_mismatch(&CP[i], &C, ci, cj);
-                if (mis > EV_FAIR_COMPAT_REL) {
-                    CP[i].greg[q2n_corner_at(ci, cj)] = 1;
-                    if (stats) stats->gregory_corners++;
+    /* G1: polynomial gluing where a region's corner equations allow it (ev_fair_gluing.c).  Where the
+     * solve then leaves faces folded over, the smoothsteps are tried too and the one that folds on
+     * fewer faces kept (the polynomial gluing's twist corrections are fixed before the solve, and the
+     * fold guard cannot hold them). */
+    int poly_edges = 0, held = 0, folds = 0, shrinks = 0, poly_folds = -1;
+    for (int attempt = 0; attempt < 3; attempt++) {
+        int poly = K == 1 && poly_gluing && attempt != 1;
+        if (attempt > 0) { /* back to the local estimates and the smoothsteps */
+            memcpy(B.jet, jet0, (size_t)m->nv * sizeof *jet0);
+            memset(B.bub, 0, (size_t)nf * sizeof *B.bub);
+            for (int i = 0; i < nf; i++)
+                for (int sd = 0; sd < 4; sd++) {
+                    fe_side *S = &X[i].side[sd];
+                    S->poly = 0, S->q = 0;
+                    memset(S->rc, 0, sizeof S->rc);
+                    memset(S->sl, 0, sizeof S->sl);
                 }
-                if (stats) stats->corner_mismatch_max = fmax(stats->corner_mismatch_max, mis);
-            }
-    }
-
-    int held = 0, folds = 0, shrinks = 0;
-    /* with flat fans (keep_flat): their jets' orders 1 and 2 are the local estimates, exact for planar
-     * data; a first solve keeps their higher orders in the plane up to EV_FLAT_PENALTY
-     * (coupled_solve), those then lose what is left of their normal parts and are fixed, and a
-     * second solve fits everything else to them (docs/extraordinary.md, "Flat fans") */
-    for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
-        if (stage == 1) {
-            fix_flat_jets(&B, flat, (const double (*)[3])flatn, (const double (*)[EV_JS][3])jet0, nf);
+            assign_unknowns(&B, vj, nf, NULL, nflat ? flat : NULL);
             B.flat = NULL;
-            assign_unknowns(&B, vj, nf, flat, NULL);
-        } else if (nflat) {
-            B.flat = flat;
-            B.flatn = (const double (*)[3])flatn;
+            poly_edges = 0;
         }
-        free(B.ridge);
-        if (!(B.ridge = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
-        for (int i = 0; i < m->nv * EV_JS; i++)
-            if (B.var[i] >= 0) {
-                /* G2: a corner of the mesh's boundary (one face) keeps its curvature near its local
-                 * estimate and its orders 3 and 4 at zero (ev_policy.h, EV_FAIR_RIDGE_CORNER) */
-                int v = i / EV_JS, sl = i % EV_JS, corner = B.K >= 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 1;
-                B.ridge[B.var[i]] = sl < EV_SLOT(2, 0) ? RIDGE_LOW
-                                    : sl <= EV_SLOT(2, 2) ? (corner ? RIDGE_CORNER : RIDGE_LOW)
-                                    : corner ? RIDGE_HELD : RIDGE_HIGH;
+        if (poly && (st = q2n_ev_fair_poly_gluing(&B, faces, nf, X, &poly_edges, err))) goto done;
+        if (stats) stats->gregory_corners = 0, stats->corner_mismatch_max = 0;
+        for (int i = 0; i < nf; i++) memset(CP[i].greg, 0, sizeof CP[i].greg);
+        /* corners whose two sides disagree (possible only where a side comes from a regular patch:
+         * constructed data are jet contractions, and they involve only the fixed terms there) keep a
+         * Gregory blend */
+        for (int i = 0; i < nf; i++) {
+            double ctv[3 * 36 * 3], tayv[4 * FE_TAYLOR_SIZE(3)];
+            cp_corner C = {3, ctv};
+            const double *J[4];
+            fe_lanes L;
+            for (int c = 0; c < 4; c++) J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
+            q2n_ev_fair_fill_lanes(&X[i], J, 3, &L, tayv);
+            q2n_cp_corner_terms(&CP[i], &L, 3, &C);
+            for (int ci = 0; ci < 2; ci++)
+                for (int cj = 0; cj < 2; cj++) {
+                    double mis = q2n_cp_corner_mismatch(&CP[i], &C, ci, cj);
+                    if (mis > EV_FAIR_COMPAT_REL) {
+                        CP[i].greg[q2n_corner_at(ci, cj)] = 1;
+                        if (stats) stats->gregory_corners++;
+                    }
+                    if (stats) stats->corner_mismatch_max = fmax(stats->corner_mismatch_max, mis);
+                }
+        }
+
+        /* with flat fans (keep_flat): their jets' orders 1 and 2 are the local estimates, exact for planar
+         * data; a first solve keeps their higher orders in the plane up to EV_FLAT_PENALTY
+         * (coupled_solve), those then lose what is left of their normal parts and are fixed, and a
+         * second solve fits everything else to them (docs/extraordinary.md, "Flat fans") */
+        for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
+            if (stage == 1) {
+                fix_flat_jets(&B, flat, (const double (*)[3])flatn, (const double (*)[EV_JS][3])jet0, nf);
+                B.flat = NULL;
+                assign_unknowns(&B, vj, nf, flat, NULL);
+            } else if (nflat) {
+                B.flat = flat;
+                B.flatn = (const double (*)[3])flatn;
             }
-        if ((st = q2n_ev_fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, &shrinks, err))) goto done;
+            free(B.ridge);
+            if (!(B.ridge = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+            for (int i = 0; i < m->nv * EV_JS; i++)
+                if (B.var[i] >= 0) {
+                    /* G2: a corner of the mesh's boundary (one face) keeps its curvature near its local
+                     * estimate and its orders 3 and 4 at zero (ev_policy.h, EV_FAIR_RIDGE_CORNER) */
+                    int v = i / EV_JS, sl = i % EV_JS, corner = B.K >= 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 1;
+                    B.ridge[B.var[i]] = sl < EV_SLOT(2, 0) ? RIDGE_LOW
+                                        : sl <= EV_SLOT(2, 2) ? (corner ? RIDGE_CORNER : RIDGE_LOW)
+                                        : corner ? RIDGE_HELD : RIDGE_HIGH;
+                }
+            if ((st = q2n_ev_fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, &shrinks, err))) goto done;
+        }
+        if (attempt == 0 && (!poly || poly_edges == 0 || folds == 0)) break;
+        if (attempt == 0) poly_folds = folds;
+        else if (attempt == 1 && folds < poly_folds) break; /* the smoothsteps fold on fewer faces */
     }
+    if (stats) stats->polynomial_edges = poly_edges;
     if (stats) stats->unknowns = B.nvar, stats->held_vertices = held, stats->folded_faces = folds, stats->shrinks = shrinks;
 
     for (int i = 0; i < nf; i++) {

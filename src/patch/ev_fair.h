@@ -16,6 +16,7 @@ typedef struct ev_fair_stats {
     int held_vertices;         /* vertices whose jets of order <= 2 the fold guard held at their local estimates */
     int folded_faces;          /* faces still folded after the guard (0 unless it ran out of passes) */
     int shrinks;               /* halvings of the held jets in the kept solution (0: the local estimates themselves) */
+    int polynomial_edges;      /* G1: constructed edges glued by polynomials (ev_fair_gluing.c) */
 } ev_fair_stats;
 
 /* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the
@@ -23,6 +24,6 @@ typedef struct ev_fair_stats {
  * (EV_FLAT_REL) keep the surface in its plane exactly; threads: workers for the energy assembly
  * (the result does not depend on it); stats may be NULL. */
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
-                         int keep_flat, int threads, ev_fair_stats *stats, q2n_error *err);
+                         int keep_flat, int poly_gluing, int threads, ev_fair_stats *stats, q2n_error *err);
 
 #endif

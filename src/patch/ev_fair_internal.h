@@ -22,6 +22,14 @@ typedef struct fe_side {
     double ew[2];        /* the base face's cross-edge intervals at the two ends */
     int derived;         /* this face is the derived side */
     double al[2], be[2]; /* α, β at the two ends */
+    int poly;            /* G1, derived side: α quadratic (Bernstein middle coefficient q), β linear
+                            (ev_fair_gluing.c); 0: both smoothsteps */
+    double q;
+    double sl[2][2];     /* G1, derived side that is not poly: slopes d/ds of α (sl[0]) and β (sl[1])
+                            at the two ends of their cubic Hermite interpolants (0, 0: smoothsteps;
+                            ev_fair_gluing.c) */
+    double rc[2][2];     /* twist corrections of the base face's corners at the two ends (chart
+                            vectors r: the corner's outgoing twist gains J r; ev_fair_gluing.c) */
 } fe_side;
 
 /* Side context of one patch (the Coons patch's ctx); lanes: fe_lanes, its constructed sides' fields
@@ -101,6 +109,13 @@ void q2n_ev_fair_fill_lanes(const fe_ctx *X, const double *const J[4], int W, fe
  * (the caller frees it with q2n_ev_fair_eval_free). */
 fe_eval *q2n_ev_fair_make_eval(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P);
 void q2n_ev_fair_eval_free(void *d);
+
+/* ------------------------------------------------------------ ev_fair_gluing.c */
+
+/* G1 patches (K = 1): quadratic α and linear β on the constructed edges between free vertices, and
+ * the corners' twist corrections that keep them compatible (the sides' poly, q and rc), wherever a
+ * component's equations hold; *poly_edges counts the edges that took it. */
+q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, int *poly_edges, q2n_error *err);
 
 /* ------------------------------------------------------------ ev_fair_solve.c */
 

@@ -38,6 +38,9 @@ static void side_ends(int K, const fe_side *S, const double *T0, const double *T
             ev_jet_contract(T1, W, j, S->u1, p, S->w1, pow(-S->d, j) * s1, FE_END(E, p, 1, j));
         }
     }
+    /* twist corrections of the base face's corners: T_out += J rc (end 0: d/ds χ = T_out; end 1: -T_out) */
+    if (S->rc[0][0] != 0 || S->rc[0][1] != 0) ev_jet_contract(T0, W, 1, S->rc[0], 0, S->w0, 1.0, FE_END(E, 1, 0, 1));
+    if (S->rc[1][0] != 0 || S->rc[1][1] != 0) ev_jet_contract(T1, W, 1, S->rc[1], 0, S->w1, -1.0, FE_END(E, 1, 1, 1));
 }
 
 
@@ -69,6 +72,21 @@ static void smooth_taylor(int K, double v0, double v1, int e, double *out)
     int n = 2 * K + 1;
     for (int k = 0; k <= n; k++) out[k] = e ? -(v1 - v0) * ((k & 1) ? -h[k] : h[k]) : (v1 - v0) * h[k];
     out[0] = e ? v1 : v0;
+}
+
+/* The cubic Hermite interpolant with values v0, v1 and slopes m0, m1 at s = 0, 1, about end e (4
+ * coefficients): G1 gluing functions with free end slopes (ev_fair_gluing.c). */
+static void cubic_taylor(double v0, double v1, double m0, double m1, int e, double *out)
+{
+    double c[4];
+    for (int k = 0; k < 4; k++)
+        c[k] = v0 * q2n_hermite_coef[0][0][0][k] + v1 * q2n_hermite_coef[0][0][1][k] + m0 * q2n_hermite_coef[0][1][0][k] +
+               m1 * q2n_hermite_coef[0][1][1][k];
+    for (int k = 0; k < 4; k++) { /* about s = 1: Σ_j C(j, k) c_j */
+        out[k] = c[k];
+        if (e)
+            for (int j = k + 1; j < 4; j++) out[k] += q2n_binom[j][k] * c[j];
+    }
 }
 
 /* out[k] += f Σ_i a[i] v[k - i] (a scalar polynomial of degree na times a lane polynomial of
@@ -106,8 +124,22 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
         double c[(FE_TDEG + 1) * CP_MAXW], x[(FE_TDEG + 1) * CP_MAXW];
         double al[2 * Q2N_HERMITE_MAXK + 2], be[2 * Q2N_HERMITE_MAXK + 2];
         hermite_taylor(Kc - 1, E, 1, e, W, c);
-        smooth_taylor(K, S->al[0], S->al[1], e, al);
-        smooth_taylor(K, S->be[0], S->be[1], e, be);
+        if (S->poly) {
+            for (int k = 0; k < 2 * Q2N_HERMITE_MAXK + 2; k++) al[k] = be[k] = 0;
+            double a0 = S->al[0], a1 = S->al[1], q = S->q, c2 = a0 - 2 * q + a1;
+            al[0] = e ? a1 : a0;
+            al[1] = e ? 2 * (a1 - q) : 2 * (q - a0);
+            al[2] = c2;
+            be[0] = e ? S->be[1] : S->be[0];
+            be[1] = S->be[1] - S->be[0];
+        } else if (K == 1 && (S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0)) {
+            for (int k = 0; k < 2 * Q2N_HERMITE_MAXK + 2; k++) al[k] = be[k] = 0;
+            cubic_taylor(S->al[0], S->al[1], S->sl[0][0], S->sl[0][1], e, al);
+            cubic_taylor(S->be[0], S->be[1], S->sl[1][0], S->sl[1][1], e, be);
+        } else {
+            smooth_taylor(K, S->al[0], S->al[1], e, al);
+            smooth_taylor(K, S->be[0], S->be[1], e, be);
+        }
         const double *g = FE_TC(T, 0, e, 0);
         conv_add(al, ns, c, nc, 0, W, 1, FE_TC(T, 1, e, 0));
         conv_add(be, ns, g, ng, 1, W, 1, FE_TC(T, 1, e, 0));

@@ -87,6 +87,31 @@
 #define EV_FOLD_SHRINK 0.5
 #define EV_FOLD_SHRINKS 2
 
+/* Polynomial gluing of G1 patches (ev_fair_gluing.c).  The corner equations are solved as
+ * constraints by a quadratic penalty of this weight against the least-change objective (unit
+ * weight), refined EV_POLY_REFINE times: each refinement multiplies the rows' residual by about
+ * (1/weight)² relative to their scale, so three reach rounding (1e-16 measured; the fifth and on
+ * change nothing).  A component keeps the gluing when every row holds to EV_POLY_RESIDUAL (chart
+ * units of order one: what the refinement leaves is 1e-16 where the equations are consistent,
+ * 1e-4 and more where they are not) and every quadratic α's middle Bernstein coefficient has the
+ * sign of its ends and at least EV_POLY_Q_MARGIN of the smaller end's size: then |α| stays above
+ * that fraction along the edge (a convex combination of the three), where an α through zero folds
+ * the derived face over (measured: a shared box-like mesh's q of the wrong sign, |α| 0.03). */
+#define EV_POLY_PENALTY 1e5
+#define EV_POLY_REFINE 4
+#define EV_POLY_RESIDUAL 1e-12
+#define EV_POLY_Q_MARGIN 0.25
+/* Passes of the gluing solve: an edge whose q misses that margin keeps a cubic α, β with free end
+ * slopes (least squares in the fit) and its component is solved again; the shared meshes need at most
+ * three. */
+#define EV_POLY_PASSES 6
+/* A boundary vertex of fewer faces than this keeps the smoothsteps on its edges, as a vertex with a
+ * regular patch's corner does: its corners form an open chain, their twist corrections are not
+ * tied around a vertex, and the least-change corrections there bent the rims of open fans (G1 mode,
+ * fitted: open pyramids of five to eight sides 1.3-2.6 x the oscillation per EV diagonal, a shared
+ * fan of boundary corners 0.87 -> 1.41; with 3 faces and more: no such loss measured). */
+#define EV_POLY_BOUNDARY_FACES 3
+
 /* Two sides of a corner "agree" when their mixed derivatives differ by less than this fraction of
  * the corner's first- and mixed-derivative scale (rounding of the regular patches' jets); beyond
  * it the corner keeps a Gregory blend. */

@@ -36,6 +36,8 @@ typedef struct q2n_extraordinary_options {
     q2n_ev_method method;
     int threads;                 /* worker threads for the construction's solves (0: 1) */
     int keep_flat;               /* fair construction: flat fans stay flat (ev_fair.h); 0: no */
+    int smooth_gluing;           /* fair construction, G1 patches: keep the smoothstep gluing everywhere
+                                    (0: polynomial gluing where it holds, ev_fair_gluing.c) */
 } q2n_extraordinary_options;
 
 /* Parse "fair" / "paper"; returns 0 on success. */
@@ -57,6 +59,7 @@ q2n_status q2n_flat_faces_dev(const q2n_mesh *m, const q2n_surface *s, int n, in
 /* What the build did, for the report. */
 typedef struct q2n_extraordinary_stats {
     int flat_vertices;     /* keep_flat: vertices whose fan is flat, their jets kept in its plane */
+    int polynomial_edges;  /* G1 patches: constructed edges glued by polynomials (exact in the fit) */
 } q2n_extraordinary_stats;
 
 /* q2n_extraordinary_build, and its account into *stats (zeroed first). */

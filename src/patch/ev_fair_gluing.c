@@ -1,0 +1,265 @@
+/* ev_fair_gluing.c — polynomial gluing of the fair construction's G1 patches (K = 1): every
+ * constructed edge between two extraordinary faces whose end vertices are both "free" gets a
+ * quadratic α and a linear β instead of the cubic smoothsteps, and every face corner's twist a
+ * tangential correction, so that the derived side's cross derivative
+ *     χ_G = α χ_F + β γ_t                              (formulas.md §4.2, ev_fair.c's header)
+ * is a quintic (α quadratic × χ_F cubic, β linear × γ_t quartic) while every corner stays
+ * compatible.  With all four sides quintic and the cubic Hermite blend, the Coons patch is a
+ * bi-quintic polynomial (coons_patch.c; the K = 1 bubbles are of degree <= 5 too): the fit then
+ * reproduces it with one span, and the G1 relation between two such patches holds to rounding —
+ * exact G1 at extraordinary vertices (docs/extraordinary.md, "Polynomial gluing in G1").
+ *
+ * The price is at the corners.  Writing α(s) = α0 (1-s)² + 2q s(1-s) + α1 s² (Bernstein; q free)
+ * and β(s) = β0 (1-s) + β1 s, the derived face's twist at end 0 of the side (d/ds of χ_G) gains
+ * α'(0) χ_F(0) + β'(0) γ_t(0), which the jets' corner maps (linear) do not have.  So each face
+ * corner's outgoing twist (the mixed derivative along its two edges, parametric) becomes the jet's
+ * plus J r, J the jet's tangent map and r a chart vector of that corner, and per derived side and
+ * end, with G the derived face, F the base face, u, w the edge's and F's cross edge's chart
+ * directions at that end, d, e_w their intervals (all as ev_fair_patch.c's side data):
+ *     end 0:  r_G = α0 r_F + α'(0) e_w w0 + β' d u0,
+ *     end 1:  r_G = α1 r_F - α'(1) e_w w1 + β' d u1,       α'(0) = 2(q - α0), α'(1) = 2(α1 - q).
+ * (The jet parts agree as before: w_G = α w_F + β u in each chart.)  At a vertex of odd valence the
+ * corrections follow uniquely (around the vertex the α's multiply to (-1)^n); at even valence the
+ * equations hold only for suitable q's (two conditions per vertex).  A corner whose side is a
+ * regular patch's keeps that patch's twist (r = 0), so only edges whose two end vertices have no
+ * such corner ("free" vertices) take the new gluing; edges with a pinned end keep the smoothsteps,
+ * whose α' = β' = 0 at the ends give homogeneous equations r_G = α r_F.
+ *
+ * The corrections and q's are solved per connected set of free vertices (a component: the
+ * equations of different components share no unknown) as the least change from r = 0 and q at the
+ * chord's middle (α linear), under the equations as constraints (a quadratic penalty with iterative
+ * refinement, CHOLMOD).  A component keeps the new gluing only when every equation holds and every
+ * α keeps the sign of its ends with margin (Bernstein coefficients of one sign: α cannot vanish, and
+ * a vanishing α folds the derived face); otherwise all of it returns to the smoothsteps. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sparse.h"
+#include "patch/ev_fair_internal.h"
+#include "patch/ev_policy.h"
+
+#define PG_NZ 4
+typedef struct pg_row {
+    int ix[PG_NZ]; /* r_G (one component), r_F (the same component), then q or the two slopes (-1: none) */
+    double co[PG_NZ], b;
+    int comp;      /* component of the row's vertex */
+} pg_row;
+
+static int corner_of(const q2n_mesh *m, int f, int v)
+{
+    for (int c = 0; c < 4; c++)
+        if (m->face_vert[m->face_start[f] + c] == v) return c;
+    return -1;
+}
+
+static int uf_find(int *p, int a)
+{
+    while (p[a] != a) a = p[a] = p[p[a]];
+    return a;
+}
+
+static double row_residual(const pg_row *R, const double *x)
+{
+    double r = R->b;
+    for (int p = 0; p < PG_NZ; p++)
+        if (R->ix[p] >= 0) r -= R->co[p] * x[R->ix[p]];
+    return r;
+}
+
+/* min |x - x0|² subject to the rows, as the penalty problem (W² AᵀA + I) x = W² Aᵀ b + x0 refined:
+ * each refinement solves for the rows' residuals again, which removes the penalty's bias. */
+static q2n_status pg_solve(int n, const pg_row *R, int nrow, const double *x0, double *x, q2n_error *err)
+{
+    const double W2 = EV_POLY_PENALTY * EV_POLY_PENALTY;
+    long cap = (long)PG_NZ * PG_NZ * nrow + n, nt = 0;
+    int *ti = malloc(sizeof(int) * (size_t)cap), *tj = malloc(sizeof(int) * (size_t)cap);
+    double *tv = malloc(sizeof(double) * (size_t)cap), *rhs = malloc(sizeof(double) * (size_t)n);
+    double *dx = malloc(sizeof(double) * (size_t)n);
+    q2n_status st = Q2N_OK;
+    if (!ti || !tj || !tv || !rhs || !dx) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
+    for (int k = 0; k < nrow; k++)
+        for (int p = 0; p < PG_NZ; p++)
+            for (int q = 0; q < PG_NZ; q++)
+                if (R[k].ix[p] >= 0 && R[k].ix[q] >= 0 && R[k].ix[p] <= R[k].ix[q])
+                    ti[nt] = R[k].ix[p], tj[nt] = R[k].ix[q], tv[nt++] = W2 * R[k].co[p] * R[k].co[q];
+    for (int k = 0; k < n; k++) ti[nt] = tj[nt] = k, tv[nt++] = 1;
+    memcpy(x, x0, sizeof(double) * (size_t)n);
+    for (int it = 0; it < EV_POLY_REFINE && !st; it++) {
+        memset(rhs, 0, sizeof(double) * (size_t)n);
+        for (int k = 0; k < nrow; k++) {
+            double r = row_residual(&R[k], x);
+            for (int p = 0; p < PG_NZ; p++)
+                if (R[k].ix[p] >= 0) rhs[R[k].ix[p]] += W2 * R[k].co[p] * r;
+        }
+        if (!(st = q2n_sparse_spd_solve(n, nt, ti, tj, tv, 1, rhs, dx, err)))
+            for (int k = 0; k < n; k++) x[k] += dx[k];
+    }
+done:
+    free(ti);
+    free(tj);
+    free(tv);
+    free(rhs);
+    free(dx);
+    return st;
+}
+
+/* Vertex of corner c of face f. */
+static int fv(const q2n_mesh *m, int f, int c) { return m->face_vert[m->face_start[f] + c]; }
+
+q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, int *poly_edges, q2n_error *err)
+{
+    const q2n_mesh *m = B->m;
+    size_t n4 = 4 * (size_t)(nf > 0 ? nf : 1);
+    int *fidx = malloc(sizeof(int) * (size_t)m->nf), *uf = malloc(sizeof(int) * (size_t)m->nv);
+    char *vin = calloc((size_t)m->nv, 1), *vpin = calloc((size_t)m->nv, 1), *cbad = calloc((size_t)m->nv, 1);
+    char *cubic = calloc(n4, 1); /* derived side: α, β cubic with free end slopes instead of poly */
+    int *rix = malloc(sizeof(int) * n4), *qix = malloc(sizeof(int) * n4), (*six)[2] = malloc(sizeof *six * n4);
+    int *comp = malloc(sizeof(int) * (8 * n4 + 1));
+    pg_row *R = malloc(sizeof(pg_row) * 2 * n4);
+    double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
+    q2n_status st = Q2N_OK;
+    *poly_edges = 0;
+    if (!fidx || !uf || !vin || !vpin || !cbad || !cubic || !rix || !qix || !six || !comp || !R || !x || !x0) {
+        st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
+        goto done;
+    }
+    for (int f = 0; f < m->nf; f++) fidx[f] = -1;
+    for (int i = 0; i < nf; i++) fidx[faces[i]] = i;
+    /* free vertices: corners of extraordinary faces none of whose corners there has a regular side */
+    for (int i = 0; i < nf; i++)
+        for (int c = 0; c < 4; c++) {
+            int v = fv(m, faces[i], c);
+            vin[v] = 1;
+            if (X[i].side[c].kind != 0 || X[i].side[(c + 3) & 3].kind != 0) vpin[v] = 1;
+            if (m->vert_boundary[v] && m->vert_nfaces[v] < EV_POLY_BOUNDARY_FACES) vpin[v] = 1;
+        }
+#define VFREE(v) (vin[v] && !vpin[v])
+    /* components: free vertices joined by constructed edges */
+    for (int v = 0; v < m->nv; v++) uf[v] = v;
+    for (int i = 0; i < nf; i++)
+        for (int sd = 0; sd < 4; sd++) {
+            const fe_side *S = &X[i].side[sd];
+            int v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
+            if (S->kind != 0 || !VFREE(v0) || !VFREE(v1)) continue;
+            int a = uf_find(uf, v0), b = uf_find(uf, v1);
+            if (a != b) uf[a < b ? b : a] = a < b ? a : b;
+        }
+    int nr = 0;
+    for (int i = 0; i < nf; i++)
+        for (int c = 0; c < 4; c++) rix[4 * i + c] = VFREE(fv(m, faces[i], c)) ? (nr += 2) - 2 : -1;
+    /* passes: an edge whose q would let α approach zero keeps a cubic α, β with free slopes instead
+     * (least squares in the fit, as before), and the component is solved again */
+    int n = 0, nrow = 0;
+    for (int pass = 0; pass < EV_POLY_PASSES; pass++) {
+        n = nr;
+        for (int i = 0; i < nf; i++)
+            for (int sd = 0; sd < 4; sd++) {
+                const fe_side *S = &X[i].side[sd];
+                int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
+                qix[k] = six[k][0] = six[k][1] = -1;
+                if (S->kind != 0 || !S->derived) continue;
+                if (VFREE(v0) && VFREE(v1) && !cubic[k]) {
+                    comp[n] = uf_find(uf, v0);
+                    x0[n] = 0.5 * (S->al[0] + S->al[1]);
+                    qix[k] = n++;
+                    continue;
+                }
+                for (int e = 0; e < 2; e++) {
+                    int v = e ? v1 : v0;
+                    if (!VFREE(v)) continue;
+                    six[k][e] = n;
+                    comp[n] = comp[n + 1] = uf_find(uf, v);
+                    x0[n] = x0[n + 1] = 0;
+                    n += 2;
+                }
+            }
+        for (int k = 0; k < nr; k++) x0[k] = 0;
+        /* two rows per derived side and free end */
+        nrow = 0;
+        for (int i = 0; i < nf; i++)
+            for (int sd = 0; sd < 4; sd++) {
+                const fe_side *S = &X[i].side[sd];
+                if (S->kind != 0 || !S->derived) continue;
+                int f = faces[i], e = m->he_edge[q2n_face_he(m, f, sd)], g = B->base[e], gi = g >= 0 ? fidx[g] : -1;
+                if (gi < 0) continue;
+                int k = 4 * i + sd, qi = qix[k];
+                for (int end = 0; end < 2; end++) {
+                    int c = end ? S->c1 : S->c0, v = fv(m, f, c);
+                    if (!VFREE(v)) continue;
+                    int iG = rix[4 * i + c], iF = rix[4 * gi + corner_of(m, g, v)], si = six[k][end];
+                    const double *w = end ? S->w1 : S->w0, *u = end ? S->u1 : S->u0;
+                    double a = S->al[end], ew = S->ew[end], db = S->be[1] - S->be[0], sg = end ? -1 : 1;
+                    for (int j = 0; j < 2; j++) {
+                        pg_row *r = &R[nrow++];
+                        r->ix[0] = iG + j, r->co[0] = 1;
+                        r->ix[1] = iF + j, r->co[1] = -a;
+                        r->ix[2] = r->ix[3] = -1, r->co[2] = r->co[3] = 0, r->b = 0;
+                        if (qi >= 0) { /* α'(0) = 2(q - α0), α'(1) = 2(α1 - q); β' = β1 - β0 */
+                            r->ix[2] = qi, r->co[2] = -2 * ew * w[j];
+                            r->b = -2 * a * ew * w[j] + db * S->d * u[j];
+                        } else if (si >= 0) { /* the slopes α'(end), β'(end) */
+                            r->ix[2] = si, r->co[2] = -sg * ew * w[j];
+                            r->ix[3] = si + 1, r->co[3] = -S->d * u[j];
+                        }
+                        r->comp = uf_find(uf, v);
+                    }
+                }
+            }
+        if (n > 0 && (st = pg_solve(n, R, nrow, x0, x, err))) goto done;
+        int more = 0;
+        for (int i = 0; i < nf; i++)
+            for (int sd = 0; sd < 4; sd++) {
+                int k = 4 * i + sd, qi = qix[k];
+                if (qi < 0) continue;
+                const fe_side *S = &X[i].side[sd];
+                double a0 = S->al[0], a1 = S->al[1], q = x[qi];
+                if (!(q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1)))) cubic[k] = 1, more = 1;
+            }
+        if (!more) break;
+    }
+    /* a component keeps its gluing when all its rows hold and its α's keep their sign */
+    for (int k = 0; k < nrow; k++)
+        if (!(fabs(row_residual(&R[k], x)) <= EV_POLY_RESIDUAL)) cbad[R[k].comp] = 1;
+    for (int i = 0; i < nf; i++)
+        for (int sd = 0; sd < 4; sd++) {
+            int qi = qix[4 * i + sd];
+            if (qi < 0) continue;
+            const fe_side *S = &X[i].side[sd];
+            double a0 = S->al[0], a1 = S->al[1], q = x[qi];
+            if (!(q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1)))) cbad[comp[qi]] = 1;
+        }
+    for (int i = 0; i < nf; i++)
+        for (int sd = 0; sd < 4; sd++) {
+            fe_side *S = &X[i].side[sd];
+            if (S->kind != 0) continue;
+            int f = faces[i], e = m->he_edge[q2n_face_he(m, f, sd)], g = B->base[e], gi = g >= 0 ? fidx[g] : -1;
+            if (gi < 0) continue;
+            int k = 4 * i + sd, qi = S->derived ? qix[k] : -1;
+            if (qi >= 0 && !cbad[comp[qi]]) S->poly = 1, S->q = x[qi], ++*poly_edges;
+            for (int end = 0; end < 2; end++) {
+                int v = fv(m, f, end ? S->c1 : S->c0), keep = VFREE(v) && !cbad[uf_find(uf, v)];
+                int iF = rix[4 * gi + corner_of(m, g, v)], si = S->derived ? six[k][end] : -1;
+                S->rc[end][0] = keep ? x[iF] : 0; /* the base face's corrections */
+                S->rc[end][1] = keep ? x[iF + 1] : 0;
+                S->sl[0][end] = keep && si >= 0 ? x[si] : 0;
+                S->sl[1][end] = keep && si >= 0 ? x[si + 1] : 0;
+            }
+        }
+#undef VFREE
+done:
+    free(fidx);
+    free(uf);
+    free(vin);
+    free(vpin);
+    free(cbad);
+    free(cubic);
+    free(rix);
+    free(qix);
+    free(six);
+    free(comp);
+    free(R);
+    free(x);
+    free(x0);
+    return st;
+}

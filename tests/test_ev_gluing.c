@@ -1,0 +1,155 @@
+/* test_ev_gluing.c — polynomial gluing of the fair construction's G1 patches (ev_fair_gluing.c,
+ * docs/extraordinary.md "Polynomial gluing of G1 patches"), against references that know nothing
+ * of it:
+ *   - corners: no corner of any patch needs a Gregory blend (the two sides' mixed derivatives agree
+ *     to EV_FAIR_COMPAT_REL), so the twist corrections solve their equations;
+ *   - degree: where every edge of a mesh is glued by polynomials, every patch is a bi-quintic
+ *     polynomial: sixth finite differences along both parameter lines vanish to rounding (a
+ *     degree-7 side, the smoothsteps' χ_G, leaves them at 1e-4 of the patch's size and more);
+ *   - the fit (G1 mode): one span per patch, the construction to 1e-12 of the diagonal, and the normal
+ *     jump across every edge at most 1e-6 degrees, by the report and by fit_check.h's independent
+ *     sampling (the smoothsteps: least squares, 1e-4..1e-2 degrees, 16 spans and more);
+ *   - regions bordering regular patches: the edges between free vertices still take the gluing.
+ * The meshes are generated here (tests/meshgen.h): closed ones whose every face touches an
+ * extraordinary vertex, and open and mixed ones. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "check.h"
+#include "fit/fit.h"
+#include "fit_check.h"
+#include "meshgen.h"
+#include "param/param.h"
+#include "patch/augmented.h"
+#include "patch/ev_fair.h"
+#include "patch/surface.h"
+#include "spline/spline.h"
+
+/* Edge intervals, the regular patches, and the fair G1 construction (poly: polynomial gluing). */
+static q2n_surface *build(const q2n_mesh *m, int poly, ev_fair_stats *st)
+{
+    q2n_param_options po = {0};
+    q2n_augmented_options ao = {NULL, po};
+    q2n_error err = {0, ""};
+    double *iv = NULL;
+    q2n_surface *s = NULL;
+    int ok = q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK && q2n_augmented_build(m, &ao, iv, &s, &err) == Q2N_OK &&
+             q2n_ev_fair_build(m, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), 1, 0, poly, 2, st, &err) == Q2N_OK;
+    CHECK(ok, "%s: build: %s", m->name, err.message);
+    free(iv);
+    if (!ok) {
+        q2n_surface_free(s);
+        return NULL;
+    }
+    return s;
+}
+
+/* Largest sixth finite difference of patch k along u and v lines (7 points at spacing 1/6, 5 lines
+ * each way), relative to the patch's size (its corners' bounding box). */
+static double sixth_difference(const q2n_surface *s, int k)
+{
+    static const double c[7] = {1, -6, 15, -20, 15, -6, 1};
+    double P[7][7][3], lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, worst = 0;
+    for (int a = 0; a < 7; a++)
+        for (int b = 0; b < 7; b++) {
+            if (q2n_surface_eval(s, k, a / 6.0, b / 6.0, 0, P[a][b])) return INFINITY;
+            for (int x = 0; x < 3; x++) lo[x] = fmin(lo[x], P[a][b][x]), hi[x] = fmax(hi[x], P[a][b][x]);
+        }
+    double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+    for (int l = 0; l < 7; l += 1)
+        for (int x = 0; x < 3; x++) {
+            double du = 0, dv = 0;
+            for (int i = 0; i < 7; i++) du += c[i] * P[i][l][x], dv += c[i] * P[l][i][x];
+            worst = fmax(worst, fmax(fabs(du), fabs(dv)) / size);
+        }
+    return worst;
+}
+
+/* The G1 fit of s: its report and the independent largest normal jump (degrees). */
+static int fit_g1(const q2n_mesh *m, const q2n_surface *s, q2n_fit_report *r, double *ang)
+{
+    q2n_fit_options o;
+    q2n_fit_options_default(&o);
+    o.continuity = 1;
+    o.threads = 2;
+    q2n_nurbs_model *md = NULL;
+    q2n_error err = {0, ""};
+    int ok = q2n_fit_surface(s, m, &o, &md, r, &err) == Q2N_OK;
+    CHECK(ok, "%s: fit: %s", m->name, err.message);
+    *ang = md ? fit_random_angle(md, 8) : INFINITY;
+    q2n_nurbs_model_free(md);
+    return ok;
+}
+
+/* Every constructed edge of m is glued by polynomials: the patches are bi-quintic, the fit exact. */
+static void all_polynomial(q2n_mesh *m)
+{
+    CHECK(m != NULL, "generator");
+    if (!m) return;
+    ev_fair_stats st = {0}, st0 = {0};
+    q2n_surface *s = build(m, 1, &st), *s0 = build(m, 0, &st0);
+    if (s && s0) {
+        double d6 = 0, d60 = 0;
+        for (int k = 0; k < m->nf; k++) d6 = fmax(d6, sixth_difference(s, k)), d60 = fmax(d60, sixth_difference(s0, k));
+        q2n_fit_report r, r0;
+        double ang = INFINITY, ang0 = INFINITY;
+        int ok = fit_g1(m, s, &r, &ang) && fit_g1(m, s0, &r0, &ang0);
+        printf("%-40s edges %3d polynomial %3d  gregory corners %d  6th differences %.1e (smoothsteps %.1e)\n", m->name, st.edges,
+               st.polynomial_edges, st.gregory_corners, d6, d60);
+        if (ok)
+            printf("   fit G1: spans max %d, max_dev %.1e, G1 %.1e deg (independent %.1e); smoothsteps: spans max %d, G1 %.1e deg\n",
+                   r.spans_max, r.max_dev_rel, r.g1_max_deg, ang, r0.spans_max, r0.g1_max_deg);
+        CHECK(st.polynomial_edges == st.edges && st.edges > 0, "%s: %d of %d constructed edges polynomial", m->name,
+              st.polynomial_edges, st.edges);
+        CHECK(st.gregory_corners == 0, "%s: %d Gregory corners (mismatch %.3g)", m->name, st.gregory_corners, st.corner_mismatch_max);
+        CHECK(d6 <= 1e-9, "%s: sixth differences %.3g: not bi-quintic", m->name, d6);
+        CHECK(d60 >= 1e-7, "%s: the smoothsteps' patches pass the degree check too (%.3g): the check cannot fail", m->name, d60);
+        if (ok) {
+            CHECK(r.spans_max == 1, "%s: %d spans in a patch, expected one", m->name, r.spans_max);
+            CHECK(r.max_dev_rel <= 1e-12, "%s: max_dev %.3g", m->name, r.max_dev_rel);
+            CHECK(r.g1_max_deg <= 1e-6 && ang <= 1e-6, "%s: G1 %.3g deg (independent %.3g)", m->name, r.g1_max_deg, ang);
+            CHECK(r0.g1_max_deg > 1e-6 && r0.spans_max > 1, "%s: the smoothsteps' fit is exact too (G1 %.3g deg, %d spans)",
+                  m->name, r0.g1_max_deg, r0.spans_max);
+        }
+    }
+    q2n_surface_free(s);
+    q2n_surface_free(s0);
+    q2n_mesh_free(m);
+}
+
+/* A region bordering regular patches or the mesh boundary: the edges between free vertices take
+ * the gluing (at least want of them), every corner stays compatible, and the fit meets its targets. */
+static void partly_polynomial(q2n_mesh *m, int want)
+{
+    CHECK(m != NULL, "generator");
+    if (!m) return;
+    ev_fair_stats st = {0};
+    q2n_surface *s = build(m, 1, &st);
+    if (s) {
+        q2n_fit_report r;
+        double ang = INFINITY;
+        int ok = fit_g1(m, s, &r, &ang);
+        printf("%-40s edges %3d polynomial %3d  gregory corners %d", m->name, st.edges, st.polynomial_edges, st.gregory_corners);
+        if (ok) printf("  fit: spans max %d, G1 %.1e deg (independent %.1e), dev %.1e", r.spans_max, r.g1_max_deg, ang, r.max_dev_rel);
+        printf("\n");
+        CHECK(st.polynomial_edges >= want, "%s: %d polynomial edges, expected at least %d", m->name, st.polynomial_edges, want);
+        CHECK(st.gregory_corners == 0, "%s: %d Gregory corners (mismatch %.3g)", m->name, st.gregory_corners, st.corner_mismatch_max);
+        if (ok) CHECK(r.tol_met && ang <= 0.01, "%s: targets %d, independent G1 %.3g deg", m->name, r.tol_met, ang);
+    }
+    q2n_surface_free(s);
+    q2n_mesh_free(m);
+}
+
+int main(void)
+{
+    /* closed, every face at an extraordinary vertex (valences 3, 4, 5 / 3, 4) */
+    all_polynomial(mg_icosa_quad(0, 1));
+    all_polynomial(mg_icosa_quad(0.05, 3));
+    all_polynomial(mg_octa_quad(3, 1, 0.5));
+    /* a valence-7 vertex with its two rings (open: its rim vertices have three faces and more) and a
+     * third ring of regular patches around it: the spokes and the first ring's edges, 3 x 7 */
+    partly_polynomial(mg_polar_star(7, 3, 1), 21);
+    partly_polynomial(mg_polar_star(5, 3, 4), 15);
+    CHECK_DONE("test_ev_gluing");
+}
