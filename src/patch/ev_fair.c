@@ -203,6 +203,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
                 for (int sd = 0; sd < 4; sd++) {
                     fe_side *S = &X[i].side[sd];
                     S->poly = 0, S->q = 0;
+                    if (S->kind == 0) S->flat_end = S->absorb_side[0] = S->absorb_side[1] = -1;
                     memset(S->rc, 0, sizeof S->rc);
                     memset(S->sl, 0, sizeof S->sl);
                 }

@@ -113,6 +113,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     size_t n4 = 4 * (size_t)(nf > 0 ? nf : 1);
     int *fidx = malloc(sizeof(int) * (size_t)m->nf), *uf = malloc(sizeof(int) * (size_t)m->nv);
     char *vin = calloc((size_t)m->nv, 1), *vpin = calloc((size_t)m->nv, 1), *cbad = calloc((size_t)m->nv, 1);
+    char *vabs = calloc((size_t)m->nv, 1); /* boundary vertices of two faces: their corners absorb the twist */
     char *cubic = calloc(n4, 1); /* derived side: α, β cubic with free end slopes instead of poly */
     int *rix = malloc(sizeof(int) * n4), *qix = malloc(sizeof(int) * n4), (*six)[2] = malloc(sizeof *six * n4);
     int *comp = malloc(sizeof(int) * (8 * n4 + 1));
@@ -120,7 +121,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
     q2n_status st = Q2N_OK;
     *poly_edges = 0;
-    if (!fidx || !uf || !vin || !vpin || !cbad || !cubic || !rix || !qix || !six || !comp || !R || !x || !x0) {
+    if (!fidx || !uf || !vin || !vpin || !cbad || !vabs || !cubic || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
         goto done;
     }
@@ -134,6 +135,11 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             if (X[i].side[c].kind != 0 || X[i].side[(c + 3) & 3].kind != 0) vpin[v] = 1;
             if (m->vert_boundary[v] && m->vert_nfaces[v] < EV_POLY_BOUNDARY_FACES) vpin[v] = 1;
         }
+    /* absorbing vertices: on the boundary, two faces, both extraordinary, no regular patch's corner there */
+    for (int i = 0; i < nf; i++)
+        for (int c = 0; c < 4; c++)
+            if (X[i].side[c].kind != 0 || X[i].side[(c + 3) & 3].kind != 0) vabs[fv(m, faces[i], c)] = 2; /* never */
+    for (int v = 0; v < m->nv; v++) vabs[v] = vin[v] && vabs[v] != 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 2;
 #define VFREE(v) (vin[v] && !vpin[v])
     /* components: free vertices joined by constructed edges */
     for (int v = 0; v < m->nv; v++) uf[v] = v;
@@ -148,87 +154,108 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     int nr = 0;
     for (int i = 0; i < nf; i++)
         for (int c = 0; c < 4; c++) rix[4 * i + c] = VFREE(fv(m, faces[i], c)) ? (nr += 2) - 2 : -1;
-    /* passes: an edge whose q would let α approach zero keeps a cubic α, β with free slopes instead
-     * (least squares in the fit, as before), and the component is solved again */
+    /* rounds: a component whose equations fail with the edges flat at boundary vertices of two faces
+     * is solved again with those vertices pinned (their edges then keep the smoothsteps) */
     int n = 0, nrow = 0;
-    for (int pass = 0; pass < EV_POLY_PASSES; pass++) {
-        n = nr;
-        for (int i = 0; i < nf; i++)
-            for (int sd = 0; sd < 4; sd++) {
-                const fe_side *S = &X[i].side[sd];
-                int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
-                qix[k] = six[k][0] = six[k][1] = -1;
-                if (S->kind != 0 || !S->derived) continue;
-                if (VFREE(v0) && VFREE(v1) && !cubic[k]) {
-                    comp[n] = uf_find(uf, v0);
-                    x0[n] = 0.5 * (S->al[0] + S->al[1]);
-                    qix[k] = n++;
-                    continue;
-                }
-                for (int e = 0; e < 2; e++) {
-                    int v = e ? v1 : v0;
-                    if (!VFREE(v)) continue;
-                    six[k][e] = n;
-                    comp[n] = comp[n + 1] = uf_find(uf, v);
-                    x0[n] = x0[n + 1] = 0;
-                    n += 2;
-                }
-            }
-        for (int k = 0; k < nr; k++) x0[k] = 0;
-        /* two rows per derived side and free end */
-        nrow = 0;
-        for (int i = 0; i < nf; i++)
-            for (int sd = 0; sd < 4; sd++) {
-                const fe_side *S = &X[i].side[sd];
-                if (S->kind != 0 || !S->derived) continue;
-                int f = faces[i], e = m->he_edge[q2n_face_he(m, f, sd)], g = B->base[e], gi = g >= 0 ? fidx[g] : -1;
-                if (gi < 0) continue;
-                int k = 4 * i + sd, qi = qix[k];
-                for (int end = 0; end < 2; end++) {
-                    int c = end ? S->c1 : S->c0, v = fv(m, f, c);
-                    if (!VFREE(v)) continue;
-                    int iG = rix[4 * i + c], iF = rix[4 * gi + corner_of(m, g, v)], si = six[k][end];
-                    const double *w = end ? S->w1 : S->w0, *u = end ? S->u1 : S->u0;
-                    double a = S->al[end], ew = S->ew[end], db = S->be[1] - S->be[0], sg = end ? -1 : 1;
-                    for (int j = 0; j < 2; j++) {
-                        pg_row *r = &R[nrow++];
-                        r->ix[0] = iG + j, r->co[0] = 1;
-                        r->ix[1] = iF + j, r->co[1] = -a;
-                        r->ix[2] = r->ix[3] = -1, r->co[2] = r->co[3] = 0, r->b = 0;
-                        if (qi >= 0) { /* α'(0) = 2(q - α0), α'(1) = 2(α1 - q); β' = β1 - β0 */
-                            r->ix[2] = qi, r->co[2] = -2 * ew * w[j];
-                            r->b = -2 * a * ew * w[j] + db * S->d * u[j];
-                        } else if (si >= 0) { /* the slopes α'(end), β'(end) */
-                            r->ix[2] = si, r->co[2] = -sg * ew * w[j];
-                            r->ix[3] = si + 1, r->co[3] = -S->d * u[j];
-                        }
-                        r->comp = uf_find(uf, v);
+    for (int round = 0; round < 2; round++) {
+        memset(cbad, 0, (size_t)m->nv);
+        memset(cubic, 0, n4);
+        /* passes: an edge whose q would let α approach zero keeps a cubic α, β with free slopes instead
+         * (least squares in the fit, as before), and the component is solved again */
+        for (int pass = 0; pass < EV_POLY_PASSES; pass++) {
+            n = nr;
+            for (int i = 0; i < nf; i++)
+                for (int sd = 0; sd < 4; sd++) {
+                    const fe_side *S = &X[i].side[sd];
+                    int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
+                    qix[k] = six[k][0] = six[k][1] = -1;
+                    if (S->kind != 0 || !S->derived) continue;
+                    if (VFREE(v0) && VFREE(v1) && !cubic[k]) {
+                        comp[n] = uf_find(uf, v0);
+                        x0[n] = 0.5 * (S->al[0] + S->al[1]);
+                        qix[k] = n++;
+                        continue;
+                    }
+                    if ((VFREE(v0) && vabs[v1]) || (VFREE(v1) && vabs[v0])) continue; /* flat at the absorbing end */
+                    for (int e = 0; e < 2; e++) {
+                        int v = e ? v1 : v0;
+                        if (!VFREE(v)) continue;
+                        six[k][e] = n;
+                        comp[n] = comp[n + 1] = uf_find(uf, v);
+                        x0[n] = x0[n + 1] = 0;
+                        n += 2;
                     }
                 }
-            }
-        if (n > 0 && (st = pg_solve(n, R, nrow, x0, x, err))) goto done;
-        int more = 0;
+            for (int k = 0; k < nr; k++) x0[k] = 0;
+            /* two rows per derived side and free end */
+            nrow = 0;
+            for (int i = 0; i < nf; i++)
+                for (int sd = 0; sd < 4; sd++) {
+                    const fe_side *S = &X[i].side[sd];
+                    if (S->kind != 0 || !S->derived) continue;
+                    int f = faces[i], e = m->he_edge[q2n_face_he(m, f, sd)], g = B->base[e], gi = g >= 0 ? fidx[g] : -1;
+                    if (gi < 0) continue;
+                    int k = 4 * i + sd, qi = qix[k];
+                    for (int end = 0; end < 2; end++) {
+                        int c = end ? S->c1 : S->c0, v = fv(m, f, c);
+                        if (!VFREE(v)) continue;
+                        int iG = rix[4 * i + c], iF = rix[4 * gi + corner_of(m, g, v)], si = six[k][end];
+                        const double *w = end ? S->w1 : S->w0, *u = end ? S->u1 : S->u0;
+                        double a = S->al[end], ew = S->ew[end], db = S->be[1] - S->be[0], sg = end ? -1 : 1;
+                        for (int j = 0; j < 2; j++) {
+                            pg_row *r = &R[nrow++];
+                            r->ix[0] = iG + j, r->co[0] = 1;
+                            r->ix[1] = iF + j, r->co[1] = -a;
+                            r->ix[2] = r->ix[3] = -1, r->co[2] = r->co[3] = 0, r->b = 0;
+                            if (qi >= 0) { /* α'(0) = 2(q - α0), α'(1) = 2(α1 - q); β' = β1 - β0 */
+                                r->ix[2] = qi, r->co[2] = -2 * ew * w[j];
+                                r->b = -2 * a * ew * w[j] + db * S->d * u[j];
+                            } else if (si >= 0) { /* the slopes α'(end), β'(end) */
+                                r->ix[2] = si, r->co[2] = -sg * ew * w[j];
+                                r->ix[3] = si + 1, r->co[3] = -S->d * u[j];
+                            } else if (vabs[fv(m, f, end ? S->c0 : S->c1)]) { /* flat at the other end: known slopes */
+                                double da = 2 * (S->al[end] - S->al[!end]), dbb = 2 * (S->be[end] - S->be[!end]);
+                                double ap = end ? da : -da, bp = end ? dbb : -dbb; /* α'(end), β'(end) in d/ds */
+                                r->b = sg * ap * ew * w[j] + bp * S->d * u[j];
+                            }
+                            r->comp = uf_find(uf, v);
+                        }
+                    }
+                }
+            if (n > 0 && (st = pg_solve(n, R, nrow, x0, x, err))) goto done;
+            int more = 0;
+            for (int i = 0; i < nf; i++)
+                for (int sd = 0; sd < 4; sd++) {
+                    int k = 4 * i + sd, qi = qix[k];
+                    if (qi < 0) continue;
+                    const fe_side *S = &X[i].side[sd];
+                    double a0 = S->al[0], a1 = S->al[1], q = x[qi];
+                    if (!(q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1)))) cubic[k] = 1, more = 1;
+                }
+            if (!more) break;
+        }
+        /* a component keeps its gluing when all its rows hold and its α's keep their sign */
+            for (int k = 0; k < nrow; k++)
+            if (!(fabs(row_residual(&R[k], x)) <= EV_POLY_RESIDUAL)) cbad[R[k].comp] = 1;
         for (int i = 0; i < nf; i++)
             for (int sd = 0; sd < 4; sd++) {
-                int k = 4 * i + sd, qi = qix[k];
+                int qi = qix[4 * i + sd];
                 if (qi < 0) continue;
                 const fe_side *S = &X[i].side[sd];
                 double a0 = S->al[0], a1 = S->al[1], q = x[qi];
-                if (!(q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1)))) cubic[k] = 1, more = 1;
+                if (!(q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1)))) cbad[comp[qi]] = 1;
             }
-        if (!more) break;
+        int changed = 0;
+        for (int i = 0; round == 0 && i < nf; i++)
+            for (int sd = 0; sd < 4; sd++) {
+                const fe_side *S = &X[i].side[sd];
+                if (S->kind != 0 || !S->derived) continue;
+                int v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
+                if (VFREE(v0) && vabs[v1] && cbad[uf_find(uf, v0)]) vabs[v1] = 0, changed = 1;
+                if (VFREE(v1) && vabs[v0] && cbad[uf_find(uf, v1)]) vabs[v0] = 0, changed = 1;
+            }
+        if (!changed) break;
     }
-    /* a component keeps its gluing when all its rows hold and its α's keep their sign */
-    for (int k = 0; k < nrow; k++)
-        if (!(fabs(row_residual(&R[k], x)) <= EV_POLY_RESIDUAL)) cbad[R[k].comp] = 1;
-    for (int i = 0; i < nf; i++)
-        for (int sd = 0; sd < 4; sd++) {
-            int qi = qix[4 * i + sd];
-            if (qi < 0) continue;
-            const fe_side *S = &X[i].side[sd];
-            double a0 = S->al[0], a1 = S->al[1], q = x[qi];
-            if (!(q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1)))) cbad[comp[qi]] = 1;
-        }
     for (int i = 0; i < nf; i++)
         for (int sd = 0; sd < 4; sd++) {
             fe_side *S = &X[i].side[sd];
@@ -237,6 +264,23 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             if (gi < 0) continue;
             int k = 4 * i + sd, qi = S->derived ? qix[k] : -1;
             if (qi >= 0 && !cbad[comp[qi]]) S->poly = 1, S->q = x[qi], ++*poly_edges;
+            int v0 = fv(m, f, S->c0), v1 = fv(m, f, S->c1);
+            if (S->derived && ((VFREE(v0) && vabs[v1]) || (VFREE(v1) && vabs[v0])) && !cbad[uf_find(uf, VFREE(v0) ? v0 : v1)]) {
+                int fe = vabs[v1] ? 1 : 0, va = fe ? v1 : v0, ca = fe ? S->c1 : S->c0;
+                S->flat_end = fe;
+                ++*poly_edges;
+                /* the base face's side on this edge: its γ is the same quartic */
+                for (int t = 0; t < 4; t++) {
+                    fe_side *Sb = &X[gi].side[t];
+                    if (Sb->kind != 0 || m->he_edge[q2n_face_he(m, g, t)] != e) continue;
+                    Sb->flat_end = fv(m, g, Sb->c1) == va ? 1 : 0;
+                }
+                /* this face's other side at that corner (on the boundary) takes the corner's twist from here */
+                int so = ca == sd ? (sd + 3) & 3 : (sd + 1) & 3;
+                fe_side *Sx = &X[i].side[so];
+                int ex = Sx->c0 == ca ? 0 : 1;
+                Sx->absorb_side[ex] = sd, Sx->absorb_end[ex] = fe;
+            }
             for (int end = 0; end < 2; end++) {
                 int v = fv(m, f, end ? S->c1 : S->c0), keep = VFREE(v) && !cbad[uf_find(uf, v)];
                 int iF = rix[4 * gi + corner_of(m, g, v)], si = S->derived ? six[k][end] : -1;
@@ -253,6 +297,7 @@ done:
     free(vin);
     free(vpin);
     free(cbad);
+    free(vabs);
     free(cubic);
     free(rix);
     free(qix);

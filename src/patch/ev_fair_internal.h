@@ -28,6 +28,11 @@ typedef struct fe_side {
     double sl[2][2];     /* G1, derived side that is not poly: slopes d/ds of α (sl[0]) and β (sl[1])
                             at the two ends of their cubic Hermite interpolants (0, 0: smoothsteps;
                             ev_fair_gluing.c) */
+    int flat_end;        /* G1: -1, or the end (0, 1) at a boundary vertex of two faces where this edge's
+                            γ keeps value and slope only (a quartic) and, on the derived side, α and β
+                            are flat (ev_fair_gluing.c) */
+    int absorb_side[2], absorb_end[2]; /* boundary side: at end e its twist is the one the patch's side
+                            absorb_side[e] has at its end absorb_end[e] (-1: its own) */
     double rc[2][2];     /* twist corrections of the base face's corners at the two ends (chart
                             vectors r: the corner's outgoing twist gains J r; ev_fair_gluing.c) */
 } fe_side;

@@ -89,6 +89,38 @@ static void cubic_taylor(double v0, double v1, double m0, double m1, int e, doub
     }
 }
 
+/* γ of an edge with a flat end (fe_side.flat_end): the quartic with value, slope and second
+ * derivative at the other end and value and slope at the flat end, about end e; the end data are E's
+ * (s-derivatives). */
+static void quartic_taylor(const fe_ends *E, int flat, int e, int W, double *out)
+{
+    int k0 = !flat; /* the end that keeps its second derivative */
+    double sg = k0 ? -1 : 1; /* t = s (k0 = 0) or 1 - s (k0 = 1): d/dt = sg d/ds */
+    for (int l = 0; l < W; l++) {
+        double p0 = FE_END(E, 0, k0, 0)[l], d0 = sg * FE_END(E, 0, k0, 1)[l], c0 = FE_END(E, 0, k0, 2)[l];
+        double p1 = FE_END(E, 0, flat, 0)[l], d1 = sg * FE_END(E, 0, flat, 1)[l];
+        double R1 = p1 - p0 - d0 - 0.5 * c0, R2 = d1 - d0 - c0;
+        double c[5] = {p0, d0, 0.5 * c0, 4 * R1 - R2, R2 - 3 * R1}; /* in t, about t = 0 (end k0) */
+        double o[5];
+        for (int k = 0; k < 5; k++) { /* about t = 1 when e is the flat end: Σ_j C(j, k) c_j */
+            o[k] = c[k];
+            if (e != k0)
+                for (int j = k + 1; j < 5; j++) o[k] += q2n_binom[j][k] * c[j];
+        }
+        for (int k = 0; k < 5; k++) out[(size_t)k * W + l] = (sg < 0 && (k & 1)) ? -o[k] : o[k]; /* back to s */
+        out[(size_t)5 * W + l] = 0;
+    }
+}
+
+/* α or β flat at end f (value v_f there, v_o at the other end), about end e: v_f + (v_o - v_f) τ², τ the
+ * distance from end f. */
+static void flat_quadratic(double v0, double v1, int f, int e, double *out)
+{
+    double vf = f ? v1 : v0, vo = f ? v0 : v1, d = vo - vf;
+    if (e == f) out[0] = vf, out[1] = 0, out[2] = d;
+    else out[0] = vo, out[1] = f ? -2 * d : 2 * d, out[2] = d; /* τ = 1 + σ (f = 0) or 1 - σ (f = 1) */
+}
+
 /* out[k] += f Σ_i a[i] v[k - i] (a scalar polynomial of degree na times a lane polynomial of
  * degree nv, shifted by dv derivatives: v[k] here is (k + dv)! / k! V[k + dv]). */
 static void conv_add(const double *a, int na, const double *V, int nv, int dv, int W, double f, double *out)
@@ -115,7 +147,8 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
     T->deg[1] = S->derived ? ns + ng - 1 : nc;
     T->deg[2] = K < 2 ? 0 : S->derived ? 2 * ns + ng - 2 : nx;
     for (int e = 0; e < 2; e++) {
-        hermite_taylor(Kc, E, 0, e, W, FE_TC(T, 0, e, 0));
+        if (K == 1 && S->flat_end >= 0) quartic_taylor(E, S->flat_end, e, W, FE_TC(T, 0, e, 0));
+        else hermite_taylor(Kc, E, 0, e, W, FE_TC(T, 0, e, 0));
         if (!S->derived) {
             hermite_taylor(Kc - 1, E, 1, e, W, FE_TC(T, 1, e, 0));
             if (K >= 2) hermite_taylor(Kc - 2, E, 2, e, W, FE_TC(T, 2, e, 0));
@@ -124,7 +157,11 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
         double c[(FE_TDEG + 1) * CP_MAXW], x[(FE_TDEG + 1) * CP_MAXW];
         double al[2 * Q2N_HERMITE_MAXK + 2], be[2 * Q2N_HERMITE_MAXK + 2];
         hermite_taylor(Kc - 1, E, 1, e, W, c);
-        if (S->poly) {
+        if (K == 1 && S->flat_end >= 0) {
+            for (int k = 0; k < 2 * Q2N_HERMITE_MAXK + 2; k++) al[k] = be[k] = 0;
+            flat_quadratic(S->al[0], S->al[1], S->flat_end, e, al);
+            flat_quadratic(S->be[0], S->be[1], S->flat_end, e, be);
+        } else if (S->poly) {
             for (int k = 0; k < 2 * Q2N_HERMITE_MAXK + 2; k++) al[k] = be[k] = 0;
             double a0 = S->al[0], a1 = S->al[1], q = S->q, c2 = a0 - 2 * q + a1;
             al[0] = e ? a1 : a0;
@@ -303,16 +340,27 @@ void q2n_ev_fair_fill_lanes(const fe_ctx *X, const double *const J[4], int W, fe
 {
     double endv[FE_END_SIZE(CP_MAXW)];
     fe_ends E = {W, endv};
-    for (int sd = 0; sd < 4; sd++) {
-        fe_taylor *T = &L->T[sd];
-        T->W = W;
-        T->c = tayv + FE_TAYLOR_SIZE(W) * sd;
-        T->deg[0] = T->deg[1] = T->deg[2] = 0;
-        if (X->side[sd].kind != 0) continue;
-        side_ends(X->K, &X->side[sd], J[X->side[sd].c0], J[X->side[sd].c1], &E);
-        side_taylor(X->K, &X->side[sd], &E, T);
-        taylor_runs(T);
-    }
+    for (int pass = 0; pass < 2; pass++) /* sides that take a twist from another side after it */
+        for (int sd = 0; sd < 4; sd++) {
+            const fe_side *S = &X->side[sd];
+            int absorbs = S->absorb_side[0] >= 0 || S->absorb_side[1] >= 0;
+            if (absorbs != pass) continue;
+            fe_taylor *T = &L->T[sd];
+            T->W = W;
+            T->c = tayv + FE_TAYLOR_SIZE(W) * sd;
+            T->deg[0] = T->deg[1] = T->deg[2] = 0;
+            if (S->kind != 0) continue;
+            side_ends(X->K, S, J[S->c0], J[S->c1], &E);
+            for (int e = 0; e < 2; e++) { /* the corner's mixed derivative as the other side has it */
+                if (S->absorb_side[e] < 0) continue;
+                int eo = S->absorb_end[e];
+                const double *tw = FE_TC(&L->T[S->absorb_side[e]], 1, eo, 1);
+                double sg = (e ? -1 : 1) * (eo ? -1 : 1);
+                for (int l = 0; l < W; l++) FE_END(&E, 1, e, 1)[l] = sg * tw[l];
+            }
+            side_taylor(X->K, S, &E, T);
+            taylor_runs(T);
+        }
 }
 
 void q2n_ev_fair_eval_free(void *d) { free(d); }
@@ -390,6 +438,7 @@ q2n_status q2n_ev_fair_setup_patch(const fe_build *B, int f, fe_ctx *X, cp_patch
             continue;
         }
         S->kind = 0;
+        S->flat_end = S->absorb_side[0] = S->absorb_side[1] = -1;
         S->c0 = q2n_side_first(sd);
         S->c1 = q2n_side_last(sd);
         S->d = B->iv[e];
