@@ -7,7 +7,7 @@
  * compatible.  With all four sides quintic and the cubic Hermite blend, the Coons patch is a
  * bi-quintic polynomial (coons_patch.c; the K = 1 bubbles are of degree <= 5 too): the fit then
  * reproduces it with one span, and the G1 relation between two such patches holds to rounding —
- * exact G1 at extraordinary vertices (docs/extraordinary.md, "Polynomial gluing in G1").
+ * exact G1 at extraordinary vertices (docs/extraordinary.md, "Polynomial gluing of G1 patches").
  *
  * The price is at the corners.  Writing α(s) = α0 (1-s)² + 2q s(1-s) + α1 s² (Bernstein; q free)
  * and β(s) = β0 (1-s) + β1 s, the derived face's twist at end 0 of the side (d/ds of χ_G) gains
@@ -20,17 +20,31 @@
  *     end 1:  r_G = α1 r_F - α'(1) e_w w1 + β' d u1,       α'(0) = 2(q - α0), α'(1) = 2(α1 - q).
  * (The jet parts agree as before: w_G = α w_F + β u in each chart.)  At a vertex of odd valence the
  * corrections follow uniquely (around the vertex the α's multiply to (-1)^n); at even valence the
- * equations hold only for suitable q's (two conditions per vertex).  A corner whose side is a
- * regular patch's keeps that patch's twist (r = 0), so only edges whose two end vertices have no
- * such corner ("free" vertices) take the new gluing; edges with a pinned end keep the smoothsteps,
- * whose α' = β' = 0 at the ends give homogeneous equations r_G = α r_F.
+ * equations hold only for suitable q's (two conditions per vertex).
  *
- * The corrections and q's are solved per connected set of free vertices (a component: the
- * equations of different components share no unknown) as the least change from r = 0 and q at the
- * chord's middle (α linear), under the equations as constraints (a quadratic penalty with iterative
- * refinement, CHOLMOD).  A component keeps the new gluing only when every equation holds and every
- * α keeps the sign of its ends with margin (Bernstein coefficients of one sign: α cannot vanish, and
- * a vanishing α folds the derived face); otherwise all of it returns to the smoothsteps. */
+ * Which edges (ev_policy.h, EV_POLY_*):
+ *   - between two free vertices — every corner there extraordinary, none with a side that is a
+ *     regular patch's (whose twist it must keep, r = 0), not a boundary vertex of one or two faces:
+ *     the polynomial gluing above;
+ *   - from a free vertex to a pinned one: a cubic α, β, flat at the pinned end, with free slopes
+ *     α'(e), β'(e) at the free end (unknowns of the same solve; the first ring of an isolated
+ *     extraordinary vertex has more conditions than q's without them); least squares in the fit;
+ *   - from a free vertex to a boundary vertex of two faces: α and β flat at that end (quadratics
+ *     v_v + (v_o - v_v) τ², τ the parameter from the other end), γ the quartic with value and slope
+ *     only there (ev_fair_patch.c quartic_taylor), and the derived face's side along the boundary
+ *     takes the corner's twist from this edge (fe_side.absorb_side): it has no neighbour, so any twist
+ *     is consistent, including the normal one β_v (γ_tt - the jet's) the quartic leaves.  χ_G is again
+ *     a quintic; the free end's equations get known slopes and no unknown;
+ *   - everything else keeps the smoothsteps, whose α' = β' = 0 at the ends give r_G = α r_F.
+ *
+ * The corrections, q's and slopes are solved per connected set of free vertices (a component: the
+ * equations of different components share no unknown) as the least change from r = 0, q at the
+ * chord's middle (α linear) and zero slopes, under the equations as constraints (a quadratic penalty
+ * with iterative refinement, CHOLMOD).  An edge whose q misses the sign of α's ends or a margin (its
+ * Bernstein coefficients of one sign keep α from vanishing, and a vanishing α folds the derived face)
+ * becomes a free-slope cubic and the solve is repeated; a component whose equations fail with edges
+ * flat at two-face boundary vertices is solved again with those vertices pinned; what still fails keeps
+ * the smoothsteps everywhere in the component. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
