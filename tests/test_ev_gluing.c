@@ -15,7 +15,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
+#include "api/model.h"
 #include "check.h"
 #include "fit/fit.h"
 #include "fit_check.h"
@@ -144,6 +146,29 @@ static void partly_polynomial(q2n_mesh *m, int want)
     q2n_mesh_free(m);
 }
 
+/* The model's fallback: a plate 500 times thinner than wide, whose G1 patches glued by polynomials
+ * fold over (the twist corrections are fixed before the energy solve) where the smoothsteps do not;
+ * the model keeps the smoothsteps there, and says so. */
+static void fold_fallback(void)
+{
+    q2n_model_options o = {0};
+    o.method = Q2N_SURFACE_AUGMENTED;
+    o.ev_patch = Q2N_EV_PATCH_G1;
+    q2n_model *m = NULL;
+    q2n_error err = {0, ""};
+    int ok = q2n_model_build_mesh(mg_thin_plate(8, 0.002), &o, &m, &err) == Q2N_OK;
+    CHECK(ok, "thin plate: %s", err.message);
+    if (ok) {
+        int said = 0;
+        for (int i = 0; i < m->nwarnings; i++) said |= strstr(m->warnings[i], "glued by smoothsteps instead") != NULL;
+        printf("thin plate 1 x 1 x 0.002, G1 patches: %d faces fold, %d polynomial edges, fallback %s\n", m->folded,
+               m->ev_stats.polynomial_edges, said ? "said" : "not said");
+        CHECK(m->folded == 0 && m->ev_stats.polynomial_edges == 0 && said, "thin plate: %d folded faces, %d polynomial edges, warning %d",
+              m->folded, m->ev_stats.polynomial_edges, said);
+    }
+    q2n_model_free(m);
+}
+
 int main(void)
 {
     /* closed, every face at an extraordinary vertex (valences 3, 4, 5 / 3, 4) */
@@ -160,5 +185,6 @@ int main(void)
      * third ring of regular patches around it: the spokes and the first ring's edges, 3 x 7 */
     partly_polynomial(mg_polar_star(7, 3, 1), 21);
     partly_polynomial(mg_polar_star(5, 3, 4), 15);
+    fold_fallback();
     CHECK_DONE("test_ev_gluing");
 }

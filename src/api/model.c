@@ -157,6 +157,51 @@ static q2n_status scan_patches(q2n_model *m, q2n_error *err)
     return Q2N_OK;
 }
 
+/* A built surface and what its build and scan said, set aside while the model builds another
+ * (the fallbacks below keep whichever folds on fewer faces). */
+typedef struct built {
+    q2n_surface *surface;
+    double *edge_iv;
+    q2n_extraordinary_stats ev_stats;
+    int folded, folded_face, continuity;
+    char warning[sizeof ((q2n_model *)0)->warning];
+} built;
+
+/* Set m's surface aside into *b and build the augmented surface again with m's (changed) options,
+ * then scan it; the status of the second build. */
+static q2n_status rebuild(q2n_model *m, built *b)
+{
+    *b = (built){m->surface, m->edge_iv, m->ev_stats, m->folded, m->folded_face, m->continuity, {0}};
+    memcpy(b->warning, m->warning, sizeof b->warning);
+    m->surface = NULL;
+    m->edge_iv = NULL;
+    m->warning[0] = 0;
+    q2n_error e1;
+    q2n_status st = build_augmented(m, &e1);
+    if (!st) st = scan_patches(m, &e1);
+    return st;
+}
+
+/* Keep the second build (drop the first) or go back to the first. */
+static void keep_second(built *b)
+{
+    q2n_surface_free(b->surface);
+    free(b->edge_iv);
+}
+
+static void keep_first(q2n_model *m, built *b)
+{
+    q2n_surface_free(m->surface);
+    free(m->edge_iv);
+    m->surface = b->surface;
+    m->edge_iv = b->edge_iv;
+    m->ev_stats = b->ev_stats;
+    m->folded = b->folded;
+    m->folded_face = b->folded_face;
+    m->continuity = b->continuity;
+    memcpy(m->warning, b->warning, sizeof m->warning);
+}
+
 /* G1 patches glued by polynomials (ev_fair_gluing.c) whose surface folds over: the extraordinary
  * regions are built again with the smoothsteps and kept if they fold on fewer faces.  The gluing's
  * twist corrections are fixed before the energy solve, which the fold guard cannot undo, and on a
@@ -165,38 +210,19 @@ static q2n_status scan_patches(q2n_model *m, q2n_error *err)
 static void gluing_fallback(q2n_model *m)
 {
     if (m->opt.smooth_gluing || m->folded == 0 || m->ev_stats.polynomial_edges == 0) return;
-    q2n_surface *s2 = m->surface;
-    double *iv2 = m->edge_iv;
-    q2n_extraordinary_stats st2 = m->ev_stats;
-    int folded2 = m->folded, face2 = m->folded_face, cont2 = m->continuity;
-    char warning2[sizeof m->warning];
-    memcpy(warning2, m->warning, sizeof warning2);
-    m->surface = NULL;
-    m->edge_iv = NULL;
-    m->warning[0] = 0;
+    built b;
     m->opt.smooth_gluing = 1;
-    q2n_error e1;
-    q2n_status st = build_augmented(m, &e1);
-    if (!st) st = scan_patches(m, &e1);
+    q2n_status st = rebuild(m, &b);
     m->opt.smooth_gluing = 0;
-    if (!st && m->folded < folded2) {
+    if (!st && m->folded < b.folded) {
         char where[320];
-        face_where(m, face2, where, sizeof where);
-        q2n_surface_free(s2);
-        free(iv2);
+        face_where(m, b.folded_face, where, sizeof where);
+        keep_second(&b);
         q2n_model_warn(m, "%s: G1 patches glued by polynomials fold over there (on %d faces in all); glued by smoothsteps "
-                       "instead (%d faces fold; least squares across their edges in the fit)", where, folded2, m->folded);
+                       "instead (%d faces fold; least squares across their edges in the fit)", where, b.folded, m->folded);
         return;
     }
-    q2n_surface_free(m->surface);
-    free(m->edge_iv);
-    m->surface = s2;
-    m->edge_iv = iv2;
-    m->ev_stats = st2;
-    m->folded = folded2;
-    m->folded_face = face2;
-    m->continuity = cont2;
-    memcpy(m->warning, warning2, sizeof m->warning);
+    keep_first(m, &b);
 }
 
 /* G2 patches at extraordinary vertices fold over on a thin or sharp feature: the curvature a G2
@@ -210,42 +236,23 @@ static void fold_fallback(q2n_model *m)
     if (!m->opt.fold_fallback || m->opt.method != Q2N_SURFACE_AUGMENTED || m->opt.ev_patch != Q2N_EV_PATCH_DEFAULT ||
         m->continuity != 2 || m->folded == 0 || q2n_surface_kind(m->surface, m->folded_face) != Q2N_PATCH_COONS_GREGORY)
         return;
-    q2n_surface *s2 = m->surface;
-    double *iv2 = m->edge_iv;
-    q2n_extraordinary_stats st2 = m->ev_stats;
-    int folded2 = m->folded, face2 = m->folded_face, cont2 = m->continuity;
-    char warning2[sizeof m->warning];
-    memcpy(warning2, m->warning, sizeof warning2);
-    m->surface = NULL;
-    m->edge_iv = NULL;
-    m->warning[0] = 0;
+    built b;
     m->opt.ev_patch = Q2N_EV_PATCH_G1;
-    q2n_error e1;
-    q2n_status st = build_augmented(m, &e1);
-    if (!st) st = scan_patches(m, &e1);
+    q2n_status st = rebuild(m, &b);
     if (!st) gluing_fallback(m);
-    if (!st && m->folded < folded2) {
+    if (!st && m->folded < b.folded) {
         char where[320];
-        face_where(m, face2, where, sizeof where);
-        q2n_surface_free(s2);
-        free(iv2);
-        m->g2_folded = folded2;
+        face_where(m, b.folded_face, where, sizeof where);
+        keep_second(&b);
+        m->g2_folded = b.folded;
         q2n_model_warn(m, "%s: G2 patches at the extraordinary vertices fold over there (on %d faces in all: a thin "
                        "or sharp feature); built with G1 patches at every extraordinary vertex instead (%d faces fold), "
-                       "G1 across their edges (--ev-patch g2 keeps the G2 surface)", where, folded2, m->folded);
+                       "G1 across their edges (--ev-patch g2 keeps the G2 surface)", where, b.folded, m->folded);
         return;
     }
     /* no better, or the second build failed: the first surface as it was */
-    q2n_surface_free(m->surface);
-    free(m->edge_iv);
-    m->surface = s2;
-    m->edge_iv = iv2;
-    m->ev_stats = st2;
-    m->folded = folded2;
-    m->folded_face = face2;
-    m->continuity = cont2;
+    keep_first(m, &b);
     m->opt.ev_patch = Q2N_EV_PATCH_DEFAULT;
-    memcpy(m->warning, warning2, sizeof m->warning);
 }
 
 /* Where the mesh is flat, does the surface stay flat?  A warning with the remedy when it leaves the
