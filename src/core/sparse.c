@@ -91,6 +91,8 @@ static long first_bad_pivot(const cholmod_factor *L, const cholmod_common *c)
 
 /* Factorise A into L (analysed), refuse an indefinite matrix, solve A X = B (B, X column-major
  * n x nrhs; X may alias B): the part both entry points share. */
+static q2n_status solve_with(cholmod_common *c, cholmod_factor *L, int n, int nrhs, const double *B, double *X, q2n_error *err);
+
 static q2n_status factor_solve(cholmod_common *c, cholmod_sparse *A, cholmod_factor *L, int n, int nrhs, const double *B,
                                double *X, q2n_error *err)
 {
@@ -100,6 +102,12 @@ static q2n_status factor_solve(cholmod_common *c, cholmod_sparse *A, cholmod_fac
     if (!ok) return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
     long bad = first_bad_pivot(L, c);
     if (bad >= 0) return q2n_error_set(err, Q2N_ERR_GEOMETRY, "sparse system not positive definite at column %ld of %d", bad, n);
+    return solve_with(c, L, n, nrhs, B, X, err);
+}
+
+/* A X = B with the factor L. */
+static q2n_status solve_with(cholmod_common *c, cholmod_factor *L, int n, int nrhs, const double *B, double *X, q2n_error *err)
+{
     cholmod_dense *b = cholmod_allocate_dense((size_t)n, (size_t)nrhs, (size_t)n, CHOLMOD_REAL, c), *x = NULL;
     if (!b) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse solve)");
     q2n_status st = Q2N_OK;
@@ -193,6 +201,41 @@ q2n_status q2n_sparse_spd_factor_solve(q2n_sparse_spd *S, int nrhs, const double
     if (!S->L && !(S->L = cholmod_analyze(S->A, &S->c)))
         return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", S->n);
     return factor_solve(&S->c, S->A, S->L, S->n, nrhs, B, X, err);
+}
+
+q2n_status q2n_sparse_spd_from_triplets(int n, long nnz, const int *ti, const int *tj, const double *tv, q2n_sparse_spd **out,
+                                        q2n_error *err)
+{
+    *out = NULL;
+    q2n_sparse_init();
+    q2n_sparse_spd *S = calloc(1, sizeof *S);
+    if (!S) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n);
+    cholmod_start(&S->c);
+    S->c.print = 0;
+    S->c.error_handler = NULL;
+    S->n = n;
+    cholmod_triplet *T = cholmod_allocate_triplet((size_t)n, (size_t)n, (size_t)nnz, 1 /* upper */, CHOLMOD_REAL, &S->c);
+    if (T) {
+        int *Ti = T->i, *Tj = T->j;
+        double *Tx = T->x;
+        for (long k = 0; k < nnz; k++) Ti[k] = ti[k], Tj[k] = tj[k], Tx[k] = tv[k];
+        T->nnz = (size_t)nnz;
+        S->A = cholmod_triplet_to_sparse(T, (size_t)nnz, &S->c);
+        cholmod_free_triplet(&T, &S->c);
+    }
+    if (!S->A) {
+        q2n_sparse_spd_free(S);
+        return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n);
+    }
+    *out = S;
+    return Q2N_OK;
+}
+
+q2n_status q2n_sparse_spd_resolve(q2n_sparse_spd *S, int nrhs, const double *B, double *X, q2n_error *err)
+{
+    if (S->n <= 0 || nrhs <= 0) return Q2N_OK;
+    if (!S->L) return q2n_error_set(err, Q2N_ERR_ARG, "sparse solve before the factorisation");
+    return solve_with(&S->c, S->L, S->n, nrhs, B, X, err);
 }
 
 void q2n_sparse_spd_free(q2n_sparse_spd *S)

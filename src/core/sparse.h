@@ -33,6 +33,12 @@ void q2n_sparse_spd_pattern(const q2n_sparse_spd *S, const int **colptr, const i
 /* Factorise the current values and solve A X = B (as q2n_sparse_spd_solve; the same bits as it
  * gives for the same matrix entered as triplets in one per pattern entry). */
 q2n_status q2n_sparse_spd_factor_solve(q2n_sparse_spd *S, int nrhs, const double *B, double *X, q2n_error *err);
+/* The same object made from triplets (as q2n_sparse_spd_solve takes them), values included. */
+q2n_status q2n_sparse_spd_from_triplets(int n, long nnz, const int *ti, const int *tj, const double *tv, q2n_sparse_spd **out,
+                                        q2n_error *err);
+/* Solve A X = B again with the factor of the last q2n_sparse_spd_factor_solve (iterative refinement:
+ * one factorisation for every right-hand side that depends on the previous solution). */
+q2n_status q2n_sparse_spd_resolve(q2n_sparse_spd *S, int nrhs, const double *B, double *X, q2n_error *err);
 void q2n_sparse_spd_free(q2n_sparse_spd *S);
 
 #endif

@@ -99,16 +99,20 @@ static q2n_status pg_solve(int n, const pg_row *R, int nrow, const double *x0, d
                     ti[nt] = R[k].ix[p], tj[nt] = R[k].ix[q], tv[nt++] = W2 * R[k].co[p] * R[k].co[q];
     for (int k = 0; k < n; k++) ti[nt] = tj[nt] = k, tv[nt++] = 1;
     memcpy(x, x0, sizeof(double) * (size_t)n);
-    for (int it = 0; it < EV_POLY_REFINE && !st; it++) {
+    q2n_sparse_spd *S = NULL;
+    if ((st = q2n_sparse_spd_from_triplets(n, nt, ti, tj, tv, &S, err))) goto done;
+    for (int it = 0; it < EV_POLY_REFINE && !st; it++) { /* one factorisation, then solves */
         memset(rhs, 0, sizeof(double) * (size_t)n);
         for (int k = 0; k < nrow; k++) {
             double r = row_residual(&R[k], x);
             for (int p = 0; p < PG_NZ; p++)
                 if (R[k].ix[p] >= 0) rhs[R[k].ix[p]] += W2 * R[k].co[p] * r;
         }
-        if (!(st = q2n_sparse_spd_solve(n, nt, ti, tj, tv, 1, rhs, dx, err)))
+        st = it ? q2n_sparse_spd_resolve(S, 1, rhs, dx, err) : q2n_sparse_spd_factor_solve(S, 1, rhs, dx, err);
+        if (!st)
             for (int k = 0; k < n; k++) x[k] += dx[k];
     }
+    q2n_sparse_spd_free(S);
 done:
     free(ti);
     free(tj);
