@@ -111,8 +111,8 @@
  * shared fan of boundary corners 0.87 -> 1.41).  Instead, at a vertex of two faces the edge between
  * them has α and β flat there and a quartic γ (value and slope only at that end), and the derived
  * face's side along the boundary takes the corner's twist from it (ev_fair_gluing.c): the 22
- * generated open pyramids are then exactly G1 in 21 cases, their oscillation 0.94 x on the geometric
- * mean (straight and convex rims 0.5-0.9 x, steep reflex rims 1.1-1.6 x, star-shaped ones 1.8-3.2 x).
+ * generated open pyramids are then exactly G1 in 21 cases, their oscillation 1.02 x on the geometric
+ * mean (straight and convex rims 0.48-0.95 x, steep reflex rims 1.09-1.57 x, star-shaped ones 1.02-3.2 x).
  * A one-face corner has no edge between two faces. */
 #define EV_POLY_BOUNDARY_FACES 3
 
