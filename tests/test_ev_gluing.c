@@ -181,6 +181,11 @@ int main(void)
     all_polynomial(mg_rim_pyramid(5, 0.5, 1.15));
     all_polynomial(mg_rim_pyramid(7, 1.5, 0.9));
     all_polynomial(mg_rim_pyramid(8, 0.5, 1.15));
+    /* two rings around a vertex of valence 5, 6 and 8, open: the rim vertices of two faces keep a free q
+     * (flat α, β there leave the even-valence vertices of the first ring without the freedom they need) */
+    all_polynomial(mg_polar_star(5, 2, 1));
+    all_polynomial(mg_polar_star(6, 2, 1));
+    all_polynomial(mg_polar_star(8, 2, 1));
     /* a valence-7 vertex with its two rings (open: its rim vertices have three faces and more) and a
      * third ring of regular patches around it: the spokes and the first ring's edges, 3 x 7 */
     partly_polynomial(mg_polar_star(7, 3, 1), 21);

@@ -34,7 +34,10 @@
  *     only there (ev_fair_patch.c quartic_taylor), and the derived face's side along the boundary
  *     takes the corner's twist from this edge (fe_side.absorb_side): it has no neighbour, so any twist
  *     is consistent, including the normal one β_v (γ_tt - the jet's) the quartic leaves.  χ_G is again
- *     a quintic; the free end's equations get known slopes and no unknown;
+ *     a quintic; the free end's equations get known slopes and no unknown.  Where a component's
+ *     equations then fail (those known slopes take away the freedom an even-valence vertex needs),
+ *     these edges take a free q instead (linear β, quintic γ: the boundary side takes whatever twist
+ *     that gives), and where that fails too the boundary vertices are pinned;
  *   - everything else keeps the smoothsteps, whose α' = β' = 0 at the ends give r_G = α r_F.
  *
  * The corrections, q's and slopes are solved per connected set of free vertices (a component: the
@@ -42,9 +45,9 @@
  * chord's middle (α linear) and zero slopes, under the equations as constraints (a quadratic penalty
  * with iterative refinement, CHOLMOD).  An edge whose q misses the sign of α's ends or a margin (its
  * Bernstein coefficients of one sign keep α from vanishing, and a vanishing α folds the derived face)
- * becomes a free-slope cubic and the solve is repeated; a component whose equations fail with edges
- * flat at two-face boundary vertices is solved again with those vertices pinned; what still fails keeps
- * the smoothsteps everywhere in the component. */
+ * becomes a free-slope cubic and the solve is repeated; a component whose equations fail is solved
+ * again as above (free q at two-face boundary vertices, then those pinned); what still fails keeps the
+ * smoothsteps everywhere in the component. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -132,6 +135,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     int *fidx = malloc(sizeof(int) * (size_t)m->nf), *uf = malloc(sizeof(int) * (size_t)m->nv);
     char *vin = calloc((size_t)m->nv, 1), *vpin = calloc((size_t)m->nv, 1), *cbad = calloc((size_t)m->nv, 1);
     char *vabs = calloc((size_t)m->nv, 1); /* boundary vertices of two faces: their corners absorb the twist */
+    char *vfq = calloc((size_t)m->nv, 1);  /* ... and their edges keep a free q instead of flat α, β */
     char *cubic = calloc(n4, 1); /* derived side: α, β cubic with free end slopes instead of poly */
     int *rix = malloc(sizeof(int) * n4), *qix = malloc(sizeof(int) * n4), (*six)[2] = malloc(sizeof *six * n4);
     int *comp = malloc(sizeof(int) * (8 * n4 + 1));
@@ -139,7 +143,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
     q2n_status st = Q2N_OK;
     *poly_edges = 0;
-    if (!fidx || !uf || !vin || !vpin || !cbad || !vabs || !cubic || !rix || !qix || !six || !comp || !R || !x || !x0) {
+    if (!fidx || !uf || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
         goto done;
     }
@@ -173,9 +177,11 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     for (int i = 0; i < nf; i++)
         for (int c = 0; c < 4; c++) rix[4 * i + c] = VFREE(fv(m, faces[i], c)) ? (nr += 2) - 2 : -1;
     /* rounds: a component whose equations fail with the edges flat at boundary vertices of two faces
-     * is solved again with those vertices pinned (their edges then keep the smoothsteps) */
+     * is solved again with a free q on those edges (their twists at the boundary vertex go to the
+     * boundary sides as well: any α', β' there is consistent), and if that fails too, with those
+     * vertices pinned (their edges then cubics with free slopes at the other end) */
     int n = 0, nrow = 0;
-    for (int round = 0; round < 2; round++) {
+    for (int round = 0; round < 3; round++) {
         memset(cbad, 0, (size_t)m->nv);
         memset(cubic, 0, n4);
         /* passes: an edge whose q would let α approach zero keeps a cubic α, β with free slopes instead
@@ -188,8 +194,9 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                     int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
                     qix[k] = six[k][0] = six[k][1] = -1;
                     if (S->kind != 0 || !S->derived) continue;
-                    if (VFREE(v0) && VFREE(v1) && !cubic[k]) {
-                        comp[n] = uf_find(uf, v0);
+                    int fq = (VFREE(v0) && vabs[v1] && vfq[v1]) || (VFREE(v1) && vabs[v0] && vfq[v0]);
+                    if (((VFREE(v0) && VFREE(v1)) || fq) && !cubic[k]) {
+                        comp[n] = uf_find(uf, VFREE(v0) ? v0 : v1);
                         x0[n] = 0.5 * (S->al[0] + S->al[1]);
                         qix[k] = n++;
                         continue;
@@ -263,14 +270,20 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 double a0 = S->al[0], a1 = S->al[1], q = x[qi];
                 if (!(q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1)))) cbad[comp[qi]] = 1;
             }
+        /* round 0 failed: the edges at those boundary vertices take a free q (their twists there go to the
+         * boundary sides too); round 1 failed: the vertices are pinned */
         int changed = 0;
-        for (int i = 0; round == 0 && i < nf; i++)
+        for (int i = 0; round < 2 && i < nf; i++)
             for (int sd = 0; sd < 4; sd++) {
                 const fe_side *S = &X[i].side[sd];
                 if (S->kind != 0 || !S->derived) continue;
                 int v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
-                if (VFREE(v0) && vabs[v1] && cbad[uf_find(uf, v0)]) vabs[v1] = 0, changed = 1;
-                if (VFREE(v1) && vabs[v0] && cbad[uf_find(uf, v1)]) vabs[v0] = 0, changed = 1;
+                for (int e = 0; e < 2; e++) {
+                    int vf = e ? v1 : v0, va = e ? v0 : v1;
+                    if (!VFREE(vf) || !vabs[va] || !cbad[uf_find(uf, vf)]) continue;
+                    if (round == 0 && !vfq[va]) vfq[va] = 1, changed = 1;
+                    else if (round == 1 && vfq[va]) vabs[va] = 0, changed = 1;
+                }
             }
         if (!changed) break;
     }
@@ -285,13 +298,14 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             int v0 = fv(m, f, S->c0), v1 = fv(m, f, S->c1);
             if (S->derived && ((VFREE(v0) && vabs[v1]) || (VFREE(v1) && vabs[v0])) && !cbad[uf_find(uf, VFREE(v0) ? v0 : v1)]) {
                 int fe = vabs[v1] ? 1 : 0, va = fe ? v1 : v0, ca = fe ? S->c1 : S->c0;
-                S->flat_end = fe;
-                ++*poly_edges;
-                /* the base face's side on this edge: its γ is the same quartic */
-                for (int t = 0; t < 4; t++) {
-                    fe_side *Sb = &X[gi].side[t];
-                    if (Sb->kind != 0 || m->he_edge[q2n_face_he(m, g, t)] != e) continue;
-                    Sb->flat_end = fv(m, g, Sb->c1) == va ? 1 : 0;
+                if (qi < 0) { /* flat α, β there; the base face's side on this edge has the same quartic γ */
+                    S->flat_end = fe;
+                    ++*poly_edges;
+                    for (int t = 0; t < 4; t++) {
+                        fe_side *Sb = &X[gi].side[t];
+                        if (Sb->kind != 0 || m->he_edge[q2n_face_he(m, g, t)] != e) continue;
+                        Sb->flat_end = fv(m, g, Sb->c1) == va ? 1 : 0;
+                    }
                 }
                 /* this face's other side at that corner (on the boundary) takes the corner's twist from here */
                 int so = ca == sd ? (sd + 3) & 3 : (sd + 1) & 3;
@@ -316,6 +330,7 @@ done:
     free(vpin);
     free(cbad);
     free(vabs);
+    free(vfq);
     free(cubic);
     free(rix);
     free(qix);
