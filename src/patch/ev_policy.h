@@ -114,8 +114,9 @@
  * generated open pyramids are then exactly G1 in 21 cases, their oscillation 1.02 x on the geometric
  * mean (straight and convex rims 0.48-0.95 x, steep reflex rims 1.09-1.57 x, star-shaped ones 1.02-3.2 x).
  * Where a component's equations then fail, those edges keep a free q (the rim side takes the twist it
- * gives) — the carpets, and fvar_bound3 at 0.87 -> 1.43 — before the vertices are pinned.  A one-face
- * corner has no edge between two faces. */
+ * gives) before the vertices are pinned: open two-ring regions need it (exact then; one shared fan of
+ * boundary corners ripples 1.6 x more, docs/extraordinary.md).  A one-face corner has no edge between
+ * two faces. */
 #define EV_POLY_BOUNDARY_FACES 3
 
 /* Two sides of a corner "agree" when their mixed derivatives differ by less than this fraction of
