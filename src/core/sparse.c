@@ -121,41 +121,6 @@ static q2n_status solve_with(cholmod_common *c, cholmod_factor *L, int n, int nr
     return st;
 }
 
-q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, const double *tv, int nrhs,
-                                const double *B, double *X, q2n_error *err)
-{
-    if (n <= 0 || nrhs <= 0) return Q2N_OK;
-    q2n_sparse_init();
-    cholmod_common c;
-    cholmod_start(&c);
-    c.print = 0;
-    c.error_handler = NULL;
-    q2n_status st = Q2N_OK;
-    cholmod_triplet *T = cholmod_allocate_triplet((size_t)n, (size_t)n, (size_t)nnz, 1 /* upper */, CHOLMOD_REAL, &c);
-    cholmod_sparse *A = NULL;
-    cholmod_factor *L = NULL;
-    if (!T) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n); goto done; }
-    int *Ti = T->i, *Tj = T->j;
-    double *Tx = T->x;
-    for (long k = 0; k < nnz; k++) {
-        Ti[k] = ti[k];
-        Tj[k] = tj[k];
-        Tx[k] = tv[k];
-    }
-    T->nnz = (size_t)nnz;
-    A = cholmod_triplet_to_sparse(T, (size_t)nnz, &c);
-    if (!A) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n); goto done; }
-    L = cholmod_analyze(A, &c);
-    if (!L) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n); goto done; }
-    st = factor_solve(&c, A, L, n, nrhs, B, X, err);
-done:
-    cholmod_free_factor(&L, &c);
-    cholmod_free_sparse(&A, &c);
-    cholmod_free_triplet(&T, &c);
-    cholmod_finish(&c);
-    return st;
-}
-
 struct q2n_sparse_spd {
     cholmod_common c;
     cholmod_sparse *A;
@@ -163,16 +128,24 @@ struct q2n_sparse_spd {
     int n;
 };
 
-q2n_status q2n_sparse_spd_create(int n, const int *colptr, const int *rowind, q2n_sparse_spd **out, q2n_error *err)
+/* An empty object of n unknowns, its CHOLMOD workspace started (NULL: out of memory). */
+static q2n_sparse_spd *spd_new(int n)
 {
-    *out = NULL;
     q2n_sparse_init();
     q2n_sparse_spd *S = calloc(1, sizeof *S);
-    if (!S) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n);
+    if (!S) return NULL;
     cholmod_start(&S->c);
     S->c.print = 0;
     S->c.error_handler = NULL;
     S->n = n;
+    return S;
+}
+
+q2n_status q2n_sparse_spd_create(int n, const int *colptr, const int *rowind, q2n_sparse_spd **out, q2n_error *err)
+{
+    *out = NULL;
+    q2n_sparse_spd *S = spd_new(n);
+    if (!S) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n);
     size_t nnz = (size_t)colptr[n];
     S->A = cholmod_allocate_sparse((size_t)n, (size_t)n, nnz, 1 /* sorted */, 1 /* packed */, 1 /* upper */, CHOLMOD_REAL,
                                    &S->c);
@@ -207,13 +180,8 @@ q2n_status q2n_sparse_spd_from_triplets(int n, long nnz, const int *ti, const in
                                         q2n_error *err)
 {
     *out = NULL;
-    q2n_sparse_init();
-    q2n_sparse_spd *S = calloc(1, sizeof *S);
+    q2n_sparse_spd *S = spd_new(n);
     if (!S) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (sparse matrix, %d unknowns)", n);
-    cholmod_start(&S->c);
-    S->c.print = 0;
-    S->c.error_handler = NULL;
-    S->n = n;
     cholmod_triplet *T = cholmod_allocate_triplet((size_t)n, (size_t)n, (size_t)nnz, 1 /* upper */, CHOLMOD_REAL, &S->c);
     if (T) {
         int *Ti = T->i, *Tj = T->j;
@@ -229,6 +197,17 @@ q2n_status q2n_sparse_spd_from_triplets(int n, long nnz, const int *ti, const in
     }
     *out = S;
     return Q2N_OK;
+}
+
+q2n_status q2n_sparse_spd_solve(int n, long nnz, const int *ti, const int *tj, const double *tv, int nrhs,
+                                const double *B, double *X, q2n_error *err)
+{
+    if (n <= 0 || nrhs <= 0) return Q2N_OK;
+    q2n_sparse_spd *S = NULL;
+    q2n_status st = q2n_sparse_spd_from_triplets(n, nnz, ti, tj, tv, &S, err);
+    if (!st) st = q2n_sparse_spd_factor_solve(S, nrhs, B, X, err);
+    q2n_sparse_spd_free(S);
+    return st;
 }
 
 q2n_status q2n_sparse_spd_resolve(q2n_sparse_spd *S, int nrhs, const double *B, double *X, q2n_error *err)

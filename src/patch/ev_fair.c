@@ -102,7 +102,6 @@ static void assign_unknowns(fe_build *B, const ev_vjet *vj, int nf, const char *
     }
 }
 
-
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int keep_flat, int poly_gluing, int threads, ev_fair_stats *stats, q2n_error *err)
 {
@@ -200,13 +199,8 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
             memcpy(B.jet, jet0, (size_t)m->nv * sizeof *jet0);
             memset(B.bub, 0, (size_t)nf * sizeof *B.bub);
             for (int i = 0; i < nf; i++)
-                for (int sd = 0; sd < 4; sd++) {
-                    fe_side *S = &X[i].side[sd];
-                    S->poly = 0, S->q = 0;
-                    if (S->kind == 0) S->flat_end = S->absorb_side[0] = S->absorb_side[1] = -1;
-                    memset(S->rc, 0, sizeof S->rc);
-                    memset(S->sl, 0, sizeof S->sl);
-                }
+                for (int sd = 0; sd < 4; sd++)
+                    if (X[i].side[sd].kind == 0) fe_side_smooth(&X[i].side[sd]);
             assign_unknowns(&B, vj, nf, NULL, nflat ? flat : NULL);
             B.flat = NULL;
             poly_edges = 0;

@@ -63,10 +63,12 @@ typedef struct pg_row {
     int comp;      /* component of the row's vertex */
 } pg_row;
 
+/* Vertex of corner c of face f, and the corner of f at vertex v (-1: none). */
+static int fv(const q2n_mesh *m, int f, int c) { return m->face_vert[m->face_start[f] + c]; }
 static int corner_of(const q2n_mesh *m, int f, int v)
 {
     for (int c = 0; c < 4; c++)
-        if (m->face_vert[m->face_start[f] + c] == v) return c;
+        if (fv(m, f, c) == v) return c;
     return -1;
 }
 
@@ -125,9 +127,6 @@ done:
     return st;
 }
 
-/* Vertex of corner c of face f. */
-static int fv(const q2n_mesh *m, int f, int c) { return m->face_vert[m->face_start[f] + c]; }
-
 q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, int *poly_edges, q2n_error *err)
 {
     const q2n_mesh *m = B->m;
@@ -149,19 +148,17 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     }
     for (int f = 0; f < m->nf; f++) fidx[f] = -1;
     for (int i = 0; i < nf; i++) fidx[faces[i]] = i;
-    /* free vertices: corners of extraordinary faces none of whose corners there has a regular side */
+    /* free vertices: corners of extraordinary faces none of whose corners there has a regular side (vpin
+     * 2), nor a boundary vertex of fewer than EV_POLY_BOUNDARY_FACES faces (vpin 1); absorbing ones:
+     * boundary vertices of two faces without a regular side */
     for (int i = 0; i < nf; i++)
         for (int c = 0; c < 4; c++) {
             int v = fv(m, faces[i], c);
             vin[v] = 1;
-            if (X[i].side[c].kind != 0 || X[i].side[(c + 3) & 3].kind != 0) vpin[v] = 1;
-            if (m->vert_boundary[v] && m->vert_nfaces[v] < EV_POLY_BOUNDARY_FACES) vpin[v] = 1;
+            if (X[i].side[c].kind != 0 || X[i].side[(c + 3) & 3].kind != 0) vpin[v] = 2;
+            else if (!vpin[v] && m->vert_boundary[v] && m->vert_nfaces[v] < EV_POLY_BOUNDARY_FACES) vpin[v] = 1;
         }
-    /* absorbing vertices: on the boundary, two faces, both extraordinary, no regular patch's corner there */
-    for (int i = 0; i < nf; i++)
-        for (int c = 0; c < 4; c++)
-            if (X[i].side[c].kind != 0 || X[i].side[(c + 3) & 3].kind != 0) vabs[fv(m, faces[i], c)] = 2; /* never */
-    for (int v = 0; v < m->nv; v++) vabs[v] = vin[v] && vabs[v] != 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 2;
+    for (int v = 0; v < m->nv; v++) vabs[v] = vin[v] && vpin[v] != 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 2;
 #define VFREE(v) (vin[v] && !vpin[v])
     /* components: free vertices joined by constructed edges */
     for (int v = 0; v < m->nv; v++) uf[v] = v;

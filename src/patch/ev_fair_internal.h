@@ -37,6 +37,16 @@ typedef struct fe_side {
                             vectors r: the corner's outgoing twist gains J r; ev_fair_gluing.c) */
 } fe_side;
 
+/* A constructed side with the smoothsteps' gluing: no polynomial gluing, slopes, flat end, borrowed
+ * twist or twist corrections (what ev_fair_gluing.c may set). */
+static inline void fe_side_smooth(fe_side *S)
+{
+    S->poly = 0, S->q = 0;
+    S->flat_end = S->absorb_side[0] = S->absorb_side[1] = -1;
+    S->absorb_end[0] = S->absorb_end[1] = 0;
+    for (int e = 0; e < 2; e++) S->sl[0][e] = S->sl[1][e] = S->rc[e][0] = S->rc[e][1] = 0;
+}
+
 /* Side context of one patch (the Coons patch's ctx); lanes: fe_lanes, its constructed sides' fields
  * as polynomials (fill_lanes, from the W-wide jets of the four corners). */
 typedef struct fe_ctx {

@@ -157,12 +157,11 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
         double c[(FE_TDEG + 1) * CP_MAXW], x[(FE_TDEG + 1) * CP_MAXW];
         double al[2 * Q2N_HERMITE_MAXK + 2], be[2 * Q2N_HERMITE_MAXK + 2];
         hermite_taylor(Kc - 1, E, 1, e, W, c);
+        for (int k = 0; k < 2 * Q2N_HERMITE_MAXK + 2; k++) al[k] = be[k] = 0;
         if (K == 1 && S->flat_end >= 0) {
-            for (int k = 0; k < 2 * Q2N_HERMITE_MAXK + 2; k++) al[k] = be[k] = 0;
             flat_quadratic(S->al[0], S->al[1], S->flat_end, e, al);
             flat_quadratic(S->be[0], S->be[1], S->flat_end, e, be);
         } else if (S->poly) {
-            for (int k = 0; k < 2 * Q2N_HERMITE_MAXK + 2; k++) al[k] = be[k] = 0;
             double a0 = S->al[0], a1 = S->al[1], q = S->q, c2 = a0 - 2 * q + a1;
             al[0] = e ? a1 : a0;
             al[1] = e ? 2 * (a1 - q) : 2 * (q - a0);
@@ -170,7 +169,6 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
             be[0] = e ? S->be[1] : S->be[0];
             be[1] = S->be[1] - S->be[0];
         } else if (K == 1 && (S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0)) {
-            for (int k = 0; k < 2 * Q2N_HERMITE_MAXK + 2; k++) al[k] = be[k] = 0;
             cubic_taylor(S->al[0], S->al[1], S->sl[0][0], S->sl[0][1], e, al);
             cubic_taylor(S->be[0], S->be[1], S->sl[1][0], S->sl[1][1], e, be);
         } else {
@@ -438,7 +436,7 @@ q2n_status q2n_ev_fair_setup_patch(const fe_build *B, int f, fe_ctx *X, cp_patch
             continue;
         }
         S->kind = 0;
-        S->flat_end = S->absorb_side[0] = S->absorb_side[1] = -1;
+        fe_side_smooth(S);
         S->c0 = q2n_side_first(sd);
         S->c1 = q2n_side_last(sd);
         S->d = B->iv[e];
