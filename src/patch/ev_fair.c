@@ -102,11 +102,150 @@ static void assign_unknowns(fe_build *B, const ev_vjet *vj, int nf, const char *
     }
 }
 
+/* Corners whose two sides disagree (possible only where a side comes from a regular patch:
+ * constructed data are jet contractions, and they involve only the fixed terms there) keep a
+ * Gregory blend. */
+static void mark_gregory(const fe_build *B, const int *faces, int nf, const fe_ctx *X, cp_patch *CP, ev_fair_stats *stats)
+{
+    const q2n_mesh *m = B->m;
+    if (stats) stats->gregory_corners = 0, stats->corner_mismatch_max = 0;
+    for (int i = 0; i < nf; i++) {
+        double ctv[3 * 36 * 3], tayv[4 * FE_TAYLOR_SIZE(3)];
+        cp_corner C = {3, ctv};
+        const double *J[4];
+        fe_lanes L;
+        memset(CP[i].greg, 0, sizeof CP[i].greg);
+        for (int c = 0; c < 4; c++) J[c] = &B->jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
+        q2n_ev_fair_fill_lanes(&X[i], J, 3, &L, tayv);
+        q2n_cp_corner_terms(&CP[i], &L, 3, &C);
+        for (int ci = 0; ci < 2; ci++)
+            for (int cj = 0; cj < 2; cj++) {
+                double mis = q2n_cp_corner_mismatch(&CP[i], &C, ci, cj);
+                if (mis > EV_FAIR_COMPAT_REL) {
+                    CP[i].greg[q2n_corner_at(ci, cj)] = 1;
+                    if (stats) stats->gregory_corners++;
+                }
+                if (stats) stats->corner_mismatch_max = fmax(stats->corner_mismatch_max, mis);
+            }
+    }
+}
+
+/* What one construction leaves: its polynomial edges and the solve's fold figures. */
+typedef struct fe_run {
+    int poly_edges, held, folds, shrinks;
+} fe_run;
+
+/* One construction from the local estimates: the sides' gluing (smoothsteps; with poly, polynomial
+ * where the corner equations allow it, the vertices marked in pin kept out), the Gregory corners and
+ * the energy solve.  With flat fans (keep_flat): their jets' orders 1 and 2 are the local
+ * estimates, exact for planar data; a first solve keeps their higher orders in the plane up to
+ * EV_FLAT_PENALTY (coupled_solve), those then lose what is left of their normal parts and are fixed,
+ * and a second solve fits everything else to them (docs/extraordinary.md, "Flat fans"). */
+static q2n_status construct(fe_build *B, const ev_vjet *vj, const int *faces, int nf, fe_ctx *X, cp_patch *CP,
+                            const double (*jet0)[EV_JS][3], const char *flat, const double (*flatn)[3], int nflat,
+                            int poly, const char *pin, int threads, ev_fair_stats *stats, fe_run *R, q2n_error *err)
+{
+    const q2n_mesh *m = B->m;
+    q2n_status st = Q2N_OK;
+    memset(R, 0, sizeof *R);
+    memcpy(B->jet, jet0, (size_t)m->nv * sizeof *jet0);
+    memset(B->bub, 0, (size_t)nf * sizeof *B->bub);
+    for (int i = 0; i < nf; i++)
+        for (int sd = 0; sd < 4; sd++)
+            if (X[i].side[sd].kind == 0) fe_side_smooth(&X[i].side[sd]);
+    assign_unknowns(B, vj, nf, NULL, nflat ? flat : NULL);
+    B->flat = NULL;
+    if (poly && (st = q2n_ev_fair_poly_gluing(B, faces, nf, X, pin, &R->poly_edges, err))) return st;
+    mark_gregory(B, faces, nf, X, CP, stats);
+    for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
+        if (stage == 1) {
+            fix_flat_jets(B, flat, flatn, jet0, nf);
+            B->flat = NULL;
+            assign_unknowns(B, vj, nf, flat, NULL);
+        } else if (nflat) {
+            B->flat = flat;
+            B->flatn = flatn;
+        }
+        free(B->ridge);
+        if (!(B->ridge = calloc((size_t)(B->nvar ? B->nvar : 1), 1))) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory");
+        for (int i = 0; i < m->nv * EV_JS; i++)
+            if (B->var[i] >= 0) {
+                /* G2: a corner of the mesh's boundary (one face) keeps its curvature near its local
+                 * estimate and its orders 3 and 4 at zero (ev_policy.h, EV_FAIR_RIDGE_CORNER) */
+                int v = i / EV_JS, sl = i % EV_JS, corner = B->K >= 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 1;
+                B->ridge[B->var[i]] = sl < EV_SLOT(2, 0) ? RIDGE_LOW
+                                      : sl <= EV_SLOT(2, 2) ? (corner ? RIDGE_CORNER : RIDGE_LOW)
+                                      : corner ? RIDGE_HELD : RIDGE_HIGH;
+            }
+        if ((st = q2n_ev_fair_solve(B, faces, nf, CP, X, threads, &R->held, &R->folds, &R->shrinks, err))) return st;
+    }
+    return Q2N_OK;
+}
+
+/* A construction's state: the jets, bubbles and side contexts (their gluing). */
+typedef struct fe_state {
+    double (*jet)[EV_JS][3];
+    double (*bub)[CP_NBUB][3];
+    fe_ctx *X;
+} fe_state;
+
+static int state_alloc(fe_state *S, int nv, int nf)
+{
+    S->jet = malloc((size_t)nv * sizeof *S->jet);
+    S->bub = malloc((size_t)(nf ? nf : 1) * sizeof *S->bub);
+    S->X = malloc((size_t)(nf ? nf : 1) * sizeof *S->X);
+    return S->jet && S->bub && S->X;
+}
+static void state_free(fe_state *S) { free(S->jet), free(S->bub), free(S->X); }
+static void state_save(fe_state *S, const fe_build *B, const fe_ctx *X, int nf)
+{
+    memcpy(S->jet, B->jet, (size_t)B->m->nv * sizeof *S->jet);
+    memcpy(S->bub, B->bub, (size_t)nf * sizeof *S->bub);
+    memcpy(S->X, X, (size_t)nf * sizeof *S->X);
+}
+static void state_restore(const fe_state *S, fe_build *B, fe_ctx *X, int nf)
+{
+    memcpy(B->jet, S->jet, (size_t)B->m->nv * sizeof *S->jet);
+    memcpy(B->bub, S->bub, (size_t)nf * sizeof *S->bub);
+    memcpy(X, S->X, (size_t)nf * sizeof *S->X);
+}
+
+/* Faces whose Jacobian ratio (q2n_ev_fair_jacobian_ratio) the polynomial gluing takes below
+ * EV_POLY_JAC_REL of what the smoothsteps give with the same jets and bubbles; their corners are
+ * marked in pin (NULL: only counted).  -1 out of memory. */
+static int near_folds(const fe_build *B, const int *faces, int nf, const fe_ctx *X, const cp_patch *CP, char *pin)
+{
+    const q2n_mesh *m = B->m;
+    int nbad = 0;
+    for (int i = 0; i < nf; i++) {
+        int glued = 0;
+        for (int sd = 0; sd < 4; sd++) {
+            const fe_side *S = &X[i].side[sd];
+            glued |= S->kind == 0 && (S->poly || S->flat_end >= 0 || S->rc[0][0] != 0 || S->rc[0][1] != 0 || S->rc[1][0] != 0 ||
+                                      S->rc[1][1] != 0 || S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0);
+        }
+        if (!glued) continue;
+        fe_ctx Xs = X[i];
+        for (int sd = 0; sd < 4; sd++)
+            if (Xs.side[sd].kind == 0) fe_side_smooth(&Xs.side[sd]);
+        double rp = q2n_ev_fair_jacobian_ratio(B, i, faces[i], &X[i], &CP[i]);
+        double rs = q2n_ev_fair_jacobian_ratio(B, i, faces[i], &Xs, &CP[i]);
+        if (rp < -0.5 || rs < -0.5) return -1;
+        if (!(rp < EV_POLY_JAC_REL * rs)) continue;
+        nbad++;
+        if (pin)
+            for (int c = 0; c < 4; c++) pin[m->face_vert[m->face_start[faces[i]] + c]] = 1;
+    }
+    return nbad;
+}
+
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int keep_flat, int poly_gluing, int threads, ev_fair_stats *stats, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
     fe_build B = {0};
+    fe_state S0 = {0};
+    char *gpin = NULL;
     B.m = m;
     B.s = s;
     B.iv = iv;
@@ -188,78 +327,44 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     }
     for (int i = 0; i < nf && !st; i++) st = q2n_ev_fair_setup_patch(&B, faces[i], &X[i], &CP[i], err);
     if (st) goto done;
-    /* G1: polynomial gluing where a region's corner equations allow it (ev_fair_gluing.c).  Where the
-     * solve then leaves faces folded over, the smoothsteps are tried too and the one that folds on
-     * fewer faces kept (the polynomial gluing's twist corrections are fixed before the solve, and the
-     * fold guard cannot hold them). */
-    int poly_edges = 0, held = 0, folds = 0, shrinks = 0, poly_folds = -1;
-    for (int attempt = 0; attempt < 3; attempt++) {
-        int poly = K == 1 && poly_gluing && attempt != 1;
-        if (attempt > 0) { /* back to the local estimates and the smoothsteps */
-            memcpy(B.jet, jet0, (size_t)m->nv * sizeof *jet0);
-            memset(B.bub, 0, (size_t)nf * sizeof *B.bub);
-            for (int i = 0; i < nf; i++)
-                for (int sd = 0; sd < 4; sd++)
-                    if (X[i].side[sd].kind == 0) fe_side_smooth(&X[i].side[sd]);
-            assign_unknowns(&B, vj, nf, NULL, nflat ? flat : NULL);
-            B.flat = NULL;
-            poly_edges = 0;
-        }
-        if (poly && (st = q2n_ev_fair_poly_gluing(&B, faces, nf, X, &poly_edges, err))) goto done;
-        if (stats) stats->gregory_corners = 0, stats->corner_mismatch_max = 0;
-        for (int i = 0; i < nf; i++) memset(CP[i].greg, 0, sizeof CP[i].greg);
-        /* corners whose two sides disagree (possible only where a side comes from a regular patch:
-         * constructed data are jet contractions, and they involve only the fixed terms there) keep a
-         * Gregory blend */
-        for (int i = 0; i < nf; i++) {
-            double ctv[3 * 36 * 3], tayv[4 * FE_TAYLOR_SIZE(3)];
-            cp_corner C = {3, ctv};
-            const double *J[4];
-            fe_lanes L;
-            for (int c = 0; c < 4; c++) J[c] = &B.jet[m->face_vert[m->face_start[faces[i]] + c]][0][0];
-            q2n_ev_fair_fill_lanes(&X[i], J, 3, &L, tayv);
-            q2n_cp_corner_terms(&CP[i], &L, 3, &C);
-            for (int ci = 0; ci < 2; ci++)
-                for (int cj = 0; cj < 2; cj++) {
-                    double mis = q2n_cp_corner_mismatch(&CP[i], &C, ci, cj);
-                    if (mis > EV_FAIR_COMPAT_REL) {
-                        CP[i].greg[q2n_corner_at(ci, cj)] = 1;
-                        if (stats) stats->gregory_corners++;
-                    }
-                    if (stats) stats->corner_mismatch_max = fmax(stats->corner_mismatch_max, mis);
-                }
-        }
-
-        /* with flat fans (keep_flat): their jets' orders 1 and 2 are the local estimates, exact for planar
-         * data; a first solve keeps their higher orders in the plane up to EV_FLAT_PENALTY
-         * (coupled_solve), those then lose what is left of their normal parts and are fixed, and a
-         * second solve fits everything else to them (docs/extraordinary.md, "Flat fans") */
-        for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
-            if (stage == 1) {
-                fix_flat_jets(&B, flat, (const double (*)[3])flatn, (const double (*)[EV_JS][3])jet0, nf);
-                B.flat = NULL;
-                assign_unknowns(&B, vj, nf, flat, NULL);
-            } else if (nflat) {
-                B.flat = flat;
-                B.flatn = (const double (*)[3])flatn;
+    /* G1: polynomial gluing where a region's corner equations allow it (ev_fair_gluing.c).  Its twist
+     * corrections are fixed before the energy solve, whose fold guard cannot hold them, so two guards
+     * of its own follow: faces whose Jacobian ratio the gluing takes below EV_POLY_JAC_REL of the
+     * smoothsteps' (same jets) get their corners pinned (out of the gluing) and the construction is
+     * repeated, kept when fewer faces are left so; and where the solve leaves faces folded over, the
+     * smoothsteps are tried and kept when they fold on fewer faces. */
+    int poly = K == 1 && poly_gluing;
+    fe_run R = {0};
+    if ((st = construct(&B, vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat, poly, NULL, threads, stats, &R, err))) goto done;
+    if (poly && R.poly_edges > 0) {
+        if (!(gpin = calloc((size_t)m->nv, 1)) || !state_alloc(&S0, m->nv, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+        int nbad = near_folds(&B, faces, nf, X, CP, gpin);
+        if (nbad < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+        if (nbad > 0) {
+            fe_run R0 = R;
+            state_save(&S0, &B, X, nf);
+            if ((st = construct(&B, vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat, 1, gpin, threads, stats, &R, err))) goto done;
+            int nbad2 = near_folds(&B, faces, nf, X, CP, NULL);
+            if (stats) stats->jac_pinned_faces = nbad;
+            if (!(nbad2 >= 0 && nbad2 < nbad && R.folds <= R0.folds)) { /* the guard did not help */
+                state_restore(&S0, &B, X, nf);
+                R = R0;
+                mark_gregory(&B, faces, nf, X, CP, stats);
+                if (stats) stats->jac_pinned_faces = 0;
             }
-            free(B.ridge);
-            if (!(B.ridge = calloc((size_t)(B.nvar ? B.nvar : 1), 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
-            for (int i = 0; i < m->nv * EV_JS; i++)
-                if (B.var[i] >= 0) {
-                    /* G2: a corner of the mesh's boundary (one face) keeps its curvature near its local
-                     * estimate and its orders 3 and 4 at zero (ev_policy.h, EV_FAIR_RIDGE_CORNER) */
-                    int v = i / EV_JS, sl = i % EV_JS, corner = B.K >= 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 1;
-                    B.ridge[B.var[i]] = sl < EV_SLOT(2, 0) ? RIDGE_LOW
-                                        : sl <= EV_SLOT(2, 2) ? (corner ? RIDGE_CORNER : RIDGE_LOW)
-                                        : corner ? RIDGE_HELD : RIDGE_HIGH;
-                }
-            if ((st = q2n_ev_fair_solve(&B, faces, nf, CP, X, threads, &held, &folds, &shrinks, err))) goto done;
         }
-        if (attempt == 0 && (!poly || poly_edges == 0 || folds == 0)) break;
-        if (attempt == 0) poly_folds = folds;
-        else if (attempt == 1 && folds < poly_folds) break; /* the smoothsteps fold on fewer faces */
+        if (R.folds > 0 && R.poly_edges > 0) { /* the smoothsteps where they fold on fewer faces */
+            fe_run Rp = R;
+            state_save(&S0, &B, X, nf);
+            if ((st = construct(&B, vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat, 0, NULL, threads, stats, &R, err))) goto done;
+            if (!(R.folds < Rp.folds)) {
+                state_restore(&S0, &B, X, nf);
+                R = Rp;
+                mark_gregory(&B, faces, nf, X, CP, stats);
+            }
+        }
     }
+    int poly_edges = R.poly_edges, held = R.held, folds = R.folds, shrinks = R.shrinks;
     if (stats) stats->polynomial_edges = poly_edges;
     if (stats) stats->unknowns = B.nvar, stats->held_vertices = held, stats->folded_faces = folds, stats->shrinks = shrinks;
 
@@ -277,6 +382,8 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
         q2n_surface_set_patch_corner(s, f, q2n_cp_eval_corner);
     }
 done:
+    free(gpin);
+    state_free(&S0);
     free(vj);
     free(dir);
     free(unc);

@@ -17,6 +17,7 @@ typedef struct ev_fair_stats {
     int folded_faces;          /* faces still folded after the guard (0 unless it ran out of passes) */
     int shrinks;               /* halvings of the held jets in the kept solution (0: the local estimates themselves) */
     int polynomial_edges;      /* G1: constructed edges glued by polynomials (ev_fair_gluing.c) */
+    int jac_pinned_faces;      /* G1: faces whose Jacobian the polynomial gluing collapsed: their corners kept out of it */
 } ev_fair_stats;
 
 /* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the

@@ -61,6 +61,7 @@ typedef struct pg_row {
     int ix[PG_NZ]; /* r_G (one component), r_F (the same component), then q or the two slopes (-1: none) */
     double co[PG_NZ], b;
     int comp;      /* component of the row's vertex */
+    int v;         /* the row's vertex */
 } pg_row;
 
 /* Vertex of corner c of face f, and the corner of f at vertex v (-1: none). */
@@ -127,7 +128,8 @@ done:
     return st;
 }
 
-q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, int *poly_edges, q2n_error *err)
+q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, const char *pin, int *poly_edges,
+                                   q2n_error *err)
 {
     const q2n_mesh *m = B->m;
     size_t n4 = 4 * (size_t)(nf > 0 ? nf : 1);
@@ -159,26 +161,29 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             else if (!vpin[v] && m->vert_boundary[v] && m->vert_nfaces[v] < EV_POLY_BOUNDARY_FACES) vpin[v] = 1;
         }
     for (int v = 0; v < m->nv; v++) vabs[v] = vin[v] && vpin[v] != 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 2;
+    for (int v = 0; pin && v < m->nv; v++) /* kept out by the caller (the construction's near-fold guard) */
+        if (pin[v] && vin[v]) vpin[v] = 3, vabs[v] = 0;
 #define VFREE(v) (vin[v] && !vpin[v])
-    /* components: free vertices joined by constructed edges */
-    for (int v = 0; v < m->nv; v++) uf[v] = v;
-    for (int i = 0; i < nf; i++)
-        for (int sd = 0; sd < 4; sd++) {
-            const fe_side *S = &X[i].side[sd];
-            int v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
-            if (S->kind != 0 || !VFREE(v0) || !VFREE(v1)) continue;
-            int a = uf_find(uf, v0), b = uf_find(uf, v1);
-            if (a != b) uf[a < b ? b : a] = a < b ? a : b;
-        }
-    int nr = 0;
-    for (int i = 0; i < nf; i++)
-        for (int c = 0; c < 4; c++) rix[4 * i + c] = VFREE(fv(m, faces[i], c)) ? (nr += 2) - 2 : -1;
     /* rounds: a component whose equations fail with the edges flat at boundary vertices of two faces
      * is solved again with a free q on those edges (their twists at the boundary vertex go to the
      * boundary sides as well: any α', β' there is consistent), and if that fails too, with those
-     * vertices pinned (their edges then cubics with free slopes at the other end) */
-    int n = 0, nrow = 0;
-    for (int round = 0; round < 3; round++) {
+     * vertices pinned (their edges then cubics with free slopes at the other end); a component that
+     * fails otherwise gets the vertex of its largest residual pinned, and is solved again */
+    int n = 0, nrow = 0, nr = 0;
+    for (int round = 0; round < 2 + EV_POLY_PIN_ROUNDS; round++) {
+        /* components: free vertices joined by constructed edges */
+        for (int v = 0; v < m->nv; v++) uf[v] = v;
+        for (int i = 0; i < nf; i++)
+            for (int sd = 0; sd < 4; sd++) {
+                const fe_side *S = &X[i].side[sd];
+                int v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
+                if (S->kind != 0 || !VFREE(v0) || !VFREE(v1)) continue;
+                int a = uf_find(uf, v0), b = uf_find(uf, v1);
+                if (a != b) uf[a < b ? b : a] = a < b ? a : b;
+            }
+        nr = 0;
+        for (int i = 0; i < nf; i++)
+            for (int c = 0; c < 4; c++) rix[4 * i + c] = VFREE(fv(m, faces[i], c)) ? (nr += 2) - 2 : -1;
         memset(cbad, 0, (size_t)m->nv);
         memset(cubic, 0, n4);
         /* passes: an edge whose q would let α approach zero keeps a cubic α, β with free slopes instead
@@ -240,7 +245,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                                 double ap = end ? da : -da, bp = end ? dbb : -dbb; /* α'(end), β'(end) in d/ds */
                                 r->b = sg * ap * ew * w[j] + bp * S->d * u[j];
                             }
-                            r->comp = uf_find(uf, v);
+                            r->comp = uf_find(uf, v), r->v = v;
                         }
                     }
                 }
@@ -282,6 +287,20 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                     else if (round == 1 && vfq[va]) vabs[va] = 0, changed = 1;
                 }
             }
+        if (!changed) { /* the vertex of each failed component's largest residual pinned */
+            for (int k = 0; k < nrow; k++) {
+                int c = R[k].comp, best = -1;
+                if (!cbad[c]) continue;
+                double rb = -1;
+                for (int j = k; j < nrow; j++) { /* rows before k are of other components */
+                    if (R[j].comp != c) continue;
+                    double rj = fabs(row_residual(&R[j], x));
+                    if (rj > rb) rb = rj, best = j;
+                }
+                vpin[R[best].v] = 3, changed = 1;
+                cbad[c] = 0; /* one vertex per component and round */
+            }
+        }
         if (!changed) break;
     }
     for (int i = 0; i < nf; i++)

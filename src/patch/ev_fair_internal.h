@@ -129,10 +129,15 @@ void q2n_ev_fair_eval_free(void *d);
 
 /* G1 patches (K = 1): quadratic α and linear β on the constructed edges between free vertices, and
  * the corners' twist corrections that keep them compatible (the sides' poly, q and rc), wherever a
- * component's equations hold; *poly_edges counts the edges that took it. */
-q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, int *poly_edges, q2n_error *err);
+ * component's equations hold; *poly_edges counts the edges that took it.  pin (per vertex, NULL:
+ * none): vertices kept out, as the corners of regular patches are. */
+q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, const char *pin, int *poly_edges,
+                                   q2n_error *err);
 
 /* ------------------------------------------------------------ ev_fair_solve.c */
+
+/* Smallest |S_u x S_v| of patch i (context FX) on a grid, over its median (near 0: nearly folded). */
+double q2n_ev_fair_jacobian_ratio(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P);
 
 /* The energy solve over the nfaces faces of the list (their patches P, contexts FX): the jets'
  * and bubbles' values in B become the minimiser, with the fold guard; *held_vertices, *folds_left

@@ -416,6 +416,29 @@ static int patch_folds(const fe_build *B, int i, int f, const fe_ctx *FX, const 
     return 0;
 }
 
+/* Smallest |S_u x S_v| over an EV_FOLD_GRID grid of patch i (context FX), relative to its median there:
+ * 1 for a parallelogram, near 0 where the face nearly folds or degenerates.  -1 when it cannot be
+ * evaluated. */
+double q2n_ev_fair_jacobian_ratio(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P)
+{
+    enum { NG = EV_FOLD_GRID };
+    double t[NG], out[NG * NG * 9], srt[NG * NG];
+    for (int k = 0; k < NG; k++) t[k] = (double)k / (NG - 1);
+    fe_eval *E = q2n_ev_fair_make_eval(B, i, f, FX, P);
+    if (!E) return -1;
+    q2n_status st = q2n_cp_eval_grid(E, NG, t, NG, t, out);
+    free(E);
+    if (st) return -1;
+    for (int q = 0; q < NG * NG; q++) {
+        double n[3];
+        q2n_v3_cross(n, out + 9 * q + 3, out + 9 * q + 6);
+        srt[q] = q2n_v3_norm(n);
+    }
+    qsort(srt, NG * NG, sizeof *srt, cmp_dbl);
+    double med = srt[NG * NG / 2], mn = srt[0];
+    return med > 0 ? mn / med : 0;
+}
+
 /* The jets and bubbles of solution X. */
 static void put_solution(fe_build *B, int nfaces, const double *X)
 {

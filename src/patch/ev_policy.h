@@ -118,6 +118,19 @@
  * boundary corners ripples 1.6 x more, docs/extraordinary.md).  A one-face corner has no edge between
  * two faces. */
 #define EV_POLY_BOUNDARY_FACES 3
+/* Rounds of the gluing solve in which a component whose equations still fail gets the vertex of its
+ * largest residual pinned (its corners keep their jets' twists, its edges cubics with free slopes at
+ * the other end: least squares in the fit).  The corner equations of vertices of even valence can
+ * be inconsistent around the handles of a closed surface (a torus of valence-4 vertices: residual
+ * 1e-3), and one such vertex pinned opens the cycle. */
+#define EV_POLY_PIN_ROUNDS 8
+/* The gluing's near-fold guard (ev_fair.c): a face whose smallest Jacobian ratio (|S_u x S_v| over
+ * its median, EV_FOLD_GRID points) the polynomial gluing takes below this fraction of the
+ * smoothsteps' with the same jets has its corners kept out of the gluing.  Halving it is no rounding
+ * or shape effect: the twist corrections of a nearly inconsistent component then shear the face
+ * toward a fold (measured: 0.035 against the smoothsteps' 0.29 on a trapezoid between two valence-3
+ * and two valence-5 corners, its bending energy 400 x). */
+#define EV_POLY_JAC_REL 0.5
 
 /* Two sides of a corner "agree" when their mixed derivatives differ by less than this fraction of
  * the corner's first- and mixed-derivative scale (rounding of the regular patches' jets); beyond

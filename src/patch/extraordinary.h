@@ -60,6 +60,8 @@ q2n_status q2n_flat_faces_dev(const q2n_mesh *m, const q2n_surface *s, int n, in
 typedef struct q2n_extraordinary_stats {
     int flat_vertices;     /* keep_flat: vertices whose fan is flat, their jets kept in its plane */
     int polynomial_edges;  /* G1 patches: constructed edges glued by polynomials (exact in the fit) */
+    int guard_faces;       /* G1 patches: faces whose Jacobian the gluing collapsed (corners kept out of it) */
+    int gregory_corners;   /* fair construction: corners whose two sides disagreed (a Gregory blend) */
 } q2n_extraordinary_stats;
 
 /* q2n_extraordinary_build, and its account into *stats (zeroed first). */
