@@ -227,12 +227,6 @@ typedef struct q2n_options {
                                       hold: those patches are bi-quintic polynomials, fitted with one
                                       span and exactly G1] (docs/extraordinary.md, "Polynomial gluing
                                       of G1 patches") */
-    int regular_fair;              /* augmented, fair construction: 1 builds every face by the fair
-                                      construction (one jet per vertex, energy solve) instead of only the
-                                      faces at extraordinary vertices: fairer regular regions; with G1
-                                      patches glued by polynomials throughout, mostly one span per patch;
-                                      0 [the patches of the paper's eq. (10) away from extraordinary
-                                      vertices] (docs/extraordinary.md, "Fair patches everywhere") */
     q2n_acc_strategy acc_strategy; /* acc-g1 [cs-s] */
     int subdivide;                 /* Catmull–Clark steps before building, 0..6 [0] */
     int limit_points;              /* every vertex (after subdivide) moved to its Catmull–Clark limit

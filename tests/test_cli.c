@@ -558,19 +558,6 @@ static void tolerances(void)
     CHECK(rc == 2 && strstr(err, "--ev-gluing: unknown 'cubic' (expected polynomial or smoothstep)"), "--ev-gluing cubic: %d '%s'", rc, err);
     rc = run_sh("$Q cube.obj --ev-gluing smoothstep -o t7.json", err, sizeof err);
     CHECK(rc == 0 && strstr(err, "--ev-gluing smoothstep is ignored with G2 patches"), "--ev-gluing with G2 patches: %d '%s'", rc, err);
-    /* --regular-patches: the name checked, the paper's construction refused, the report says which */
-    rc = run_sh("$Q cube.obj --regular-patches coons -o t7.json", err, sizeof err);
-    CHECK(rc == 2 && strstr(err, "--regular-patches: unknown 'coons' (expected augmented or fair)"), "--regular-patches coons: %d '%s'", rc, err);
-    rc = run_sh("$Q cube.obj --regular-patches fair --ev-construction paper -o t8.json", err, sizeof err);
-    char *p8 = report("t8.json");
-    CHECK(rc == 2 && strstr(err, "needs the fair construction") && !p8, "--regular-patches fair with the paper's: %d '%s'", rc, err);
-    free(p8);
-    rc = run_sh("$Q cube.obj --regular-patches fair --surface acc3 -o t7.obj", err, sizeof err);
-    CHECK(rc == 0 && strstr(err, "--regular-patches fair is ignored with --surface acc3"), "--regular-patches with acc3: %d '%s'", rc, err);
-    rc = run_sh("$Q cube.obj -q --regular-patches fair --ev-patch g1 -o t7.json", err, sizeof err);
-    char *p7 = report("t7.json");
-    CHECK(rc == 0 && p7 && strstr(p7, "\"regular_patches\": \"fair\""), "--regular-patches fair: %d, report %s", rc, p7 ? "without it" : "missing");
-    free(p7);
     /* targets the span cap cannot reach: the warning names the edge with the figures of the continuity
      * the fit imposes — in G1 mode the normal jump alone (until stop 40 it listed a curvature target
      * there too); the smoothsteps' gluing, least squares in the fit, since polynomial gluing is exact */

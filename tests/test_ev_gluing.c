@@ -19,7 +19,6 @@
 
 #include "api/model.h"
 #include "check.h"
-#include "fairness.h"
 #include "fit/fit.h"
 #include "fit_check.h"
 #include "meshgen.h"
@@ -170,79 +169,6 @@ static void fold_fallback(void)
     q2n_model_free(m);
 }
 
-/* Every face by the fair construction (q2n_options.regular_fair), G1 patches.  On a closed mesh whose
- * every vertex has valence 4 — a torus — the corner equations are inconsistent around the handles
- * until a vertex is pinned (ev_fair_gluing.c's pin rounds; before them no edge of a torus took the
- * gluing).  Asserted: every face fair, every corner compatible, every vertex interpolated, at least
- * poly_min of the interior edges glued by polynomials, the fit's targets; and the fairness figures of
- * tests/fairness.h against the augmented patches of the same mesh: the oscillation per diagonal at
- * most osc_max times theirs, the smallest Jacobian ratio at least half of theirs; with exact, every
- * edge polynomial and the fit exactly G1 with one span per patch. */
-static void fair_everywhere(const char *shared, q2n_mesh *(*gen)(void), double poly_min, double osc_max, int exact)
-{
-    const char *path = shared ? chk_shared_mesh(shared) : NULL;
-    if (shared && !path) return; /* reported by chk_shared_mesh */
-    q2n_model *mf = NULL, *ma = NULL;
-    q2n_model_options o = {0};
-    o.method = Q2N_SURFACE_AUGMENTED;
-    o.ev_patch = Q2N_EV_PATCH_G1;
-    q2n_error err = {0, ""};
-    int ok = (path ? q2n_model_build(path, &o, &ma, &err) : q2n_model_build_mesh(gen(), &o, &ma, &err)) == Q2N_OK;
-    CHECK(ok, "fair everywhere: augmented build: %s", err.message);
-    o.regular_fair = 1;
-    ok = ok && (path ? q2n_model_build(path, &o, &mf, &err) : q2n_model_build_mesh(gen(), &o, &mf, &err)) == Q2N_OK;
-    CHECK(ok, "fair everywhere: build: %s", err.message);
-    if (ok) {
-        const q2n_mesh *m = mf->mesh;
-        const char *name = shared ? shared : m->name;
-        int interior = 0, fair = 0;
-        for (int e = 0; e < m->ne; e++) interior += m->he_twin[m->edge_he[e]] >= 0;
-        for (int k = 0; k < m->nf; k++) fair += q2n_surface_kind(mf->surface, k) == Q2N_PATCH_COONS_GREGORY;
-        double vdev = 0;
-        for (int k = 0; k < m->nf; k++)
-            for (int c = 0; c < 4; c++) {
-                double out[3];
-                q2n_surface_eval(mf->surface, k, (c == 1 || c == 2) ? 1.0 : 0.0, c >= 2 ? 1.0 : 0.0, 0, out);
-                const double *p = q2n_mesh_vpos(m, m->face_vert[m->face_start[k] + c]);
-                vdev = fmax(vdev, sqrt((out[0] - p[0]) * (out[0] - p[0]) + (out[1] - p[1]) * (out[1] - p[1]) + (out[2] - p[2]) * (out[2] - p[2])));
-            }
-        fair_figures Ff, Fa;
-        fair_measure(m, mf->surface, &Ff);
-        fair_measure(ma->mesh, ma->surface, &Fa);
-        int lines = Ff.ev_lines + Ff.reg_lines;
-        double oscf = lines ? (Ff.osc_ev_mean * Ff.ev_lines + Ff.osc_reg_mean * Ff.reg_lines) / lines : 0;
-        double osca = lines ? (Fa.osc_ev_mean * Fa.ev_lines + Fa.osc_reg_mean * Fa.reg_lines) / lines : 0;
-        q2n_fit_options fo;
-        q2n_fit_options_default(&fo);
-        fo.continuity = 1;
-        fo.threads = 2;
-        int fitted = q2n_model_fit(mf, &fo, &err) == Q2N_OK;
-        CHECK(fitted, "%s: fair everywhere: fit: %s", name, err.message);
-        printf("%-28s fair everywhere: %d of %d faces, %d of %d edges polynomial, gregory corners %d, vertex dev %.1e; "
-               "osc per diagonal %.3f (augmented %.3f), E %.1f (%.1f), jac %.3f (%.3f)",
-               name, fair, m->nf, mf->ev_stats.polynomial_edges, interior, mf->ev_stats.gregory_corners, vdev, oscf, osca,
-               Ff.E_reg + Ff.E_ev, Fa.E_reg + Fa.E_ev, Ff.jac_min, Fa.jac_min);
-        if (fitted) printf("; fit: spans median %d max %d, G1 %.1e deg", mf->fit.spans_median, mf->fit.spans_max, mf->fit.g1_max_deg);
-        printf("\n");
-        CHECK(fair == m->nf, "%s: fair everywhere: %d of %d faces", name, fair, m->nf);
-        CHECK(mf->ev_stats.polynomial_edges >= poly_min * interior, "%s: fair everywhere: %d of %d edges polynomial", name,
-              mf->ev_stats.polynomial_edges, interior);
-        CHECK(mf->ev_stats.gregory_corners == 0, "%s: fair everywhere: %d Gregory corners", name, mf->ev_stats.gregory_corners);
-        CHECK(vdev <= 1e-12 * q2n_mesh_bbox_diag(m), "%s: fair everywhere: a vertex missed by %.3g", name, vdev);
-        CHECK(Ff.failed == 0 && Fa.failed == 0 && oscf <= osc_max * osca && Ff.jac_min >= 0.5 * Fa.jac_min,
-              "%s: fair everywhere: osc %.3g against %.3g, jac %.3g against %.3g", name, oscf, osca, Ff.jac_min, Fa.jac_min);
-        if (fitted) CHECK(mf->fit.tol_met, "%s: fair everywhere: targets missed", name);
-        if (fitted && exact)
-            CHECK(mf->ev_stats.polynomial_edges == interior && mf->fit.spans_max == 1 && mf->fit.g1_max_deg <= 1e-6,
-                  "%s: fair everywhere: not exact (%d spans, G1 %.3g deg)", name, mf->fit.spans_max, mf->fit.g1_max_deg);
-    }
-    q2n_model_free(mf);
-    q2n_model_free(ma);
-}
-
-static q2n_mesh *torus_uneven(void) { return mg_torus(8, 6, 3, 1, 0, 1, 1); }
-static q2n_mesh *torus_jitter(void) { return mg_torus(10, 8, 3, 1, 0.15, 1, 7); }
-
 int main(void)
 {
     /* closed, every face at an extraordinary vertex (valences 3, 4, 5 / 3, 4) */
@@ -265,13 +191,5 @@ int main(void)
     partly_polynomial(mg_polar_star(7, 3, 1), 21);
     partly_polynomial(mg_polar_star(5, 3, 4), 15);
     fold_fallback();
-    /* every face fair: generated tori (not fairer than the augmented patches everywhere: the coarse
-     * uneven one oscillates 1.3 x more), and shared meshes where the option measures fairer */
-    fair_everywhere(NULL, torus_uneven, 0.5, 2, 0);
-    fair_everywhere(NULL, torus_jitter, 0.5, 2, 0);
-    fair_everywhere("gismo_octtorus.obj", NULL, 0.5, 0.5, 0);
-    fair_everywhere("osd_catmark_torus.obj", NULL, 0.5, 0.5, 0);
-    fair_everywhere("osd_catmark_tent.obj", NULL, 1, 0.5, 1);
-    fair_everywhere("osd_catmark_helmet.obj", NULL, 1, 0.5, 1);
     CHECK_DONE("test_ev_gluing");
 }

@@ -73,11 +73,6 @@ static q2n_status check_options(const q2n_options *o, char *errbuf, size_t errle
     if (o->keep_flat < 0 || o->keep_flat > 1) return bad(errbuf, errlen, "invalid keep_flat %d (expected 0 or 1)", o->keep_flat);
     if (o->ev_smooth_gluing < 0 || o->ev_smooth_gluing > 1)
         return bad(errbuf, errlen, "invalid ev_smooth_gluing %d (expected 0 or 1)", o->ev_smooth_gluing);
-    if (o->regular_fair < 0 || o->regular_fair > 1)
-        return bad(errbuf, errlen, "invalid regular_fair %d (expected 0 or 1)", o->regular_fair);
-    if (o->regular_fair && o->surface == Q2N_SURFACE_AUGMENTED && o->ev_construction == Q2N_EV_METHOD_PAPER)
-        return bad(errbuf, errlen, "--regular-patches fair (regular_fair) needs the fair construction: "
-                                   "--ev-construction paper builds only the faces at extraordinary vertices");
     if (o->limit_points < -1 || o->limit_points > 1)
         return bad(errbuf, errlen, "invalid limit_points %d (expected -1, 0 or 1)", o->limit_points);
     if (o->scale != 0 && !(o->scale >= Q2N_SCALE_MIN && o->scale <= Q2N_SCALE_MAX))
@@ -112,7 +107,6 @@ static void model_options(const q2n_options *o, q2n_model_options *mo)
     mo->ev_method = (int)o->ev_construction;
     mo->keep_flat = o->keep_flat;
     mo->smooth_gluing = o->ev_smooth_gluing;
-    mo->regular_fair = o->regular_fair;
     mo->fold_fallback = o->ev_patch == Q2N_EV_PATCH_DEFAULT && o->continuity != Q2N_CONTINUITY_G2;
     mo->acc_strategy = o->acc_strategy;
     mo->subdivide = o->subdivide;

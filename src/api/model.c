@@ -32,12 +32,8 @@ static q2n_status build_augmented(q2n_model *m, q2n_error *err)
                                     (q2n_ev_method)m->opt.ev_method, m->opt.threads, m->opt.keep_flat,
                                     m->opt.smooth_gluing};
     q2n_status st = q2n_param_edge_intervals(m->mesh, &m->opt.param, &m->edge_iv, err);
-    if (!st && m->opt.regular_fair) { /* every face left to the fair construction */
-        if (!(m->surface = q2n_surface_create(m->mesh->nf))) st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (surface)");
-    } else if (!st) {
-        st = q2n_augmented_build(m->mesh, &ao, m->edge_iv, &m->surface, err);
-    }
-    /* faces at extraordinary vertices (every face with regular_fair): the extraordinary construction (§4) */
+    if (!st) st = q2n_augmented_build(m->mesh, &ao, m->edge_iv, &m->surface, err);
+    /* faces at extraordinary vertices: augmented Coons–Gregory patches (§4) */
     if (!st && q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED) > 0)
         st = q2n_extraordinary_build_stats(m->mesh, &eo, m->edge_iv, m->surface, &m->ev_stats, err);
     int regular = m->opt.cls->k >= 2 ? 2 : 1, ev = q2n_ev_patch_order(&eo);
@@ -633,7 +629,6 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.vertices_moved_rel = m->moved_rel;
     m->fit.flat_vertices = m->ev_stats.flat_vertices;
     m->fit.polynomial_edges = m->ev_stats.polynomial_edges;
-    m->fit.regular_fair = m->opt.method == Q2N_SURFACE_AUGMENTED && m->opt.regular_fair;
     m->fit.g2_folded_faces = m->g2_folded;
     m->fit.paired_quads = m->paired;
     m->fit.triangles_left = m->tri_left;

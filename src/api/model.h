@@ -35,7 +35,6 @@ typedef struct q2n_model_options {
     int keep_flat;                /* augmented, fair construction: flat fans stay flat (q2n_options) */
     int smooth_gluing;            /* augmented, fair construction, G1 patches: smoothstep gluing everywhere
                                      (q2n_options.ev_smooth_gluing) */
-    int regular_fair;             /* augmented, fair construction: every face by it (q2n_options.regular_fair) */
     int fold_fallback;            /* augmented, default patches (G2): where they fold over, G1 patches at the
                                      extraordinary vertices instead if those fold on fewer faces (the public
                                      API sets it unless ev_patch is given or continuity is G2) */

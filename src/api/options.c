@@ -73,8 +73,6 @@ int q2n_options_warnings(const q2n_model_options *mo, const q2n_fit_options *fo,
         warn(&w, "--ev-gluing smoothstep is ignored%s%s (polynomial gluing is made for the fair construction's G1 "
                  "patches only)", mo->method != Q2N_SURFACE_AUGMENTED ? " with --surface " : "",
              mo->method != Q2N_SURFACE_AUGMENTED ? meth : mo->ev_method == Q2N_EV_METHOD_PAPER ? " with --ev-construction paper" : " with G2 patches");
-    if (mo->regular_fair && mo->method != Q2N_SURFACE_AUGMENTED)
-        warn(&w, "--regular-patches fair is ignored with --surface %s (it shapes the augmented surface only)%s", meth, "");
     if (mo->limit_points && mo->method != Q2N_SURFACE_AUGMENTED)
         warn(&w, "%s is ignored with --surface %s (its patches approximate the Catmull-Clark limit from the control "
                  "mesh itself)", mo->limit_points > 0 ? "--limit-points" : "--no-limit-points", meth);

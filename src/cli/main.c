@@ -60,10 +60,6 @@ static void usage(FILE *f)
           "                        the patches are bi-quintic and the fit is exactly G1 with one\n"
           "                        span) or smoothstep (every edge as before: least squares in the\n"
           "                        fit)\n"
-          "      --regular-patches R  faces away from extraordinary vertices: augmented (default:\n"
-          "                        the paper's patches) or fair (every face by the fair\n"
-          "                        construction: fairer regular regions; with --ev-patch g1 mostly\n"
-          "                        one span per patch; G2 files heavier)\n"
           "      --keep-flat       where the mesh is flat around a vertex (its faces' corners in\n"
           "                        one plane), the fair construction keeps the surface in that\n"
           "                        plane exactly (flat panels stay flat; the bends beside them\n"
@@ -193,7 +189,7 @@ static int parse_size(const char *s, double *out)
 enum {
     OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT, OPT_TOL,
     OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_FORMAT, OPT_SCALE, OPT_TOLABS, OPT_ANGLE,
-    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_EVGLUING, OPT_REGULAR, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT, OPT_KEEPFLAT, OPT_PAIR, OPT_FILL
+    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_EVGLUING, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT, OPT_KEEPFLAT, OPT_PAIR, OPT_FILL
 };
 
 static const struct option LONGOPTS[] = {
@@ -211,7 +207,6 @@ static const struct option LONGOPTS[] = {
     {"curvature-tol", required_argument, 0, OPT_CURV}, {"max-memory", required_argument, 0, OPT_MAXMEM},
     {"ev-construction", required_argument, 0, OPT_EVMETHOD},
     {"ev-gluing", required_argument, 0, OPT_EVGLUING},
-    {"regular-patches", required_argument, 0, OPT_REGULAR},
     {"max-spans", required_argument, 0, OPT_MAXSPANS}, {"gluing", required_argument, 0, OPT_GLUING},
     {"progress", no_argument, 0, OPT_PROGRESS},     {"help", no_argument, 0, 'h'},
     {"version", no_argument, 0, 'V'},               {0, 0, 0, 0}};
@@ -258,13 +253,6 @@ static int parse_option(int c, const char *arg, cli_options *o)
             return 2;
         }
         q->ev_smooth_gluing = !strcmp(arg, "smoothstep");
-        return 0;
-    case OPT_REGULAR:
-        if (strcmp(arg, "augmented") && strcmp(arg, "fair")) {
-            fprintf(stderr, "quad2nurbs: --regular-patches: unknown '%s' (expected augmented or fair)\n", arg);
-            return 2;
-        }
-        q->regular_fair = !strcmp(arg, "fair");
         return 0;
     case OPT_EVMETHOD:
         if (parse_choice(Q2N_CHOICE_EV_CONSTRUCTION, "--ev-construction", arg, &v)) return 2;

@@ -84,7 +84,6 @@ typedef struct q2n_fit_report {
                                       plane; set by the caller, else 0 */
     int polynomial_edges;          /* G1 patches: constructed edges glued by polynomials (the fit
                                       reproduces both sides exactly); set by the caller, else 0 */
-    int regular_fair;              /* every face by the fair construction (q2n_options.regular_fair) */
     int g2_folded_faces;           /* the construction's G2 patches folded on this many faces and G1 patches
                                       replaced them (q2n_model_options.fold_fallback); set by the caller, else 0 */
     int paired_quads, triangles_left; /* --pair-triangles: quads made of two input triangles, triangles

@@ -60,10 +60,10 @@ static void write_json(const q2n_fit_report *r, const char *units, FILE *f)
     fprintf(f, "  \"construction\": {\"g1_max_deg\": %.6g, \"g2_max_rel\": %.6g, \"folded_faces\": %d, "
                "\"first_folded_face\": %d, \"vertices_moved_max_rel\": %.6g, \"flat_vertices\": %d, "
                "\"polynomial_edges\": %d, \"g2_folded_faces\": %d, \"paired_quads\": %d, \"triangles_left\": %d, \"filled_faces\": %d, "
-               "\"fill_quads\": %d, \"regular_patches\": \"%s\"},\n",
+               "\"fill_quads\": %d},\n",
             r->g1_construction_deg, r->g2_construction_rel, r->folded_faces, r->folded_faces > 0 ? r->folded_face : -1,
             r->vertices_moved_rel, r->flat_vertices, r->polynomial_edges, r->g2_folded_faces, r->paired_quads, r->triangles_left,
-            r->filled_faces, r->fill_quads, r->regular_fair ? "fair" : "augmented");
+            r->filled_faces, r->fill_quads);
     fprintf(f, "  \"solver\": \"%s\",\n  \"threads\": %d,\n",
             solvers[r->solver >= 0 && r->solver <= 2 ? r->solver : 0], r->threads);
     fprintf(f, "  \"timings_s\": {\"sample\": %.6f, \"build\": %.6f, \"solve\": %.6f, \"measure\": %.6f, "
