@@ -169,6 +169,96 @@ static void fold_fallback(void)
     q2n_model_free(m);
 }
 
+/* A torus of valence-4 vertices built wholly by the fair construction (the internal entry: the
+ * regular patches left out): its corner equations are inconsistent around the handles (residual 1e-3,
+ * no edge took the gluing) until the gluing pins the vertex of a failed component's largest residual
+ * (ev_fair_gluing.c's pin rounds).  Then at least half of its edges are glued by polynomials, every
+ * corner stays compatible and the fit meets its targets. */
+static void pinned_cycles(q2n_mesh *m)
+{
+    CHECK(m != NULL, "generator");
+    if (!m) return;
+    q2n_param_options po = {0};
+    q2n_error err = {0, ""};
+    double *iv = NULL;
+    q2n_surface *s = q2n_surface_create(m->nf);
+    ev_fair_stats st = {0};
+    int ok = s && q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK &&
+             q2n_ev_fair_build(m, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), 1, 0, 1, 2, &st, &err) == Q2N_OK;
+    CHECK(ok, "%s: build: %s", m->name, err.message);
+    if (ok) {
+        q2n_fit_report r;
+        double ang = INFINITY;
+        int fitted = fit_g1(m, s, &r, &ang);
+        printf("%-40s every face fair: edges %3d polynomial %3d  gregory corners %d", m->name, st.edges, st.polynomial_edges,
+               st.gregory_corners);
+        if (fitted) printf("  fit: spans max %d, G1 %.1e deg (independent %.1e)", r.spans_max, r.g1_max_deg, ang);
+        printf("\n");
+        CHECK(2 * st.polynomial_edges >= st.edges && st.edges == 2 * m->nf, "%s: %d of %d edges polynomial", m->name,
+              st.polynomial_edges, st.edges);
+        CHECK(st.gregory_corners == 0, "%s: %d Gregory corners", m->name, st.gregory_corners);
+        if (fitted) CHECK(r.tol_met && ang <= 0.01, "%s: targets %d, independent G1 %.3g deg", m->name, r.tol_met, ang);
+    }
+    free(iv);
+    q2n_surface_free(s);
+    q2n_mesh_free(m);
+}
+
+/* Smallest |Su x Sv| of patch k on a 17 x 17 grid, over its median there. */
+static double jacobian_ratio(const q2n_surface *s, int k)
+{
+    enum { N = 17 };
+    double a[N * N];
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++) {
+            double o[9], n[3];
+            if (q2n_surface_eval(s, k, (double)i / (N - 1), (double)j / (N - 1), 1, o)) return -1;
+            n[0] = o[4] * o[8] - o[5] * o[7], n[1] = o[5] * o[6] - o[3] * o[8], n[2] = o[3] * o[7] - o[4] * o[6];
+            a[j * N + i] = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        }
+    double mn = a[0];
+    for (int q = 1; q < N * N; q++) mn = fmin(mn, a[q]);
+    for (int x = 0; x <= N * N / 2; x++) /* the median by selection */
+        for (int y = x + 1; y < N * N; y++)
+            if (a[y] < a[x]) { double t = a[x]; a[x] = a[y]; a[y] = t; }
+    return a[N * N / 2] > 0 ? mn / a[N * N / 2] : 0;
+}
+
+/* The near-fold guard (ev_fair.c): on a shared mesh whose nearly inconsistent gluing sheared two
+ * trapezoids toward a fold (Jacobian ratio 0.031 against the smoothsteps' 0.097), no face's ratio is
+ * below half of what the smoothsteps' construction gives it, and the guard says it acted. */
+static void near_fold_guard(void)
+{
+    const char *path = chk_shared_mesh("osd_catmark_righthanded.obj");
+    if (!path) return; /* reported by chk_shared_mesh */
+    q2n_model *mp = NULL, *ms = NULL;
+    q2n_model_options o = {0};
+    o.method = Q2N_SURFACE_AUGMENTED;
+    o.ev_patch = Q2N_EV_PATCH_G1;
+    q2n_error err = {0, ""};
+    int ok = q2n_model_build(path, &o, &mp, &err) == Q2N_OK;
+    o.smooth_gluing = 1;
+    ok = ok && q2n_model_build(path, &o, &ms, &err) == Q2N_OK;
+    CHECK(ok, "righthanded: %s", err.message);
+    if (ok) {
+        int bad = 0, worst = -1;
+        double wr = INFINITY;
+        for (int k = 0; k < mp->mesh->nf; k++) {
+            if (q2n_surface_kind(mp->surface, k) != Q2N_PATCH_COONS_GREGORY) continue;
+            double rp = jacobian_ratio(mp->surface, k), rs = jacobian_ratio(ms->surface, k);
+            if (rp < 0.5 * rs) bad++;
+            if (rs > 0 && rp / rs < wr) wr = rp / rs, worst = k;
+        }
+        printf("righthanded, G1 patches: %d polynomial edges, guard on %d faces; faces below half the smoothsteps' Jacobian "
+               "ratio: %d (lowest ratio %.3f, face %d)\n", mp->ev_stats.polynomial_edges, mp->ev_stats.guard_faces, bad, wr, worst);
+        CHECK(bad == 0 && mp->ev_stats.guard_faces > 0 && mp->ev_stats.polynomial_edges > 0,
+              "righthanded: %d faces nearly folded by the gluing, guard %d, %d polynomial edges", bad, mp->ev_stats.guard_faces,
+              mp->ev_stats.polynomial_edges);
+    }
+    q2n_model_free(mp);
+    q2n_model_free(ms);
+}
+
 int main(void)
 {
     /* closed, every face at an extraordinary vertex (valences 3, 4, 5 / 3, 4) */
@@ -191,5 +281,8 @@ int main(void)
     partly_polynomial(mg_polar_star(7, 3, 1), 21);
     partly_polynomial(mg_polar_star(5, 3, 4), 15);
     fold_fallback();
+    pinned_cycles(mg_torus(8, 6, 3, 1, 0, 1, 1));
+    pinned_cycles(mg_torus(10, 8, 3, 1, 0.15, 1, 7));
+    near_fold_guard();
     CHECK_DONE("test_ev_gluing");
 }
