@@ -393,20 +393,31 @@ static int cmp_dbl(const void *a, const void *b)
 }
 
 
+/* The unnormalised normals S_u x S_v of patch i (context FX) on the EV_FOLD_GRID x EV_FOLD_GRID grid
+ * of [0,1]^2 (row-major in v); 0 when it cannot be evaluated. */
+static int grid_normals(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P,
+                        double nrm[EV_FOLD_GRID * EV_FOLD_GRID][3])
+{
+    enum { NG = EV_FOLD_GRID };
+    double t[NG], out[NG * NG * 9];
+    for (int a = 0; a < NG; a++) t[a] = (double)a / (NG - 1);
+    fe_eval *E = q2n_ev_fair_make_eval(B, i, f, FX, P);
+    if (!E) return 0;
+    q2n_status st = q2n_cp_eval_grid(E, NG, t, NG, t, out);
+    free(E);
+    if (st) return 0;
+    for (int q = 0; q < NG * NG; q++) q2n_v3_cross(nrm[q], out + 9 * q + 3, out + 9 * q + 6);
+    return 1;
+}
+
 /* Does patch i fold: do the normals of two neighbouring points of an EV_FOLD_GRID grid point
  * away from each other?  A smooth patch turns them by a small angle per grid step; a fold turns
  * them over.  -1 when it cannot be evaluated. */
 static int patch_folds(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P)
 {
     enum { NG = EV_FOLD_GRID };
-    double t[NG], out[NG * NG * 9], nrm[NG * NG][3];
-    for (int a = 0; a < NG; a++) t[a] = (double)a / (NG - 1);
-    fe_eval *E = q2n_ev_fair_make_eval(B, i, f, FX, P);
-    if (!E) return -1;
-    q2n_status st = q2n_cp_eval_grid(E, NG, t, NG, t, out);
-    free(E);
-    if (st) return -1;
-    for (int q = 0; q < NG * NG; q++) q2n_v3_cross(nrm[q], out + 9 * q + 3, out + 9 * q + 6);
+    double nrm[NG * NG][3];
+    if (!grid_normals(B, i, f, FX, P, nrm)) return -1;
     for (int b = 0; b < NG; b++)
         for (int a = 0; a < NG; a++) {
             const double *n0 = nrm[b * NG + a];
@@ -422,18 +433,9 @@ static int patch_folds(const fe_build *B, int i, int f, const fe_ctx *FX, const 
 double q2n_ev_fair_jacobian_ratio(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P)
 {
     enum { NG = EV_FOLD_GRID };
-    double t[NG], out[NG * NG * 9], srt[NG * NG];
-    for (int k = 0; k < NG; k++) t[k] = (double)k / (NG - 1);
-    fe_eval *E = q2n_ev_fair_make_eval(B, i, f, FX, P);
-    if (!E) return -1;
-    q2n_status st = q2n_cp_eval_grid(E, NG, t, NG, t, out);
-    free(E);
-    if (st) return -1;
-    for (int q = 0; q < NG * NG; q++) {
-        double n[3];
-        q2n_v3_cross(n, out + 9 * q + 3, out + 9 * q + 6);
-        srt[q] = q2n_v3_norm(n);
-    }
+    double nrm[NG * NG][3], srt[NG * NG];
+    if (!grid_normals(B, i, f, FX, P, nrm)) return -1;
+    for (int q = 0; q < NG * NG; q++) srt[q] = q2n_v3_norm(nrm[q]);
     qsort(srt, NG * NG, sizeof *srt, cmp_dbl);
     double med = srt[NG * NG / 2], mn = srt[0];
     return med > 0 ? mn / med : 0;
