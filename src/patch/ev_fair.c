@@ -41,6 +41,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/par.h"
 #include "core/vec3.h"
 #include "patch/ev_fair_internal.h"
 #include "patch/ev_policy.h"
@@ -212,30 +213,54 @@ static void state_restore(const fe_state *S, fe_build *B, fe_ctx *X, int nf)
 
 /* Faces whose Jacobian ratio (q2n_ev_fair_jacobian_ratio) the polynomial gluing takes below
  * EV_POLY_JAC_REL of what the smoothsteps give with the same jets and bubbles; their corners are
- * marked in pin (NULL: only counted).  -1 out of memory. */
-static int near_folds(const fe_build *B, const int *faces, int nf, const fe_ctx *X, const cp_patch *CP, char *pin)
+ * marked in pin (NULL: only counted).  -1 out of memory.  The smoothsteps' ratio is at most 1 (a
+ * minimum over a median), so it is evaluated only where the gluing's is below EV_POLY_JAC_REL. */
+typedef struct nf_arg {
+    const fe_build *B;
+    const int *faces;
+    const fe_ctx *X;
+    const cp_patch *CP;
+    signed char *bad; /* per face of the list: 1 nearly folded by the gluing, 0 not, -1 out of memory */
+} nf_arg;
+
+static void near_fold_one(void *arg, int i)
+{
+    nf_arg *a = arg;
+    const fe_ctx *X = &a->X[i];
+    int glued = 0;
+    a->bad[i] = 0;
+    for (int sd = 0; sd < 4; sd++) {
+        const fe_side *S = &X->side[sd];
+        glued |= S->kind == 0 && (S->poly || S->flat_end >= 0 || S->rc[0][0] != 0 || S->rc[0][1] != 0 || S->rc[1][0] != 0 ||
+                                  S->rc[1][1] != 0 || S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0);
+    }
+    if (!glued) return;
+    double rp = q2n_ev_fair_jacobian_ratio(a->B, i, a->faces[i], X, &a->CP[i]);
+    if (rp < -0.5) { a->bad[i] = -1; return; }
+    if (!(rp < EV_POLY_JAC_REL)) return;
+    fe_ctx Xs = *X;
+    for (int sd = 0; sd < 4; sd++)
+        if (Xs.side[sd].kind == 0) fe_side_smooth(&Xs.side[sd]);
+    double rs = q2n_ev_fair_jacobian_ratio(a->B, i, a->faces[i], &Xs, &a->CP[i]);
+    a->bad[i] = rs < -0.5 ? -1 : rp < EV_POLY_JAC_REL * rs;
+}
+
+static int near_folds(const fe_build *B, const int *faces, int nf, const fe_ctx *X, const cp_patch *CP, int threads, char *pin)
 {
     const q2n_mesh *m = B->m;
+    nf_arg a = {B, faces, X, CP, malloc((size_t)(nf ? nf : 1))};
+    if (!a.bad) return -1;
+    q2n_par_for(nf, threads, near_fold_one, &a);
     int nbad = 0;
-    for (int i = 0; i < nf; i++) {
-        int glued = 0;
-        for (int sd = 0; sd < 4; sd++) {
-            const fe_side *S = &X[i].side[sd];
-            glued |= S->kind == 0 && (S->poly || S->flat_end >= 0 || S->rc[0][0] != 0 || S->rc[0][1] != 0 || S->rc[1][0] != 0 ||
-                                      S->rc[1][1] != 0 || S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0);
+    for (int i = 0; i < nf && nbad >= 0; i++) {
+        if (a.bad[i] < 0) nbad = -1;
+        else if (a.bad[i]) {
+            nbad++;
+            if (pin)
+                for (int c = 0; c < 4; c++) pin[m->face_vert[m->face_start[faces[i]] + c]] = 1;
         }
-        if (!glued) continue;
-        fe_ctx Xs = X[i];
-        for (int sd = 0; sd < 4; sd++)
-            if (Xs.side[sd].kind == 0) fe_side_smooth(&Xs.side[sd]);
-        double rp = q2n_ev_fair_jacobian_ratio(B, i, faces[i], &X[i], &CP[i]);
-        double rs = q2n_ev_fair_jacobian_ratio(B, i, faces[i], &Xs, &CP[i]);
-        if (rp < -0.5 || rs < -0.5) return -1;
-        if (!(rp < EV_POLY_JAC_REL * rs)) continue;
-        nbad++;
-        if (pin)
-            for (int c = 0; c < 4; c++) pin[m->face_vert[m->face_start[faces[i]] + c]] = 1;
     }
+    free(a.bad);
     return nbad;
 }
 
@@ -337,14 +362,15 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     fe_run R = {0};
     if ((st = construct(&B, vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat, poly, NULL, threads, stats, &R, err))) goto done;
     if (poly && R.poly_edges > 0) {
-        if (!(gpin = calloc((size_t)m->nv, 1)) || !state_alloc(&S0, m->nv, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
-        int nbad = near_folds(&B, faces, nf, X, CP, gpin);
+        if (!(gpin = calloc((size_t)m->nv, 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+        int nbad = near_folds(&B, faces, nf, X, CP, threads, gpin);
         if (nbad < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+        if ((nbad > 0 || R.folds > 0) && !S0.jet && !state_alloc(&S0, m->nv, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
         if (nbad > 0) {
             fe_run R0 = R;
             state_save(&S0, &B, X, nf);
             if ((st = construct(&B, vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat, 1, gpin, threads, stats, &R, err))) goto done;
-            int nbad2 = near_folds(&B, faces, nf, X, CP, NULL);
+            int nbad2 = near_folds(&B, faces, nf, X, CP, threads, NULL);
             if (stats) stats->jac_pinned_faces = nbad;
             if (!(nbad2 >= 0 && nbad2 < nbad && R.folds <= R0.folds)) { /* the guard did not help */
                 state_restore(&S0, &B, X, nf);
@@ -354,6 +380,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
             }
         }
         if (R.folds > 0 && R.poly_edges > 0) { /* the smoothsteps where they fold on fewer faces */
+            if (!S0.jet && !state_alloc(&S0, m->nv, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
             fe_run Rp = R;
             state_save(&S0, &B, X, nf);
             if ((st = construct(&B, vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat, 0, NULL, threads, stats, &R, err))) goto done;
