@@ -358,6 +358,9 @@ typedef struct q2n_report {
     char note[240];            /* which edge missed a continuity target, or "" */
     int rounds;                /* refinement rounds */
     int g1_exact_edges, g1_ls_edges; /* interior edges glued by constraints / by least squares */
+    int g1_rounding_edges;     /* interior edges whose measured normal jump is at most 1e-6 degrees:
+                                  exactly G1 up to rounding, whether by constraints or because both
+                                  sides reproduce polynomial patches exactly */
     int spans_min, spans_median, spans_max; /* knot spans per patch */
     int cp_min, cp_median, cp_max;          /* control points per patch */
     long cp_total;

@@ -114,6 +114,9 @@ static void all_polynomial(q2n_mesh *m)
             CHECK(r.spans_max == 1, "%s: %d spans in a patch, expected one", m->name, r.spans_max);
             CHECK(r.max_dev_rel <= 1e-12, "%s: max_dev %.3g", m->name, r.max_dev_rel);
             CHECK(r.g1_max_deg <= 1e-6 && ang <= 1e-6, "%s: G1 %.3g deg (independent %.3g)", m->name, r.g1_max_deg, ang);
+            CHECK(r.g1_rounding_edges == interior && r0.g1_rounding_edges < interior,
+                  "%s: the report counts %d of %d edges within rounding (smoothsteps %d)", m->name, r.g1_rounding_edges, interior,
+                  r0.g1_rounding_edges);
             CHECK(r0.g1_max_deg > 1e-6 && r0.spans_max > 1, "%s: the smoothsteps' fit is exact too (G1 %.3g deg, %d spans)",
                   m->name, r0.g1_max_deg, r0.spans_max);
         }

@@ -376,6 +376,7 @@ q2n_status q2n_get_report(const q2n_model *m, q2n_report *r)
     snprintf(r->note, sizeof r->note, "%s", f->note);
     r->rounds = f->rounds;
     r->g1_exact_edges = f->g1_exact_edges;
+    r->g1_rounding_edges = f->g1_rounding_edges;
     r->g1_ls_edges = f->g1_ls_edges;
     r->spans_min = f->spans_min;
     r->spans_median = f->spans_median;

@@ -373,12 +373,13 @@ static void report_totals(fit_ctx *c, const q2n_nurbs_model *md)
     rep->vertex_dev_max_rel = vd;
     rep->g0_max_rel = rep->g1_max_deg = rep->g2_max_rel = 0.0;
     rep->g1_construction_deg = rep->g2_construction_rel = 0.0;
-    rep->g1_exact_edges = rep->g1_ls_edges = 0;
+    rep->g1_exact_edges = rep->g1_ls_edges = rep->g1_rounding_edges = 0;
     for (int e = 0; e < m->ne; e++) {
         const fit_edge *E = &c->e[e];
         if (E->glue == FIT_GLUE_BOUNDARY) continue;
         rep->g1_exact_edges += E->glue == FIT_GLUE_EXACT;
         rep->g1_ls_edges += E->glue == FIT_GLUE_LS;
+        rep->g1_rounding_edges += E->g1 <= Q2N_FIT_G1_ROUNDING_DEG;
         if (E->g0 > rep->g0_max_rel) rep->g0_max_rel = E->g0;
         if (!(E->g1 <= rep->g1_max_deg)) rep->g1_max_deg = E->g1;
         if (!(E->g2 <= rep->g2_max_rel)) rep->g2_max_rel = E->g2;

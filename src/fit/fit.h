@@ -63,6 +63,7 @@ typedef struct q2n_fit_report {
     char note[240];            /* which edge missed a continuity target, or "" */
     int rounds;                /* refinement rounds used */
     int g1_exact_edges;        /* interior edges whose G1 relation is an equality constraint */
+    int g1_rounding_edges;     /* interior edges whose measured normal jump is at most Q2N_FIT_G1_ROUNDING_DEG */
     int g1_ls_edges;           /* interior edges whose G1 relation is least squares */
     int spans_min, spans_median, spans_max;   /* knot spans per patch (m_u * m_v) */
     int cp_min, cp_median, cp_max;            /* control points per patch (n_u * n_v) */

@@ -5,6 +5,10 @@
 #define Q2N_FIT_POLICY_H
 
 /* ---- defaults of q2n_fit_options ---- */
+/* A measured normal jump at most this is rounding (issue 12's "exact up to rounding"): the report counts
+ * such edges (g1_edges.within_rounding), whatever glued them — constraints, or both sides reproducing
+ * polynomial patches (1e-13-1e-9 degrees measured there; least-squares gluing leaves 1e-4 and more). */
+#define Q2N_FIT_G1_ROUNDING_DEG 1e-6
 #define Q2N_FIT_TOL_DEFAULT 1e-5        /* relative to the bounding-box diagonal: CAD import tolerances are ~1e-6..1e-4 of a part */
 #define Q2N_FIT_MAX_SPANS_DEFAULT 64    /* knot spans per patch direction: 69 x 69 control points is already heavy for CAD */
 #define Q2N_FIT_MAX_ROUNDS_DEFAULT 12   /* bisection halves a span per round: 2^11 spans of refinement is far beyond the span cap */

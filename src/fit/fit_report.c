@@ -46,7 +46,8 @@ static void write_json(const q2n_fit_report *r, const char *units, FILE *f)
     fprintf(f, "  \"dev_met\": %s,\n  \"g1_met\": %s,\n  \"g2_met\": %s,\n  \"note\": \"%s\",\n",
             r->dev_met ? "true" : "false", r->g1_met ? "true" : "false", r->g2_met ? "true" : "false", r->note);
     fprintf(f, "  \"degree\": [5, 5],\n  \"rounds\": %d,\n", r->rounds);
-    fprintf(f, "  \"g1_edges\": {\"exact\": %d, \"least_squares\": %d},\n", r->g1_exact_edges, r->g1_ls_edges);
+    fprintf(f, "  \"g1_edges\": {\"exact\": %d, \"least_squares\": %d, \"within_rounding\": %d},\n", r->g1_exact_edges,
+            r->g1_ls_edges, r->g1_rounding_edges);
     fprintf(f, "  \"spans_per_patch\": {\"min\": %d, \"median\": %d, \"max\": %d},\n  \"edge_spans_max\": %d,\n",
             r->spans_min, r->spans_median, r->spans_max, r->edge_spans_max);
     fprintf(f, "  \"control_points_per_patch\": {\"min\": %d, \"median\": %d, \"max\": %d, \"total\": %ld},\n",
