@@ -288,18 +288,16 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 }
             }
         if (!changed) { /* the vertex of each failed component's largest residual pinned */
+            int *worst = malloc(sizeof(int) * (size_t)m->nv); /* per component (its vertex): its worst row */
+            if (!worst) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
+            for (int v = 0; v < m->nv; v++) worst[v] = -1;
             for (int k = 0; k < nrow; k++) {
-                int c = R[k].comp, best = -1;
-                if (!cbad[c]) continue;
-                double rb = -1;
-                for (int j = k; j < nrow; j++) { /* rows before k are of other components */
-                    if (R[j].comp != c) continue;
-                    double rj = fabs(row_residual(&R[j], x));
-                    if (rj > rb) rb = rj, best = j;
-                }
-                vpin[R[best].v] = 3, changed = 1;
-                cbad[c] = 0; /* one vertex per component and round */
+                int c = R[k].comp;
+                if (cbad[c] && (worst[c] < 0 || fabs(row_residual(&R[k], x)) > fabs(row_residual(&R[worst[c]], x)))) worst[c] = k;
             }
+            for (int v = 0; v < m->nv; v++)
+                if (worst[v] >= 0) vpin[R[worst[v]].v] = 3, changed = 1; /* one vertex per component and round */
+            free(worst);
         }
         if (!changed) break;
     }
