@@ -47,10 +47,8 @@ static int fit_continuity(const q2n_model_options *mo, const q2n_fit_options *fo
  * may still build G1 ones where G2 ones fold). */
 static int ev_order(const q2n_model_options *mo)
 {
-    if (mo->ev_patch == Q2N_EV_PATCH_G1) return 1;
-    if (mo->ev_patch == Q2N_EV_PATCH_G2) return 2;
-    const q2n_spline_class *cls = mo->cls ? mo->cls : q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT);
-    return cls && cls->k >= 2 ? 2 : 1;
+    q2n_extraordinary_options eo = {.cls = mo->cls, .param = mo->param, .ev_patch = (q2n_ev_patch_kind)mo->ev_patch};
+    return q2n_ev_patch_order(&eo);
 }
 
 int q2n_options_warnings(const q2n_model_options *mo, const q2n_fit_options *fo, unsigned set, const q2n_plan *plan,

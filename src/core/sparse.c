@@ -89,22 +89,6 @@ static long first_bad_pivot(const cholmod_factor *L, const cholmod_common *c)
     return -1;
 }
 
-/* Factorise A into L (analysed), refuse an indefinite matrix, solve A X = B (B, X column-major
- * n x nrhs; X may alias B): the part both entry points share. */
-static q2n_status solve_with(cholmod_common *c, cholmod_factor *L, int n, int nrhs, const double *B, double *X, q2n_error *err);
-
-static q2n_status factor_solve(cholmod_common *c, cholmod_sparse *A, cholmod_factor *L, int n, int nrhs, const double *B,
-                               double *X, q2n_error *err)
-{
-    int was = omp_trim_begin();
-    int ok = cholmod_factorize(A, L, c);
-    omp_trim_end(was);
-    if (!ok) return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
-    long bad = first_bad_pivot(L, c);
-    if (bad >= 0) return q2n_error_set(err, Q2N_ERR_GEOMETRY, "sparse system not positive definite at column %ld of %d", bad, n);
-    return solve_with(c, L, n, nrhs, B, X, err);
-}
-
 /* A X = B with the factor L. */
 static q2n_status solve_with(cholmod_common *c, cholmod_factor *L, int n, int nrhs, const double *B, double *X, q2n_error *err)
 {
@@ -119,6 +103,20 @@ static q2n_status solve_with(cholmod_common *c, cholmod_factor *L, int n, int nr
     cholmod_free_dense(&x, c);
     cholmod_free_dense(&b, c);
     return st;
+}
+
+/* Factorise A into L (analysed), refuse an indefinite matrix, solve A X = B (B, X column-major
+ * n x nrhs; X may alias B): the part both entry points share. */
+static q2n_status factor_solve(cholmod_common *c, cholmod_sparse *A, cholmod_factor *L, int n, int nrhs, const double *B,
+                               double *X, q2n_error *err)
+{
+    int was = omp_trim_begin();
+    int ok = cholmod_factorize(A, L, c);
+    omp_trim_end(was);
+    if (!ok) return q2n_error_set(err, Q2N_ERR_NOMEM, "sparse factorisation failed (%d unknowns)", n);
+    long bad = first_bad_pivot(L, c);
+    if (bad >= 0) return q2n_error_set(err, Q2N_ERR_GEOMETRY, "sparse system not positive definite at column %ld of %d", bad, n);
+    return solve_with(c, L, n, nrhs, B, X, err);
 }
 
 struct q2n_sparse_spd {

@@ -229,11 +229,7 @@ static void near_fold_one(void *arg, int i)
     const fe_ctx *X = &a->X[i];
     int glued = 0;
     a->bad[i] = 0;
-    for (int sd = 0; sd < 4; sd++) {
-        const fe_side *S = &X->side[sd];
-        glued |= S->kind == 0 && (S->poly || S->flat_end >= 0 || S->rc[0][0] != 0 || S->rc[0][1] != 0 || S->rc[1][0] != 0 ||
-                                  S->rc[1][1] != 0 || S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0);
-    }
+    for (int sd = 0; sd < 4; sd++) glued |= fe_side_glued(&X->side[sd]);
     if (!glued) return;
     double rp = q2n_ev_fair_jacobian_ratio(a->B, i, a->faces[i], X, &a->CP[i]);
     if (rp < -0.5) { a->bad[i] = -1; return; }

@@ -79,6 +79,14 @@ static int uf_find(int *p, int a)
     return a;
 }
 
+/* Does the quadratic α of side S with middle coefficient q keep the sign of its ends, by at least
+ * EV_POLY_Q_MARGIN of the smaller end (then |α| stays above that fraction along the edge)? */
+static int q_keeps_margin(const fe_side *S, double q)
+{
+    double a0 = S->al[0], a1 = S->al[1];
+    return q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1));
+}
+
 static double row_residual(const pg_row *R, const double *x)
 {
     double r = R->b;
@@ -134,6 +142,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     const q2n_mesh *m = B->m;
     size_t n4 = 4 * (size_t)(nf > 0 ? nf : 1);
     int *fidx = malloc(sizeof(int) * (size_t)m->nf), *uf = malloc(sizeof(int) * (size_t)m->nv);
+    int *worst = malloc(sizeof(int) * (size_t)m->nv);
     char *vin = calloc((size_t)m->nv, 1), *vpin = calloc((size_t)m->nv, 1), *cbad = calloc((size_t)m->nv, 1);
     char *vabs = calloc((size_t)m->nv, 1); /* boundary vertices of two faces: their corners absorb the twist */
     char *vfq = calloc((size_t)m->nv, 1);  /* ... and their edges keep a free q instead of flat α, β */
@@ -144,7 +153,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
     q2n_status st = Q2N_OK;
     *poly_edges = 0;
-    if (!fidx || !uf || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !rix || !qix || !six || !comp || !R || !x || !x0) {
+    if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
         goto done;
     }
@@ -255,22 +264,17 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 for (int sd = 0; sd < 4; sd++) {
                     int k = 4 * i + sd, qi = qix[k];
                     if (qi < 0) continue;
-                    const fe_side *S = &X[i].side[sd];
-                    double a0 = S->al[0], a1 = S->al[1], q = x[qi];
-                    if (!(q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1)))) cubic[k] = 1, more = 1;
+                    if (!q_keeps_margin(&X[i].side[sd], x[qi])) cubic[k] = 1, more = 1;
                 }
             if (!more) break;
         }
         /* a component keeps its gluing when all its rows hold and its α's keep their sign */
-            for (int k = 0; k < nrow; k++)
+        for (int k = 0; k < nrow; k++)
             if (!(fabs(row_residual(&R[k], x)) <= EV_POLY_RESIDUAL)) cbad[R[k].comp] = 1;
         for (int i = 0; i < nf; i++)
             for (int sd = 0; sd < 4; sd++) {
                 int qi = qix[4 * i + sd];
-                if (qi < 0) continue;
-                const fe_side *S = &X[i].side[sd];
-                double a0 = S->al[0], a1 = S->al[1], q = x[qi];
-                if (!(q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1)))) cbad[comp[qi]] = 1;
+                if (qi >= 0 && !q_keeps_margin(&X[i].side[sd], x[qi])) cbad[comp[qi]] = 1;
             }
         /* round 0 failed: the edges at those boundary vertices take a free q (their twists there go to the
          * boundary sides too); round 1 failed: the vertices are pinned */
@@ -288,16 +292,13 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 }
             }
         if (!changed) { /* the vertex of each failed component's largest residual pinned */
-            int *worst = malloc(sizeof(int) * (size_t)m->nv); /* per component (its vertex): its worst row */
-            if (!worst) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
-            for (int v = 0; v < m->nv; v++) worst[v] = -1;
+            for (int v = 0; v < m->nv; v++) worst[v] = -1; /* per component (its vertex): its worst row */
             for (int k = 0; k < nrow; k++) {
                 int c = R[k].comp;
                 if (cbad[c] && (worst[c] < 0 || fabs(row_residual(&R[k], x)) > fabs(row_residual(&R[worst[c]], x)))) worst[c] = k;
             }
             for (int v = 0; v < m->nv; v++)
                 if (worst[v] >= 0) vpin[R[worst[v]].v] = 3, changed = 1; /* one vertex per component and round */
-            free(worst);
         }
         if (!changed) break;
     }
@@ -340,6 +341,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
 done:
     free(fidx);
     free(uf);
+    free(worst);
     free(vin);
     free(vpin);
     free(cbad);

@@ -47,6 +47,15 @@ static inline void fe_side_smooth(fe_side *S)
     for (int e = 0; e < 2; e++) S->sl[0][e] = S->sl[1][e] = S->rc[e][0] = S->rc[e][1] = 0;
 }
 
+/* Does constructed side S carry anything of ev_fair_gluing.c's (what fe_side_smooth clears)? */
+static inline int fe_side_glued(const fe_side *S)
+{
+    if (S->kind != 0) return 0;
+    int g = S->poly || S->flat_end >= 0 || S->absorb_side[0] >= 0 || S->absorb_side[1] >= 0;
+    for (int e = 0; e < 2; e++) g |= S->sl[0][e] != 0 || S->sl[1][e] != 0 || S->rc[e][0] != 0 || S->rc[e][1] != 0;
+    return g;
+}
+
 /* Side context of one patch (the Coons patch's ctx); lanes: fe_lanes, its constructed sides' fields
  * as polynomials (fill_lanes, from the W-wide jets of the four corners). */
 typedef struct fe_ctx {
