@@ -555,6 +555,21 @@ static void tolerances(void)
           "G1 mode, polynomial gluing: %g polynomial edges, G1 %g deg, deviation %g, %g edges within rounding",
           jnum(p6, "polynomial_edges"), jnum(p6, "g1_max_deg"), jnum(p6, "max_dev_rel"), jnum(p6, "within_rounding"));
     free(p6);
+    /* the exact conversion of the Catmull-Clark approximations counts them too (until stop 43 it
+     * reported 0 whatever it measured): acc-g1 is G1 on every edge, acc3 at no edge of the cube, every
+     * one of whose faces touches an extraordinary vertex */
+    rc = run_sh("$Q cube.obj -q --surface acc-g1 -o t8.json", err, sizeof err);
+    char *a8 = report("t8.json");
+    CHECK(rc == 0 && jnum(a8, "interior_edges") > 0 && jnum(a8, "within_rounding") == jnum(a8, "interior_edges") &&
+              jnum(a8, "g1_max_deg") <= 1e-6,
+          "acc-g1: %g of %g edges within rounding, G1 %g deg", jnum(a8, "within_rounding"), jnum(a8, "interior_edges"),
+          jnum(a8, "g1_max_deg"));
+    free(a8);
+    rc = run_sh("$Q cube.obj -q --surface acc3 -o t9.json", err, sizeof err);
+    char *a9 = report("t9.json");
+    CHECK(rc == 0 && jnum(a9, "within_rounding") == 0 && jnum(a9, "g1_max_deg") > 1,
+          "acc3: %g edges within rounding, G1 %g deg", jnum(a9, "within_rounding"), jnum(a9, "g1_max_deg"));
+    free(a9);
     rc = run_sh("$Q cube.obj --ev-gluing cubic -o t7.json", err, sizeof err);
     CHECK(rc == 2 && strstr(err, "--ev-gluing: unknown 'cubic' (expected polynomial or smoothstep)"), "--ev-gluing cubic: %d '%s'", rc, err);
     rc = run_sh("$Q cube.obj --ev-gluing smoothstep -o t7.json", err, sizeof err);

@@ -72,10 +72,17 @@ q2n_status q2n_fit_convert_bezier(const q2n_surface *s, const q2n_mesh *m, const
     }
     *out = md;
     double t0 = q2n_now();
-    double *g1c = malloc(sizeof(double) * (size_t)m->ne), *g2c = malloc(sizeof(double) * (size_t)m->ne);
-    q2n_fit_measure_out mo = {NULL, NULL, NULL, NULL, g1c, g2c};
-    q2n_status st = g1c && g2c ? q2n_fit_measure_model(md, s, rep, &mo, o->threads, err)
-                               : q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory");
+    size_t ne = m->ne > 0 ? (size_t)m->ne : 1;
+    double *g1 = malloc(sizeof(double) * ne), *g1c = malloc(sizeof(double) * ne), *g2c = malloc(sizeof(double) * ne);
+    q2n_fit_measure_out mo = {NULL, NULL, g1, NULL, g1c, g2c};
+    q2n_status st = g1 && g1c && g2c ? q2n_fit_measure_model(md, s, rep, &mo, o->threads, err)
+                                     : q2n_error_set(err, Q2N_ERR_NOMEM, "fit: out of memory");
+    /* the report's count of edges G1 up to rounding (as the fit's, fit.c): here every interior edge
+     * whose measured normal jump is that small, since nothing is glued */
+    rep->g1_rounding_edges = 0;
+    for (int e = 0; !st && e < m->ne; e++)
+        rep->g1_rounding_edges += m->he_twin[m->edge_he[e]] >= 0 && g1[e] <= Q2N_FIT_G1_ROUNDING_DEG;
+    free(g1);
     free(g1c);
     free(g2c);
     rep->t_measure += q2n_now() - t0;

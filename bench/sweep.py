@@ -1,0 +1,297 @@
+#!/usr/bin/python3
+"""sweep.py — the generalisation sweep: meshes no test has seen, against the issues' targets.
+
+    /usr/bin/python3 bench/sweep.py BIN [--base BIN0] [--out DIR] [--only NAME,...] [--no-fair]
+
+Writes a family of hard meshes of its own (below; deterministic: fixed seeds) into DIR/meshes, runs
+BIN on each in the default mode (G2), in G1 mode (--ev-patch g1 --continuity g1) and as the acc-g1
+surface (the comparison of issue 11), and prints one row per mesh and mode: exit status, wall time,
+STEP KB per face, spans per patch (median / max), whether the tolerance was met, the fitted G1 (deg)
+and G2 (relative) jumps, the interior edges exactly G1 (<= 1e-6 deg), and — from
+../shared/tools/fairness.py when it is there — the curvature oscillation per diagonal of the faces
+at extraordinary vertices (osc), their bending energy (E_ev) and the smallest Jacobian ratio (jac).
+A last column flags the issue targets a row misses:
+  tol   the run did not meet its tolerance or continuity targets (or failed: rc)
+  size  STEP above 20 KB/face (default) or 12 KB/face (G1 mode)           (issue 12)
+  fold  jac below 0.1                                                     (issue 11)
+  osc   osc above max(0.3, 1.5 x acc-g1's)                                (issue 11)
+  E     E_ev above 3 x acc-g1's                                           (issue 11)
+With --base, every row of BIN is followed by BIN0's on the same input (before/after).
+
+Meshes (none of them in ../shared/meshes or in tests/meshgen.h):
+  genus2_plate       a 5 x 3 plate of unit cubes with two holes, smoothed: genus 2, valences 3-6
+  lblock_smooth      an L of unit cubes two layers high, lightly smoothed: adjacent EVs along creases
+  cubesphere_jitter  a 4 x 4-per-side cube-sphere on a 2:1:0.6 ellipsoid, vertices jittered
+  hemisphere_open    the upper half of a cube-sphere, stretched 1.5 x: EVs on the boundary's side
+  torus_pinched      a 12 x 8 torus with two quads collapsed along a diagonal: EVs 3-6-3 in a row
+  star10, star16     open disks, a valence-10 / -16 centre, kites then rings, a wavy height field
+  hull40_tri         the convex hull of 40 random points on an ellipsoid (triangles, --subdivide 1)
+  bumpy400_tri       400 points on a bumpy ellipsoid (triangles, --subdivide 1: ~2 400 quads)
+  twisted_tube       a square tube twisted a quarter turn along a bent axis (no EV: control)
+  pillow             a 2 x 2-per-side cube-sphere squashed 10:1 (thin, every face at an EV)
+  plate_50to1        10 x 10 unit cubes 0.02 thick (the G2 patches fold: G1 fallback expected)
+Time: a few minutes (bumpy400_tri is the long one; --only skips it).
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+FAIRNESS = os.path.join(HERE, '..', '..', 'shared', 'tools', 'fairness.py')
+
+
+# ------------------------------------------------------------------ meshes
+
+def voxel_surface(cells):
+    """Boundary quads of a set of unit cubes, outward, vertices shared."""
+    cells = set(map(tuple, cells))
+    vid, V, F = {}, [], []
+
+    def vi(p):
+        if p not in vid:
+            vid[p] = len(V)
+            V.append(p)
+        return vid[p]
+    sides = [((1, 0, 0), [(1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)]),
+             ((-1, 0, 0), [(0, 0, 0), (0, 0, 1), (0, 1, 1), (0, 1, 0)]),
+             ((0, 1, 0), [(0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)]),
+             ((0, -1, 0), [(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)]),
+             ((0, 0, 1), [(0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]),
+             ((0, 0, -1), [(0, 0, 0), (0, 1, 0), (1, 1, 0), (1, 0, 0)])]
+    for c in sorted(cells):
+        for d, corners in sides:
+            if (c[0] + d[0], c[1] + d[1], c[2] + d[2]) in cells:
+                continue
+            F.append([vi((c[0] + a, c[1] + b, c[2] + e)) for a, b, e in corners])
+    return np.array(V, float), F
+
+
+def smooth(V, F, iterations, lam):
+    nb = [set() for _ in V]
+    for q in F:
+        for i in range(4):
+            nb[q[i]].add(q[(i + 1) % 4])
+            nb[q[i]].add(q[(i + 3) % 4])
+    V = V.copy()
+    for _ in range(iterations):
+        V = np.array([V[i] + lam * (np.mean(V[list(s)], axis=0) - V[i]) for i, s in enumerate(nb)])
+    return V
+
+
+def cubesphere(n):
+    vid, V, F = {}, [], []
+
+    def vi(p):
+        if p not in vid:
+            vid[p] = len(V)
+            V.append(p)
+        return vid[p]
+    for ax in range(3):
+        for s in (-1, 1):
+            for i in range(n):
+                for j in range(n):
+                    q = []
+                    for a, b in ((i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)):
+                        p = [0, 0, 0]
+                        p[ax], p[(ax + 1) % 3], p[(ax + 2) % 3] = s * n, 2 * a - n, 2 * b - n
+                        q.append(vi(tuple(p)))
+                    F.append(q[::-1] if s < 0 else q)
+    V = np.array(V, float)
+    return V / np.linalg.norm(V, axis=1)[:, None], F
+
+
+def compact(V, F):
+    used = sorted(set(i for q in F for i in q))
+    m = {o: k for k, o in enumerate(used)}
+    return np.asarray(V)[used], [[m[i] for i in q] for q in F]
+
+
+def torus(n, m, R, r):
+    a = 2 * np.pi * np.arange(n)[:, None] / n
+    b = 2 * np.pi * np.arange(m)[None, :] / m
+    V = np.stack([(R + r * np.cos(b)) * np.cos(a), (R + r * np.cos(b)) * np.sin(a), r * np.sin(b) + 0 * a], -1).reshape(-1, 3)
+    F = [[i * m + j, ((i + 1) % n) * m + j, ((i + 1) % n) * m + (j + 1) % m, i * m + (j + 1) % m]
+         for i in range(n) for j in range(m)]
+    return V, F
+
+
+def collapse_diagonal(V, F, face):
+    """Merge the face's third corner into its first (at their midpoint) and drop the face: the
+    first corner gets valence 6, the other two valence 3."""
+    a, _, c, _ = F[face]
+    V = V.copy()
+    V[a] = 0.5 * (V[a] + V[c])
+    return compact(V, [[a if i == c else i for i in q] for k, q in enumerate(F) if k != face])
+
+
+def star_disk(n, rings):
+    """An open disk: n kites around a valence-n centre, then rings of 2n quads."""
+    V = [(0.0, 0.0, 0.0)]
+    for k in range(rings):
+        for j in range(2 * n):
+            a = np.pi * j / n
+            rad = (k + 1) / rings * (1.3 if (j % 2 and k == 0) else 1.0)
+            V.append((rad * np.cos(a), rad * np.sin(a), 0.0))
+
+    def R(k, j):
+        return 1 + k * 2 * n + (j % (2 * n))
+    F = [[0, R(0, 2 * i), R(0, 2 * i + 1), R(0, 2 * i + 2)] for i in range(n)]
+    F += [[R(k, j), R(k + 1, j), R(k + 1, j + 1), R(k, j + 1)] for k in range(rings - 1) for j in range(2 * n)]
+    V = np.array(V)
+    r = np.linalg.norm(V[:, :2], axis=1)
+    th = np.arctan2(V[:, 1], V[:, 0])
+    V[:, 2] = 0.25 * np.cos(3 * th) * r ** 2 + 0.3 * (1 - r ** 2)
+    V[:, 0] *= 1 + 0.25 * np.sin(2 * th)
+    return V, F
+
+
+def hull(npts, seed, bumps):
+    from scipy.spatial import ConvexHull
+    rng = np.random.default_rng(seed)
+    P = rng.standard_normal((npts, 3))
+    P /= np.linalg.norm(P, axis=1)[:, None]
+    T = []
+    for s in ConvexHull(P).simplices:
+        a, b, d = P[s]
+        T.append(list(s[[0, 2, 1]] if np.dot(np.cross(b - a, d - a), a) < 0 else s))
+    if bumps:
+        th = np.arctan2(P[:, 1], P[:, 0])
+        ph = np.arccos(np.clip(P[:, 2], -1, 1))
+        P = P * (1 + 0.15 * np.sin(3 * th) * np.sin(2 * ph))[:, None] * np.array([2.0, 1.0, 1.0])
+    else:
+        P = P * np.array([2.0, 1.2, 0.8])
+    return P, T
+
+
+def meshes():
+    rng = np.random.default_rng(43)
+    out = {}
+    cells = [(x, y, 0) for x in range(5) for y in range(3) if not (y == 1 and x in (1, 3))]
+    V, F = voxel_surface(cells)
+    out['genus2_plate'] = (smooth(V, F, 3, 0.3), F, [])
+    cells = [(x, y, z) for x in range(3) for y in range(3) for z in range(2) if not (x > 0 and y > 0)]
+    V, F = voxel_surface(cells)
+    out['lblock_smooth'] = (smooth(V, F, 3, 0.3), F, [])
+    V, F = cubesphere(4)
+    J = V + 0.03 * rng.standard_normal(V.shape)
+    out['cubesphere_jitter'] = (J / np.linalg.norm(J, axis=1)[:, None] * np.array([2.0, 1.0, 0.6]), F, [])
+    V, F = cubesphere(4)
+    V, F = compact(V, [q for q in F if np.mean(V[q][:, 2]) > 0])
+    out['hemisphere_open'] = (V * np.array([1, 1, 1.5]), F, [])
+    V, F = torus(12, 8, 3, 1)
+    V, F = collapse_diagonal(V, F, 5)
+    out['torus_pinched'] = collapse_diagonal(V, F, 6 * 8 + 2) + ([],)
+    out['star10'] = star_disk(10, 3) + ([],)
+    out['star16'] = star_disk(16, 3) + ([],)
+    out['hull40_tri'] = hull(40, 43, False) + (['--subdivide', '1'],)
+    out['bumpy400_tri'] = hull(400, 7, True) + (['--subdivide', '1'],)
+    n, m = 16, 4
+    V = [(3 * i / n, 0.5 * np.cos(2 * np.pi * j / m + np.pi / 4 + 0.5 * np.pi * i / n),
+          0.8 * np.sin(np.pi * i / n) + 0.5 * np.sin(2 * np.pi * j / m + np.pi / 4 + 0.5 * np.pi * i / n))
+         for i in range(n + 1) for j in range(m)]
+    F = [[i * m + j, (i + 1) * m + j, (i + 1) * m + (j + 1) % m, i * m + (j + 1) % m] for i in range(n) for j in range(m)]
+    out['twisted_tube'] = (np.array(V), F, [])
+    V, F = cubesphere(2)
+    out['pillow'] = (V * np.array([1.5, 1.0, 0.15]), F, [])
+    V, F = voxel_surface([(i, j, 0) for i in range(10) for j in range(10)])
+    out['plate_50to1'] = (V * np.array([1, 1, 0.02]), F, [])
+    return out
+
+
+def write_obj(path, V, F):
+    with open(path, 'w') as f:
+        for v in V:
+            f.write('v %.12g %.12g %.12g\n' % tuple(v))
+        for q in F:
+            f.write('f ' + ' '.join(str(i + 1) for i in q) + '\n')
+
+
+# ------------------------------------------------------------------ runs
+
+MODES = [('G2', []), ('G1', ['--ev-patch', 'g1', '--continuity', 'g1']), ('acc', ['--surface', 'acc-g1'])]
+
+
+def run(binary, mesh, extra, mode_args, stem, fair):
+    step, rep = stem + '.step', stem + '.json'
+    t0 = time.time()
+    p = subprocess.run([binary, mesh] + extra + mode_args + ['-o', step, '-o', rep], capture_output=True, text=True)
+    r = {'rc': p.returncode, 't': time.time() - t0}
+    if p.returncode == 0 and os.path.exists(rep):
+        j = json.load(open(rep))
+        r.update(kb=j['file_bytes']['step'] / 1024.0 / j['faces'], sp='%d/%d' % (j['spans_per_patch']['median'], j['spans_per_patch']['max']),
+                 tol=j['tol_met'], g1=j['g1_max_deg'], g2=j['g2_max_rel'] if j['continuity'] == 'G2' else None,
+                 exact='%d/%d' % (j['g1_edges'].get('within_rounding', 0), j['interior_edges']), note=j.get('note', ''))
+    if fair and p.returncode == 0 and os.path.exists(step):
+        f = subprocess.run(['/usr/bin/python3', FAIRNESS, step, '--mesh', mesh, '--no-per-face'], capture_output=True, text=True)
+        try:
+            d = json.loads(f.stdout)
+            r.update(osc=d['ripple']['ev']['osc_mean'], E_ev=d['E_ev'], jac=d['jacobian_min_rel'][1])
+        except (ValueError, KeyError, TypeError):
+            pass
+    return r
+
+
+def flags(mode, r, acc):
+    out = []
+    if r['rc'] != 0:
+        return 'rc'
+    if not r.get('tol', True):
+        out.append('tol')
+    if mode != 'acc' and r.get('kb', 0) > (12 if mode == 'G1' else 20):
+        out.append('size')
+    if r.get('jac') is not None and r['jac'] < 0.1:
+        out.append('fold')
+    if mode != 'acc' and acc and r.get('osc') is not None and acc.get('osc') is not None:
+        if r['osc'] > max(0.3, 1.5 * acc['osc']):
+            out.append('osc')
+        if acc.get('E_ev') and r.get('E_ev') is not None and r['E_ev'] > 3 * acc['E_ev']:
+            out.append('E')
+    return ' '.join(out)
+
+
+def fmt(x, f):
+    return '-' if x is None else f % x
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('binary')
+    ap.add_argument('--base', help='a second binary, run side by side (before/after)')
+    ap.add_argument('--out', default='build/sweep')
+    ap.add_argument('--only', help='comma-separated mesh names')
+    ap.add_argument('--no-fair', action='store_true', help='skip fairness.py')
+    a = ap.parse_args()
+    fair = not a.no_fair and os.path.exists(FAIRNESS)
+    if not a.no_fair and not fair:
+        print('sweep: %s not found: fairness columns left out' % FAIRNESS)
+    os.makedirs(os.path.join(a.out, 'meshes'), exist_ok=True)
+    bins = [('new', a.binary)] + ([('base', a.base)] if a.base else [])
+    only = set(a.only.split(',')) if a.only else None
+    print('%-18s %-4s %-4s %3s %7s %6s %9s %5s %8s %8s %10s %7s %9s %6s  %s' %
+          ('mesh', 'mode', 'bin', 'rc', 'time', 'KB/f', 'spans', 'tol', 'G1 deg', 'G2', 'exact G1', 'osc', 'E_ev', 'jac', 'misses'))
+    for name, (V, F, extra) in meshes().items():
+        if only and name not in only:
+            continue
+        path = os.path.join(a.out, 'meshes', name + '.obj')
+        write_obj(path, V, F)
+        acc = None
+        for mode, margs in MODES[::-1]:   # acc-g1 first: the other rows compare with it
+            for tag, b in bins if mode != 'acc' else bins[:1]:
+                r = run(b, path, extra, margs, os.path.join(a.out, '%s.%s.%s' % (name, mode, tag)), fair)
+                if mode == 'acc':
+                    acc = r
+                print('%-18s %-4s %-4s %3d %6.2fs %6s %9s %5s %8s %8s %10s %7s %9s %6s  %s' % (
+                    name, mode, tag, r['rc'], r['t'], fmt(r.get('kb'), '%.1f'), r.get('sp', '-'),
+                    {True: 'yes', False: 'NO', None: '-'}[r.get('tol')], fmt(r.get('g1'), '%.1e'), fmt(r.get('g2'), '%.1e'),
+                    r.get('exact', '-'), fmt(r.get('osc'), '%.3f'), fmt(r.get('E_ev'), '%.1f'), fmt(r.get('jac'), '%.3f'),
+                    flags(mode, r, acc)), flush=True)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
