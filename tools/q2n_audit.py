@@ -22,6 +22,10 @@ An importer nobody here wrote checks what quad2nurbs exported:
           |k| of both sides in those directions (at least 1/diagonal);
     each with the worst sample's location;
   * with --mesh: the distance of every mesh vertex to the imported shape.
+The diagonal of the relative figures (bbox_diag, and the source it came from, diag_source) is the
+mesh's bounding box with --mesh, else the shape's; --report REPORT.json takes quad2nurbs' own (the
+model's mesh: after --subdivide the subdivided one, whose limit points lie inside the input's box —
+a coarse triangle mesh's by ~10 %), so that g0_max_rel and G2's 1/diagonal floor are the report's.
 Run with /usr/bin/python3 (Debian freecad-python3), not freecadcmd.  Output: JSON (stdout or --json);
 --batch LIST audits many files in one process (FreeCAD loads once, ~0.5 s saved per file).
 Exit status 0 after a successful audit, 2 when FreeCAD is missing, 1 when the file cannot be read.
@@ -318,7 +322,7 @@ def full_check(shape):
         return str(ex).strip().splitlines()[0][:300] if str(ex).strip() else 'failed'
 
 
-def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False):
+def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False, diag=None):
     """Read path with FreeCAD and audit it (see the module comment); None when FreeCAD is missing."""
     Part = load_freecad()
     if Part is None:
@@ -326,7 +330,7 @@ def audit(path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False):
     t_start = time.time()
     shape = Part.read(path)
     t_read = time.time() - t_start
-    out = audit_shape(Part, shape, path, mesh, nsamp, flat, per_edge, check)
+    out = audit_shape(Part, shape, path, mesh, nsamp, flat, per_edge, check, diag=diag)
     out['seconds_read'] = t_read
     out['seconds_audit'] = time.time() - t_start - t_read
     return out
@@ -339,15 +343,18 @@ def mesh_diag(verts):
 
 
 def audit_shape(Part, shape, path, mesh=None, nsamp=0, flat=100.0, per_edge=True, check=False,
-                evals=None, edges=None, mass=True):
+                evals=None, edges=None, mass=True, diag=None):
     """The audit of an imported shape.  evals: one evaluator per face (default FaceEval, OCCT per
     point); edges: edge_faces(shape) when the caller has it already; mass=False leaves out area
-    and volume (OCCT integrates them: seconds on large parts)."""
+    and volume (OCCT integrates them: seconds on large parts); diag: the diagonal the relative
+    figures use (default: the mesh's bounding box, else the shape's; see --report)."""
     faces = shape.Faces
     if evals is None:
         evals = [FaceEval(f) for f in faces]
     verts = read_obj_vertices(mesh) if mesh else None
-    diag = mesh_diag(verts) if verts else bbox_diag_of(shape)
+    diag_source = 'given' if diag else 'mesh' if verts else 'shape'
+    if not diag:
+        diag = mesh_diag(verts) if verts else bbox_diag_of(shape)
     k_flat = 1.0 / (flat * diag) if diag > 0 else 0.0
     if edges is None:
         edges = edge_faces(shape)
@@ -365,6 +372,7 @@ def audit_shape(Part, shape, path, mesh=None, nsamp=0, flat=100.0, per_edge=True
         'nonmanifold_edges': sum(1 for _, fl in edges if len(fl) > 2),
         'shared_edges': sum(1 for _, fl in edges if len(fl) == 2),
         'bbox_diag': diag,
+        'diag_source': diag_source,
         'samples_per_edge': nsamp if nsamp > 0 else '4 per knot span',
         'flat_radius': flat * diag,
         'area': shape.Area if mass else None,
@@ -423,6 +431,11 @@ def make_parser():
                     help='G2 flatness cut-off: radii above FLAT x bbox diagonal count as flat (default 100)')
     ap.add_argument('--no-edges', action='store_true', help='omit the per-edge table')
     ap.add_argument('--check', action='store_true', help="also run BRepCheck (shape.check(True)): field 'check'")
+    ap.add_argument('--report', metavar='REPORT.json',
+                    help="quad2nurbs' report of the same run: its bbox_diag becomes the audit's diagonal (the "
+                         "relative figures and G2's 1/diagonal floor then match the report's definitions, also "
+                         "after --subdivide, whose diagonal is the subdivided mesh's)")
+    ap.add_argument('--diag', type=float, help='the diagonal the relative figures use (overrides --report)')
     ap.add_argument('--json', help='write the JSON here instead of stdout')
     ap.add_argument('--batch', metavar='LIST',
                     help='run many audits in one process (FreeCAD loads once): each line of LIST holds the '
@@ -435,8 +448,16 @@ def run_one(a):
     if not a.file or not os.path.exists(a.file):
         sys.stderr.write('q2n_audit: %s: no such file\n' % a.file)
         return 1
+    diag = a.diag
+    if not diag and a.report:
+        try:
+            with open(a.report) as f:
+                diag = float(json.load(f)['bbox_diag'])
+        except (OSError, ValueError, KeyError, TypeError) as ex:
+            sys.stderr.write('q2n_audit: %s: no bbox_diag in it (%s)\n' % (a.report, ex))
+            return 1
     try:
-        res = audit(a.file, a.mesh, max(0, a.samples), a.flat, not a.no_edges, a.check)
+        res = audit(a.file, a.mesh, max(0, a.samples), a.flat, not a.no_edges, a.check, diag)
     except Exception as ex:  # FreeCAD raises plain exceptions for unreadable files
         sys.stderr.write('q2n_audit: %s: %s\n' % (a.file, ex))
         return 1

@@ -117,7 +117,8 @@ def main():
                     aj = '%s.%s.audit.json' % (base, fmt)
                     if os.path.exists(aj):
                         os.remove(aj)
-                    batch.append('%s.%s --no-edges --mesh %s --json %s' % (base, fmt, mesh, aj))
+                    # the report's diagonal: after --subdivide the model's mesh is not the input
+                    batch.append('%s.%s --no-edges --mesh %s --report %s.json --json %s' % (base, fmt, mesh, base, aj))
     # 2. one FreeCAD process audits them all
     lst = os.path.join(a.out, 'batch.txt')
     with open(lst, 'w') as f:

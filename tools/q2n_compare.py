@@ -12,6 +12,8 @@ objects (first match).  A field missing from the report is listed and skipped un
 The audit samples the report's own points by default (4 per knot span of each edge), where the two agree
 to ~1e-6 relative (the report prints 6 digits): hence the tight defaults.  Audits run with other
 --samples need looser --tol-* values.
+The two must use one diagonal (bbox_diag) for their relative figures: a difference is reported as a
+disagreement of its own (run the audit with --report REPORT.json, which takes the report's).
 Prints one line per field; exit 0 = agree, 1 = disagreement or target missed, 2 = bad input.
 """
 import argparse
@@ -54,6 +56,12 @@ def compare(audit, report, tols, targets, strict):
         ok = False
     else:
         lines.append('faces: %s  ok' % fa)
+    da, dr = find_field(audit, 'bbox_diag'), find_field(report, 'bbox_diag')
+    if da is not None and dr is not None and abs(da - dr) > 1e-9 * max(abs(da), abs(dr)):
+        lines.append('bbox_diag: audit %.9g (%s) != report %.9g: the relative figures divide by different '
+                     'diagonals (after --subdivide or --scale the model\'s mesh is not the file given to the '
+                     'audit); audit with --report REPORT.json  DISAGREE' % (da, audit.get('diag_source', '?'), dr))
+        ok = False
     for name, _ in FIELDS:
         a, r = find_field(audit, name), find_field(report, name)
         ab, rel = tols[name]

@@ -750,7 +750,9 @@ def build(args):
     evals = [q2n_nurbs.NumpyFaceEval(f, d if type(f.Surface).__name__ == 'BSplineSurface' else None)
              for f, d in zip(faces, datas)]
     edges = q2n_audit.edge_faces(shape)
-    a = q2n_audit.audit_shape(Part, shape, args.file, args.mesh, 0, 100.0, True, False, evals, edges, mass=False)
+    rep_diag = report_get(rep, 'bbox_diag') if rep else None   # the report's diagonal: its G2 floor and ratios
+    a = q2n_audit.audit_shape(Part, shape, args.file, args.mesh, 0, 100.0, True, False, evals, edges, mass=False,
+                              diag=rep_diag if isinstance(rep_diag, (int, float)) and rep_diag > 0 else None)
     diag = a['bbox_diag']
     clock.lap('audit')
     n = int(np.clip(int(math.sqrt(TESS_TRIANGLES / (2.0 * len(faces)))) + 1, TESS_MIN, TESS_MAX))
