@@ -7,6 +7,7 @@
 #   make            library + executable          make check       quick tests (long sweeps left out)
 #   make check-full all tests + fuzz-check (CI)      make demo        main job on the demo mesh
 #   make bench      benchmarks (not tests)        make install PREFIX=/usr/local DESTDIR=
+#   make sweep      unseen generated meshes against the issues' targets (BASE=older binary: side by side)
 #   (install: binary, libquad2nurbs.a, include/quad2nurbs.h, lib/pkgconfig/quad2nurbs.pc)
 #   make fuzz       libFuzzer harnesses (clang)   make fuzz-check  run each for FUZZ_SECONDS (60)
 #   make CONFIG=debug|asan                        (default: release)
@@ -89,7 +90,7 @@ FUZZ_BIN     := $(FUZZ_DIR)/fuzz_obj $(FUZZ_DIR)/fuzz_model
 JOBS     ?= $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 2)
 TESTS    ?=
 
-.PHONY: all lib check check-full demo bench install clean deps fuzz fuzz-check
+.PHONY: all lib check check-full demo bench sweep install clean deps fuzz fuzz-check
 all: $(EXE)
 lib: $(LIB)
 
@@ -147,6 +148,11 @@ demo: $(EXE)
 
 bench: $(EXE) $(BENCH_BIN)
 	@sh bench/run_bench.sh $(BUILD)
+
+# make sweep [BASE=path/to/older/quad2nurbs]: the generalisation sweep (bench/sweep.py), meshes no
+# test has seen against the issues' targets, before/after when BASE is given (a few minutes)
+sweep: $(EXE)
+	@/usr/bin/python3 bench/sweep.py $(EXE) --out $(BUILD)/sweep $(if $(BASE),--base $(BASE))
 
 deps:
 	@sh tools/install-deps.sh
