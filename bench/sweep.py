@@ -47,16 +47,23 @@ FAIRNESS = os.path.join(HERE, '..', '..', 'shared', 'tools', 'fairness.py')
 
 # ------------------------------------------------------------------ meshes
 
+class Points:
+    """Vertices shared by key: index(p) numbers each distinct point once, in order of first use."""
+    def __init__(self):
+        self.ids, self.V = {}, []
+
+    def index(self, p):
+        if p not in self.ids:
+            self.ids[p] = len(self.V)
+            self.V.append(p)
+        return self.ids[p]
+
+
 def voxel_surface(cells):
     """Boundary quads of a set of unit cubes, outward, vertices shared."""
     cells = set(map(tuple, cells))
-    vid, V, F = {}, [], []
-
-    def vi(p):
-        if p not in vid:
-            vid[p] = len(V)
-            V.append(p)
-        return vid[p]
+    pts, F = Points(), []
+    vi = pts.index
     sides = [((1, 0, 0), [(1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)]),
              ((-1, 0, 0), [(0, 0, 0), (0, 0, 1), (0, 1, 1), (0, 1, 0)]),
              ((0, 1, 0), [(0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)]),
@@ -68,7 +75,7 @@ def voxel_surface(cells):
             if (c[0] + d[0], c[1] + d[1], c[2] + d[2]) in cells:
                 continue
             F.append([vi((c[0] + a, c[1] + b, c[2] + e)) for a, b, e in corners])
-    return np.array(V, float), F
+    return np.array(pts.V, float), F
 
 
 def smooth(V, F, iterations, lam):
@@ -84,13 +91,8 @@ def smooth(V, F, iterations, lam):
 
 
 def cubesphere(n):
-    vid, V, F = {}, [], []
-
-    def vi(p):
-        if p not in vid:
-            vid[p] = len(V)
-            V.append(p)
-        return vid[p]
+    pts, F = Points(), []
+    vi = pts.index
     for ax in range(3):
         for s in (-1, 1):
             for i in range(n):
@@ -101,7 +103,7 @@ def cubesphere(n):
                         p[ax], p[(ax + 1) % 3], p[(ax + 2) % 3] = s * n, 2 * a - n, 2 * b - n
                         q.append(vi(tuple(p)))
                     F.append(q[::-1] if s < 0 else q)
-    V = np.array(V, float)
+    V = np.array(pts.V, float)
     return V / np.linalg.norm(V, axis=1)[:, None], F
 
 
