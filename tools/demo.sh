@@ -13,7 +13,7 @@ mkdir -p demo_out
 "$exe" sample "$mesh" --grid 5 > demo_out/demo_torus_samples.txt
 echo "demo: wrote demo_out/demo_torus.step, .igs, _report.json, _tess.obj, _samples.txt"
 if [ -x /usr/bin/python3 ] && [ -d /usr/lib/freecad-python3/lib ]; then
-    /usr/bin/python3 tools/q2n_audit.py demo_out/demo_torus.step --mesh "$mesh" --json demo_out/demo_torus_audit.json >/dev/null
+    /usr/bin/python3 tools/q2n_audit.py demo_out/demo_torus.step --mesh "$mesh" --report demo_out/demo_torus_report.json --json demo_out/demo_torus_audit.json >/dev/null
     /usr/bin/python3 tools/q2n_compare.py demo_out/demo_torus_audit.json demo_out/demo_torus_report.json
     if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
         /usr/bin/python3 tools/q2n_report.py demo_out/demo_torus.step --mesh "$mesh" \
