@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """sweep.py — the generalisation sweep: meshes no test has seen, against the issues' targets.
 
-    /usr/bin/python3 bench/sweep.py BIN [--base BIN0] [--out DIR] [--only NAME,...] [--no-fair]
+    /usr/bin/python3 bench/sweep.py BIN [--base BIN0] [--out DIR] [--only NAME,...] [--random N [--seed S]] [--no-fair]
 
 Writes a family of hard meshes of its own (below; deterministic: fixed seeds) into DIR/meshes, runs
 BIN on each in the default mode (G2), in G1 mode (--ev-patch g1 --continuity g1) and as the acc-g1
@@ -17,6 +17,8 @@ A last column flags the issue targets a row misses:
   osc   osc above max(0.3, 1.5 x acc-g1's)                                (issue 11)
   E     E_ev above 3 x acc-g1's                                           (issue 11)
 With --base, every row of BIN is followed by BIN0's on the same input (before/after).
+--random N adds N meshes of each random family (--seed S, default 2026): convex hulls of 20-300
+points, manifold sets of 4-13 unit cubes, open disks around a vertex of valence 3-20.
 
 Meshes (none of them in ../shared/meshes or in tests/meshgen.h):
   genus2_plate       a 5 x 3 plate of unit cubes with two holes, smoothed: genus 2, valences 3-6
@@ -205,6 +207,58 @@ def meshes():
     return out
 
 
+def manifold(F):
+    """Every edge in two faces and every vertex's faces one fan (cubes that touch only along an edge
+    or at a corner are not a surface: quad2nurbs refuses them, rightly)."""
+    from collections import defaultdict
+    edges, around = defaultdict(int), defaultdict(list)
+    for k, q in enumerate(F):
+        for i in range(4):
+            edges[frozenset((q[i], q[(i + 1) % 4]))] += 1
+            around[q[i]].append(k)
+    if any(c != 2 for c in edges.values()):
+        return False
+    for v, fs in around.items():
+        seen, todo = {fs[0]}, [fs[0]]
+        while todo:
+            a = todo.pop()
+            for b in fs:
+                if b not in seen and len(set(F[a]) & set(F[b]) - {v}) and \
+                        frozenset((v, (set(F[a]) & set(F[b]) - {v}).pop())) in edges:
+                    seen.add(b)
+                    todo.append(b)
+        if len(seen) != len(fs):
+            return False
+    return True
+
+
+def random_meshes(seed, count):
+    """count meshes of each random family: convex hulls of 20-300 points (triangles, --subdivide 1),
+    connected sets of 4-13 unit cubes (manifold ones, lightly smoothed), open disks around a vertex of
+    valence 3-20 (2-3 rings)."""
+    rng = np.random.default_rng(seed)
+    out = {}
+    for i in range(count):
+        n = int(rng.integers(20, 300))
+        out['rnd_hull%d_%d' % (i, n)] = hull(n, int(rng.integers(1 << 30)), bool(i % 2)) + (['--subdivide', '1'],)
+    made = 0
+    while made < count:
+        cells, k = {(0, 0, 0)}, int(rng.integers(4, 14))
+        while len(cells) < k:
+            c = sorted(cells)[int(rng.integers(len(cells)))]
+            d = ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1))[int(rng.integers(6))]
+            cells.add((c[0] + d[0], c[1] + d[1], c[2] + d[2]))
+        V, F = voxel_surface(cells)
+        if not manifold(F):
+            continue
+        out['rnd_cubes%d_%d' % (made, k)] = (smooth(V, F, int(rng.integers(0, 4)), 0.3), F, [])
+        made += 1
+    for i in range(count):
+        n = int(rng.integers(3, 21))
+        out['rnd_star%d_%d' % (i, n)] = star_disk(n, int(rng.integers(2, 4))) + ([],)
+    return out
+
+
 def write_obj(path, V, F):
     with open(path, 'w') as f:
         for v in V:
@@ -266,6 +320,9 @@ def main():
     ap.add_argument('--base', help='a second binary, run side by side (before/after)')
     ap.add_argument('--out', default='build/sweep')
     ap.add_argument('--only', help='comma-separated mesh names')
+    ap.add_argument('--random', type=int, default=0, metavar='N',
+                    help='also N random meshes per random family (hulls, cube sets, disks)')
+    ap.add_argument('--seed', type=int, default=2026, help='seed of the random families (default 2026)')
     ap.add_argument('--no-fair', action='store_true', help='skip fairness.py')
     a = ap.parse_args()
     fair = not a.no_fair and os.path.exists(FAIRNESS)
@@ -276,7 +333,10 @@ def main():
     only = set(a.only.split(',')) if a.only else None
     print('%-18s %-4s %-4s %3s %7s %6s %9s %5s %8s %8s %10s %7s %9s %6s  %s' %
           ('mesh', 'mode', 'bin', 'rc', 'time', 'KB/f', 'spans', 'tol', 'G1 deg', 'G2', 'exact G1', 'osc', 'E_ev', 'jac', 'misses'))
-    for name, (V, F, extra) in meshes().items():
+    todo = meshes()
+    if a.random > 0:
+        todo.update(random_meshes(a.seed, a.random))
+    for name, (V, F, extra) in todo.items():
         if only and name not in only:
             continue
         path = os.path.join(a.out, 'meshes', name + '.obj')
