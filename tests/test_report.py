@@ -401,6 +401,12 @@ def test_targets():
           'G1 fit: G2 should be no target, G1 and deviation held: %s' % (m,))
     text = q2n_report.targets_html(dict(audit, mesh={'max_vertex_dist_rel': 3e-6, 'vertices': 9}), None, {})
     check('✘' in text.split('<tr>')[-1], 'a mesh vertex 3e-6 x diagonal off the surface not missed')
+    # ... but a run through the limit points (--limit-points, the default after --subdivide) does not put
+    # the given mesh's vertices on the surface: shown, not judged (stop 43: the page said "missed")
+    rep_lp = dict(rep, construction=dict(rep['construction'], vertices_moved_max_rel=0.027))
+    last = q2n_report.targets_html(dict(audit, mesh={'max_vertex_dist_rel': 0.063, 'vertices': 40}), rep_lp, {}).split('<tr>')[-1]
+    check('✘' not in last and '✔' in last and 'not judged' in last and '0.063' in last,
+          'limit points: the given mesh\'s vertices shown, not judged: %s' % last[:300])
     # the run's own targets (--tol 1e-4 loosens the defaults; --angle-tol sets them): G1 0.05 deg is
     # held against 0.1, missed against the 0.01 of a report that does not say
     rep_loose = dict(rep, g1_max_deg=0.05, g1_tol_deg=0.1, g2_tol_rel=0.1)
