@@ -544,7 +544,7 @@ int main(void)
           "unknown unit: %s", err);
     q2n_options mm = {0};
     mm.max_memory = 1e5;
-    CHECK(q2n_open("data/demo_torus.obj", &mm, &s, err, sizeof err) != 0 && strstr(err, "needs at least"),
+    CHECK(q2n_open("data/demo_torus.obj", &mm, &s, err, sizeof err) != 0 && strstr(err, "would need about"),
           "memory limit: %s", err);
     CHECK_DONE("test_api");
 }

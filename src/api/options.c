@@ -293,7 +293,7 @@ q2n_status q2n_model_check_resources(const q2n_model *m, const q2n_plan *plan, d
         char faces[96] = "";
         if (m->opt.subdivide > 0) snprintf(faces, sizeof faces, " after --subdivide %d", m->opt.subdivide);
         return q2n_error_set(err, Q2N_ERR_ARG,
-                             "%s: the run needs at least %s of memory (%lld faces%s; peak in the %s stage), more than "
+                             "%s: the run would need about %s of memory (estimated: %lld faces%s; peak in the %s stage), more than "
                              "the limit %s (--max-memory%s)", m->mesh->name, a, e.faces, faces, e.peak_stage, b,
                              dflt ? ", default: half the physical memory" : "");
     }
@@ -305,7 +305,7 @@ q2n_status q2n_model_check_resources(const q2n_model *m, const q2n_plan *plan, d
         if (e.output[i] > avail) {
             human(e.output[i], a, sizeof a);
             human(avail, b, sizeof b);
-            return q2n_error_set(err, Q2N_ERR_IO, "%s: the output needs at least %s, only %s are free on its file system",
+            return q2n_error_set(err, Q2N_ERR_IO, "%s: the output would take about %s, only %s are free on its file system",
                                  o->path, a, b);
         }
     }
