@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "mesh/mesh.h"
 #include "patch/surface.h"
@@ -55,6 +56,47 @@ static inline q2n_mesh *mg_torus(int n, int m, double R, double r, double jitter
         }
     fs[nv] = 4 * nv;
     return mg_finish(nv, pos, nv, fs, fv, "torus");
+}
+
+/* The n x m torus of mg_torus (radii R, r) with the quads listed in collapse[] (indices into the
+ * torus' faces, in order of the list, each counted after the removals before it) collapsed along
+ * their diagonal: corner 2 merges into corner 0 at their midpoint and the quad disappears, so corner
+ * 0 gets valence 6 and corners 1 and 3 valence 3 — extraordinary vertices of valence 3, 6, 3 in a
+ * row on a closed surface of genus 1. */
+static inline q2n_mesh *mg_torus_pinched(int n, int m, double R, double r, const int *collapse, int nc)
+{
+    int nv = n * m, nf = n * m;
+    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
+    int *fv = (int *)malloc(4 * (size_t)nf * sizeof *fv), *fs = (int *)malloc(((size_t)nf + 1) * sizeof *fs);
+    int *ren = (int *)malloc((size_t)nv * sizeof *ren);
+    if (!pos || !fv || !fs || !ren) { free(pos); free(fv); free(fs); free(ren); return NULL; }
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < m; j++) {
+            double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m, *p = pos + 3 * (i * m + j);
+            p[0] = (R + r * cos(b)) * cos(a), p[1] = (R + r * cos(b)) * sin(a), p[2] = r * sin(b);
+            int *q = fv + 4 * (i * m + j);
+            q[0] = i * m + j, q[1] = (i + 1) % n * m + j, q[2] = (i + 1) % n * m + (j + 1) % m, q[3] = i * m + (j + 1) % m;
+        }
+    for (int c = 0; c < nc; c++) {
+        int f = collapse[c], a = fv[4 * f], b = fv[4 * f + 2];
+        for (int k = 0; k < 3; k++) pos[3 * a + k] = 0.5 * (pos[3 * a + k] + pos[3 * b + k]);
+        memmove(fv + 4 * f, fv + 4 * (f + 1), sizeof *fv * 4 * (size_t)(nf - f - 1));
+        nf--;
+        for (int k = 0; k < 4 * nf; k++)
+            if (fv[k] == b) fv[k] = a;
+    }
+    int used = 0; /* drop the merged vertices, keep the order of the rest */
+    for (int v = 0; v < nv; v++) ren[v] = -1;
+    for (int k = 0; k < 4 * nf; k++) ren[fv[k]] = 0;
+    for (int v = 0; v < nv; v++)
+        if (ren[v] == 0) {
+            for (int k = 0; k < 3; k++) pos[3 * used + k] = pos[3 * v + k];
+            ren[v] = used++;
+        }
+    for (int k = 0; k < 4 * nf; k++) fv[k] = ren[fv[k]];
+    for (int f = 0; f <= nf; f++) fs[f] = 4 * f;
+    free(ren);
+    return mg_finish(used, pos, nf, fs, fv, "pinched torus");
 }
 
 /* Open n x m grid of quads over z = f(x,y), with uneven x spacing. */

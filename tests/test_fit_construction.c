@@ -161,14 +161,17 @@ static void check_scan(const char *file, int k)
  * every target and the STEP bytes per face.  Measured (stop 34, KB/face G2 / G1 mode): the noisy
  * icosahedron split into quads (valence 5 and 3, closed) 14.8 / 7.0, a valence-7 one-ring stretched
  * 4:1 (open) 15.3 / 6.1, the L-block of unit cubes (valence 3 and 5, adjacent along its concave
- * edges) 14.9 / 7.0. */
+ * edges) 14.9 / 7.0; since stop 43 a torus with two quads collapsed along a diagonal (valence 3, 6, 3
+ * in a row, genus 1; bench/sweep.py's torus_pinched) 7.4 / 3.9. */
 static void generated_sizes(void)
 {
     static const int cl[7][3] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 0, 1}, {1, 0, 1}};
+    static const int pinch[2] = {5, 50}; /* two quads of a 12 x 8 torus collapsed: valences 3, 6, 3 twice (stop 43) */
     struct { const char *name; q2n_mesh *m; } g[] = {
         {"gen_icosa_noisy.obj", mg_icosa_quad(0.05, 3)},
         {"gen_star7_stretched.obj", mg_polar_star(7, 3, 4)},
         {"gen_lblock.obj", mg_polycube(7, cl, "L-block")},
+        {"gen_torus_pinched.obj", mg_torus_pinched(12, 8, 3, 1, pinch, 2)},
     };
     for (size_t i = 0; i < sizeof g / sizeof *g; i++) {
         char path[4096];
