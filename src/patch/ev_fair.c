@@ -136,17 +136,36 @@ typedef struct fe_run {
     int poly_edges, held, folds, shrinks;
 } fe_run;
 
+/* What every construction of one build starts from: the faces of the list with their side contexts
+ * and patches, the local estimates (jet0) and the flat fans. */
+typedef struct fe_inputs {
+    const ev_vjet *vj;
+    const int *faces;
+    int nf;
+    fe_ctx *X;
+    cp_patch *CP;
+    const double (*jet0)[EV_JS][3];
+    const char *flat;
+    const double (*flatn)[3];
+    int nflat, threads;
+    ev_fair_stats *stats;
+} fe_inputs;
+
 /* One construction from the local estimates: the sides' gluing (smoothsteps; with poly, polynomial
  * where the corner equations allow it, the vertices marked in pin kept out), the Gregory corners and
  * the energy solve.  With flat fans (keep_flat): their jets' orders 1 and 2 are the local
  * estimates, exact for planar data; a first solve keeps their higher orders in the plane up to
  * EV_FLAT_PENALTY (coupled_solve), those then lose what is left of their normal parts and are fixed,
  * and a second solve fits everything else to them (docs/extraordinary.md, "Flat fans"). */
-static q2n_status construct(fe_build *B, const ev_vjet *vj, const int *faces, int nf, fe_ctx *X, cp_patch *CP,
-                            const double (*jet0)[EV_JS][3], const char *flat, const double (*flatn)[3], int nflat,
-                            int poly, const char *pin, int threads, ev_fair_stats *stats, fe_run *R, q2n_error *err)
+static q2n_status construct(fe_build *B, const fe_inputs *in, int poly, const char *pin, fe_run *R, q2n_error *err)
 {
     const q2n_mesh *m = B->m;
+    const ev_vjet *vj = in->vj;
+    const int *faces = in->faces;
+    int nf = in->nf, nflat = in->nflat;
+    fe_ctx *X = in->X;
+    const double (*jet0)[EV_JS][3] = in->jet0;
+    const char *flat = in->flat;
     q2n_status st = Q2N_OK;
     memset(R, 0, sizeof *R);
     memcpy(B->jet, jet0, (size_t)m->nv * sizeof *jet0);
@@ -157,15 +176,15 @@ static q2n_status construct(fe_build *B, const ev_vjet *vj, const int *faces, in
     assign_unknowns(B, vj, nf, NULL, nflat ? flat : NULL);
     B->flat = NULL;
     if (poly && (st = q2n_ev_fair_poly_gluing(B, faces, nf, X, pin, &R->poly_edges, err))) return st;
-    mark_gregory(B, faces, nf, X, CP, stats);
+    mark_gregory(B, faces, nf, X, in->CP, in->stats);
     for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
         if (stage == 1) {
-            fix_flat_jets(B, flat, flatn, jet0, nf);
+            fix_flat_jets(B, flat, in->flatn, jet0, nf);
             B->flat = NULL;
             assign_unknowns(B, vj, nf, flat, NULL);
         } else if (nflat) {
             B->flat = flat;
-            B->flatn = flatn;
+            B->flatn = in->flatn;
         }
         free(B->ridge);
         if (!(B->ridge = calloc((size_t)(B->nvar ? B->nvar : 1), 1))) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory");
@@ -178,7 +197,7 @@ static q2n_status construct(fe_build *B, const ev_vjet *vj, const int *faces, in
                                       : sl <= EV_SLOT(2, 2) ? (corner ? RIDGE_CORNER : RIDGE_LOW)
                                       : corner ? RIDGE_HELD : RIDGE_HIGH;
             }
-        if ((st = q2n_ev_fair_solve(B, faces, nf, CP, X, threads, &R->held, &R->folds, &R->shrinks, err))) return st;
+        if ((st = q2n_ev_fair_solve(B, faces, nf, in->CP, X, in->threads, &R->held, &R->folds, &R->shrinks, err))) return st;
     }
     return Q2N_OK;
 }
@@ -190,19 +209,19 @@ typedef struct fe_state {
     fe_ctx *X;
 } fe_state;
 
-static int state_alloc(fe_state *S, int nv, int nf)
-{
-    S->jet = malloc((size_t)nv * sizeof *S->jet);
-    S->bub = malloc((size_t)(nf ? nf : 1) * sizeof *S->bub);
-    S->X = malloc((size_t)(nf ? nf : 1) * sizeof *S->X);
-    return S->jet && S->bub && S->X;
-}
 static void state_free(fe_state *S) { free(S->jet), free(S->bub), free(S->X); }
-static void state_save(fe_state *S, const fe_build *B, const fe_ctx *X, int nf)
+/* Save B's state into S, allocated at its first use (only a repeated construction needs one);
+ * 0: out of memory. */
+static int state_save(fe_state *S, const fe_build *B, const fe_ctx *X, int nf)
 {
+    if (!S->jet) S->jet = malloc((size_t)B->m->nv * sizeof *S->jet);
+    if (!S->bub) S->bub = malloc((size_t)(nf ? nf : 1) * sizeof *S->bub);
+    if (!S->X) S->X = malloc((size_t)(nf ? nf : 1) * sizeof *S->X);
+    if (!S->jet || !S->bub || !S->X) return 0;
     memcpy(S->jet, B->jet, (size_t)B->m->nv * sizeof *S->jet);
     memcpy(S->bub, B->bub, (size_t)nf * sizeof *S->bub);
     memcpy(S->X, X, (size_t)nf * sizeof *S->X);
+    return 1;
 }
 static void state_restore(const fe_state *S, fe_build *B, fe_ctx *X, int nf)
 {
@@ -356,16 +375,17 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
      * smoothsteps are tried and kept when they fold on fewer faces. */
     int poly = K == 1 && poly_gluing;
     fe_run R = {0};
-    if ((st = construct(&B, vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat, poly, NULL, threads, stats, &R, err))) goto done;
+    const fe_inputs in = {vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat,
+                          threads, stats};
+    if ((st = construct(&B, &in, poly, NULL, &R, err))) goto done;
     if (poly && R.poly_edges > 0) {
         if (!(gpin = calloc((size_t)m->nv, 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
         int nbad = near_folds(&B, faces, nf, X, CP, threads, gpin);
         if (nbad < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
-        if ((nbad > 0 || R.folds > 0) && !S0.jet && !state_alloc(&S0, m->nv, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
         if (nbad > 0) {
             fe_run R0 = R;
-            state_save(&S0, &B, X, nf);
-            if ((st = construct(&B, vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat, 1, gpin, threads, stats, &R, err))) goto done;
+            if (!state_save(&S0, &B, X, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+            if ((st = construct(&B, &in, 1, gpin, &R, err))) goto done;
             int nbad2 = near_folds(&B, faces, nf, X, CP, threads, NULL);
             if (stats) stats->jac_pinned_faces = nbad;
             if (!(nbad2 >= 0 && nbad2 < nbad && R.folds <= R0.folds)) { /* the guard did not help */
@@ -376,10 +396,9 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
             }
         }
         if (R.folds > 0 && R.poly_edges > 0) { /* the smoothsteps where they fold on fewer faces */
-            if (!S0.jet && !state_alloc(&S0, m->nv, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
             fe_run Rp = R;
-            state_save(&S0, &B, X, nf);
-            if ((st = construct(&B, vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat, 0, NULL, threads, stats, &R, err))) goto done;
+            if (!state_save(&S0, &B, X, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+            if ((st = construct(&B, &in, 0, NULL, &R, err))) goto done;
             if (!(R.folds < Rp.folds)) {
                 state_restore(&S0, &B, X, nf);
                 R = Rp;

@@ -62,6 +62,7 @@ typedef struct pg_row {
     double co[PG_NZ], b;
     int comp;      /* component of the row's vertex */
     int v;         /* the row's vertex */
+    double res;    /* its residual after the last solve */
 } pg_row;
 
 /* Vertex of corner c of face f, and the corner of f at vertex v (-1: none). */
@@ -270,7 +271,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
         }
         /* a component keeps its gluing when all its rows hold and its α's keep their sign */
         for (int k = 0; k < nrow; k++)
-            if (!(fabs(row_residual(&R[k], x)) <= EV_POLY_RESIDUAL)) cbad[R[k].comp] = 1;
+            if (!((R[k].res = fabs(row_residual(&R[k], x))) <= EV_POLY_RESIDUAL)) cbad[R[k].comp] = 1;
         for (int i = 0; i < nf; i++)
             for (int sd = 0; sd < 4; sd++) {
                 int qi = qix[4 * i + sd];
@@ -295,7 +296,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             for (int v = 0; v < m->nv; v++) worst[v] = -1; /* per component (its vertex): its worst row */
             for (int k = 0; k < nrow; k++) {
                 int c = R[k].comp;
-                if (cbad[c] && (worst[c] < 0 || fabs(row_residual(&R[k], x)) > fabs(row_residual(&R[worst[c]], x)))) worst[c] = k;
+                if (cbad[c] && (worst[c] < 0 || R[k].res > R[worst[c]].res)) worst[c] = k;
             }
             for (int v = 0; v < m->nv; v++)
                 if (worst[v] >= 0) vpin[R[worst[v]].v] = 3, changed = 1; /* one vertex per component and round */
