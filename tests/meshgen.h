@@ -209,6 +209,46 @@ static inline q2n_mesh *mg_icosa_quad(double noise, unsigned seed)
     return mg_tri_to_quad(12, v, 20, tri, 1, one, noise, seed, "icosahedron split into quads");
 }
 
+/* Rhombic triacontahedron: every vertex extraordinary (the icosahedron's 12 of valence 5 and its
+ * 20 face centres of valence 3, at radius `centre`), 30 rhombi, one per icosahedron edge, on an
+ * ellipsoid with the given axes.  On 2 : 1 : 0.5 the rhombi across the short axis are 6 : 1, with
+ * corners of about 160 degrees at their valence-3 vertices. */
+static inline q2n_mesh *mg_triacontahedron(double ax, double ay, double az, double centre)
+{
+    const double t = (1 + sqrt(5.0)) / 2, sc[3] = {ax, ay, az};
+    double ico[36] = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
+    static const int tri[60] = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
+                                3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+    double *pos = (double *)malloc(32 * 3 * sizeof *pos);
+    int *fs = (int *)malloc(31 * sizeof *fs), *fv = (int *)malloc(120 * sizeof *fv), nf = 0;
+    for (int i = 0; i < 12; i++) {
+        double l = sqrt(ico[3 * i] * ico[3 * i] + ico[3 * i + 1] * ico[3 * i + 1] + ico[3 * i + 2] * ico[3 * i + 2]);
+        for (int k = 0; k < 3; k++) pos[3 * i + k] = ico[3 * i + k] / l * sc[k];
+    }
+    for (int f = 0; f < 20; f++) {
+        double c[3] = {0, 0, 0}, l = 0;
+        for (int k = 0; k < 3; k++) {
+            for (int j = 0; j < 3; j++) c[k] += ico[3 * tri[3 * f + j] + k];
+            l += c[k] * c[k];
+        }
+        for (int k = 0; k < 3; k++) pos[3 * (12 + f) + k] = c[k] / sqrt(l) * centre * sc[k];
+    }
+    for (int f = 0; f < 20; f++) /* edge a -> b of triangle f (counter-clockwise) and its twin */
+        for (int j = 0; j < 3; j++) {
+            int a = tri[3 * f + j], b = tri[3 * f + (j + 1) % 3];
+            if (a > b) continue;
+            for (int g = 0; g < 20; g++)
+                for (int i = 0; i < 3; i++)
+                    if (tri[3 * g + i] == b && tri[3 * g + (i + 1) % 3] == a) {
+                        fs[nf] = 4 * nf;
+                        fv[4 * nf] = a, fv[4 * nf + 1] = 12 + g, fv[4 * nf + 2] = b, fv[4 * nf + 3] = 12 + f;
+                        nf++;
+                    }
+        }
+    fs[nf] = 4 * nf;
+    return mg_finish(32, pos, nf, fs, fv, "rhombic triacontahedron");
+}
+
 /* Octahedron (6 valence-8 and 8 valence-3 extraordinary vertices, 24 quads) on an ellipsoid with
  * the given axes (3 : 1 : 0.5 gives quads of aspect up to ~6). */
 static inline q2n_mesh *mg_octa_quad(double ax, double ay, double az)

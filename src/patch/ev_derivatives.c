@@ -270,17 +270,46 @@ typedef struct fan {
     double q[EV_MAXVAL][3], Xq[EV_MAXVAL][2]; /* far corner of face k (minus p0) and its position */
 } fan;
 
+/* Widest chart sector for face k of v's fan.  The patch corner's area element grows with
+ * |a| |b| sin(sector) (a, b the face's two edges at v), so a sector near the straight angle makes
+ * that corner degenerate while the rest of the face is not.  The sector may be as wide as keeps
+ * the element at the mean of the face's other three corners' (|e × e'| of the quad's edges
+ * there): a parallelogram keeps its own angle, whatever it is, and a face that is nearly a
+ * triangle at v (the other corners' elements far larger) is held at EV_CHART_MAX_ANGLE as
+ * before.  Never narrower than EV_CHART_MAX_ANGLE nor wider than EV_CHART_WIDE_MAX.  Why
+ * (docs/extraordinary.md, "Charts"): a thin rhombus between two valence-3 vertices (161 degrees
+ * at both) charted at 135 degrees put a crease along its long diagonal. */
+static double sector_cap(const q2n_mesh *m, int v, const fan *F, int k)
+{
+    int fc = F->faces[k], s = m->face_start[fc], c = -1;
+    if (m->face_start[fc + 1] - s != 4) return EV_CHART_MAX_ANGLE;
+    double other = 0;
+    for (int i = 0; i < 4; i++) {
+        const double *p = q2n_mesh_vpos(m, m->face_vert[s + i]);
+        double a[3], b[3], x[3];
+        q2n_v3_sub(a, q2n_mesh_vpos(m, m->face_vert[s + (i + 1) % 4]), p);
+        q2n_v3_sub(b, q2n_mesh_vpos(m, m->face_vert[s + (i + 3) % 4]), p);
+        q2n_v3_cross(x, a, b);
+        if (m->face_vert[s + i] == v) c = i;
+        else other += q2n_v3_norm(x) / 3;
+    }
+    double sn = other / (q2n_v3_norm(F->f[k]) * q2n_v3_norm(F->f[(k + 1) % F->n]));
+    if (c < 0 || !(sn < sin(EV_CHART_MAX_ANGLE))) return EV_CHART_MAX_ANGLE;
+    return fmin(Q2N_PI - asin(sn), EV_CHART_WIDE_MAX);
+}
+
 /* Angles between consecutive edges (spatial), each oriented by the normal of its own face (the
  * face's vector area): a corner that turns against its face is reflex (its sector is 2π minus the
  * angle), or, when that angle is acute, the face overlaps itself at v and the fan counts as folded.
  * Sectors narrower than EV_CHART_MIN_ANGLE count as that wide.  Mapped onto the fan's span, sectors
- * capped at EV_CHART_MAX_ANGLE (else the two faces at an edge would not lie on its two sides);
- * folded fans get uniform angles.  Why each face's normal and not the fan's (the mean of its
+ * capped by sector_cap (`wide`: the fair construction) or at EV_CHART_MAX_ANGLE (the paper's) —
+ * else the two faces at an edge would not lie on its two sides, and a nearly straight corner would
+ * leave its patch corner nearly degenerate; folded fans get uniform angles.  Why each face's normal and not the fan's (the mean of its
  * sectors' normals, until stop 35): on a strongly curved fan the two differ by up to a right angle,
  * and a nearly straight corner — two edges of a split sliver triangle — then flips its sign with
  * the fan's normal; such fans were called folded and charted uniformly, a 3-degree needle corner
  * drawn as a 60-degree one (docs/extraordinary.md, "Charts"). */
-static void fan_angles(const q2n_mesh *m, int v, const fan *F, double *eta)
+static void fan_angles(const q2n_mesh *m, int v, const fan *F, int wide, double *eta)
 {
     double zeta[EV_MAXVAL], tot = 0, span = fan_span(m, v, F->nfan);
     int folded = 0;
@@ -299,15 +328,17 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, double *eta)
     }
     if (span == 0) span = folded ? 0.5 * Q2N_PI * F->nfan : tot; /* folded: quarter turns */
     for (int k = 0; k < F->nfan; k++) zeta[k] = folded ? span / F->nfan : zeta[k] * span / tot;
+    double cap[EV_MAXVAL];
+    for (int k = 0; k < F->nfan; k++) cap[k] = wide ? sector_cap(m, v, F, k) : EV_CHART_MAX_ANGLE;
     for (int it = 0; it < EV_CHART_CAP_PASSES; it++) {
-        double cap = EV_CHART_MAX_ANGLE, over = 0, rest = 0;
+        double over = 0, rest = 0;
         for (int k = 0; k < F->nfan; k++) {
-            if (zeta[k] > cap) over += zeta[k] - cap, zeta[k] = cap;
+            if (zeta[k] > cap[k]) over += zeta[k] - cap[k], zeta[k] = cap[k];
             else rest += zeta[k];
         }
         if (over <= 0 || rest <= 0) break;
         for (int k = 0; k < F->nfan; k++)
-            if (zeta[k] < cap) zeta[k] += over * zeta[k] / rest;
+            if (zeta[k] < cap[k]) zeta[k] += over * zeta[k] / rest;
     }
     eta[0] = 0;
     for (int k = 1; k < F->n; k++) eta[k] = eta[k - 1] + zeta[k - 1];
@@ -346,7 +377,7 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, f
             len[k + 2] = sp * iv[F->edges[k + 2]];
         }
     } else {
-        fan_angles(m, v, F, eta);
+        fan_angles(m, v, F, !quarter, eta);
     }
     for (int k = 0; k < F->n; k++) { /* regular: k quarter turns (patch/surface.h) */
         F->X[k][0] = len[k] * (regular ? q2n_side_along[k % 4][0] : cos(eta[k]));

@@ -168,6 +168,7 @@
 
 /* Chart of a vertex's fan (fan_angles): a sector narrower than EV_CHART_MIN_ANGLE radians counts
  * as that wide (the others shrink in proportion), and no sector is wider than EV_CHART_MAX_ANGLE
+ * unless its face's own shape keeps the wider corner regular (sector_cap, up to EV_CHART_WIDE_MAX)
  * (else the two faces at an edge would not lie on its two sides; the excess goes to the others
  * in proportion, at most EV_CHART_CAP_PASSES times, which settles any fan of the valences
  * handled).  Why 0.05: a sector of 3 degrees has hardly a usable direction pair; on split
@@ -182,6 +183,13 @@
 #define EV_CHART_MIN_ANGLE 0.05
 #define EV_CHART_MAX_ANGLE (0.75 * Q2N_PI)
 #define EV_CHART_CAP_PASSES 8
+
+/* Widest sector a fan's chart gives a face whose own shape allows a wide corner (a parallelogram
+ * keeps its angle: sector_cap in ev_derivatives.c): 9 degrees short of the straight angle, so
+ * that the two faces at an edge stay on its two sides with a margin.  Only needle corners of
+ * split sliver triangles reach it; 0.9π was no better there (docs/extraordinary.md, "Why the
+ * policy values"). */
+#define EV_CHART_WIDE_MAX (0.95 * Q2N_PI)
 
 /* ---- the paper's harmonisation of corner data (ev_harmonize.c) ---- */
 
