@@ -18,7 +18,8 @@ A last column flags the issue targets a row misses:
   E     E_ev above 3 x acc-g1's                                           (issue 11)
 With --base, every row of BIN is followed by BIN0's on the same input (before/after).
 --random N adds N meshes of each random family (--seed S, default 2026): convex hulls of 20-300
-points, manifold sets of 4-13 unit cubes, open disks around a vertex of valence 3-20.
+points, manifold sets of 4-13 unit cubes, open disks around a vertex of valence 3-20, and rhombic
+polyhedra — a quad per edge of a random convex hull, every vertex extraordinary (edge_quads).
 
 Meshes (none of them in ../shared/meshes or in tests/meshgen.h):
   genus2_plate       a 5 x 3 plate of unit cubes with two holes, smoothed: genus 2, valences 3-6
@@ -172,6 +173,25 @@ def hull(npts, seed, bumps):
     return P, T
 
 
+def edge_quads(P, T, centre=1.0):
+    """One quad per edge of a closed triangulation: the edge's two ends and the centroids of its two
+    triangles (pulled out to the mean radius of their corners times `centre`).  Every vertex is
+    extraordinary but those of degree 4: the triangulation's of their degree, the centroids of
+    valence 3 (the icosahedron gives the rhombic triacontahedron, the octahedron the rhombic
+    dodecahedron)."""
+    P = np.asarray(P, float)
+    C = []
+    for t in T:
+        c = P[t].mean(axis=0)
+        C.append(c / np.linalg.norm(c) * np.mean(np.linalg.norm(P[t], axis=1)) * centre)
+    left = {}
+    for k, t in enumerate(T):
+        for j in range(3):
+            left[(t[j], t[(j + 1) % 3])] = k
+    F = [[a, len(P) + left[(b, a)], b, len(P) + k] for (a, b), k in left.items() if a < b]
+    return np.vstack([P, np.array(C)]), F
+
+
 def meshes():
     rng = np.random.default_rng(43)
     out = {}
@@ -235,7 +255,9 @@ def manifold(F):
 def random_meshes(seed, count):
     """count meshes of each random family: convex hulls of 20-300 points (triangles, --subdivide 1),
     connected sets of 4-13 unit cubes (manifold ones, lightly smoothed), open disks around a vertex of
-    valence 3-20 (2-3 rings)."""
+    valence 3-20 (2-3 rings), and one quad per edge of the convex hull of 12-79 points spread over a
+    sphere, stretched to a random ellipsoid (edge_quads: every vertex extraordinary but those of
+    degree 4, thin rhombi where the stretch is strong; meshes with a non-convex quad are drawn again)."""
     rng = np.random.default_rng(seed)
     out = {}
     for i in range(count):
@@ -256,7 +278,39 @@ def random_meshes(seed, count):
     for i in range(count):
         n = int(rng.integers(3, 21))
         out['rnd_star%d_%d' % (i, n)] = star_disk(n, int(rng.integers(2, 4))) + ([],)
+    made = 0
+    while made < count:
+        n = int(rng.integers(12, 80))
+        P, T = spread_hull(n, rng)
+        V, F = edge_quads(P * rng.uniform(0.5, 2.0, 3), T)
+        if not all(convex_quad(V[q]) for q in F):
+            continue
+        out['rnd_rhomb%d_%d' % (made, n)] = (V, F, [])
+        made += 1
     return out
+
+
+def spread_hull(n, rng):
+    """The convex hull of n points spread over the unit sphere (a Fibonacci lattice, each point moved
+    by up to a third of the spacing): triangles of fair shape, so that edge_quads gives convex quads
+    before the stretch."""
+    from scipy.spatial import ConvexHull
+    k = np.arange(n) + 0.5
+    z, th = 1 - 2 * k / n, np.pi * (1 + 5 ** 0.5) * k
+    P = np.stack([np.sqrt(1 - z * z) * np.cos(th), np.sqrt(1 - z * z) * np.sin(th), z], axis=1)
+    P += rng.uniform(-1, 1, P.shape) * (4 * np.pi / n) ** 0.5 / 3
+    P /= np.linalg.norm(P, axis=1)[:, None]
+    T = []
+    for s in ConvexHull(P).simplices:
+        a, b, d = P[s]
+        T.append(list(s[[0, 2, 1]] if np.dot(np.cross(b - a, d - a), a) < 0 else s))
+    return P, T
+
+
+def convex_quad(Q):
+    """Every corner of the quad turns the way of its vector area (no dart, no bow-tie)."""
+    n = np.cross(Q[2] - Q[0], Q[3] - Q[1])
+    return all(np.dot(np.cross(Q[(i + 1) % 4] - Q[i], Q[(i + 3) % 4] - Q[i]), n) > 0 for i in range(4))
 
 
 def write_obj(path, V, F):
@@ -321,7 +375,7 @@ def main():
     ap.add_argument('--out', default='build/sweep')
     ap.add_argument('--only', help='comma-separated mesh names')
     ap.add_argument('--random', type=int, default=0, metavar='N',
-                    help='also N random meshes per random family (hulls, cube sets, disks)')
+                    help='also N random meshes per random family (hulls, cube sets, disks, rhombic polyhedra)')
     ap.add_argument('--seed', type=int, default=2026, help='seed of the random families (default 2026)')
     ap.add_argument('--no-fair', action='store_true', help='skip fairness.py')
     a = ap.parse_args()
