@@ -27,6 +27,8 @@ Meshes (none of them in ../shared/meshes or in tests/meshgen.h):
   cubesphere_jitter  a 4 x 4-per-side cube-sphere on a 2:1:0.6 ellipsoid, vertices jittered
   hemisphere_open    the upper half of a cube-sphere, stretched 1.5 x: EVs on the boundary's side
   torus_pinched      a 12 x 8 torus with two quads collapsed along a diagonal: EVs 3-6-3 in a row
+  torus_flips        an 18 x 9 torus with 8 edges turned in their hexagons and the vertices relaxed on
+                     the torus: valence-3 / -5 pairs as a quad remesher leaves them
   star10, star16     open disks, a valence-10 / -16 centre, kites then rings, a wavy height field
   hull40_tri         the convex hull of 40 random points on an ellipsoid (triangles, --subdivide 1)
   bumpy400_tri       400 points on a bumpy ellipsoid (triangles, --subdivide 1: ~2 400 quads)
@@ -134,6 +136,50 @@ def collapse_diagonal(V, F, face):
     return compact(V, [[a if i == c else i for i in q] for k, q in enumerate(F) if k != face])
 
 
+def flip_edges(F, count, rng):
+    """Turn `count` random edges of a quad mesh a step within the hexagon of their two quads (the
+    quads (a, b, c, d) and (b, a, e, f) become (e, f, b, c) and (c, d, a, e)): a and b lose a face
+    and c and e gain one, the valence-3-next-to-5 pairs a quad remesher leaves.  Edges whose ends
+    would drop below valence 3, or whose new diagonal is an edge already, are skipped."""
+    done = 0
+    while done < count:
+        k, i = int(rng.integers(len(F))), int(rng.integers(4))
+        a, b = F[k][i], F[k][(i + 1) % 4]
+        g = [h for h in range(len(F)) if h != k and a in F[h] and b in F[h]]
+        if len(g) != 1:
+            continue
+        g = g[0]
+        _, _, c, d = F[k][i:] + F[k][:i]
+        j = F[g].index(b)
+        _, a2, e, f = F[g][j:] + F[g][:j]
+        val = np.bincount([v for q in F for v in q])
+        if a2 != a or val[a] <= 3 or val[b] <= 3 or len({c, d, e, f}) < 4 or \
+                any(c in q and e in q for q in F):
+            continue
+        F[k], F[g] = [e, f, b, c], [c, d, a, e]
+        done += 1
+    return F
+
+
+def relax_on_torus(V, F, R, r, iterations):
+    """Move each vertex halfway to the mean of its edge neighbours and back onto the torus: the
+    remesher's smoothing, which keeps the flipped quads convex."""
+    nb = {}
+    for q in F:
+        for i in range(4):
+            nb.setdefault(q[i], set()).update((q[(i + 1) % 4], q[(i + 3) % 4]))
+    V = np.array(V, float)
+    for _ in range(iterations):
+        W = V.copy()
+        for v, ns in nb.items():
+            p = 0.5 * V[v] + 0.5 * V[list(ns)].mean(axis=0)
+            c = np.array([p[0], p[1], 0.0])
+            c *= R / np.linalg.norm(c)
+            W[v] = c + r * (p - c) / np.linalg.norm(p - c)
+        V = W
+    return V
+
+
 def star_disk(n, rings):
     """An open disk: n kites around a valence-n centre, then rings of 2n quads."""
     V = [(0.0, 0.0, 0.0)]
@@ -210,6 +256,9 @@ def meshes():
     V, F = torus(12, 8, 3, 1)
     V, F = collapse_diagonal(V, F, 5)
     out['torus_pinched'] = collapse_diagonal(V, F, 6 * 8 + 2) + ([],)
+    V, F = torus(18, 9, 3, 1)
+    F = flip_edges(F, 8, rng)
+    out['torus_flips'] = (relax_on_torus(V, F, 3, 1, 20), F, [])
     out['star10'] = star_disk(10, 3) + ([],)
     out['star16'] = star_disk(16, 3) + ([],)
     out['hull40_tri'] = hull(40, 43, False) + (['--subdivide', '1'],)
