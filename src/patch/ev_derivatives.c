@@ -304,11 +304,12 @@ static double sector_cap(const q2n_mesh *m, int v, const fan *F, int k)
  * Sectors narrower than EV_CHART_MIN_ANGLE count as that wide.  Mapped onto the fan's span, sectors
  * capped by sector_cap (`wide`: the fair construction) or at EV_CHART_MAX_ANGLE (the paper's) —
  * else the two faces at an edge would not lie on its two sides, and a nearly straight corner would
- * leave its patch corner nearly degenerate; folded fans get uniform angles.  Why each face's normal and not the fan's (the mean of its
- * sectors' normals, until stop 35): on a strongly curved fan the two differ by up to a right angle,
- * and a nearly straight corner — two edges of a split sliver triangle — then flips its sign with
- * the fan's normal; such fans were called folded and charted uniformly, a 3-degree needle corner
- * drawn as a 60-degree one (docs/extraordinary.md, "Charts"). */
+ * leave its patch corner nearly degenerate; folded fans get uniform angles.  Why each face's
+ * normal and not the fan's (the mean of its sectors' normals, until stop 35): on a strongly curved
+ * fan the two differ by up to a right angle, and a nearly straight corner — two edges of a split
+ * sliver triangle — then flips its sign with the fan's normal; such fans were called folded and
+ * charted uniformly, a 3-degree needle corner drawn as a 60-degree one (docs/extraordinary.md,
+ * "Charts"). */
 static void fan_angles(const q2n_mesh *m, int v, const fan *F, int wide, double *eta)
 {
     double zeta[EV_MAXVAL], tot = 0, span = fan_span(m, v, F->nfan);
