@@ -305,8 +305,9 @@ def random_meshes(seed, count):
     """count meshes of each random family: convex hulls of 20-300 points (triangles, --subdivide 1),
     connected sets of 4-13 unit cubes (manifold ones, lightly smoothed), open disks around a vertex of
     valence 3-20 (2-3 rings), and one quad per edge of the convex hull of 12-79 points spread over a
-    sphere, stretched to a random ellipsoid (edge_quads: every vertex extraordinary but those of
-    degree 4, thin rhombi where the stretch is strong; meshes with a non-convex quad are drawn again)."""
+    sphere, every vertex then stretched onto a random ellipsoid (edge_quads: every vertex
+    extraordinary but those of degree 4, thin rhombi where the stretch is strong, every vertex on a
+    smooth surface; meshes with a non-convex quad are drawn again)."""
     rng = np.random.default_rng(seed)
     out = {}
     for i in range(count):
@@ -331,7 +332,8 @@ def random_meshes(seed, count):
     while made < count:
         n = int(rng.integers(12, 80))
         P, T = spread_hull(n, rng)
-        V, F = edge_quads(P * rng.uniform(0.5, 2.0, 3), T)
+        V, F = edge_quads(P, T)
+        V = V * rng.uniform(0.5, 2.0, 3)   # after edge_quads: every vertex on the ellipsoid
         if not all(convex_quad(V[q]) for q in F):
             continue
         out['rnd_rhomb%d_%d' % (made, n)] = (V, F, [])
