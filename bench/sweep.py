@@ -19,7 +19,8 @@ A last column flags the issue targets a row misses:
 With --base, every row of BIN is followed by BIN0's on the same input (before/after).
 --random N adds N meshes of each random family (--seed S, default 2026): convex hulls of 20-300
 points, manifold sets of 4-13 unit cubes, open disks around a vertex of valence 3-20, and rhombic
-polyhedra — a quad per edge of a random convex hull, every vertex extraordinary (edge_quads).
+polyhedra — a quad per edge of a random convex hull, every vertex extraordinary (edge_quads) — with
+every vertex on a random ellipsoid or on a random smooth radial surface.
 
 Meshes (none of them in ../shared/meshes or in tests/meshgen.h):
   genus2_plate       a 5 x 3 plate of unit cubes with two holes, smoothed: genus 2, valences 3-6
@@ -307,7 +308,9 @@ def random_meshes(seed, count):
     valence 3-20 (2-3 rings), and one quad per edge of the convex hull of 12-79 points spread over a
     sphere, every vertex then stretched onto a random ellipsoid (edge_quads: every vertex
     extraordinary but those of degree 4, thin rhombi where the stretch is strong, every vertex on a
-    smooth surface; meshes with a non-convex quad are drawn again)."""
+    smooth surface; meshes with a non-convex quad are drawn again), and the same quads with every
+    vertex on a random smooth radial surface (a waist, lobes, bumps: saddles and dents that are the
+    surface's, not the net's)."""
     rng = np.random.default_rng(seed)
     out = {}
     for i in range(count):
@@ -337,6 +340,20 @@ def random_meshes(seed, count):
         if not all(convex_quad(V[q]) for q in F):
             continue
         out['rnd_rhomb%d_%d' % (made, n)] = (V, F, [])
+        made += 1
+    made = 0
+    while made < count:
+        n = int(rng.integers(20, 100))
+        P, T = spread_hull(n, rng)
+        V, F = edge_quads(P, T)
+        d = V / np.linalg.norm(V, axis=1)[:, None]
+        a = rng.uniform(-1, 1, 4)
+        r = 1 + 0.2 * a[0] * (1.5 * d[:, 2] ** 2 - 0.5) + 0.12 * a[1] * np.sin(3 * np.arctan2(d[:, 1], d[:, 0])) * \
+            (1 - d[:, 2] ** 2) + 0.08 * a[2] * np.sin(4 * d[:, 0] + a[3]) * np.cos(3 * d[:, 1])
+        V = d * r[:, None] * rng.uniform(0.7, 1.4, 3)
+        if not all(convex_quad(V[q]) for q in F):
+            continue
+        out['rnd_radial%d_%d' % (made, n)] = (V, F, [])
         made += 1
     return out
 
