@@ -202,15 +202,21 @@ def star_disk(n, rings):
     return V, F
 
 
-def hull(npts, seed, bumps):
+def sphere_hull(P):
+    """The triangles of the convex hull of points P on the unit sphere, each turned outwards."""
     from scipy.spatial import ConvexHull
-    rng = np.random.default_rng(seed)
-    P = rng.standard_normal((npts, 3))
-    P /= np.linalg.norm(P, axis=1)[:, None]
     T = []
     for s in ConvexHull(P).simplices:
         a, b, d = P[s]
         T.append(list(s[[0, 2, 1]] if np.dot(np.cross(b - a, d - a), a) < 0 else s))
+    return T
+
+
+def hull(npts, seed, bumps):
+    rng = np.random.default_rng(seed)
+    P = rng.standard_normal((npts, 3))
+    P /= np.linalg.norm(P, axis=1)[:, None]
+    T = sphere_hull(P)
     if bumps:
         th = np.arctan2(P[:, 1], P[:, 0])
         ph = np.arccos(np.clip(P[:, 2], -1, 1))
@@ -220,9 +226,9 @@ def hull(npts, seed, bumps):
     return P, T
 
 
-def edge_quads(P, T, centre=1.0):
+def edge_quads(P, T):
     """One quad per edge of a closed triangulation: the edge's two ends and the centroids of its two
-    triangles (pulled out to the mean radius of their corners times `centre`).  Every vertex is
+    triangles (pulled out to the mean radius of their corners).  Every vertex is
     extraordinary but those of degree 4: the triangulation's of their degree, the centroids of
     valence 3 (the icosahedron gives the rhombic triacontahedron, the octahedron the rhombic
     dodecahedron)."""
@@ -230,7 +236,7 @@ def edge_quads(P, T, centre=1.0):
     C = []
     for t in T:
         c = P[t].mean(axis=0)
-        C.append(c / np.linalg.norm(c) * np.mean(np.linalg.norm(P[t], axis=1)) * centre)
+        C.append(c / np.linalg.norm(c) * np.mean(np.linalg.norm(P[t], axis=1)))
     left = {}
     for k, t in enumerate(T):
         for j in range(3):
@@ -331,30 +337,24 @@ def random_meshes(seed, count):
     for i in range(count):
         n = int(rng.integers(3, 21))
         out['rnd_star%d_%d' % (i, n)] = star_disk(n, int(rng.integers(2, 4))) + ([],)
-    made = 0
-    while made < count:
-        n = int(rng.integers(12, 80))
-        P, T = spread_hull(n, rng)
-        V, F = edge_quads(P, T)
-        V = V * rng.uniform(0.5, 2.0, 3)   # after edge_quads: every vertex on the ellipsoid
-        if not all(convex_quad(V[q]) for q in F):
-            continue
-        out['rnd_rhomb%d_%d' % (made, n)] = (V, F, [])
-        made += 1
-    made = 0
-    while made < count:
-        n = int(rng.integers(20, 100))
-        P, T = spread_hull(n, rng)
-        V, F = edge_quads(P, T)
+    def ellipsoid(V):   # after edge_quads: every vertex on the ellipsoid
+        return V * rng.uniform(0.5, 2.0, 3)
+
+    def radial(V):
         d = V / np.linalg.norm(V, axis=1)[:, None]
         a = rng.uniform(-1, 1, 4)
         r = 1 + 0.2 * a[0] * (1.5 * d[:, 2] ** 2 - 0.5) + 0.12 * a[1] * np.sin(3 * np.arctan2(d[:, 1], d[:, 0])) * \
             (1 - d[:, 2] ** 2) + 0.08 * a[2] * np.sin(4 * d[:, 0] + a[3]) * np.cos(3 * d[:, 1])
-        V = d * r[:, None] * rng.uniform(0.7, 1.4, 3)
-        if not all(convex_quad(V[q]) for q in F):
-            continue
-        out['rnd_radial%d_%d' % (made, n)] = (V, F, [])
-        made += 1
+        return d * r[:, None] * rng.uniform(0.7, 1.4, 3)
+    for name, lo, hi, place in (('rnd_rhomb', 12, 80, ellipsoid), ('rnd_radial', 20, 100, radial)):
+        made = 0
+        while made < count:
+            n = int(rng.integers(lo, hi))
+            V, F = edge_quads(*spread_hull(n, rng))
+            V = place(V)
+            if all(convex_quad(V[q]) for q in F):
+                out['%s%d_%d' % (name, made, n)] = (V, F, [])
+                made += 1
     return out
 
 
@@ -362,17 +362,12 @@ def spread_hull(n, rng):
     """The convex hull of n points spread over the unit sphere (a Fibonacci lattice, each point moved
     by up to a third of the spacing): triangles of fair shape, so that edge_quads gives convex quads
     before the stretch."""
-    from scipy.spatial import ConvexHull
     k = np.arange(n) + 0.5
     z, th = 1 - 2 * k / n, np.pi * (1 + 5 ** 0.5) * k
     P = np.stack([np.sqrt(1 - z * z) * np.cos(th), np.sqrt(1 - z * z) * np.sin(th), z], axis=1)
     P += rng.uniform(-1, 1, P.shape) * (4 * np.pi / n) ** 0.5 / 3
     P /= np.linalg.norm(P, axis=1)[:, None]
-    T = []
-    for s in ConvexHull(P).simplices:
-        a, b, d = P[s]
-        T.append(list(s[[0, 2, 1]] if np.dot(np.cross(b - a, d - a), a) < 0 else s))
-    return P, T
+    return P, sphere_hull(P)
 
 
 def convex_quad(Q):

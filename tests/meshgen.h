@@ -194,19 +194,27 @@ static inline q2n_mesh *mg_tri_to_quad(int nv0, const double *v0, int nt, const 
     return mg_finish(nv, pos, 3 * nt, fs, fv, name);
 }
 
+/* The icosahedron: its 20 triangles (counter-clockwise seen from outside) on the 12 vertices that
+ * mg_icosahedron writes into v, on the unit sphere. */
+static const int mg_icosa_tri[60] = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
+                                     3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+static inline void mg_icosahedron(double v[36])
+{
+    const double t = (1 + sqrt(5.0)) / 2;
+    const double c[36] = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
+    for (int i = 0; i < 12; i++) {
+        double l = sqrt(c[3 * i] * c[3 * i] + c[3 * i + 1] * c[3 * i + 1] + c[3 * i + 2] * c[3 * i + 2]);
+        for (int k = 0; k < 3; k++) v[3 * i + k] = c[3 * i + k] / l;
+    }
+}
+
 /* Icosahedron (12 valence-10 and 20 valence-3 extraordinary vertices after the split, 60 quads). */
 static inline q2n_mesh *mg_icosa_quad(double noise, unsigned seed)
 {
-    const double t = (1 + sqrt(5.0)) / 2;
-    double v[36] = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
-    for (int i = 0; i < 12; i++) {
-        double l = sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-        for (int k = 0; k < 3; k++) v[3 * i + k] /= l;
-    }
-    static const int tri[60] = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
-                                3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+    double v[36];
+    mg_icosahedron(v);
     static const double one[3] = {1, 1, 1};
-    return mg_tri_to_quad(12, v, 20, tri, 1, one, noise, seed, "icosahedron split into quads");
+    return mg_tri_to_quad(12, v, 20, mg_icosa_tri, 1, one, noise, seed, "icosahedron split into quads");
 }
 
 /* Rhombic triacontahedron: every vertex extraordinary (the icosahedron's 12 of valence 5 and its
@@ -215,16 +223,13 @@ static inline q2n_mesh *mg_icosa_quad(double noise, unsigned seed)
  * corners of about 160 degrees at their valence-3 vertices. */
 static inline q2n_mesh *mg_triacontahedron(double ax, double ay, double az, double centre)
 {
-    const double t = (1 + sqrt(5.0)) / 2, sc[3] = {ax, ay, az};
-    double ico[36] = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
-    static const int tri[60] = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
-                                3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
-    double *pos = (double *)malloc(32 * 3 * sizeof *pos);
+    const double sc[3] = {ax, ay, az};
+    const int *tri = mg_icosa_tri;
+    double ico[36], *pos = (double *)malloc(32 * 3 * sizeof *pos);
     int *fs = (int *)malloc(31 * sizeof *fs), *fv = (int *)malloc(120 * sizeof *fv), nf = 0;
-    for (int i = 0; i < 12; i++) {
-        double l = sqrt(ico[3 * i] * ico[3 * i] + ico[3 * i + 1] * ico[3 * i + 1] + ico[3 * i + 2] * ico[3 * i + 2]);
-        for (int k = 0; k < 3; k++) pos[3 * i + k] = ico[3 * i + k] / l * sc[k];
-    }
+    mg_icosahedron(ico);
+    for (int i = 0; i < 12; i++)
+        for (int k = 0; k < 3; k++) pos[3 * i + k] = ico[3 * i + k] * sc[k];
     for (int f = 0; f < 20; f++) {
         double c[3] = {0, 0, 0}, l = 0;
         for (int k = 0; k < 3; k++) {

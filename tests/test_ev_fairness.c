@@ -395,7 +395,6 @@ int main(void)
      * 135-degree cap put a crease along those rhombi's long diagonals: 1.12 / 114 fitted, the
      * target missed (docs/extraordinary.md, "Charts"). */
     generated("triacontahedron on a 2:1:0.5 ellipsoid", mg_triacontahedron(2, 1, 0.5, 1), 0.383, 0.383, 240);
-
     generated("valence 7, sectors stretched 4:1", mg_polar_star(7, 3, 4), 0.3, 0.65, 6.5);
     /* CAD-like blocks of unit cubes, one quad per cube face: flat faces, sharp edges, every vertex
      * extraordinary (valence 3 at convex corners, 5 at concave ones).  With the fan charts taken

@@ -270,7 +270,7 @@ typedef struct fan {
     double q[EV_MAXVAL][3], Xq[EV_MAXVAL][2]; /* far corner of face k (minus p0) and its position */
 } fan;
 
-/* Widest chart sector for face k of v's fan.  The patch corner's area element grows with
+/* Widest chart sector for face fc at its corner v.  The patch corner's area element grows with
  * |a| |b| sin(sector) (a, b the face's two edges at v), so a sector near the straight angle makes
  * that corner degenerate while the rest of the face is not.  The sector may be as wide as keeps
  * the element at the mean of the face's other three corners' (|e × e'| of the quad's edges
@@ -279,22 +279,22 @@ typedef struct fan {
  * before.  Never narrower than EV_CHART_MAX_ANGLE nor wider than EV_CHART_WIDE_MAX.  Why
  * (docs/extraordinary.md, "Charts"): a thin rhombus between two valence-3 vertices (161 degrees
  * at both) charted at 135 degrees put a crease along its long diagonal. */
-static double sector_cap(const q2n_mesh *m, int v, const fan *F, int k)
+static double sector_cap(const q2n_mesh *m, int v, int fc)
 {
-    int fc = F->faces[k], s = m->face_start[fc], c = -1;
+    int s = m->face_start[fc];
     if (m->face_start[fc + 1] - s != 4) return EV_CHART_MAX_ANGLE;
-    double other = 0;
+    double other = 0, mine = 0; /* mine: |a| |b| at v (0: v not a corner) */
     for (int i = 0; i < 4; i++) {
         const double *p = q2n_mesh_vpos(m, m->face_vert[s + i]);
         double a[3], b[3], x[3];
         q2n_v3_sub(a, q2n_mesh_vpos(m, m->face_vert[s + (i + 1) % 4]), p);
         q2n_v3_sub(b, q2n_mesh_vpos(m, m->face_vert[s + (i + 3) % 4]), p);
         q2n_v3_cross(x, a, b);
-        if (m->face_vert[s + i] == v) c = i;
+        if (m->face_vert[s + i] == v) mine = q2n_v3_norm(a) * q2n_v3_norm(b);
         else other += q2n_v3_norm(x) / 3;
     }
-    double sn = other / (q2n_v3_norm(F->f[k]) * q2n_v3_norm(F->f[(k + 1) % F->n]));
-    if (c < 0 || !(sn < sin(EV_CHART_MAX_ANGLE))) return EV_CHART_MAX_ANGLE;
+    double sn = other / mine;
+    if (!(sn < sin(EV_CHART_MAX_ANGLE))) return EV_CHART_MAX_ANGLE; /* near-triangle, degenerate or v absent */
     return fmin(Q2N_PI - asin(sn), EV_CHART_WIDE_MAX);
 }
 
@@ -330,7 +330,7 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, int wide, double 
     if (span == 0) span = folded ? 0.5 * Q2N_PI * F->nfan : tot; /* folded: quarter turns */
     for (int k = 0; k < F->nfan; k++) zeta[k] = folded ? span / F->nfan : zeta[k] * span / tot;
     double cap[EV_MAXVAL];
-    for (int k = 0; k < F->nfan; k++) cap[k] = wide ? sector_cap(m, v, F, k) : EV_CHART_MAX_ANGLE;
+    for (int k = 0; k < F->nfan; k++) cap[k] = wide ? sector_cap(m, v, F->faces[k]) : EV_CHART_MAX_ANGLE;
     for (int it = 0; it < EV_CHART_CAP_PASSES; it++) {
         double over = 0, rest = 0;
         for (int k = 0; k < F->nfan; k++) {
