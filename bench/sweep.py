@@ -36,6 +36,8 @@ Meshes (none of them in ../shared/meshes or in tests/meshgen.h):
   twisted_tube       a square tube twisted a quarter turn along a bent axis (no EV: control)
   pillow             a 2 x 2-per-side cube-sphere squashed 10:1 (thin, every face at an EV)
   plate_50to1        10 x 10 unit cubes 0.02 thick (the G2 patches fold: G1 fallback expected)
+  block_2x2x2        2 x 2 x 2 unit cubes, not smoothed: the plainest box cage (osc and E missed:
+                     the construction's, by the radial reference of tools/q2n_ripple_bound.py)
 Time: a few minutes (bumpy400_tri is the long one; --only skips it).
 """
 import argparse
@@ -280,6 +282,8 @@ def meshes():
     out['pillow'] = (V * np.array([1.5, 1.0, 0.15]), F, [])
     V, F = voxel_surface([(i, j, 0) for i in range(10) for j in range(10)])
     out['plate_50to1'] = (V * np.array([1, 1, 0.02]), F, [])
+    V, F = voxel_surface([(x, y, z) for x in range(2) for y in range(2) for z in range(2)])
+    out['block_2x2x2'] = (V, F, [])
     return out
 
 

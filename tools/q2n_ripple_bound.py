@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""q2n_ripple_bound.py — how much any fair interpolant of a height-field mesh must ripple and bend.
+"""q2n_ripple_bound.py — how much a fair interpolant of a height-field or a closed mesh must ripple and bend.
 
     /usr/bin/python3 tools/q2n_ripple_bound.py MESH.obj [--self-test]
 
@@ -20,13 +20,26 @@ to the graph) of that spline (E_ev) and of the thin-plate spline (phi = r^2 log 
 the interpolant of least linearised bending energy int |D^2 z|^2, the reference for the energy
 target.
 
+Closed meshes (every edge in two faces; stop 45) get the same kind of reference in spherical terms,
+where they are star-shaped about their vertices' centroid c: the radius along each direction,
+r(w) = sum_i w_i |w - w_i|^3 + a0 + a . w (w on the unit sphere, |.| the chordal distance: the
+third-order polyharmonic spline of R^3, r^3, restricted to the sphere, with a linear part), through
+the vertices' radii, and the surface X(w) = c + r(w) w.  Every mesh whose vertices lie on a sphere
+gets that sphere back (the spline reproduces constants).  The faces are the bilinear quads mapped
+radially onto it, the lines their two parameter diagonals, and H, K come from finite differences
+(step 1e-4 in the face's parameters) of that composed map; "reference": "radial" in the output, and
+exit 1 with "star_shaped": false where a face's radial image turns over (its normal against the
+radius somewhere).
+
 It is an independent reference, not a lower bound in the strict sense: the construction minimises
 a parametric energy per patch, fairness.py follows the patches' parameter diagonals; but where the
 fairest interpolant of this kind ripples more than the target allows, the target asks the
 interpolation for what the data do not have (docs/extraordinary.md, "Where the ripple target is
-not met, and why").  numpy only.  Prints one JSON object; exit 0, 1 when the mesh is not a height
-field, 2 on bad input.  --self-test checks the spline against a quadratic it must reproduce, finite
-differences and its data, and the energy quadrature against a sphere cap's closed form, then exits.
+not met, and why").  numpy only.  Prints one JSON object; exit 0, 1 when an open mesh is not a height
+field or a closed one not star-shaped, 2 on bad input.  --self-test checks the spline against a
+quadratic it must reproduce, finite differences and its data, the energy quadrature against a sphere
+cap's closed form, and the radial reference against a sphere (a cube's corners: bending energy 8 pi,
+no oscillation) and its data, then exits.
 """
 import json
 import sys
@@ -163,6 +176,89 @@ def osc(H, X3):
     return (float(np.abs(np.diff(H)).sum()) - abs(float(H[-1] - H[0]))) * L / 2
 
 
+def closed(F):
+    """every edge of F in exactly two faces"""
+    edges = {}
+    for f in F:
+        for i in range(len(f)):
+            k = (min(f[i], f[(i + 1) % len(f)]), max(f[i], f[(i + 1) % len(f)]))
+            edges[k] = edges.get(k, 0) + 1
+    return bool(edges) and all(c == 2 for c in edges.values())
+
+
+def fit_radial(V, c):
+    """the radius function r(w) = sum_i w_i |w - w_i|^3 + a0 + a . w through the vertices' radii about c:
+    returns X(P), the radial surface point of the points P (m x 3)"""
+    q = V - c
+    r = np.linalg.norm(q, axis=1)
+    Om = q / r[:, None]
+    n = len(V)
+    K = np.sqrt(((Om[:, None] - Om[None]) ** 2).sum(2)) ** 3
+    Q = np.hstack([np.ones((n, 1)), Om])
+    A = np.zeros((n + 4, n + 4))
+    A[:n, :n], A[:n, n:], A[n:, :n] = K, Q, Q.T
+    sol = np.linalg.solve(A, np.concatenate([r, np.zeros(4)]))
+    w, a = sol[:n], sol[n:]
+
+    def X(P):
+        o = P - c
+        o = o / np.linalg.norm(o, axis=1)[:, None]
+        D = np.sqrt(np.maximum(((o[:, None] - Om[None]) ** 2).sum(2), 0.0))
+        return c + ((D ** 3) @ w + a[0] + o @ a[1:])[:, None] * o
+    return X
+
+
+def radial_derivs(X, p, S, T, h=1e-4):
+    """position, unit normal, H, K and area element of the radial image of the bilinear quad p at (S, T)"""
+    def B(s, t):
+        s, t = s[:, None], t[:, None]
+        return (1 - s) * (1 - t) * p[0] + s * (1 - t) * p[1] + s * t * p[2] + (1 - s) * t * p[3]
+    x = X(B(S, T))
+    xp, xm, yp, ym = X(B(S + h, T)), X(B(S - h, T)), X(B(S, T + h)), X(B(S, T - h))
+    xs, xt = (xp - xm) / (2 * h), (yp - ym) / (2 * h)
+    xss, xtt = (xp - 2 * x + xm) / (h * h), (yp - 2 * x + ym) / (h * h)
+    xst = (X(B(S + h, T + h)) - X(B(S + h, T - h)) - X(B(S - h, T + h)) + X(B(S - h, T - h))) / (4 * h * h)
+    N = np.cross(xs, xt)
+    J = np.linalg.norm(N, axis=1)
+    N = N / J[:, None]
+    E, Fm, G = (xs * xs).sum(1), (xs * xt).sum(1), (xt * xt).sum(1)
+    L, M, Nn = (xss * N).sum(1), (xst * N).sum(1), (xtt * N).sum(1)
+    det = E * G - Fm * Fm
+    return x, N, (E * Nn - 2 * Fm * M + G * L) / (2 * det), (L * Nn - M * M) / det, J
+
+
+def radial_reference(V, F, path):
+    """the radial reference of a closed mesh (module docstring): its JSON object and exit status"""
+    c = V.mean(0)
+    X = fit_radial(V, c)
+    ev = extraordinary(len(V), F)
+    gx, gw = np.polynomial.legendre.leggauss(16)
+    gx, gw = (gx + 1) / 2, gw / 2
+    U, W = (t.ravel() for t in np.meshgrid(gx, gx))
+    WW = np.outer(gw, gw).ravel()
+    t = np.linspace(0.0005, 0.9995, 400)
+    E_ev, E, lines, turned = 0.0, 0.0, [], 0
+    for f in F:
+        if len(f) != 4:
+            continue
+        p = V[f]
+        x, N, H, K, J = radial_derivs(X, p, U, W)
+        turned += int((((x - c) * N).sum(1) <= 0).sum())
+        e = float(((4 * H * H - 2 * K) * J * WW).sum())
+        E += e
+        if ev.intersection(f):
+            E_ev += e
+            for s_, t_ in ((t, t), (1 - t, t)):
+                x, N, H, K, J = radial_derivs(X, p, s_, t_)
+                turned += int((((x - c) * N).sum(1) <= 0).sum())
+                lines.append(osc(H, x))
+    if turned:
+        return {'mesh': path, 'reference': 'radial', 'star_shaped': False}, 1
+    return {'mesh': path, 'reference': 'radial', 'star_shaped': True, 'extraordinary_vertices': len(ev), 'lines': len(lines),
+            'osc_ev_mean': float(np.mean(lines)) if lines else 0.0, 'osc_ev_max': float(np.max(lines)) if lines else 0.0,
+            'E_ev': E_ev, 'E': E}, 0
+
+
 def self_test():
     rng = np.random.default_rng(1)
     P = rng.uniform(-1, 1, (30, 2))
@@ -198,9 +294,21 @@ def self_test():
     xg, wg = np.polynomial.legendre.leggauss(60)
     area = float((b * wg * R * 2 * np.arcsin(b / np.sqrt(R * R - (b * xg) ** 2))).sum())
     err_energy = abs(bending_energy(Pq, Fq, range(4), sphere) / (2 * area / R ** 2) - 1)
-    ok = err_quad < 1e-9 and err_fd < 1e-5 and err_interp < 1e-9 and err_energy < 1e-9
+    # the radial reference: a cube's corners lie on a sphere, which it must give back (bending energy
+    # 8 pi, every vertex extraordinary, no oscillation); an ellipsoid's octahedron, through its vertices
+    Vc = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+    Fc = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    rad, rc = radial_reference(Vc, Fc, 'cube')
+    err_radial_energy = abs(rad.get('E', 0) / (8 * np.pi) - 1) if rc == 0 else 1.0
+    osc_sphere = rad.get('osc_ev_mean', 1.0)
+    Ve = rng.uniform(-1, 1, (40, 3))
+    Ve = Ve / np.linalg.norm(Ve, axis=1)[:, None] * np.array([2.0, 1.0, 0.5])
+    err_radial_interp = float(np.abs(fit_radial(Ve, Ve.mean(0))(Ve) - Ve).max())
+    ok = (err_quad < 1e-9 and err_fd < 1e-5 and err_interp < 1e-9 and err_energy < 1e-9 and err_radial_energy < 1e-6
+          and osc_sphere < 1e-3 and err_radial_interp < 1e-9)
     print(json.dumps({'self_test': 'ok' if ok else 'FAILED', 'quadratic_reproduction': err_quad, 'finite_differences': err_fd,
-                      'interpolation': err_interp, 'sphere_energy_rel': err_energy}))
+                      'interpolation': err_interp, 'sphere_energy_rel': err_energy, 'radial_sphere_energy_rel': err_radial_energy,
+                      'radial_sphere_osc': osc_sphere, 'radial_interpolation': err_radial_interp}))
     return 0 if ok else 1
 
 
@@ -218,6 +326,10 @@ def main(argv):
     if len(V) < 7 or not F:
         print(f'q2n_ripple_bound: {argv[0]}: too few vertices or no faces', file=sys.stderr)
         return 2
+    if closed(F):
+        out, rc = radial_reference(V, F, argv[0])
+        print(json.dumps(out))
+        return rc
     c = V.mean(0)
     W = np.linalg.svd(V - c)[2]
     P = np.stack([(V - c) @ W[0], (V - c) @ W[1]], 1)
@@ -240,7 +352,7 @@ def main(argv):
             lines.append(osc(mean_curvature(g, hxx, hxy, hyy), np.hstack([X, z[:, None]])))
     evf = [k for k, f in enumerate(F) if len(f) == 4 and ev.intersection(f)]
     wt, at = fit_thin_plate(P, h)
-    out = {'mesh': argv[0], 'height_field': True, 'extraordinary_vertices': len(ev), 'lines': len(lines),
+    out = {'mesh': argv[0], 'reference': 'height_field', 'height_field': True, 'extraordinary_vertices': len(ev), 'lines': len(lines),
            'osc_ev_mean': float(np.mean(lines)) if lines else 0.0, 'osc_ev_max': float(np.max(lines)) if lines else 0.0,
            'E_ev': bending_energy(P, F, evf, lambda X: evaluate(P, w, a, X)[1:]),
            'E_ev_thin_plate': bending_energy(P, F, evf, lambda X: evaluate_thin_plate(P, wt, at, X))}
