@@ -14,9 +14,13 @@
 #include <ctime>
 #include <vector>
 
+/* OCCT 7.6 headers use std::iterator, deprecated in C++17: not our warning to fix */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
 #include <GeomAPI_PointsToBSplineSurface.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <TColgp_Array2OfPnt.hxx>
+#pragma GCC diagnostic pop
 
 extern "C" {
 #include "api/model.h"

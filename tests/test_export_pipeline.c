@@ -31,8 +31,9 @@ static void run_case(int pass, const pl_case *c)
     const char *obj = chk_shared_mesh(c->mesh);
     if (!obj) return;
     char base[1024], cmd[8192], rp[1100];
-    snprintf(base, sizeof base, "%s/%.*s_%s%s%s", chk_scratch_dir(), (int)(strlen(c->mesh) - 4), c->mesh, c->method,
-             c->cls ? "_" : "", c->cls ? c->cls : "");
+    int nb = snprintf(base, sizeof base, "%s/%.*s_%s%s%s", chk_scratch_dir(), (int)(strlen(c->mesh) - 4), c->mesh, c->method,
+                      c->cls ? "_" : "", c->cls ? c->cls : "");
+    if (nb < 0 || nb >= (int)sizeof base) { CHECK(0, "%s: scratch path too long", c->mesh); return; }
     snprintf(rp, sizeof rp, "%s.json", base);
     if (pass == 0) {
         remove(rp);

@@ -403,7 +403,7 @@ static void same_bytes_cli(void)
         int rc = system(cmd);
         CHECK(rc == 0, "%s: exit %d", in[i], rc);
         char p[160];
-        size_t l, ls;
+        size_t l = 0, ls = 0;
         snprintf(p, sizeof p, "%s/o%d/s.txt", dir, i);
         char *s = chk_slurp(p, &l);
         snprintf(p, sizeof p, "%s/o%d/m.step", dir, i);

@@ -113,7 +113,7 @@ void q2n_spline_fundamental(const q2n_spline_class *c, const double *d, double x
                             double *psi)
 {
     int w = c->w, nb = c->nb;
-    q2n_jet dj[Q2N_SPLINE_MAXW], C[Q2N_SPLINE_MAXB * Q2N_SPLINE_MAXW];
+    q2n_jet dj[Q2N_SPLINE_MAXW] = {{{0}}}, C[Q2N_SPLINE_MAXB * Q2N_SPLINE_MAXW]; /* dj zeroed: GCC 12 cannot see that w >= 2 */
     double B[4 * Q2N_SPLINE_MAXB];
     for (int i = 0; i < w - 1; i++) dj[i] = q2n_jet_const(d[i]);
     q2n_spline_coeffs(c, dj, C);
