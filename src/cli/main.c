@@ -6,6 +6,9 @@
  * input or usage, 1 any other failure (writing included); a signal removes the temporaries. */
 #include <errno.h>
 #include <getopt.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <langinfo.h>
 #include <locale.h>
 #include <math.h>
@@ -17,6 +20,7 @@
 
 #include "quad2nurbs.h"
 #include "cli.h"
+#include "cli/policy.h"
 
 #define MAX_OUTPUTS 8
 #define PROG "quad2nurbs"
@@ -522,6 +526,11 @@ static int run(run_state *s)
 
 int main(int argc, char **argv)
 {
+#ifdef __GLIBC__
+    /* freed work arrays stay in the heap for the next face (cli/policy.h) */
+    mallopt(M_MMAP_THRESHOLD, CLI_MMAP_THRESHOLD);
+    mallopt(M_TRIM_THRESHOLD, CLI_TRIM_THRESHOLD);
+#endif
     cli_options o;
     memset(&o, 0, sizeof o);
     o.grid = 5;               /* zeroed library options are its defaults */

@@ -1,4 +1,4 @@
-/* policy.h — the command line's display rates (progress.c). */
+/* policy.h — the command line's display rates (progress.c) and its allocator settings (main.c). */
 #ifndef Q2N_CLI_POLICY_H
 #define Q2N_CLI_POLICY_H
 
@@ -10,5 +10,14 @@
 #define CLI_PROGRESS_LINE_EVERY 1.0
 /* An estimate of the time left is shown once a stage has run this long (earlier ones jump). */
 #define CLI_PROGRESS_ETA_AFTER 2.0
+
+/* glibc's allocator: blocks up to this size come from the heap instead of fresh mappings, and up to
+ * CLI_TRIM_THRESHOLD of free heap is kept.  The construction and the fit allocate and free work
+ * arrays of 0.1-1 MB per face, thousands of times: mapped afresh, each is zero-filled by the kernel
+ * page by page and unmapped again (measured: whole runs on meshes whose every face is at an
+ * extraordinary vertex 9-12 % faster, the subdivided rook 6 %; the peak memory 2-14 % higher, within
+ * 1 % on 9 000 faces). */
+#define CLI_MMAP_THRESHOLD (256 << 20)
+#define CLI_TRIM_THRESHOLD (512 << 20)
 
 #endif
