@@ -313,22 +313,17 @@ static void fe_side_fn(const void *ctx, const void *lanes, int W, int sd, double
 {
     const fe_ctx *X = ctx;
     const fe_side *S = &X->side[sd];
-    for (int b = 0; b < 3; b++)
-        for (int a = 0; a < na; a++) memset(F[b][a], 0, sizeof(double) * W);
     if (S->kind == 1) {
+        for (int b = 0; b < 3; b++)
+            for (int a = 0; a < na; a++) memset(F[b][a], 0, sizeof(double) * W);
         regular(X, sd, s, na, F);
         return;
     }
     const fe_lanes *L = lanes;
-    double loc[3][CP_NA][CP_MAXW];
-    constructed(X->K, &L->T[sd], W, s, na, loc);
-    double io = q2n_side_iota[sd]; /* inward -> axis direction */
-    for (int a = 0; a < na; a++)
-        for (int l = 0; l < W; l++) {
-            F[0][a][l] = loc[0][a][l];
-            F[1][a][l] = io * loc[1][a][l];
-            F[2][a][l] = loc[2][a][l];
-        }
+    constructed(X->K, &L->T[sd], W, s, na, F); /* every lane of every row written */
+    if (q2n_side_iota[sd] < 0) /* inward -> axis direction: the cross derivative's sign */
+        for (int a = 0; a < na; a++)
+            for (int l = 0; l < W; l++) F[1][a][l] = -F[1][a][l];
 }
 
 
