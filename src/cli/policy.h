@@ -14,9 +14,8 @@
 /* glibc's allocator: blocks up to this size come from the heap instead of fresh mappings, and up to
  * CLI_TRIM_THRESHOLD of free heap is kept.  The construction and the fit allocate and free work
  * arrays of 0.1-1 MB per face, thousands of times: mapped afresh, each is zero-filled by the kernel
- * page by page and unmapped again (measured: whole runs on meshes whose every face is at an
- * extraordinary vertex 9-12 % faster, the subdivided rook 6 %; the peak memory 2-14 % higher, within
- * 1 % on 9 000 faces). */
+ * page by page and unmapped again (whole runs 6-12 % faster, most where every face is at an
+ * extraordinary vertex; the peak memory 2-14 % higher; docs/status.md, stop 45). */
 #define CLI_MMAP_THRESHOLD (256 << 20)
 #define CLI_TRIM_THRESHOLD (512 << 20)
 
