@@ -29,7 +29,7 @@ gets that sphere back (the spline reproduces constants).  The faces are the bili
 radially onto it, the lines their two parameter diagonals, and H, K come from finite differences
 (step 1e-4 in the face's parameters) of that composed map; "reference": "radial" in the output, and
 exit 1 with "star_shaped": false where a face's radial image turns over (its normal against the
-radius somewhere).
+radius somewhere), two vertices lie on one ray from c or one at c, or a face is not a quad.
 
 It is an independent reference, not a lower bound in the strict sense: the construction minimises
 a parametric energy per patch, fairness.py follows the patches' parameter diagonals; but where the
@@ -230,7 +230,13 @@ def radial_derivs(X, p, S, T, h=1e-4):
 def radial_reference(V, F, path):
     """the radial reference of a closed mesh (module docstring): its JSON object and exit status"""
     c = V.mean(0)
-    X = fit_radial(V, c)
+    rad = np.linalg.norm(V - c, axis=1)
+    if any(len(f) != 4 for f in F) or not (rad.min() > 1e-9 * rad.max()):
+        return {'mesh': path, 'reference': 'radial', 'star_shaped': False}, 1   # not all quads, or a vertex at c
+    try:
+        X = fit_radial(V, c)
+    except np.linalg.LinAlgError:   # two vertices on one ray from c
+        return {'mesh': path, 'reference': 'radial', 'star_shaped': False}, 1
     ev = extraordinary(len(V), F)
     gx, gw = np.polynomial.legendre.leggauss(16)
     gx, gw = (gx + 1) / 2, gw / 2
@@ -252,7 +258,7 @@ def radial_reference(V, F, path):
                 x, N, H, K, J = radial_derivs(X, p, s_, t_)
                 turned += int((((x - c) * N).sum(1) <= 0).sum())
                 lines.append(osc(H, x))
-    if turned:
+    if turned or not (np.isfinite(E) and all(np.isfinite(lines))):
         return {'mesh': path, 'reference': 'radial', 'star_shaped': False}, 1
     return {'mesh': path, 'reference': 'radial', 'star_shaped': True, 'extraordinary_vertices': len(ev), 'lines': len(lines),
             'osc_ev_mean': float(np.mean(lines)) if lines else 0.0, 'osc_ev_max': float(np.max(lines)) if lines else 0.0,
