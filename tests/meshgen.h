@@ -58,25 +58,23 @@ static inline q2n_mesh *mg_torus(int n, int m, double R, double r, double jitter
     return mg_finish(nv, pos, nv, fs, fv, "torus");
 }
 
-/* The n x m torus of mg_torus (radii R, r) with the quads listed in collapse[] (indices into the
+/* The n x m torus of mg_torus (radii R, r; even, no jitter) with the quads listed in collapse[] (indices into the
  * torus' faces, in order of the list, each counted after the removals before it) collapsed along
  * their diagonal: corner 2 merges into corner 0 at their midpoint and the quad disappears, so corner
  * 0 gets valence 6 and corners 1 and 3 valence 3 — extraordinary vertices of valence 3, 6, 3 in a
  * row on a closed surface of genus 1. */
 static inline q2n_mesh *mg_torus_pinched(int n, int m, double R, double r, const int *collapse, int nc)
 {
-    int nv = n * m, nf = n * m;
+    q2n_mesh *t = mg_torus(n, m, R, r, 0, 0, 0);
+    if (!t) return NULL;
+    int nv = t->nv, nf = t->nf;
     double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
     int *fv = (int *)malloc(4 * (size_t)nf * sizeof *fv), *fs = (int *)malloc(((size_t)nf + 1) * sizeof *fs);
     int *ren = (int *)malloc((size_t)nv * sizeof *ren);
+    if (pos) memcpy(pos, t->pos, 3 * (size_t)nv * sizeof *pos);
+    if (fv) memcpy(fv, t->face_vert, 4 * (size_t)nf * sizeof *fv);
+    q2n_mesh_free(t);
     if (!pos || !fv || !fs || !ren) { free(pos); free(fv); free(fs); free(ren); return NULL; }
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < m; j++) {
-            double a = 2 * M_PI * i / n, b = 2 * M_PI * j / m, *p = pos + 3 * (i * m + j);
-            p[0] = (R + r * cos(b)) * cos(a), p[1] = (R + r * cos(b)) * sin(a), p[2] = r * sin(b);
-            int *q = fv + 4 * (i * m + j);
-            q[0] = i * m + j, q[1] = (i + 1) % n * m + j, q[2] = (i + 1) % n * m + (j + 1) % m, q[3] = i * m + (j + 1) % m;
-        }
     for (int c = 0; c < nc; c++) {
         int f = collapse[c], a = fv[4 * f], b = fv[4 * f + 2];
         for (int k = 0; k < 3; k++) pos[3 * a + k] = 0.5 * (pos[3 * a + k] + pos[3 * b + k]);

@@ -171,6 +171,15 @@ static int ripple_script(const char *args, char *buf, size_t len)
     return p ? pclose(p) : -1;
 }
 
+/* The number after "key": in the script's JSON output (-1 when absent). */
+static double json_number(const char *buf, const char *key)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char *at = strstr(buf, pat);
+    return at ? atof(at + strlen(pat)) : -1;
+}
+
 static void ripple_bound(void)
 {
     char buf[512], arg[600];
@@ -180,8 +189,7 @@ static void ripple_bound(void)
     if (!path) return;
     snprintf(arg, sizeof arg, "'%s'", path);
     rc = ripple_script(arg, buf, sizeof buf);
-    const char *o = strstr(buf, "\"osc_ev_mean\": ");
-    double osc = o ? atof(o + 15) : -1;
+    double osc = json_number(buf, "osc_ev_mean");
     printf("polyharmonic interpolant of the valence-5 carpet: %.3f per EV diagonal\n", osc);
     CHECK(rc == 0 && osc > 1.5 && osc < 3, "q2n_ripple_bound.py on the valence-5 carpet: %s", buf);
     /* closed meshes: the radial reference.  osd_catmark_cube's eight vertices lie on a sphere, which
@@ -190,10 +198,8 @@ static void ripple_bound(void)
     if (!(path = chk_shared_mesh("osd_catmark_cube.obj"))) return;
     snprintf(arg, sizeof arg, "'%s'", path);
     rc = ripple_script(arg, buf, sizeof buf);
-    o = strstr(buf, "\"osc_ev_mean\": ");
-    const char *e = strstr(buf, "\"E_ev\": ");
-    osc = o ? atof(o + 15) : -1;
-    double E = e ? atof(e + 8) : -1;
+    osc = json_number(buf, "osc_ev_mean");
+    double E = json_number(buf, "E_ev");
     printf("radial reference of osd_catmark_cube: %.2e per EV diagonal, E_ev %.6f (8 pi %.6f)\n", osc, E, 8 * M_PI);
     CHECK(rc == 0 && strstr(buf, "\"reference\": \"radial\"") && osc >= 0 && osc < 1e-3 && fabs(E / (8 * M_PI) - 1) < 1e-6,
           "q2n_ripple_bound.py on osd_catmark_cube: %s", buf);

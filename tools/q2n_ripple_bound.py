@@ -63,13 +63,19 @@ def read_obj(path):
     return V, F
 
 
-def extraordinary(nv, F):
+def edge_counts(F):
+    """{(a, b), a < b: the number of faces of F with that edge}"""
     edges = {}
     for f in F:
         for i in range(len(f)):
             a, b = f[i], f[(i + 1) % len(f)]
             k = (min(a, b), max(a, b))
             edges[k] = edges.get(k, 0) + 1
+    return edges
+
+
+def extraordinary(nv, F):
+    edges = edge_counts(F)
     val = np.zeros(nv, int)
     bd = np.zeros(nv, bool)
     for (a, b), c in edges.items():
@@ -178,11 +184,7 @@ def osc(H, X3):
 
 def closed(F):
     """every edge of F in exactly two faces"""
-    edges = {}
-    for f in F:
-        for i in range(len(f)):
-            k = (min(f[i], f[(i + 1) % len(f)]), max(f[i], f[(i + 1) % len(f)]))
-            edges[k] = edges.get(k, 0) + 1
+    edges = edge_counts(F)
     return bool(edges) and all(c == 2 for c in edges.values())
 
 
