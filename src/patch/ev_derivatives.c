@@ -310,7 +310,7 @@ static double sector_cap(const q2n_mesh *m, int v, int fc)
  * sliver triangle — then flips its sign with the fan's normal; such fans were called folded and
  * charted uniformly, a 3-degree needle corner drawn as a 60-degree one (docs/extraordinary.md,
  * "Charts"). */
-static void fan_angles(const q2n_mesh *m, int v, const fan *F, int wide, double *eta)
+static void fan_angles(const q2n_mesh *m, int v, const fan *F, int wide, int cross, double *eta)
 {
     double zeta[EV_MAXVAL], tot = 0, span = fan_span(m, v, F->nfan);
     int folded = 0;
@@ -341,6 +341,11 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, int wide, double 
         for (int k = 0; k < F->nfan; k++)
             if (zeta[k] < cap[k]) zeta[k] += over * zeta[k] / rest;
     }
+    if (cross && F->nfan == 4 && F->n == 4) { /* opposite sectors equal: opposite edges opposite */
+        double a = 0.5 * (zeta[0] + zeta[2]), b = 0.5 * (zeta[1] + zeta[3]);
+        zeta[0] = zeta[2] = a;
+        zeta[1] = zeta[3] = b;
+    }
     eta[0] = 0;
     for (int k = 1; k < F->n; k++) eta[k] = eta[k - 1] + zeta[k - 1];
 }
@@ -353,7 +358,7 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, int wide, double 
  * construction charts boundary vertices of one or two faces by their own angles (stop 39): quarter
  * turns drew a one-face corner of 172 degrees as a right angle, and a hexagonal pyramid whose rim
  * has such corners rippled (docs/extraordinary.md, "Charts"). */
-static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, fan *F)
+static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, int cross, fan *F)
 {
     F->n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, F->edges, F->other, F->faces);
     if (F->n < 2) return 0;
@@ -378,7 +383,7 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, f
             len[k + 2] = sp * iv[F->edges[k + 2]];
         }
     } else {
-        fan_angles(m, v, F, !quarter, eta);
+        fan_angles(m, v, F, !quarter, cross, eta);
     }
     for (int k = 0; k < F->n; k++) { /* regular: k quarter turns (patch/surface.h) */
         F->X[k][0] = len[k] * (regular ? q2n_side_along[k % 4][0] : cos(eta[k]));
@@ -490,11 +495,11 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
 
 /* Least-squares local polynomial at v (Appendix B, adapted; see the file comment); quarter: as
  * fan_gather. */
-static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, double (*dir)[2], int quarter)
+static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, double (*dir)[2], int quarter, int cross)
 {
     fan F;
     double nj[3];
-    if (!fan_gather(m, iv, v, quarter, &F) || !fit_first(&F, J) || !q2n_ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
+    if (!fan_gather(m, iv, v, quarter, cross, &F) || !fit_first(&F, J) || !q2n_ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
         return 0;
     fit_tangential_second(&F, J);
     for (int k = 0; k < F.n; k++) {
@@ -598,8 +603,8 @@ static int jet_from_sections(const q2n_mesh *m, const double *iv, const q2n_spli
 }
 
 q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
-                              const q2n_spline_class *cls, int sections, ev_vjet *jets, double (*dir)[2],
-                              q2n_error *err)
+                              const q2n_spline_class *cls, int sections, const char *cross, ev_vjet *jets,
+                              double (*dir)[2], q2n_error *err)
 {
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
     char *need = calloc((size_t)m->nv, 1);
@@ -625,7 +630,7 @@ q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const dou
      * else Appendix B */
     for (int v = 0; v < m->nv; v++) {
         if (!need[v] || jets[v].source) continue;
-        if (!(sections && jet_from_sections(m, iv, cls, v, &jets[v], dir)) && !jet_from_fit(m, iv, v, &jets[v], dir, sections)) {
+        if (!(sections && jet_from_sections(m, iv, cls, v, &jets[v], dir)) && !jet_from_fit(m, iv, v, &jets[v], dir, sections, cross && cross[v])) {
             free(need);
             char where[300], of[48];
             q2n_mesh_vertex_where(m, v, where, sizeof where);

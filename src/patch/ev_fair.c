@@ -133,7 +133,7 @@ static void mark_gregory(const fe_build *B, const int *faces, int nf, const fe_c
 
 /* What one construction leaves: its polynomial edges and the solve's fold figures. */
 typedef struct fe_run {
-    int poly_edges, held, folds, shrinks;
+    int poly_edges, border_edges, held, folds, shrinks;
 } fe_run;
 
 /* What every construction of one build starts from: the faces of the list with their side contexts
@@ -175,7 +175,7 @@ static q2n_status construct(fe_build *B, const fe_inputs *in, int poly, const ch
             if (X[i].side[sd].kind == 0) fe_side_smooth(&X[i].side[sd]);
     assign_unknowns(B, vj, nf, NULL, nflat ? flat : NULL);
     B->flat = NULL;
-    if (poly && (st = q2n_ev_fair_poly_gluing(B, faces, nf, X, pin, &R->poly_edges, err))) return st;
+    if (poly && (st = q2n_ev_fair_poly_gluing(B, faces, nf, X, pin, &R->poly_edges, &R->border_edges, err))) return st;
     mark_gregory(B, faces, nf, X, in->CP, in->stats);
     for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
         if (stage == 1) {
@@ -230,6 +230,39 @@ static void state_restore(const fe_state *S, fe_build *B, fe_ctx *X, int nf)
     memcpy(X, S->X, (size_t)nf * sizeof *S->X);
 }
 
+/* Border guard of the G1 polynomial gluing.  Glued flat at a regular patch's corner (border_flat),
+ * the edges from cross-charted vertices give their free ends known slopes, and the twist corrections
+ * those force can shear a face nearby toward a fold — one the near-fold guard below does not see,
+ * since the face's own sides may be smooth: the energy solve passes the shear on.  So the construction
+ * is repeated with those edges' free slopes (border_flat 0, same jets and charts), and the first is
+ * kept only if no face's Jacobian ratio is below EV_POLY_JAC_REL of what the second gives it (R and
+ * the state are then the first's again; else B->border_flat stays 0).  S: scratch state. */
+static q2n_status border_shear(fe_build *B, const fe_inputs *in, fe_run *R, fe_state *S, q2n_error *err)
+{
+    int nf = in->nf, bad = 0;
+    q2n_status st = Q2N_OK;
+    double *rf = malloc(sizeof(double) * (size_t)(nf ? nf : 1));
+    if (!rf || !state_save(S, B, in->X, nf)) { st = Q2N_ERR_NOMEM; goto out; }
+    for (int i = 0; i < nf; i++) rf[i] = q2n_ev_fair_jacobian_ratio(B, i, in->faces[i], &in->X[i], &in->CP[i]);
+    fe_run Rf = *R;
+    B->border_flat = 0;
+    if ((st = construct(B, in, 1, NULL, R, err))) goto out;
+    for (int i = 0; i < nf; i++) {
+        double rb = q2n_ev_fair_jacobian_ratio(B, i, in->faces[i], &in->X[i], &in->CP[i]);
+        if (rf[i] < -0.5 || rb < -0.5) { st = Q2N_ERR_NOMEM; goto out; }
+        bad += rf[i] < EV_POLY_JAC_REL * rb;
+    }
+    if (!bad) {
+        state_restore(S, B, in->X, nf);
+        *R = Rf;
+        B->border_flat = 1;
+        mark_gregory(B, in->faces, nf, in->X, in->CP, in->stats);
+    }
+out:
+    free(rf);
+    return st == Q2N_ERR_NOMEM ? q2n_error_set(err, st, "out of memory (border guard)") : st;
+}
+
 /* Faces whose Jacobian ratio (q2n_ev_fair_jacobian_ratio) the polynomial gluing takes below
  * EV_POLY_JAC_REL of what the smoothsteps give with the same jets and bubbles; their corners are
  * marked in pin (NULL: only counted).  -1 out of memory.  The smoothsteps' ratio is at most 1 (a
@@ -279,13 +312,42 @@ static int near_folds(const fe_build *B, const int *faces, int nf, const fe_ctx 
     return nbad;
 }
 
+/* Free vertices at a region's border (G1 polynomial gluing): interior vertices of valence 4 whose
+ * four faces are all extraordinary and one of whose neighbours is a regular patch's corner.  Charted
+ * with opposite edges exactly opposite (ev_derivatives.c fan_angles), such a vertex has β = 0 at its
+ * end of every edge, and so has that corner (a regular patch's chart continues its grid lines), so
+ * the edge between them can take β constant and α a quadratic flat at the corner: the corner keeps
+ * its regular twist and the derived side is still a quintic (ev_fair_gluing.c).  0 when out of
+ * memory. */
+static char *border_cross(const q2n_mesh *m, const char *unc)
+{
+    char *cross = calloc((size_t)m->nv, 1), *pinned = calloc((size_t)m->nv, 1);
+    if (!cross || !pinned) { free(cross); free(pinned); return NULL; }
+    for (int f = 0; f < m->nf; f++)
+        if (!unc[f])
+            for (int i = 0; i < 4; i++) pinned[m->face_vert[m->face_start[f] + i]] = 1;
+    int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
+    for (int v = 0; v < m->nv; v++) {
+        if (m->vert_boundary[v] || m->valence[v] != 4 || pinned[v]) continue;
+        if (q2n_ev_vertex_fan(m, v, EV_MAXVAL, edges, other, faces) != 4) continue;
+        int all = 1, border = 0;
+        for (int k = 0; k < 4; k++) {
+            all &= faces[k] >= 0 && unc[faces[k]];
+            border |= pinned[other[k]];
+        }
+        cross[v] = all && border;
+    }
+    free(pinned);
+    return cross;
+}
+
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int keep_flat, int poly_gluing, int threads, ev_fair_stats *stats, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
     fe_build B = {0};
     fe_state S0 = {0};
-    char *gpin = NULL;
+    char *gpin = NULL, *cross = NULL;
     B.m = m;
     B.s = s;
     B.iv = iv;
@@ -316,7 +378,12 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     B.unc = unc;
     for (int f = 0; f < m->nf; f++)
         if ((unc[f] = q2n_surface_kind(s, f) == Q2N_PATCH_UNCOVERED)) faces[nf++] = f;
-    if ((st = q2n_ev_vertex_jets(m, s, iv, cls, 0, vj, dir, err))) goto done;
+    if (K == 1 && poly_gluing && !(cross = border_cross(m, unc))) {
+        st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair extraordinary construction)");
+        goto done;
+    }
+    B.cross = cross;
+    if ((st = q2n_ev_vertex_jets(m, s, iv, cls, 0, cross, vj, dir, err))) goto done;
 
     /* jets: initial values (the local estimates; orders 3, 4 zero) and unknowns */
     for (int v = 0; v < m->nv; v++) {
@@ -377,7 +444,9 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     fe_run R = {0};
     const fe_inputs in = {vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat,
                           threads, stats};
+    B.border_flat = cross != NULL;
     if ((st = construct(&B, &in, poly, NULL, &R, err))) goto done;
+    if (R.border_edges > 0 && (st = border_shear(&B, &in, &R, &S0, err))) goto done;
     if (poly && R.poly_edges > 0) {
         if (!(gpin = calloc((size_t)m->nv, 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
         int nbad = near_folds(&B, faces, nf, X, CP, threads, gpin);
@@ -425,6 +494,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
     }
 done:
     free(gpin);
+    free(cross);
     state_free(&S0);
     free(vj);
     free(dir);

@@ -28,7 +28,14 @@
  *     the polynomial gluing above;
  *   - from a free vertex to a pinned one: a cubic α, β, flat at the pinned end, with free slopes
  *     α'(e), β'(e) at the free end (unknowns of the same solve; the first ring of an isolated
- *     extraordinary vertex has more conditions than q's without them); least squares in the fit;
+ *     extraordinary vertex has more conditions than q's without them); least squares in the fit —
+ *     except from a cross-charted vertex (fe_build.cross: opposite edges opposite, so β = 0 there, as
+ *     at the regular corner): then α is the quadratic flat at the corner (q = α there) and β stays
+ *     zero, a quintic χ_G with known slopes at the free end (border_end);
+ *   - where a component's equations then fail, first bumps c s(1 - s) in β along edges whose β
+ *     vanishes at a cross-charted end (one unknown each; γ becomes a quartic that drops its second
+ *     derivative where β vanishes, which enters no corner condition there: bump_ok), then free slopes
+ *     back on one such flat side per round;
  *   - from a free vertex to a boundary vertex of two faces: α and β flat at that end (quadratics
  *     v_v + (v_o - v_v) τ², τ the parameter from the other end), γ the quartic with value and slope
  *     only there (ev_fair_patch.c quartic_taylor), and the derived face's side along the boundary
@@ -88,6 +95,33 @@ static int q_keeps_margin(const fe_side *S, double q)
     return q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1));
 }
 
+/* A derived side from a free vertex charted with opposite edges opposite (fe_build.cross) to a
+ * regular patch's corner (pinned, vpin 2), whose β is the same at both ends (zero at both: at the
+ * corner the regular patch's chart continues its grid lines, at the free vertex the cross chart):
+ * α quadratic flat at the corner (q = α there) and β constant keep the corner's regular twist and
+ * give the free end known slopes.  Returns the free end (0, 1), or -1. */
+static int border_end(const fe_build *B, const fe_side *S, int v0, int v1, const char *vin, const char *vpin)
+{
+    if (!B->cross || !B->border_flat || S->kind != 0 || !S->derived) return -1;
+    if (!(fabs(S->be[1] - S->be[0]) <= EV_POLY_BETA_SAME)) return -1;
+    for (int e = 0; e < 2; e++) {
+        int vf = e ? v1 : v0, vp = e ? v0 : v1;
+        if (vin[vf] && !vpin[vf] && B->cross[vf] && vpin[vp] == 2) return e;
+    }
+    return -1;
+}
+
+/* A derived side between two cross-charted vertices (β zero at both ends, border_end's charts): it may
+ * take a bump c s (1 - s) in β, one more unknown of its component, if its γ becomes the quartic of
+ * ev_fair_patch.c (β γ_t stays a quintic; γ's second derivatives enter no corner condition where β
+ * vanishes). */
+static int bump_ok(const fe_build *B, const fe_side *S, int v0, int v1)
+{
+    if (!B->cross || !B->border_flat || S->kind != 0 || !S->derived) return 0;
+    int z0 = B->cross[v0] && fabs(S->be[0]) <= EV_POLY_BETA_SAME, z1 = B->cross[v1] && fabs(S->be[1]) <= EV_POLY_BETA_SAME;
+    return z0 && z1 ? 1 : z0 ? 2 : z1 ? 3 : 0; /* fe_side.quartic: γ drops its second derivative where β vanishes */
+}
+
 static double row_residual(const pg_row *R, const double *x)
 {
     double r = R->b;
@@ -138,7 +172,7 @@ done:
 }
 
 q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, const char *pin, int *poly_edges,
-                                   q2n_error *err)
+                                   int *border_edges, q2n_error *err)
 {
     const q2n_mesh *m = B->m;
     size_t n4 = 4 * (size_t)(nf > 0 ? nf : 1);
@@ -148,13 +182,18 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     char *vabs = calloc((size_t)m->nv, 1); /* boundary vertices of two faces: their corners absorb the twist */
     char *vfq = calloc((size_t)m->nv, 1);  /* ... and their edges keep a free q instead of flat α, β */
     char *cubic = calloc(n4, 1); /* derived side: α, β cubic with free end slopes instead of poly */
+    char *knoff = calloc(n4, 1); /* derived side that could be flat at a regular corner (border_end) but
+                                    keeps free slopes: its component's equations needed them */
+    double *kq = calloc(n4, sizeof(double)); /* border sides: q (α's value at the regular corner) */
+    char *bumped = calloc(n4, 1); /* derived side between two cross-charted vertices with a bump in β */
+    int *bix = malloc(sizeof(int) * n4), *nbump = calloc((size_t)m->nv, sizeof(int));
     int *rix = malloc(sizeof(int) * n4), *qix = malloc(sizeof(int) * n4), (*six)[2] = malloc(sizeof *six * n4);
     int *comp = malloc(sizeof(int) * (8 * n4 + 1));
     pg_row *R = malloc(sizeof(pg_row) * 2 * n4);
     double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
     q2n_status st = Q2N_OK;
-    *poly_edges = 0;
-    if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !rix || !qix || !six || !comp || !R || !x || !x0) {
+    *poly_edges = *border_edges = 0;
+    if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !bix || !nbump || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
         goto done;
     }
@@ -180,7 +219,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
      * vertices pinned (their edges then cubics with free slopes at the other end); a component that
      * fails otherwise gets the vertex of its largest residual pinned, and is solved again */
     int n = 0, nrow = 0, nr = 0;
-    for (int round = 0; round < 2 + EV_POLY_PIN_ROUNDS; round++) {
+    for (int round = 0, rev = 0; round < 2 + EV_POLY_PIN_ROUNDS; round++) {
         /* components: free vertices joined by constructed edges */
         for (int v = 0; v < m->nv; v++) uf[v] = v;
         for (int i = 0; i < nf; i++)
@@ -204,16 +243,22 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 for (int sd = 0; sd < 4; sd++) {
                     const fe_side *S = &X[i].side[sd];
                     int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
-                    qix[k] = six[k][0] = six[k][1] = -1;
+                    qix[k] = six[k][0] = six[k][1] = bix[k] = -1;
                     if (S->kind != 0 || !S->derived) continue;
                     int fq = (VFREE(v0) && vabs[v1] && vfq[v1]) || (VFREE(v1) && vabs[v0] && vfq[v0]);
                     if (((VFREE(v0) && VFREE(v1)) || fq) && !cubic[k]) {
                         comp[n] = uf_find(uf, VFREE(v0) ? v0 : v1);
                         x0[n] = 0.5 * (S->al[0] + S->al[1]);
                         qix[k] = n++;
+                        if (bumped[k]) comp[n] = comp[n - 1], x0[n] = 0, bix[k] = n++;
                         continue;
                     }
                     if ((VFREE(v0) && vabs[v1]) || (VFREE(v1) && vabs[v0])) continue; /* flat at the absorbing end */
+                    int bf = knoff[k] ? -1 : border_end(B, S, v0, v1, vin, vpin);
+                    if (bf >= 0) { /* flat at the regular corner: known slopes at the free end */
+                        kq[k] = S->al[!bf];
+                        continue;
+                    }
                     for (int e = 0; e < 2; e++) {
                         int v = e ? v1 : v0;
                         if (!VFREE(v)) continue;
@@ -244,9 +289,12 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                             r->ix[0] = iG + j, r->co[0] = 1;
                             r->ix[1] = iF + j, r->co[1] = -a;
                             r->ix[2] = r->ix[3] = -1, r->co[2] = r->co[3] = 0, r->b = 0;
-                            if (qi >= 0) { /* α'(0) = 2(q - α0), α'(1) = 2(α1 - q); β' = β1 - β0 */
+                            if (qi >= 0) { /* α'(0) = 2(q - α0), α'(1) = 2(α1 - q); β' = β1 - β0 (± a bump) */
                                 r->ix[2] = qi, r->co[2] = -2 * ew * w[j];
                                 r->b = -2 * a * ew * w[j] + db * S->d * u[j];
+                                if (bix[k] >= 0) r->ix[3] = bix[k], r->co[3] = (end ? 1 : -1) * S->d * u[j];
+                            } else if (!knoff[k] && border_end(B, S, fv(m, f, S->c0), fv(m, f, S->c1), vin, vpin) == end) {
+                                r->b = 2 * (kq[k] - a) * ew * w[j] + db * S->d * u[j]; /* q = kq known */
                             } else if (si >= 0) { /* the slopes α'(end), β'(end) */
                                 r->ix[2] = si, r->co[2] = -sg * ew * w[j];
                                 r->ix[3] = si + 1, r->co[3] = -S->d * u[j];
@@ -267,6 +315,14 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                     if (qi < 0) continue;
                     if (!q_keeps_margin(&X[i].side[sd], x[qi])) cubic[k] = 1, more = 1;
                 }
+            for (int i = 0; i < nf; i++)
+                for (int sd = 0; sd < 4; sd++) {
+                    const fe_side *S = &X[i].side[sd];
+                    int k = 4 * i + sd;
+                    if (!knoff[k] && border_end(B, S, fv(m, faces[i], S->c0), fv(m, faces[i], S->c1), vin, vpin) >= 0 &&
+                        !q_keeps_margin(S, kq[k]))
+                        knoff[k] = 1, more = 1;
+                }
             if (!more) break;
         }
         /* a component keeps its gluing when all its rows hold and its α's keep their sign */
@@ -277,6 +333,60 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 int qi = qix[4 * i + sd];
                 if (qi >= 0 && !q_keeps_margin(&X[i].side[sd], x[qi])) cbad[comp[qi]] = 1;
             }
+        /* a failed component's sides flat at regular corners get their free slopes back first, one per
+         * round and component: the one whose free vertex lies nearest to the vertex of the component's
+         * largest residual (an even-valence region lacks two unknowns, which one side's slopes give) */
+        int reverted = 0;
+        for (int v = 0; v < m->nv; v++) worst[v] = -1;
+        for (int k = 0; k < nrow; k++) {
+            int c = R[k].comp;
+            if (cbad[c] && (worst[c] < 0 || R[k].res > R[worst[c]].res)) worst[c] = k;
+        }
+        for (int c = 0; c < m->nv; c++) { /* a bump first, while the component has had fewer than EV_POLY_BUMPS */
+            if (worst[c] < 0 || nbump[c] >= EV_POLY_BUMPS) continue;
+            /* at the vertex of the largest residual, the edge whose direction there is nearest the failing
+             * chart component (a bump moves the corner equations along the edge) */
+            int vw = R[worst[c]].v, jw = worst[c] & 1, best = -1; /* rows come in pairs j = 0, 1 */
+            double bd = -1;
+            for (int i = 0; i < nf; i++)
+                for (int sd = 0; sd < 4; sd++) {
+                    const fe_side *S = &X[i].side[sd];
+                    int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
+                    if (bumped[k] || qix[k] < 0 || uf_find(uf, v0) != c || !bump_ok(B, S, v0, v1)) continue;
+                    double al;
+                    if (v0 == vw || v1 == vw) {
+                        const double *u = v0 == vw ? S->u0 : S->u1;
+                        al = 2 + fabs(u[jw]) / hypot(u[0], u[1]);
+                    } else { /* elsewhere in the component: the nearer the better */
+                        const double *pa = q2n_mesh_vpos(m, v0), *pc = q2n_mesh_vpos(m, v1), *pb = q2n_mesh_vpos(m, vw);
+                        double dd = 0;
+                        for (int a3 = 0; a3 < 3; a3++) dd += (0.5 * (pa[a3] + pc[a3]) - pb[a3]) * (0.5 * (pa[a3] + pc[a3]) - pb[a3]);
+                        al = 1 / (1 + dd);
+                    }
+                    if (al > bd) bd = al, best = k;
+                }
+            if (best >= 0) bumped[best] = 1, nbump[c]++, worst[c] = -1, reverted = 1;
+        }
+        for (int c = 0; c < m->nv; c++) {
+            if (worst[c] < 0) continue;
+            int vw = R[worst[c]].v, best = -1;
+            double bd = INFINITY;
+            for (int i = 0; i < nf; i++)
+                for (int sd = 0; sd < 4; sd++) {
+                    const fe_side *S = &X[i].side[sd];
+                    int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
+                    int bf = knoff[k] ? -1 : border_end(B, S, v0, v1, vin, vpin);
+                    if (bf < 0 || uf_find(uf, bf ? v1 : v0) != c) continue;
+                    const double *pa = q2n_mesh_vpos(m, bf ? v1 : v0), *pb = q2n_mesh_vpos(m, vw);
+                    double dd = (pa[0] - pb[0]) * (pa[0] - pb[0]) + (pa[1] - pb[1]) * (pa[1] - pb[1]) + (pa[2] - pb[2]) * (pa[2] - pb[2]);
+                    if (dd < bd) bd = dd, best = k;
+                }
+            if (best >= 0) knoff[best] = 1, reverted = 1;
+        }
+        if (reverted && rev++ < EV_POLY_REVERT_ROUNDS) { /* not a round of the sequence below */
+            round--;
+            continue;
+        }
         /* round 0 failed: the edges at those boundary vertices take a free q (their twists there go to the
          * boundary sides too); round 1 failed: the vertices are pinned */
         int changed = 0;
@@ -310,7 +420,24 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             int f = faces[i], e = m->he_edge[q2n_face_he(m, f, sd)], g = B->base[e], gi = g >= 0 ? fidx[g] : -1;
             if (gi < 0) continue;
             int k = 4 * i + sd, qi = S->derived ? qix[k] : -1;
-            if (qi >= 0 && !cbad[comp[qi]]) S->poly = 1, S->q = x[qi], ++*poly_edges;
+            if (qi >= 0 && !cbad[comp[qi]]) {
+                S->poly = 1, S->q = x[qi], ++*poly_edges;
+                if (bix[k] >= 0) { /* both sides of the edge: the quartic γ (in each side's own direction) */
+                    int qk = bump_ok(B, S, fv(m, f, S->c0), fv(m, f, S->c1));
+                    S->bump = x[bix[k]], S->quartic = qk;
+                    for (int t = 0; t < 4; t++) {
+                        fe_side *Sb = &X[gi].side[t];
+                        if (Sb->kind != 0 || m->he_edge[q2n_face_he(m, g, t)] != e) continue;
+                        int same = fv(m, g, Sb->c0) == fv(m, f, S->c0);
+                        Sb->quartic = qk == 1 || same ? qk : 5 - qk;
+                    }
+                }
+            }
+            if (S->derived && !knoff[k]) {
+                int bf = border_end(B, S, fv(m, f, S->c0), fv(m, f, S->c1), vin, vpin);
+                if (bf >= 0 && !cbad[uf_find(uf, bf ? fv(m, f, S->c1) : fv(m, f, S->c0))])
+                    S->poly = 1, S->q = kq[k], ++*poly_edges, ++*border_edges;
+            }
             int v0 = fv(m, f, S->c0), v1 = fv(m, f, S->c1);
             if (S->derived && ((VFREE(v0) && vabs[v1]) || (VFREE(v1) && vabs[v0])) && !cbad[uf_find(uf, VFREE(v0) ? v0 : v1)]) {
                 int fe = vabs[v1] ? 1 : 0, va = fe ? v1 : v0, ca = fe ? S->c1 : S->c0;
@@ -349,6 +476,11 @@ done:
     free(vabs);
     free(vfq);
     free(cubic);
+    free(knoff);
+    free(kq);
+    free(bumped);
+    free(bix);
+    free(nbump);
     free(rix);
     free(qix);
     free(six);

@@ -35,13 +35,18 @@ typedef struct fe_side {
                             absorb_side[e] has at its end absorb_end[e] (-1: its own) */
     double rc[2][2];     /* twist corrections of the base face's corners at the two ends (chart
                             vectors r: the corner's outgoing twist gains J r; ev_fair_gluing.c) */
+    int quartic;         /* G1, an edge whose β vanishes at one end or both (ev_fair_gluing.c; both sides
+                            of the edge): γ is a quartic with value and slope at both ends and the
+                            second derivative at the end where β does not vanish (1: at neither, both
+                            matched in least squares; 2: at end 1 only; 3: at end 0 only); 0: none */
+    double bump;         /* G1, derived side with a quartic γ: β gains bump s (1 - s) */
 } fe_side;
 
 /* A constructed side with the smoothsteps' gluing: no polynomial gluing, slopes, flat end, borrowed
  * twist or twist corrections (what ev_fair_gluing.c may set). */
 static inline void fe_side_smooth(fe_side *S)
 {
-    S->poly = 0, S->q = 0;
+    S->poly = 0, S->q = 0, S->quartic = 0, S->bump = 0;
     S->flat_end = S->absorb_side[0] = S->absorb_side[1] = -1;
     S->absorb_end[0] = S->absorb_end[1] = 0;
     for (int e = 0; e < 2; e++) S->sl[0][e] = S->sl[1][e] = S->rc[e][0] = S->rc[e][1] = 0;
@@ -51,7 +56,7 @@ static inline void fe_side_smooth(fe_side *S)
 static inline int fe_side_glued(const fe_side *S)
 {
     if (S->kind != 0) return 0;
-    int g = S->poly || S->flat_end >= 0 || S->absorb_side[0] >= 0 || S->absorb_side[1] >= 0;
+    int g = S->poly || S->quartic || S->flat_end >= 0 || S->absorb_side[0] >= 0 || S->absorb_side[1] >= 0;
     for (int e = 0; e < 2; e++) g |= S->sl[0][e] != 0 || S->sl[1][e] != 0 || S->rc[e][0] != 0 || S->rc[e][1] != 0;
     return g;
 }
@@ -112,6 +117,11 @@ typedef struct fe_build {
     const char *flat;           /* per vertex: its fan is flat (fan_flat) and the first solve keeps its
                                    free jet terms in the plane (coupled_solve); NULL: none */
     const double (*flatn)[3];   /* per vertex: the unit normal of a flat fan's plane */
+    const char *cross;          /* G1 polynomial gluing: per vertex, charted with opposite edges opposite
+                                   (border_cross: its edges to regular patches' corners glue exactly);
+                                   NULL: none */
+    int border_flat;            /* ... and those edges are glued flat at the corner (ev_fair_gluing.c
+                                   border_end); 0: they keep free slopes at w */
 } fe_build;
 
 /* ------------------------------------------------------------ ev_fair_patch.c */
@@ -138,10 +148,11 @@ void q2n_ev_fair_eval_free(void *d);
 
 /* G1 patches (K = 1): quadratic α and linear β on the constructed edges between free vertices, and
  * the corners' twist corrections that keep them compatible (the sides' poly, q and rc), wherever a
- * component's equations hold; *poly_edges counts the edges that took it.  pin (per vertex, NULL:
- * none): vertices kept out, as the corners of regular patches are. */
+ * component's equations hold; *poly_edges counts the edges that took it, *border_edges those of
+ * them glued flat at a regular patch's corner (fe_build.border_flat).  pin (per vertex, NULL: none):
+ * vertices kept out, as the corners of regular patches are. */
 q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, const char *pin, int *poly_edges,
-                                   q2n_error *err);
+                                   int *border_edges, q2n_error *err);
 
 /* ------------------------------------------------------------ ev_fair_solve.c */
 

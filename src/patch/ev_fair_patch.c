@@ -112,6 +112,29 @@ static void quartic_taylor(const fe_ends *E, int flat, int e, int W, double *out
     }
 }
 
+/* γ of an edge whose β vanishes at both ends (fe_side.quartic 1): the cubic Hermite interpolant of
+ * the values and slopes at both ends plus k s² (1 - s)², k matching the two ends' second derivatives
+ * in least squares (that of s² (1 - s)² is 2 at both ends), about end e. */
+static void quartic_sym_taylor(const fe_ends *E, int e, int W, double *out)
+{
+    for (int l = 0; l < W; l++) {
+        double p0 = FE_END(E, 0, 0, 0)[l], d0 = FE_END(E, 0, 0, 1)[l], c0 = FE_END(E, 0, 0, 2)[l];
+        double p1 = FE_END(E, 0, 1, 0)[l], d1 = FE_END(E, 0, 1, 1)[l], c1 = FE_END(E, 0, 1, 2)[l];
+        /* cubic Hermite in s: a0 + a1 s + a2 s² + a3 s³ */
+        double a2 = 3 * (p1 - p0) - 2 * d0 - d1, a3 = 2 * (p0 - p1) + d0 + d1;
+        double h0 = 2 * a2, h1 = 2 * a2 + 6 * a3; /* its second derivatives at 0 and 1 */
+        double k = 0.25 * ((c0 - h0) + (c1 - h1));
+        double c[5] = {p0, d0, a2 + k, a3 - 2 * k, k}; /* + k (s² - 2 s³ + s⁴) */
+        for (int q = 0; q < 5; q++) {
+            double o = c[q];
+            if (e)
+                for (int j = q + 1; j < 5; j++) o += q2n_binom[j][q] * c[j];
+            out[(size_t)q * W + l] = o;
+        }
+        out[(size_t)5 * W + l] = 0;
+    }
+}
+
 /* α or β flat at end f (value v_f there, v_o at the other end), about end e: v_f + (v_o - v_f) τ², τ the
  * distance from end f. */
 static void flat_quadratic(double v0, double v1, int f, int e, double *out)
@@ -148,6 +171,8 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
     T->deg[2] = K < 2 ? 0 : S->derived ? 2 * ns + ng - 2 : nx;
     for (int e = 0; e < 2; e++) {
         if (K == 1 && S->flat_end >= 0) quartic_taylor(E, S->flat_end, e, W, FE_TC(T, 0, e, 0));
+        else if (K == 1 && S->quartic == 1) quartic_sym_taylor(E, e, W, FE_TC(T, 0, e, 0));
+        else if (K == 1 && S->quartic >= 2) quartic_taylor(E, S->quartic - 2, e, W, FE_TC(T, 0, e, 0));
         else hermite_taylor(Kc, E, 0, e, W, FE_TC(T, 0, e, 0));
         if (!S->derived) {
             hermite_taylor(Kc - 1, E, 1, e, W, FE_TC(T, 1, e, 0));
@@ -167,7 +192,8 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
             al[1] = e ? 2 * (a1 - q) : 2 * (q - a0);
             al[2] = c2;
             be[0] = e ? S->be[1] : S->be[0];
-            be[1] = S->be[1] - S->be[0];
+            be[1] = S->be[1] - S->be[0] + (e ? -S->bump : S->bump); /* bump s (1 - s): σ - σ² about 0, -σ - σ² about 1 */
+            be[2] = -S->bump;
         } else if (K == 1 && (S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0)) {
             cubic_taylor(S->al[0], S->al[1], S->sl[0][0], S->sl[0][1], e, al);
             cubic_taylor(S->be[0], S->be[1], S->sl[1][0], S->sl[1][1], e, be);

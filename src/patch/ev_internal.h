@@ -70,8 +70,8 @@ typedef struct ev_edge {
  * directions (seed 003 §4.3; the paper's construction), else the fan's own chart like every other
  * vertex without a regular patch (the fair construction). */
 q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
-                              const q2n_spline_class *cls, int sections, ev_vjet *jets, double (*dir)[2],
-                              q2n_error *err);
+                              const q2n_spline_class *cls, int sections, const char *cross, ev_vjet *jets,
+                              double (*dir)[2], q2n_error *err);
 void q2n_ev_jet_d1(const ev_vjet *J, const double u[2], double out[3]);
 void q2n_ev_jet_d2(const ev_vjet *J, const double a[2], const double b[2], double out[3]);
 /* Unit normal of the jet, and its derivative along the 2D direction a (Weingarten map of the

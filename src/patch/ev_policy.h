@@ -131,6 +131,22 @@
  * toward a fold (measured: 0.031 against the smoothsteps' 0.097 on a trapezoid between two valence-3
  * and two valence-5 corners, its bending energy 380 x; the other faces there keep 0.52 of theirs and more). */
 #define EV_POLY_JAC_REL 0.5
+/* A side from a cross-charted free vertex to a regular patch's corner is glued flat at the corner,
+ * and a side between two cross-charted vertices may take a bump in β (ev_fair_gluing.c border_end,
+ * bump_ok), where its β at those ends is within this of zero (chart ratios of order one: both are
+ * zero by construction, up to rounding). */
+#define EV_POLY_BETA_SAME 1e-12
+/* Rounds in which components whose equations fail take, one per round, a bump in β and then give a
+ * side flat at a regular corner its free slopes back (least squares in the fit), before any vertex is
+ * pinned.  Each round solves the gluing again: two rings around a vertex of valence 3-12 and the
+ * shared meshes whose border it makes exact need at most 11; a subdivided shared mesh with many
+ * regions took 60 rounds to end where the border guard (ev_fair.c) then rejected it anyway. */
+#define EV_POLY_REVERT_ROUNDS 16
+/* Bumps per failed component before its flat sides get slopes back: each adds one unknown along its
+ * edge at the vertex of the largest residual.  Two rings around a vertex of valence 3-12 needed at
+ * most 3; a shared mesh's region around adjacent valence-3 and valence-12 vertices is not exact after
+ * 8 and keeps one least-squares edge (docs/extraordinary.md, "Exact at the border"). */
+#define EV_POLY_BUMPS 8
 
 /* Two sides of a corner "agree" when their mixed derivatives differ by less than this fraction of
  * the corner's first- and mixed-derivative scale (rounding of the regular patches' jets); beyond
