@@ -333,9 +333,10 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 int qi = qix[4 * i + sd];
                 if (qi >= 0 && !q_keeps_margin(&X[i].side[sd], x[qi])) cbad[comp[qi]] = 1;
             }
-        /* a failed component's sides flat at regular corners get their free slopes back first, one per
-         * round and component: the one whose free vertex lies nearest to the vertex of the component's
-         * largest residual (an even-valence region lacks two unknowns, which one side's slopes give) */
+        /* a failed component takes, one per round, a bump in β (at most EV_POLY_BUMPS), then gives back
+         * the free slopes of the side flat at a regular corner whose free vertex lies nearest to the vertex
+         * of its largest residual (an even-valence region lacks two unknowns, which one side's slopes
+         * give); only then the round sequence below (free q at boundary vertices, pins) goes on */
         int reverted = 0;
         for (int v = 0; v < m->nv; v++) worst[v] = -1;
         for (int k = 0; k < nrow; k++) {
