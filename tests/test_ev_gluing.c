@@ -186,11 +186,13 @@ static void border_exact(q2n_mesh *m)
     q2n_mesh_free(m);
 }
 
-/* The same on a shared mesh whose regions border regular patches: gismo_octtorus_hole in G1 mode
- * through the model (43 of 54 edges exact before stop 46, G1 4.8e-3 deg). */
-static void border_exact_shared(void)
+/* The same on shared meshes whose regions border regular patches, in G1 mode through the model:
+ * gismo_octtorus_hole (43 of 54 edges exact before stop 46, G1 4.8e-3 deg) and osd_catmark_pawn
+ * (1 140 of 1 164, 8.9e-3 deg; its region around adjacent valence-3 and valence-12 vertices needs 16
+ * bumps). */
+static void border_exact_shared(const char *name)
 {
-    const char *path = chk_shared_mesh("gismo_octtorus_hole.obj");
+    const char *path = chk_shared_mesh(name);
     if (!path) return; /* reported by chk_shared_mesh */
     q2n_model *mp = NULL;
     q2n_model_options o = {0};
@@ -198,16 +200,16 @@ static void border_exact_shared(void)
     o.ev_patch = Q2N_EV_PATCH_G1;
     q2n_error err = {0, ""};
     int ok = q2n_model_build(path, &o, &mp, &err) == Q2N_OK;
-    CHECK(ok, "octtorus_hole: %s", err.message);
+    CHECK(ok, "%s: %s", name, err.message);
     q2n_fit_report r;
     double ang = INFINITY;
     if (ok && fit_g1(mp->mesh, mp->surface, &r, &ang)) {
         int interior = 0;
         for (int e = 0; e < mp->mesh->ne; e++) interior += mp->mesh->he_twin[mp->mesh->edge_he[e]] >= 0;
-        printf("octtorus_hole, G1 patches: %d polynomial edges; fit: %d of %d edges within rounding, G1 %.1e deg (independent %.1e)\n",
+        printf("%s, G1 patches: %d polynomial edges; fit: %d of %d edges within rounding, G1 %.1e deg (independent %.1e)\n", name,
                mp->ev_stats.polynomial_edges, r.g1_rounding_edges, interior, r.g1_max_deg, ang);
         CHECK(r.g1_rounding_edges == interior && r.g1_max_deg <= 1e-6 && ang <= 1e-6,
-              "octtorus_hole: %d of %d edges within rounding, G1 %.3g deg (independent %.3g)", r.g1_rounding_edges, interior,
+              "%s: %d of %d edges within rounding, G1 %.3g deg (independent %.3g)", name, r.g1_rounding_edges, interior,
               r.g1_max_deg, ang);
     }
     q2n_model_free(mp);
@@ -347,14 +349,16 @@ int main(void)
      * third ring of regular patches around it: the spokes and the first ring's edges, 3 x 7 */
     partly_polynomial(mg_polar_star(7, 3, 1), 21);
     partly_polynomial(mg_polar_star(5, 3, 4), 15);
-    /* two rings around a vertex of valence 3, 4, 5, 7, 12 and a third and fourth of regular patches:
-     * exactly G1 through the border (three of them need bumps in β) */
+    /* two rings around a vertex of valence 3, 4, 5, 7, 8, 12 and a third and fourth of regular patches:
+     * exactly G1 through the border (some need bumps in β: the valence-8 one nine) */
     border_exact(mg_polar_star(3, 4, 1));
     border_exact(mg_polar_star(4, 4, 1.5));
     border_exact(mg_polar_star(5, 4, 1));
     border_exact(mg_polar_star(7, 4, 1.5));
+    border_exact(mg_polar_star(8, 4, 1));
     border_exact(mg_polar_star(12, 4, 1));
-    border_exact_shared();
+    border_exact_shared("gismo_octtorus_hole.obj");
+    border_exact_shared("osd_catmark_pawn.obj");
     fold_fallback();
     pinned_cycles(mg_torus(8, 6, 3, 1, 0, 1, 1));
     pinned_cycles(mg_torus(10, 8, 3, 1, 0.15, 1, 7));

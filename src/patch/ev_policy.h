@@ -138,15 +138,13 @@
 #define EV_POLY_BETA_SAME 1e-12
 /* Rounds in which components whose equations fail take, one per round, a bump in β and then give a
  * side flat at a regular corner its free slopes back (least squares in the fit), before any vertex is
- * pinned.  Each round solves the gluing again: two rings around a vertex of valence 3-12 and the
- * shared meshes whose border it makes exact need at most 11; a subdivided shared mesh with many
- * regions took 60 rounds to end where the border guard (ev_fair.c) then rejected it anyway. */
-#define EV_POLY_REVERT_ROUNDS 16
-/* Bumps per failed component before its flat sides get slopes back: each adds one unknown along its
- * edge at the vertex of the largest residual.  Two rings around a vertex of valence 3-12 needed at
- * most 3; a shared mesh's region around adjacent valence-3 and valence-12 vertices is not exact after
- * 8 and keeps one least-squares edge (docs/extraordinary.md, "Exact at the border"). */
-#define EV_POLY_BUMPS 8
+ * pinned; and bumps per component.  Both are cost bounds, not tuning: each round solves the gluing
+ * again.  The regions measured at stop 46 (docs/extraordinary.md, "Exact at the border": two rings
+ * around vertices of valence 3-12, the shared meshes) that became exact needed at most 16 bumps, one
+ * per round; a subdivided shared mesh with many regions went on failing for 60 rounds, and the border
+ * guard (ev_fair.c) then kept the old gluing there anyway. */
+#define EV_POLY_REVERT_ROUNDS 24
+#define EV_POLY_BUMPS 24
 
 /* Two sides of a corner "agree" when their mixed derivatives differ by less than this fraction of
  * the corner's first- and mixed-derivative scale (rounding of the regular patches' jets); beyond
