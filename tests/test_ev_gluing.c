@@ -68,6 +68,14 @@ static double sixth_difference(const q2n_surface *s, int k)
     return worst;
 }
 
+/* Edges of m with a face on both sides. */
+static int interior_edges(const q2n_mesh *m)
+{
+    int n = 0;
+    for (int e = 0; e < m->ne; e++) n += m->he_twin[m->edge_he[e]] >= 0;
+    return n;
+}
+
 /* The G1 fit of s: its report and the independent largest normal jump (degrees). */
 static int fit_g1(const q2n_mesh *m, const q2n_surface *s, q2n_fit_report *r, double *ang)
 {
@@ -103,8 +111,7 @@ static void all_polynomial(q2n_mesh *m)
         if (ok)
             printf("   fit G1: spans max %d, max_dev %.1e, G1 %.1e deg (independent %.1e); smoothsteps: spans max %d, G1 %.1e deg\n",
                    r.spans_max, r.max_dev_rel, r.g1_max_deg, ang, r0.spans_max, r0.g1_max_deg);
-        int interior = 0;
-        for (int e = 0; e < m->ne; e++) interior += m->he_twin[m->edge_he[e]] >= 0;
+        int interior = interior_edges(m);
         CHECK(st.polynomial_edges == interior && interior > 0, "%s: %d of %d interior edges polynomial", m->name,
               st.polynomial_edges, interior);
         CHECK(st.gregory_corners == 0, "%s: %d Gregory corners (mismatch %.3g)", m->name, st.gregory_corners, st.corner_mismatch_max);
@@ -165,8 +172,7 @@ static void border_exact(q2n_mesh *m)
         q2n_fit_report r, r0;
         double ang = INFINITY, ang0 = INFINITY;
         int ok = fit_g1(m, s, &r, &ang) && fit_g1(m, s0, &r0, &ang0);
-        int interior = 0;
-        for (int e = 0; e < m->ne; e++) interior += m->he_twin[m->edge_he[e]] >= 0;
+        int interior = interior_edges(m);
         printf("%-40s edges %3d polynomial %3d  gregory corners %d", m->name, st.edges, st.polynomial_edges, st.gregory_corners);
         if (ok)
             printf("  fit: %d of %d edges within rounding, G1 %.1e deg (independent %.1e); smoothsteps %d, %.1e deg", r.g1_rounding_edges,
@@ -204,8 +210,7 @@ static void border_exact_shared(const char *name)
     q2n_fit_report r;
     double ang = INFINITY;
     if (ok && fit_g1(mp->mesh, mp->surface, &r, &ang)) {
-        int interior = 0;
-        for (int e = 0; e < mp->mesh->ne; e++) interior += mp->mesh->he_twin[mp->mesh->edge_he[e]] >= 0;
+        int interior = interior_edges(mp->mesh);
         printf("%s, G1 patches: %d polynomial edges; fit: %d of %d edges within rounding, G1 %.1e deg (independent %.1e)\n", name,
                mp->ev_stats.polynomial_edges, r.g1_rounding_edges, interior, r.g1_max_deg, ang);
         CHECK(r.g1_rounding_edges == interior && r.g1_max_deg <= 1e-6 && ang <= 1e-6,

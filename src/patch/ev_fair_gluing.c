@@ -60,6 +60,7 @@
 #include <string.h>
 
 #include "core/sparse.h"
+#include "core/vec3.h"
 #include "patch/ev_fair_internal.h"
 #include "patch/ev_policy.h"
 
@@ -187,13 +188,16 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     double *kq = calloc(n4, sizeof(double)); /* border sides: q (α's value at the regular corner) */
     char *bumped = calloc(n4, 1); /* derived side between two cross-charted vertices with a bump in β */
     int *bix = malloc(sizeof(int) * n4), *nbump = calloc((size_t)m->nv, sizeof(int));
+    int *bend = malloc(sizeof(int) * n4);                 /* this pass's border_end of each side */
+    int *best = malloc(sizeof(int) * (size_t)m->nv);      /* per failed component: its chosen side */
+    double *score = malloc(sizeof(double) * (size_t)m->nv);
     int *rix = malloc(sizeof(int) * n4), *qix = malloc(sizeof(int) * n4), (*six)[2] = malloc(sizeof *six * n4);
     int *comp = malloc(sizeof(int) * (8 * n4 + 1));
     pg_row *R = malloc(sizeof(pg_row) * 2 * n4);
     double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
     q2n_status st = Q2N_OK;
     *poly_edges = *border_edges = 0;
-    if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !bix || !nbump || !rix || !qix || !six || !comp || !R || !x || !x0) {
+    if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !bix || !nbump || !bend || !best || !score || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
         goto done;
     }
@@ -243,7 +247,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 for (int sd = 0; sd < 4; sd++) {
                     const fe_side *S = &X[i].side[sd];
                     int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
-                    qix[k] = six[k][0] = six[k][1] = bix[k] = -1;
+                    qix[k] = six[k][0] = six[k][1] = bix[k] = bend[k] = -1;
                     if (S->kind != 0 || !S->derived) continue;
                     int fq = (VFREE(v0) && vabs[v1] && vfq[v1]) || (VFREE(v1) && vabs[v0] && vfq[v0]);
                     if (((VFREE(v0) && VFREE(v1)) || fq) && !cubic[k]) {
@@ -254,9 +258,8 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                         continue;
                     }
                     if ((VFREE(v0) && vabs[v1]) || (VFREE(v1) && vabs[v0])) continue; /* flat at the absorbing end */
-                    int bf = knoff[k] ? -1 : border_end(B, S, v0, v1, vin, vpin);
-                    if (bf >= 0) { /* flat at the regular corner: known slopes at the free end */
-                        kq[k] = S->al[!bf];
+                    if (!knoff[k] && (bend[k] = border_end(B, S, v0, v1, vin, vpin)) >= 0) {
+                        kq[k] = S->al[!bend[k]]; /* flat at the regular corner: known slopes at the free end */
                         continue;
                     }
                     for (int e = 0; e < 2; e++) {
@@ -293,7 +296,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                                 r->ix[2] = qi, r->co[2] = -2 * ew * w[j];
                                 r->b = -2 * a * ew * w[j] + db * S->d * u[j];
                                 if (bix[k] >= 0) r->ix[3] = bix[k], r->co[3] = (end ? 1 : -1) * S->d * u[j];
-                            } else if (!knoff[k] && border_end(B, S, fv(m, f, S->c0), fv(m, f, S->c1), vin, vpin) == end) {
+                            } else if (bend[k] == end) {
                                 r->b = 2 * (kq[k] - a) * ew * w[j] + db * S->d * u[j]; /* q = kq known */
                             } else if (si >= 0) { /* the slopes α'(end), β'(end) */
                                 r->ix[2] = si, r->co[2] = -sg * ew * w[j];
@@ -315,14 +318,8 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                     if (qi < 0) continue;
                     if (!q_keeps_margin(&X[i].side[sd], x[qi])) cubic[k] = 1, more = 1;
                 }
-            for (int i = 0; i < nf; i++)
-                for (int sd = 0; sd < 4; sd++) {
-                    const fe_side *S = &X[i].side[sd];
-                    int k = 4 * i + sd;
-                    if (!knoff[k] && border_end(B, S, fv(m, faces[i], S->c0), fv(m, faces[i], S->c1), vin, vpin) >= 0 &&
-                        !q_keeps_margin(S, kq[k]))
-                        knoff[k] = 1, more = 1;
-                }
+            for (int k = 0; k < 4 * nf; k++)
+                if (bend[k] >= 0 && !q_keeps_margin(&X[k / 4].side[k % 4], kq[k])) knoff[k] = 1, more = 1;
             if (!more) break;
         }
         /* a component keeps its gluing when all its rows hold and its α's keep their sign */
@@ -343,47 +340,45 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             int c = R[k].comp;
             if (cbad[c] && (worst[c] < 0 || R[k].res > R[worst[c]].res)) worst[c] = k;
         }
-        for (int c = 0; c < m->nv; c++) { /* a bump first, while the component has had fewer than EV_POLY_BUMPS */
-            if (worst[c] < 0 || nbump[c] >= EV_POLY_BUMPS) continue;
-            /* at the vertex of the largest residual, the edge whose direction there is nearest the failing
-             * chart component (a bump moves the corner equations along the edge) */
-            int vw = R[worst[c]].v, jw = worst[c] & 1, best = -1; /* rows come in pairs j = 0, 1 */
-            double bd = -1;
-            for (int i = 0; i < nf; i++)
-                for (int sd = 0; sd < 4; sd++) {
-                    const fe_side *S = &X[i].side[sd];
-                    int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
-                    if (bumped[k] || qix[k] < 0 || uf_find(uf, v0) != c || !bump_ok(B, S, v0, v1)) continue;
-                    double al;
-                    if (v0 == vw || v1 == vw) {
-                        const double *u = v0 == vw ? S->u0 : S->u1;
-                        al = 2 + fabs(u[jw]) / hypot(u[0], u[1]);
-                    } else { /* elsewhere in the component: the nearer the better */
-                        const double *pa = q2n_mesh_vpos(m, v0), *pc = q2n_mesh_vpos(m, v1), *pb = q2n_mesh_vpos(m, vw);
-                        double dd = 0;
-                        for (int a3 = 0; a3 < 3; a3++) dd += (0.5 * (pa[a3] + pc[a3]) - pb[a3]) * (0.5 * (pa[a3] + pc[a3]) - pb[a3]);
-                        al = 1 / (1 + dd);
-                    }
-                    if (al > bd) bd = al, best = k;
-                }
-            if (best >= 0) bumped[best] = 1, nbump[c]++, worst[c] = -1, reverted = 1;
+        /* one pass over the sides, the best candidate per failed component: a bump first (at the vertex
+         * of the largest residual the edge whose direction there is nearest the failing chart component,
+         * since a bump moves the corner equations along its edge; else the nearest edge), while the
+         * component has had fewer than EV_POLY_BUMPS; else a flat side's slopes back (its free vertex
+         * nearest that vertex).  Rows come in pairs j = 0, 1: the worst row's parity is its component. */
+        for (int c = 0; c < m->nv; c++) best[c] = -1, score[c] = -1;
+        for (int k = 0; k < 4 * nf; k++) {
+            const fe_side *S = &X[k / 4].side[k % 4];
+            int v0 = fv(m, faces[k / 4], S->c0), v1 = fv(m, faces[k / 4], S->c1), c = uf_find(uf, v0);
+            if (worst[c] < 0 || nbump[c] >= EV_POLY_BUMPS || bumped[k] || qix[k] < 0 || !bump_ok(B, S, v0, v1)) continue;
+            int vw = R[worst[c]].v;
+            double sc;
+            if (v0 == vw || v1 == vw) {
+                const double *u = v0 == vw ? S->u0 : S->u1;
+                sc = 2 + fabs(u[worst[c] & 1]) / hypot(u[0], u[1]);
+            } else {
+                double mid[3], d[3];
+                q2n_v3_add(mid, q2n_mesh_vpos(m, v0), q2n_mesh_vpos(m, v1));
+                q2n_v3_scale(mid, 0.5, mid);
+                q2n_v3_sub(d, mid, q2n_mesh_vpos(m, vw));
+                sc = 1 / (1 + q2n_v3_dot(d, d));
+            }
+            if (sc > score[c]) score[c] = sc, best[c] = k;
         }
-        for (int c = 0; c < m->nv; c++) {
+        for (int c = 0; c < m->nv; c++)
+            if (best[c] >= 0) bumped[best[c]] = 1, nbump[c]++, worst[c] = -1, reverted = 1;
+        for (int c = 0; c < m->nv; c++) best[c] = -1, score[c] = INFINITY;
+        for (int k = 0; k < 4 * nf; k++) {
+            if (bend[k] < 0 || knoff[k]) continue;
+            const fe_side *S = &X[k / 4].side[k % 4];
+            int vf = fv(m, faces[k / 4], bend[k] ? S->c1 : S->c0), c = uf_find(uf, vf);
             if (worst[c] < 0) continue;
-            int vw = R[worst[c]].v, best = -1;
-            double bd = INFINITY;
-            for (int i = 0; i < nf; i++)
-                for (int sd = 0; sd < 4; sd++) {
-                    const fe_side *S = &X[i].side[sd];
-                    int k = 4 * i + sd, v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
-                    int bf = knoff[k] ? -1 : border_end(B, S, v0, v1, vin, vpin);
-                    if (bf < 0 || uf_find(uf, bf ? v1 : v0) != c) continue;
-                    const double *pa = q2n_mesh_vpos(m, bf ? v1 : v0), *pb = q2n_mesh_vpos(m, vw);
-                    double dd = (pa[0] - pb[0]) * (pa[0] - pb[0]) + (pa[1] - pb[1]) * (pa[1] - pb[1]) + (pa[2] - pb[2]) * (pa[2] - pb[2]);
-                    if (dd < bd) bd = dd, best = k;
-                }
-            if (best >= 0) knoff[best] = 1, reverted = 1;
+            double d[3];
+            q2n_v3_sub(d, q2n_mesh_vpos(m, vf), q2n_mesh_vpos(m, R[worst[c]].v));
+            double sc = q2n_v3_dot(d, d);
+            if (sc < score[c]) score[c] = sc, best[c] = k;
         }
+        for (int c = 0; c < m->nv; c++)
+            if (best[c] >= 0) knoff[best[c]] = 1, reverted = 1;
         if (reverted && rev++ < EV_POLY_REVERT_ROUNDS) { /* not a round of the sequence below */
             round--;
             continue;
@@ -482,6 +477,9 @@ done:
     free(bumped);
     free(bix);
     free(nbump);
+    free(bend);
+    free(best);
+    free(score);
     free(rix);
     free(qix);
     free(six);
