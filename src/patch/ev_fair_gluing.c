@@ -50,7 +50,7 @@
  * The corrections, q's and slopes are solved per connected set of free vertices (a component: the
  * equations of different components share no unknown) as the least change from r = 0, q at the
  * chord's middle (α linear) and zero slopes, under the equations as constraints (a quadratic penalty
- * with iterative refinement, CHOLMOD).  An edge whose q misses the sign of α's ends or a margin (its
+ * with iterative refinement, CHOLMOD).  An edge whose q misses the sign of α's ends (its
  * Bernstein coefficients of one sign keep α from vanishing, and a vanishing α folds the derived face)
  * becomes a free-slope cubic and the solve is repeated; a component whose equations fail is solved
  * again as above (free q at two-face boundary vertices, then those pinned); what still fails keeps the
@@ -88,12 +88,16 @@ static int uf_find(int *p, int a)
     return a;
 }
 
-/* Does the quadratic α of side S with middle coefficient q keep the sign of its ends, by at least
- * EV_POLY_Q_MARGIN of the smaller end (then |α| stays above that fraction along the edge)? */
-static int q_keeps_margin(const fe_side *S, double q)
+/* Does the quadratic α of side S with middle Bernstein coefficient q keep away from zero: q of the
+ * sign of both ends?  Then, with a0, a1, q > 0 after a sign flip, the minimum of
+ * α(s) = a0 (1-s)² + 2q s(1-s) + a1 s² is an end's or (a0 a1 - q²) / (a0 - 2q + a1) at the interior
+ * extremum, in both cases at least a0 a1 / (a0 + a1), half the smaller end or more: a vanishing α
+ * would fold the derived face.  Until stop 47 |q| had to be a quarter of the smaller end as well;
+ * that refused profiles that never come below half of it (docs/extraordinary.md, "The sign of q"). */
+static int q_keeps_sign(const fe_side *S, double q)
 {
     double a0 = S->al[0], a1 = S->al[1];
-    return q * a0 > 0 && fabs(q) >= EV_POLY_Q_MARGIN * fmin(fabs(a0), fabs(a1));
+    return a0 * a1 > 0 && q * a0 > 0;
 }
 
 /* A derived side from a free vertex charted with opposite edges opposite (fe_build.cross) to a
@@ -316,10 +320,10 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 for (int sd = 0; sd < 4; sd++) {
                     int k = 4 * i + sd, qi = qix[k];
                     if (qi < 0) continue;
-                    if (!q_keeps_margin(&X[i].side[sd], x[qi])) cubic[k] = 1, more = 1;
+                    if (!q_keeps_sign(&X[i].side[sd], x[qi])) cubic[k] = 1, more = 1;
                 }
             for (int k = 0; k < 4 * nf; k++)
-                if (bend[k] >= 0 && !q_keeps_margin(&X[k / 4].side[k % 4], kq[k])) knoff[k] = 1, more = 1;
+                if (bend[k] >= 0 && !q_keeps_sign(&X[k / 4].side[k % 4], kq[k])) knoff[k] = 1, more = 1;
             if (!more) break;
         }
         /* a component keeps its gluing when all its rows hold and its α's keep their sign */
@@ -328,7 +332,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
         for (int i = 0; i < nf; i++)
             for (int sd = 0; sd < 4; sd++) {
                 int qi = qix[4 * i + sd];
-                if (qi >= 0 && !q_keeps_margin(&X[i].side[sd], x[qi])) cbad[comp[qi]] = 1;
+                if (qi >= 0 && !q_keeps_sign(&X[i].side[sd], x[qi])) cbad[comp[qi]] = 1;
             }
         /* a failed component takes, one per round, a bump in β (at most EV_POLY_BUMPS), then gives back
          * the free slopes of the side flat at a regular corner whose free vertex lies nearest to the vertex

@@ -94,13 +94,12 @@
  * change nothing).  A component keeps the gluing when every row holds to EV_POLY_RESIDUAL (chart
  * units of order one: what the refinement leaves is 1e-16 where the equations are consistent,
  * 1e-4 and more where they are not) and every quadratic α's middle Bernstein coefficient has the
- * sign of its ends and at least EV_POLY_Q_MARGIN of the smaller end's size: then |α| stays above
- * that fraction along the edge (a convex combination of the three), where an α through zero folds
- * the derived face over (measured: a shared box-like mesh's q of the wrong sign, |α| 0.03). */
+ * sign of its ends: then |α| stays above half the smaller end along the edge (ev_fair_gluing.c
+ * q_keeps_sign; no constant), where an α through zero folds the derived face over (measured: a
+ * shared box-like mesh's q of the wrong sign, |α| 0.03). */
 #define EV_POLY_PENALTY 1e5
 #define EV_POLY_REFINE 4
 #define EV_POLY_RESIDUAL 1e-12
-#define EV_POLY_Q_MARGIN 0.25
 /* Passes of the gluing solve: an edge whose q misses that margin keeps a cubic α, β with free end
  * slopes (least squares in the fit) and its component is solved again; the shared meshes need at most
  * three. */
