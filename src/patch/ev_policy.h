@@ -100,7 +100,7 @@
 #define EV_POLY_PENALTY 1e5
 #define EV_POLY_REFINE 4
 #define EV_POLY_RESIDUAL 1e-12
-/* Passes of the gluing solve: an edge whose q misses that margin keeps a cubic α, β with free end
+/* Passes of the gluing solve: an edge whose q misses its ends' sign keeps a cubic α, β with free end
  * slopes (least squares in the fit) and its component is solved again; the shared meshes need at most
  * three. */
 #define EV_POLY_PASSES 6
