@@ -92,44 +92,66 @@ static int fit_g1(const q2n_mesh *m, const q2n_surface *s, q2n_fit_report *r, do
     return ok;
 }
 
+/* m built with the polynomial gluing (s, st) and with the smoothsteps (s0, st0), both fitted G1
+ * (ok: both built and fitted). */
+typedef struct both_run {
+    ev_fair_stats st, st0;
+    q2n_surface *s, *s0;
+    q2n_fit_report r, r0;
+    double ang, ang0;
+    int ok;
+} both_run;
+
+static int build_both(q2n_mesh *m, both_run *b)
+{
+    memset(b, 0, sizeof *b);
+    b->ang = b->ang0 = INFINITY;
+    b->s = build(m, 1, &b->st), b->s0 = build(m, 0, &b->st0);
+    if (!b->s || !b->s0) return 0;
+    b->ok = fit_g1(m, b->s, &b->r, &b->ang) && fit_g1(m, b->s0, &b->r0, &b->ang0);
+    return 1;
+}
+
+static void both_free(both_run *b)
+{
+    q2n_surface_free(b->s);
+    q2n_surface_free(b->s0);
+}
+
 /* Every interior edge of m, all of whose faces are extraordinary, is glued by polynomials: the patches
  * are bi-quintic, the fit exact. */
 static void all_polynomial(q2n_mesh *m)
 {
     CHECK(m != NULL, "generator");
     if (!m) return;
-    ev_fair_stats st = {0}, st0 = {0};
-    q2n_surface *s = build(m, 1, &st), *s0 = build(m, 0, &st0);
-    if (s && s0) {
+    both_run b;
+    if (build_both(m, &b)) {
         double d6 = 0, d60 = 0;
-        for (int k = 0; k < m->nf; k++) d6 = fmax(d6, sixth_difference(s, k)), d60 = fmax(d60, sixth_difference(s0, k));
-        q2n_fit_report r, r0;
-        double ang = INFINITY, ang0 = INFINITY;
-        int ok = fit_g1(m, s, &r, &ang) && fit_g1(m, s0, &r0, &ang0);
-        printf("%-40s edges %3d polynomial %3d  gregory corners %d  6th differences %.1e (smoothsteps %.1e)\n", m->name, st.edges,
-               st.polynomial_edges, st.gregory_corners, d6, d60);
-        if (ok)
+        for (int k = 0; k < m->nf; k++) d6 = fmax(d6, sixth_difference(b.s, k)), d60 = fmax(d60, sixth_difference(b.s0, k));
+        printf("%-40s edges %3d polynomial %3d  gregory corners %d  6th differences %.1e (smoothsteps %.1e)\n", m->name, b.st.edges,
+               b.st.polynomial_edges, b.st.gregory_corners, d6, d60);
+        if (b.ok)
             printf("   fit G1: spans max %d, max_dev %.1e, G1 %.1e deg (independent %.1e); smoothsteps: spans max %d, G1 %.1e deg\n",
-                   r.spans_max, r.max_dev_rel, r.g1_max_deg, ang, r0.spans_max, r0.g1_max_deg);
+                   b.r.spans_max, b.r.max_dev_rel, b.r.g1_max_deg, b.ang, b.r0.spans_max, b.r0.g1_max_deg);
         int interior = interior_edges(m);
-        CHECK(st.polynomial_edges == interior && interior > 0, "%s: %d of %d interior edges polynomial", m->name,
-              st.polynomial_edges, interior);
-        CHECK(st.gregory_corners == 0, "%s: %d Gregory corners (mismatch %.3g)", m->name, st.gregory_corners, st.corner_mismatch_max);
+        CHECK(b.st.polynomial_edges == interior && interior > 0, "%s: %d of %d interior edges polynomial", m->name,
+              b.st.polynomial_edges, interior);
+        CHECK(b.st.gregory_corners == 0, "%s: %d Gregory corners (mismatch %.3g)", m->name, b.st.gregory_corners,
+              b.st.corner_mismatch_max);
         CHECK(d6 <= 1e-9, "%s: sixth differences %.3g: not bi-quintic", m->name, d6);
         CHECK(d60 >= 1e-7, "%s: the smoothsteps' patches pass the degree check too (%.3g): the check cannot fail", m->name, d60);
-        if (ok) {
-            CHECK(r.spans_max == 1, "%s: %d spans in a patch, expected one", m->name, r.spans_max);
-            CHECK(r.max_dev_rel <= 1e-12, "%s: max_dev %.3g", m->name, r.max_dev_rel);
-            CHECK(r.g1_max_deg <= 1e-6 && ang <= 1e-6, "%s: G1 %.3g deg (independent %.3g)", m->name, r.g1_max_deg, ang);
-            CHECK(r.g1_rounding_edges == interior && r0.g1_rounding_edges < interior,
-                  "%s: the report counts %d of %d edges within rounding (smoothsteps %d)", m->name, r.g1_rounding_edges, interior,
-                  r0.g1_rounding_edges);
-            CHECK(r0.g1_max_deg > 1e-6 && r0.spans_max > 1, "%s: the smoothsteps' fit is exact too (G1 %.3g deg, %d spans)",
-                  m->name, r0.g1_max_deg, r0.spans_max);
+        if (b.ok) {
+            CHECK(b.r.spans_max == 1, "%s: %d spans in a patch, expected one", m->name, b.r.spans_max);
+            CHECK(b.r.max_dev_rel <= 1e-12, "%s: max_dev %.3g", m->name, b.r.max_dev_rel);
+            CHECK(b.r.g1_max_deg <= 1e-6 && b.ang <= 1e-6, "%s: G1 %.3g deg (independent %.3g)", m->name, b.r.g1_max_deg, b.ang);
+            CHECK(b.r.g1_rounding_edges == interior && b.r0.g1_rounding_edges < interior,
+                  "%s: the report counts %d of %d edges within rounding (smoothsteps %d)", m->name, b.r.g1_rounding_edges, interior,
+                  b.r0.g1_rounding_edges);
+            CHECK(b.r0.g1_max_deg > 1e-6 && b.r0.spans_max > 1, "%s: the smoothsteps' fit is exact too (G1 %.3g deg, %d spans)",
+                  m->name, b.r0.g1_max_deg, b.r0.spans_max);
         }
     }
-    q2n_surface_free(s);
-    q2n_surface_free(s0);
+    both_free(&b);
     q2n_mesh_free(m);
 }
 
@@ -166,37 +188,33 @@ static void border_exact(q2n_mesh *m)
 {
     CHECK(m != NULL, "generator");
     if (!m) return;
-    ev_fair_stats st = {0}, st0 = {0};
-    q2n_surface *s = build(m, 1, &st), *s0 = build(m, 0, &st0);
-    if (s && s0) {
-        q2n_fit_report r, r0;
-        double ang = INFINITY, ang0 = INFINITY;
-        int ok = fit_g1(m, s, &r, &ang) && fit_g1(m, s0, &r0, &ang0);
+    both_run b;
+    if (build_both(m, &b)) {
         int interior = interior_edges(m);
-        printf("%-40s edges %3d polynomial %3d  gregory corners %d", m->name, st.edges, st.polynomial_edges, st.gregory_corners);
-        if (ok)
-            printf("  fit: %d of %d edges within rounding, G1 %.1e deg (independent %.1e); smoothsteps %d, %.1e deg", r.g1_rounding_edges,
-                   interior, r.g1_max_deg, ang, r0.g1_rounding_edges, r0.g1_max_deg);
+        printf("%-40s edges %3d polynomial %3d  gregory corners %d", m->name, b.st.edges, b.st.polynomial_edges, b.st.gregory_corners);
+        if (b.ok)
+            printf("  fit: %d of %d edges within rounding, G1 %.1e deg (independent %.1e); smoothsteps %d, %.1e deg",
+                   b.r.g1_rounding_edges, interior, b.r.g1_max_deg, b.ang, b.r0.g1_rounding_edges, b.r0.g1_max_deg);
         printf("\n");
-        CHECK(st.gregory_corners == 0, "%s: %d Gregory corners (mismatch %.3g)", m->name, st.gregory_corners, st.corner_mismatch_max);
-        if (ok) {
-            CHECK(r.g1_rounding_edges == interior && r.g1_max_deg <= 1e-6 && ang <= 1e-6,
-                  "%s: %d of %d edges within rounding, G1 %.3g deg (independent %.3g)", m->name, r.g1_rounding_edges, interior,
-                  r.g1_max_deg, ang);
-            CHECK(r0.g1_rounding_edges < interior && r0.g1_max_deg > 1e-6, "%s: the smoothsteps' fit is exact too (%d edges, %.3g deg)",
-                  m->name, r0.g1_rounding_edges, r0.g1_max_deg);
+        CHECK(b.st.gregory_corners == 0, "%s: %d Gregory corners (mismatch %.3g)", m->name, b.st.gregory_corners,
+              b.st.corner_mismatch_max);
+        if (b.ok) {
+            CHECK(b.r.g1_rounding_edges == interior && b.r.g1_max_deg <= 1e-6 && b.ang <= 1e-6,
+                  "%s: %d of %d edges within rounding, G1 %.3g deg (independent %.3g)", m->name, b.r.g1_rounding_edges, interior,
+                  b.r.g1_max_deg, b.ang);
+            CHECK(b.r0.g1_rounding_edges < interior && b.r0.g1_max_deg > 1e-6,
+                  "%s: the smoothsteps' fit is exact too (%d edges, %.3g deg)", m->name, b.r0.g1_rounding_edges, b.r0.g1_max_deg);
         }
     }
-    q2n_surface_free(s);
-    q2n_surface_free(s0);
+    both_free(&b);
     q2n_mesh_free(m);
 }
 
 /* The same on shared meshes whose regions border regular patches, in G1 mode through the model:
  * gismo_octtorus_hole (43 of 54 edges exact before stop 46, G1 4.8e-3 deg) and osd_catmark_pawn
  * (1 140 of 1 164, 8.9e-3 deg; its region around adjacent valence-3 and valence-12 vertices needs 16
- * bumps); osd_catmark_helmet (98 of 103 before stop 47, 7.9e-3 deg: five edges whose |α| stays above the
- * margin along the edge but whose q the margin's old convex-hull test refused, ev_fair_gluing.c
+ * bumps); osd_catmark_helmet (98 of 103 before stop 47, 7.9e-3 deg: five edges whose q had its ends' sign
+ * but less than the quarter of the smaller end the old rule also asked for, ev_fair_gluing.c
  * q_keeps_sign). */
 static void border_exact_shared(const char *name)
 {

@@ -202,18 +202,21 @@ static q2n_status construct(fe_build *B, const fe_inputs *in, int poly, const ch
     return Q2N_OK;
 }
 
-/* A construction's state: the jets, bubbles and side contexts (their gluing). */
+/* A construction's state: the jets, bubbles and side contexts (their gluing), and what it left. */
 typedef struct fe_state {
     double (*jet)[EV_JS][3];
     double (*bub)[CP_NBUB][3];
     fe_ctx *X;
+    fe_run run;
 } fe_state;
 
 static void state_free(fe_state *S) { free(S->jet), free(S->bub), free(S->X); }
-/* Save B's state into S, allocated at its first use (only a repeated construction needs one);
+/* Save B's state and R into S, allocated at its first use (only a repeated construction needs one);
  * 0: out of memory. */
-static int state_save(fe_state *S, const fe_build *B, const fe_ctx *X, int nf)
+static int state_save(fe_state *S, const fe_build *B, const fe_inputs *in, const fe_run *R)
 {
+    const fe_ctx *X = in->X;
+    int nf = in->nf;
     if (!S->jet) S->jet = malloc((size_t)B->m->nv * sizeof *S->jet);
     if (!S->bub) S->bub = malloc((size_t)(nf ? nf : 1) * sizeof *S->bub);
     if (!S->X) S->X = malloc((size_t)(nf ? nf : 1) * sizeof *S->X);
@@ -221,13 +224,34 @@ static int state_save(fe_state *S, const fe_build *B, const fe_ctx *X, int nf)
     memcpy(S->jet, B->jet, (size_t)B->m->nv * sizeof *S->jet);
     memcpy(S->bub, B->bub, (size_t)nf * sizeof *S->bub);
     memcpy(S->X, X, (size_t)nf * sizeof *S->X);
+    S->run = *R;
     return 1;
 }
-static void state_restore(const fe_state *S, fe_build *B, fe_ctx *X, int nf)
+/* Take the saved construction back into B and R; its Gregory corners marked again. */
+static void state_restore(const fe_state *S, fe_build *B, const fe_inputs *in, fe_run *R)
 {
     memcpy(B->jet, S->jet, (size_t)B->m->nv * sizeof *S->jet);
-    memcpy(B->bub, S->bub, (size_t)nf * sizeof *S->bub);
-    memcpy(X, S->X, (size_t)nf * sizeof *S->X);
+    memcpy(B->bub, S->bub, (size_t)in->nf * sizeof *S->bub);
+    memcpy(in->X, S->X, (size_t)in->nf * sizeof *S->X);
+    *R = S->run;
+    mark_gregory(B, in->faces, in->nf, in->X, in->CP, in->stats);
+}
+
+/* Every face's Jacobian ratio (q2n_ev_fair_jacobian_ratio; -1: out of memory), on the threads. */
+typedef struct jr_arg {
+    const fe_build *B;
+    const fe_inputs *in;
+    double *r;
+} jr_arg;
+static void jac_one(void *arg, int i)
+{
+    const jr_arg *a = arg;
+    a->r[i] = q2n_ev_fair_jacobian_ratio(a->B, i, a->in->faces[i], &a->in->X[i], &a->in->CP[i]);
+}
+static void jac_ratios(const fe_build *B, const fe_inputs *in, double *r)
+{
+    jr_arg a = {B, in, r};
+    q2n_par_for(in->nf, in->threads, jac_one, &a);
 }
 
 /* Border guard of the G1 polynomial gluing.  Glued flat at a regular patch's corner (border_flat),
@@ -241,25 +265,23 @@ static q2n_status border_shear(fe_build *B, const fe_inputs *in, fe_run *R, fe_s
 {
     int nf = in->nf, bad = 0;
     q2n_status st = Q2N_OK;
-    double *rf = malloc(sizeof(double) * (size_t)(nf ? nf : 1));
-    if (!rf || !state_save(S, B, in->X, nf)) { st = Q2N_ERR_NOMEM; goto out; }
-    for (int i = 0; i < nf; i++) rf[i] = q2n_ev_fair_jacobian_ratio(B, i, in->faces[i], &in->X[i], &in->CP[i]);
-    fe_run Rf = *R;
+    double *rf = malloc(sizeof(double) * (size_t)(nf ? nf : 1)), *rb = malloc(sizeof(double) * (size_t)(nf ? nf : 1));
+    if (!rf || !rb || !state_save(S, B, in, R)) { st = Q2N_ERR_NOMEM; goto out; }
+    jac_ratios(B, in, rf);
     B->border_flat = 0;
     if ((st = construct(B, in, 1, NULL, R, err))) goto out;
+    jac_ratios(B, in, rb);
     for (int i = 0; i < nf; i++) {
-        double rb = q2n_ev_fair_jacobian_ratio(B, i, in->faces[i], &in->X[i], &in->CP[i]);
-        if (rf[i] < -0.5 || rb < -0.5) { st = Q2N_ERR_NOMEM; goto out; }
-        bad += rf[i] < EV_POLY_JAC_REL * rb;
+        if (rf[i] < -0.5 || rb[i] < -0.5) { st = Q2N_ERR_NOMEM; goto out; }
+        bad += rf[i] < EV_POLY_JAC_REL * rb[i];
     }
     if (!bad) {
-        state_restore(S, B, in->X, nf);
-        *R = Rf;
+        state_restore(S, B, in, R);
         B->border_flat = 1;
-        mark_gregory(B, in->faces, nf, in->X, in->CP, in->stats);
     }
 out:
     free(rf);
+    free(rb);
     return st == Q2N_ERR_NOMEM ? q2n_error_set(err, st, "out of memory (border guard)") : st;
 }
 
@@ -452,27 +474,21 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
         int nbad = near_folds(&B, faces, nf, X, CP, threads, gpin);
         if (nbad < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
         if (nbad > 0) {
-            fe_run R0 = R;
-            if (!state_save(&S0, &B, X, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+            int folds0 = R.folds;
+            if (!state_save(&S0, &B, &in, &R)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
             if ((st = construct(&B, &in, 1, gpin, &R, err))) goto done;
             int nbad2 = near_folds(&B, faces, nf, X, CP, threads, NULL);
             if (stats) stats->jac_pinned_faces = nbad;
-            if (!(nbad2 >= 0 && nbad2 < nbad && R.folds <= R0.folds)) { /* the guard did not help */
-                state_restore(&S0, &B, X, nf);
-                R = R0;
-                mark_gregory(&B, faces, nf, X, CP, stats);
+            if (!(nbad2 >= 0 && nbad2 < nbad && R.folds <= folds0)) { /* the guard did not help */
+                state_restore(&S0, &B, &in, &R);
                 if (stats) stats->jac_pinned_faces = 0;
             }
         }
         if (R.folds > 0 && R.poly_edges > 0) { /* the smoothsteps where they fold on fewer faces */
-            fe_run Rp = R;
-            if (!state_save(&S0, &B, X, nf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+            int folds0 = R.folds;
+            if (!state_save(&S0, &B, &in, &R)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
             if ((st = construct(&B, &in, 0, NULL, &R, err))) goto done;
-            if (!(R.folds < Rp.folds)) {
-                state_restore(&S0, &B, X, nf);
-                R = Rp;
-                mark_gregory(&B, faces, nf, X, CP, stats);
-            }
+            if (!(R.folds < folds0)) state_restore(&S0, &B, &in, &R);
         }
     }
     int poly_edges = R.poly_edges, held = R.held, folds = R.folds, shrinks = R.shrinks;

@@ -64,6 +64,17 @@ static void hermite_taylor(int Kh, const fe_ends *E, int p, int e, int W, double
     }
 }
 
+/* The n coefficients c of a polynomial about 0 rewritten about 1 (Σ_{j >= k} C(j, k) c_j), or copied
+ * when shift is 0. */
+static void about_end(int n, const double *c, int shift, double *out)
+{
+    for (int k = 0; k < n; k++) {
+        out[k] = c[k];
+        if (shift)
+            for (int j = k + 1; j < n; j++) out[k] += q2n_binom[j][k] * c[j];
+    }
+}
+
 /* The smoothstep of order K from v0 to v1 (v0 + (v1 - v0) H_{0,1} = v1 - (v1 - v0) H_{0,0}) about end
  * e: n + 1 = 2K + 2 coefficients. */
 static void smooth_taylor(int K, double v0, double v1, int e, double *out)
@@ -82,11 +93,7 @@ static void cubic_taylor(double v0, double v1, double m0, double m1, int e, doub
     for (int k = 0; k < 4; k++)
         c[k] = v0 * q2n_hermite_coef[0][0][0][k] + v1 * q2n_hermite_coef[0][0][1][k] + m0 * q2n_hermite_coef[0][1][0][k] +
                m1 * q2n_hermite_coef[0][1][1][k];
-    for (int k = 0; k < 4; k++) { /* about s = 1: Σ_j C(j, k) c_j */
-        out[k] = c[k];
-        if (e)
-            for (int j = k + 1; j < 4; j++) out[k] += q2n_binom[j][k] * c[j];
-    }
+    about_end(4, c, e, out);
 }
 
 /* γ of an edge with a flat end (fe_side.flat_end): the quartic with value, slope and second
@@ -102,11 +109,7 @@ static void quartic_taylor(const fe_ends *E, int flat, int e, int W, double *out
         double R1 = p1 - p0 - d0 - 0.5 * c0, R2 = d1 - d0 - c0;
         double c[5] = {p0, d0, 0.5 * c0, 4 * R1 - R2, R2 - 3 * R1}; /* in t, about t = 0 (end k0) */
         double o[5];
-        for (int k = 0; k < 5; k++) { /* about t = 1 when e is the flat end: Σ_j C(j, k) c_j */
-            o[k] = c[k];
-            if (e != k0)
-                for (int j = k + 1; j < 5; j++) o[k] += q2n_binom[j][k] * c[j];
-        }
+        about_end(5, c, e != k0, o); /* about t = 1 when e is the flat end */
         for (int k = 0; k < 5; k++) out[(size_t)k * W + l] = (sg < 0 && (k & 1)) ? -o[k] : o[k]; /* back to s */
         out[(size_t)5 * W + l] = 0;
     }
@@ -124,13 +127,9 @@ static void quartic_sym_taylor(const fe_ends *E, int e, int W, double *out)
         double a2 = 3 * (p1 - p0) - 2 * d0 - d1, a3 = 2 * (p0 - p1) + d0 + d1;
         double h0 = 2 * a2, h1 = 2 * a2 + 6 * a3; /* its second derivatives at 0 and 1 */
         double k = 0.25 * ((c0 - h0) + (c1 - h1));
-        double c[5] = {p0, d0, a2 + k, a3 - 2 * k, k}; /* + k (s² - 2 s³ + s⁴) */
-        for (int q = 0; q < 5; q++) {
-            double o = c[q];
-            if (e)
-                for (int j = q + 1; j < 5; j++) o += q2n_binom[j][q] * c[j];
-            out[(size_t)q * W + l] = o;
-        }
+        double c[5] = {p0, d0, a2 + k, a3 - 2 * k, k}, o[5]; /* + k (s² - 2 s³ + s⁴) */
+        about_end(5, c, e, o);
+        for (int q = 0; q < 5; q++) out[(size_t)q * W + l] = o[q];
         out[(size_t)5 * W + l] = 0;
     }
 }
