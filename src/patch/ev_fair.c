@@ -258,30 +258,79 @@ static void jac_ratios(const fe_build *B, const fe_inputs *in, double *r)
  * the edges from cross-charted vertices give their free ends known slopes, and the twist corrections
  * those force can shear a face nearby toward a fold — one the near-fold guard below does not see,
  * since the face's own sides may be smooth: the energy solve passes the shear on.  So the construction
- * is repeated with those edges' free slopes (border_flat 0, same jets and charts), and the first is
- * kept only if no face's Jacobian ratio is below EV_POLY_JAC_REL of what the second gives it (R and
- * the state are then the first's again; else B->border_flat stays 0).  S: scratch state. */
+ * is repeated with those edges' free slopes (border_flat 0, same jets and charts), and a face is
+ * sheared where its Jacobian ratio is below EV_POLY_JAC_REL of what this gives it.  Where none is, the
+ * first is kept; else the construction is repeated with free slopes only on the edges from vertices
+ * within 0, 1, ... EV_POLY_GUARD_RINGS - 1 edges of a sheared face's corners (fe_build.noflat; the
+ * faces sheared on the way join them) while each ring shears fewer faces than the one before, the
+ * first that shears none kept; if none does, the one without flat edges (B->border_flat 0).  R and
+ * the state are the kept construction's.  S: scratch. */
 static q2n_status border_shear(fe_build *B, const fe_inputs *in, fe_run *R, fe_state *S, q2n_error *err)
 {
-    int nf = in->nf, bad = 0;
+    const q2n_mesh *m = B->m;
+    int nf = in->nf, bad = 0, kept = 0;
     q2n_status st = Q2N_OK;
-    double *rf = malloc(sizeof(double) * (size_t)(nf ? nf : 1)), *rb = malloc(sizeof(double) * (size_t)(nf ? nf : 1));
-    if (!rf || !rb || !state_save(S, B, in, R)) { st = Q2N_ERR_NOMEM; goto out; }
+    size_t nb = sizeof(double) * (size_t)(nf ? nf : 1);
+    double *rf = malloc(nb), *rb = malloc(nb);
+    char *nof = calloc((size_t)m->nv, 1), *grow = calloc((size_t)m->nv, 1);
+    fe_state S1 = {0};
+    if (!rf || !rb || !nof || !grow || !state_save(S, B, in, R)) { st = Q2N_ERR_NOMEM; goto out; }
     jac_ratios(B, in, rf);
     B->border_flat = 0;
     if ((st = construct(B, in, 1, NULL, R, err))) goto out;
     jac_ratios(B, in, rb);
     for (int i = 0; i < nf; i++) {
         if (rf[i] < -0.5 || rb[i] < -0.5) { st = Q2N_ERR_NOMEM; goto out; }
-        bad += rf[i] < EV_POLY_JAC_REL * rb[i];
+        if (rf[i] < EV_POLY_JAC_REL * rb[i]) {
+            bad++;
+            for (int c = 0; c < 4; c++) nof[m->face_vert[m->face_start[in->faces[i]] + c]] = 1;
+        }
     }
     if (!bad) {
         state_restore(S, B, in, R);
         B->border_flat = 1;
+        goto out;
+    }
+    if (!state_save(&S1, B, in, R)) { st = Q2N_ERR_NOMEM; goto out; }
+    B->noflat = nof;
+    for (int ring = 0; ring < EV_POLY_GUARD_RINGS && !kept; ring++) {
+        if (ring > 0) { /* one edge further */
+            memcpy(grow, nof, (size_t)m->nv);
+            for (int e = 0; e < m->ne; e++) {
+                int h = m->edge_he[e], a = q2n_he_origin(m, h), b = q2n_he_dest(m, h);
+                if (nof[a] || nof[b]) grow[a] = grow[b] = 1;
+            }
+            memcpy(nof, grow, (size_t)m->nv);
+        }
+        B->border_flat = 1;
+        if ((st = construct(B, in, 1, NULL, R, err))) goto out;
+        if (R->border_edges == 0) break; /* nothing flat left: the construction without is kept */
+        jac_ratios(B, in, rf);
+        int nbad = 0;
+        for (int i = 0; i < nf; i++) {
+            if (rf[i] < -0.5) { st = Q2N_ERR_NOMEM; goto out; }
+            if (rf[i] < EV_POLY_JAC_REL * rb[i]) {
+                nbad++;
+                for (int c = 0; c < 4; c++) nof[m->face_vert[m->face_start[in->faces[i]] + c]] = 1;
+            }
+        }
+        kept = nbad == 0;
+        if (nbad >= bad) break; /* no fewer sheared faces than before: growing does not help */
+        bad = nbad;
+    }
+    if (!kept) {
+        state_restore(&S1, B, in, R);
+        B->border_flat = 0;
+        B->noflat = NULL;
+    } else {
+        nof = NULL; /* B->noflat now; the caller frees it */
     }
 out:
     free(rf);
     free(rb);
+    free(nof);
+    free(grow);
+    state_free(&S1);
     return st == Q2N_ERR_NOMEM ? q2n_error_set(err, st, "out of memory (border guard)") : st;
 }
 
@@ -492,7 +541,8 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
         }
     }
     int poly_edges = R.poly_edges, held = R.held, folds = R.folds, shrinks = R.shrinks;
-    if (stats) stats->polynomial_edges = poly_edges;
+    if (stats) stats->polynomial_edges = poly_edges, stats->border_edges = R.border_edges;
+    for (int v = 0; stats && R.poly_edges > 0 && B.noflat && B.cross && v < m->nv; v++) stats->noflat_vertices += B.noflat[v] && B.cross[v];
     if (stats) stats->unknowns = B.nvar, stats->held_vertices = held, stats->folded_faces = folds, stats->shrinks = shrinks;
 
     for (int i = 0; i < nf; i++) {
@@ -511,6 +561,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
 done:
     free(gpin);
     free(cross);
+    free((char *)B.noflat);
     state_free(&S0);
     free(vj);
     free(dir);

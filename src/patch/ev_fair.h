@@ -18,6 +18,8 @@ typedef struct ev_fair_stats {
     int shrinks;               /* halvings of the held jets in the kept solution (0: the local estimates themselves) */
     int polynomial_edges;      /* G1: constructed edges glued by polynomials (ev_fair_gluing.c) */
     int jac_pinned_faces;      /* G1: faces whose Jacobian the polynomial gluing collapsed: their corners kept out of it */
+    int border_edges;          /* G1: of the polynomial edges, those glued flat at a regular patch's corner */
+    int noflat_vertices;       /* G1: cross-charted vertices near sheared faces whose edges gave that up (border guard) */
 } ev_fair_stats;
 
 /* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the

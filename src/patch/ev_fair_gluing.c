@@ -111,7 +111,7 @@ static int border_end(const fe_build *B, const fe_side *S, int v0, int v1, const
     if (!(fabs(S->be[1] - S->be[0]) <= EV_POLY_BETA_SAME)) return -1;
     for (int e = 0; e < 2; e++) {
         int vf = e ? v1 : v0, vp = e ? v0 : v1;
-        if (vin[vf] && !vpin[vf] && B->cross[vf] && vpin[vp] == 2) return e;
+        if (vin[vf] && !vpin[vf] && B->cross[vf] && !(B->noflat && B->noflat[vf]) && vpin[vp] == 2) return e;
     }
     return -1;
 }

@@ -122,6 +122,8 @@ typedef struct fe_build {
                                    NULL: none */
     int border_flat;            /* ... and those edges are glued flat at the corner (ev_fair_gluing.c
                                    border_end); 0: they keep free slopes at w */
+    const char *noflat;         /* per vertex: with border_flat, its edges keep free slopes all the same
+                                   (the border guard's neighbourhoods of sheared faces); NULL: none */
 } fe_build;
 
 /* ------------------------------------------------------------ ev_fair_patch.c */

@@ -130,6 +130,10 @@
  * toward a fold (measured: 0.031 against the smoothsteps' 0.097 on a trapezoid between two valence-3
  * and two valence-5 corners, its bending energy 380 x; the other faces there keep 0.52 of theirs and more). */
 #define EV_POLY_JAC_REL 0.5
+/* Neighbourhoods of sheared faces the border guard tries before it drops every flat border edge
+ * (ev_fair.c border_shear): a cost bound, each ring is one more construction (the shared meshes that
+ * keep flat edges need the first; the guard also stops when a ring does not reduce the shear). */
+#define EV_POLY_GUARD_RINGS 3
 /* A side from a cross-charted free vertex to a regular patch's corner is glued flat at the corner,
  * and a side between two cross-charted vertices may take a bump in β (ev_fair_gluing.c border_end,
  * bump_ok), where its β at those ends is within this of zero (chart ratios of order one: both are

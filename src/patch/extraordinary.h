@@ -61,6 +61,8 @@ typedef struct q2n_extraordinary_stats {
     int flat_vertices;     /* keep_flat: vertices whose fan is flat, their jets kept in its plane */
     int polynomial_edges;  /* G1 patches: constructed edges glued by polynomials (exact in the fit) */
     int guard_faces;       /* G1 patches: faces whose Jacobian the gluing collapsed (corners kept out of it) */
+    int border_edges;      /* G1 patches: of the polynomial edges, those glued flat at a regular patch's corner */
+    int noflat_vertices;   /* G1 patches: vertices near faces the flat edges sheared, whose edges keep free slopes */
     int gregory_corners;   /* fair construction: corners whose two sides disagreed (a Gregory blend) */
 } q2n_extraordinary_stats;
 
