@@ -318,6 +318,39 @@ static double jacobian_ratio(const q2n_surface *s, int k)
     return a[N * N / 2] > 0 ? mn / a[N * N / 2] : 0;
 }
 
+/* Shared mesh `path` in G1 mode through the model, with the polynomial gluing (*mp) and with the
+ * smoothsteps (*ms); 0 when either build failed (said). */
+static int build_model_pair(const char *path, const char *name, int subdivide, q2n_model **mp, q2n_model **ms)
+{
+    q2n_model_options o = {0};
+    o.method = Q2N_SURFACE_AUGMENTED;
+    o.ev_patch = Q2N_EV_PATCH_G1;
+    o.subdivide = subdivide;
+    o.threads = 2;
+    q2n_error err = {0, ""};
+    *mp = *ms = NULL;
+    int ok = q2n_model_build(path, &o, mp, &err) == Q2N_OK;
+    o.smooth_gluing = 1;
+    ok = ok && q2n_model_build(path, &o, ms, &err) == Q2N_OK;
+    CHECK(ok, "%s: %s", name, err.message);
+    return ok;
+}
+
+/* Faces of mp's fair patches whose Jacobian ratio is below half of what ms's give them; the lowest
+ * ratio of the two and its face. */
+static int sheared_faces(const q2n_model *mp, const q2n_model *ms, double *wr, int *worst)
+{
+    int bad = 0;
+    *wr = INFINITY, *worst = -1;
+    for (int k = 0; k < mp->mesh->nf; k++) {
+        if (q2n_surface_kind(mp->surface, k) != Q2N_PATCH_COONS_GREGORY) continue;
+        double rp = jacobian_ratio(mp->surface, k), rs = jacobian_ratio(ms->surface, k);
+        if (rp < 0.5 * rs) bad++;
+        if (rs > 0 && rp / rs < *wr) *wr = rp / rs, *worst = k;
+    }
+    return bad;
+}
+
 /* The near-fold guard (ev_fair.c): on a shared mesh whose nearly inconsistent gluing sheared two
  * trapezoids toward a fold (Jacobian ratio 0.031 against the smoothsteps' 0.097), no face's ratio is
  * below half of what the smoothsteps' construction gives it, and the guard says it acted. */
@@ -325,24 +358,11 @@ static void near_fold_guard(void)
 {
     const char *path = chk_shared_mesh("osd_catmark_righthanded.obj");
     if (!path) return; /* reported by chk_shared_mesh */
-    q2n_model *mp = NULL, *ms = NULL;
-    q2n_model_options o = {0};
-    o.method = Q2N_SURFACE_AUGMENTED;
-    o.ev_patch = Q2N_EV_PATCH_G1;
-    q2n_error err = {0, ""};
-    int ok = q2n_model_build(path, &o, &mp, &err) == Q2N_OK;
-    o.smooth_gluing = 1;
-    ok = ok && q2n_model_build(path, &o, &ms, &err) == Q2N_OK;
-    CHECK(ok, "righthanded: %s", err.message);
-    if (ok) {
-        int bad = 0, worst = -1;
-        double wr = INFINITY;
-        for (int k = 0; k < mp->mesh->nf; k++) {
-            if (q2n_surface_kind(mp->surface, k) != Q2N_PATCH_COONS_GREGORY) continue;
-            double rp = jacobian_ratio(mp->surface, k), rs = jacobian_ratio(ms->surface, k);
-            if (rp < 0.5 * rs) bad++;
-            if (rs > 0 && rp / rs < wr) wr = rp / rs, worst = k;
-        }
+    q2n_model *mp, *ms;
+    if (build_model_pair(path, "righthanded", 0, &mp, &ms)) {
+        int worst;
+        double wr;
+        int bad = sheared_faces(mp, ms, &wr, &worst);
         printf("righthanded, G1 patches: %d polynomial edges, guard on %d faces; faces below half the smoothsteps' Jacobian "
                "ratio: %d (lowest ratio %.3f, face %d)\n", mp->ev_stats.polynomial_edges, mp->ev_stats.guard_faces, bad, wr, worst);
         CHECK(bad == 0 && mp->ev_stats.guard_faces > 0 && mp->ev_stats.polynomial_edges > 0,
@@ -364,28 +384,14 @@ static void local_border_guard(void)
 {
     const char *path = chk_shared_mesh("crane_spot_control_mesh.obj");
     if (!path) return; /* reported by chk_shared_mesh */
-    q2n_model *mp = NULL, *ms = NULL;
-    q2n_model_options o = {0};
-    o.method = Q2N_SURFACE_AUGMENTED;
-    o.ev_patch = Q2N_EV_PATCH_G1;
-    o.subdivide = 1;
-    o.threads = 2;
-    q2n_error err = {0, ""};
-    int ok = q2n_model_build(path, &o, &mp, &err) == Q2N_OK;
-    o.smooth_gluing = 1;
-    ok = ok && q2n_model_build(path, &o, &ms, &err) == Q2N_OK;
-    CHECK(ok, "crane_spot: %s", err.message);
+    q2n_model *mp, *ms;
     q2n_fit_report r, r0;
     double ang = INFINITY, ang0 = INFINITY;
-    if (ok && fit_g1(mp->mesh, mp->surface, &r, &ang) && fit_g1(ms->mesh, ms->surface, &r0, &ang0)) {
-        int bad = 0, worst = -1;
-        double wr = INFINITY;
-        for (int k = 0; k < mp->mesh->nf; k++) {
-            if (q2n_surface_kind(mp->surface, k) != Q2N_PATCH_COONS_GREGORY) continue;
-            double rp = jacobian_ratio(mp->surface, k), rs = jacobian_ratio(ms->surface, k);
-            if (rp < 0.5 * rs) bad++;
-            if (rs > 0 && rp / rs < wr) wr = rp / rs, worst = k;
-        }
+    if (build_model_pair(path, "crane_spot", 1, &mp, &ms) && fit_g1(mp->mesh, mp->surface, &r, &ang) &&
+        fit_g1(ms->mesh, ms->surface, &r0, &ang0)) {
+        int worst;
+        double wr;
+        int bad = sheared_faces(mp, ms, &wr, &worst);
         printf("crane_spot --subdivide 1, G1 patches: %d polynomial edges, %d flat at a regular corner, %d vertices without; "
                "construction G1 %.1e deg; fit: %d of %d edges within rounding (smoothsteps %d); faces below half the "
                "smoothsteps' Jacobian ratio: %d (lowest ratio %.3f, face %d)\n",

@@ -254,6 +254,21 @@ static void jac_ratios(const fe_build *B, const fe_inputs *in, double *r)
     q2n_par_for(in->nf, in->threads, jac_one, &a);
 }
 
+/* Faces whose Jacobian ratio r is below EV_POLY_JAC_REL of the reference's rb, their corners marked in
+ * mark; -1 out of memory (a ratio of -1). */
+static int sheared(const fe_build *B, const fe_inputs *in, const double *r, const double *rb, char *mark)
+{
+    int n = 0;
+    for (int i = 0; i < in->nf; i++) {
+        if (r[i] < -0.5 || rb[i] < -0.5) return -1;
+        if (r[i] < EV_POLY_JAC_REL * rb[i]) {
+            n++;
+            for (int c = 0; c < 4; c++) mark[B->m->face_vert[B->m->face_start[in->faces[i]] + c]] = 1;
+        }
+    }
+    return n;
+}
+
 /* Border guard of the G1 polynomial gluing.  Glued flat at a regular patch's corner (border_flat),
  * the edges from cross-charted vertices give their free ends known slopes, and the twist corrections
  * those force can shear a face nearby toward a fold — one the near-fold guard below does not see,
@@ -279,13 +294,7 @@ static q2n_status border_shear(fe_build *B, const fe_inputs *in, fe_run *R, fe_s
     B->border_flat = 0;
     if ((st = construct(B, in, 1, NULL, R, err))) goto out;
     jac_ratios(B, in, rb);
-    for (int i = 0; i < nf; i++) {
-        if (rf[i] < -0.5 || rb[i] < -0.5) { st = Q2N_ERR_NOMEM; goto out; }
-        if (rf[i] < EV_POLY_JAC_REL * rb[i]) {
-            bad++;
-            for (int c = 0; c < 4; c++) nof[m->face_vert[m->face_start[in->faces[i]] + c]] = 1;
-        }
-    }
+    if ((bad = sheared(B, in, rf, rb, nof)) < 0) { st = Q2N_ERR_NOMEM; goto out; }
     if (!bad) {
         state_restore(S, B, in, R);
         B->border_flat = 1;
@@ -306,14 +315,8 @@ static q2n_status border_shear(fe_build *B, const fe_inputs *in, fe_run *R, fe_s
         if ((st = construct(B, in, 1, NULL, R, err))) goto out;
         if (R->border_edges == 0) break; /* nothing flat left: the construction without is kept */
         jac_ratios(B, in, rf);
-        int nbad = 0;
-        for (int i = 0; i < nf; i++) {
-            if (rf[i] < -0.5) { st = Q2N_ERR_NOMEM; goto out; }
-            if (rf[i] < EV_POLY_JAC_REL * rb[i]) {
-                nbad++;
-                for (int c = 0; c < 4; c++) nof[m->face_vert[m->face_start[in->faces[i]] + c]] = 1;
-            }
-        }
+        int nbad = sheared(B, in, rf, rb, nof);
+        if (nbad < 0) { st = Q2N_ERR_NOMEM; goto out; }
         kept = nbad == 0;
         if (nbad >= bad) break; /* no fewer sheared faces than before: growing does not help */
         bad = nbad;
@@ -326,6 +329,7 @@ static q2n_status border_shear(fe_build *B, const fe_inputs *in, fe_run *R, fe_s
         nof = NULL; /* B->noflat now; the caller frees it */
     }
 out:
+    if (nof && B->noflat == nof) B->noflat = NULL; /* not kept (or an error): B does not keep it */
     free(rf);
     free(rb);
     free(nof);
