@@ -307,9 +307,8 @@ static q2n_status border_shear(fe_build *B, const fe_inputs *in, fe_run *R, fe_s
             memcpy(grow, nof, (size_t)m->nv);
             for (int e = 0; e < m->ne; e++) {
                 int h = m->edge_he[e], a = q2n_he_origin(m, h), b = q2n_he_dest(m, h);
-                if (nof[a] || nof[b]) grow[a] = grow[b] = 1;
+                if (grow[a] || grow[b]) nof[a] = nof[b] = 1;
             }
-            memcpy(nof, grow, (size_t)m->nv);
         }
         B->border_flat = 1;
         if ((st = construct(B, in, 1, NULL, R, err))) goto out;
@@ -324,12 +323,11 @@ static q2n_status border_shear(fe_build *B, const fe_inputs *in, fe_run *R, fe_s
     if (!kept) {
         state_restore(&S1, B, in, R);
         B->border_flat = 0;
-        B->noflat = NULL;
     } else {
         nof = NULL; /* B->noflat now; the caller frees it */
     }
 out:
-    if (nof && B->noflat == nof) B->noflat = NULL; /* not kept (or an error): B does not keep it */
+    if (nof && B->noflat == nof) B->noflat = NULL; /* not kept (or an error): B lets go of it */
     free(rf);
     free(rb);
     free(nof);

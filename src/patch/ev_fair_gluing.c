@@ -433,11 +433,8 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                     }
                 }
             }
-            if (S->derived && !knoff[k]) {
-                int bf = border_end(B, S, fv(m, f, S->c0), fv(m, f, S->c1), vin, vpin);
-                if (bf >= 0 && !cbad[uf_find(uf, bf ? fv(m, f, S->c1) : fv(m, f, S->c0))])
-                    S->poly = 1, S->q = kq[k], ++*poly_edges, ++*border_edges;
-            }
+            if (bend[k] >= 0 && !knoff[k] && !cbad[uf_find(uf, fv(m, f, bend[k] ? S->c1 : S->c0))]) /* as the last solve took it */
+                S->poly = 1, S->q = kq[k], ++*poly_edges, ++*border_edges;
             int v0 = fv(m, f, S->c0), v1 = fv(m, f, S->c1);
             if (S->derived && ((VFREE(v0) && vabs[v1]) || (VFREE(v1) && vabs[v0])) && !cbad[uf_find(uf, VFREE(v0) ? v0 : v1)]) {
                 int fe = vabs[v1] ? 1 : 0, va = fe ? v1 : v0, ca = fe ? S->c1 : S->c0;
