@@ -461,6 +461,25 @@ static inline q2n_mesh *mg_dart_fan(void)
     return mg_finish(nv, pos, 15, fs, fv, "dart fan");
 }
 
+/* A valence-3 vertex (the last point) whose fan has two wide sectors side by side, as a sliver
+ * triangle split at its centroid leaves them: a near-parallelogram of 161.5 degrees there (corners
+ * 164.9, 17.4, 161.5, 16.1) and a quad that is nearly a triangle at 160.9 degrees, then 37.5
+ * degrees.  The near-triangle's sector is capped at EV_CHART_MAX_ANGLE, the parallelogram may keep
+ * its own angle (ev_derivatives.c sector_cap): two sectors capped in turn (fan_angles). */
+static inline q2n_mesh *mg_wide_pair_fan(void)
+{
+    static const double p[21] = {1.1188, -0.2354, -0.5594, 0.4201,  -0.0654, 0.0599, 0.7468,
+                                 -0.1431, -0.1119, -1.7146, 0.4139,  0.4743, -0.181, 0.0476,
+                                 0.1921, -0.5194, 0.0223,  -0.0691, 0.1292, -0.04,  0.0141};
+    static const int q[12] = {3, 5, 6, 4, 0, 2, 6, 5, 1, 4, 6, 2};
+    double *pos = (double *)malloc(sizeof p);
+    int *fs = (int *)malloc(4 * sizeof *fs), *fv = (int *)malloc(sizeof q);
+    memcpy(pos, p, sizeof p);
+    memcpy(fv, q, sizeof q);
+    for (int f = 0; f <= 3; f++) fs[f] = 4 * f;
+    return mg_finish(7, pos, 3, fs, fv, "wide pair fan");
+}
+
 /* A unit cube as a subdivision modeller builds a box with support loops: 4 x 4 quads per side at
  * the breakpoints 0, d, 1/2, 1 - d, 1 of every axis (holding edge loops at d from every edge;
  * corners valence 3; the 2 x 2 quads in the middle of each side have planar one-rings). */

@@ -471,6 +471,14 @@ int main(void)
      * its width up to the 0.75 pi cap (stop 35): 0.457 / 0.411, 0.087 / 0.074, 0.608 / 0.655.  The
      * Jacobian bound sits between the two (0.35), the others are the new figures + 30 %. */
     generated_jac("valence 5 with a dart", mg_dart_fan(), 0.113, 0.096, 0.79, 0.35);
+    /* Two wide sectors side by side at a valence-3 vertex (mg_wide_pair_fan: a near-triangle capped
+     * at 0.75 pi, then a parallelogram at its own 161.5 degrees).  Until stop 49 the chart's capping
+     * lost the second excess to the fan's last sector, the parallelogram's: 178 degrees in the
+     * chart, its patch corner nearly straight, Jacobian ratio 0.053 (G2) and 0.052 (G1) — found on
+     * a random convex hull through --subdivide 1 (bench/sweep.py).  Now 0.373 / 0.322; oscillation
+     * 0.219 / 0.295 -> 0.183 / 0.080, bending energy 0.109 / 0.226 -> 0.125 / 0.202.  Bounds: the
+     * ripple target, the energy + 30 %, a Jacobian ratio between the two. */
+    generated_jac("valence 3, two wide sectors side by side", mg_wide_pair_fan(), 0.3, 0.3, 0.27, 0.25);
     /* Spikes: a cube's corner pulled out to 5 times its distance from the centre (one corner, two
      * opposite ones).  The energy is parametric, and its minimiser folded the three long tip faces
      * over (Jacobian ratio 0.014 in G2, 0.027 in G1, bending energy 19 249: fairness.py on the

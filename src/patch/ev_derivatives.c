@@ -331,11 +331,18 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, int wide, int cro
     for (int k = 0; k < F->nfan; k++) zeta[k] = folded ? span / F->nfan : zeta[k] * span / tot;
     double cap[EV_MAXVAL];
     for (int k = 0; k < F->nfan; k++) cap[k] = wide ? sector_cap(m, v, F->faces[k]) : EV_CHART_MAX_ANGLE;
-    for (int it = 0; it < EV_CHART_CAP_PASSES; it++) {
+    /* The excess of the sectors over their caps goes to the sectors below theirs, in proportion,
+     * and only to those: a sector already at its cap neither gives nor takes, so the sectors keep
+     * their sum (until stop 49 such a sector counted in the share, its part of the excess was
+     * lost, and the last sector of a closed fan, eta's implicit 2π - eta[n-1], took it up: a
+     * parallelogram's 161.5 degrees became 178, its patch corner nearly degenerate).  Each pass
+     * caps at least one more sector for good, so nfan passes settle any fan whose caps can take
+     * the span; where they cannot, the last sector keeps the rest. */
+    for (int it = 0; it < F->nfan; it++) {
         double over = 0, rest = 0;
         for (int k = 0; k < F->nfan; k++) {
             if (zeta[k] > cap[k]) over += zeta[k] - cap[k], zeta[k] = cap[k];
-            else rest += zeta[k];
+            else if (zeta[k] < cap[k]) rest += zeta[k];
         }
         if (over <= 0 || rest <= 0) break;
         for (int k = 0; k < F->nfan; k++)

@@ -186,10 +186,9 @@
 /* Chart of a vertex's fan (fan_angles): a sector narrower than EV_CHART_MIN_ANGLE radians counts
  * as that wide (the others shrink in proportion), and no sector is wider than EV_CHART_MAX_ANGLE
  * unless its face's own shape keeps the wider corner regular (sector_cap, up to EV_CHART_WIDE_MAX)
- * (else the two faces at an edge would not lie on its two sides; the excess goes to the others
- * in proportion, at most EV_CHART_CAP_PASSES times, which settles any fan of the valences
- * handled).  Why 0.05: a sector of 3 degrees has hardly a usable direction pair; on split
- * triangulated lips with 1.3-2.8-degree needle corners a floor of 0.05 came out as smooth as one
+ * (else the two faces at an edge would not lie on its two sides; the excess goes to the sectors
+ * below their caps, in proportion).  Why 0.05: a sector of 3 degrees has hardly a usable direction
+ * pair; on split triangulated lips with 1.3-2.8-degree needle corners a floor of 0.05 came out as smooth as one
  * of 0.01 or 0.001 or smoother (oscillation 3.5 against 4.2 on one; docs/extraordinary.md, "Charts"),
  * while calling such fans folded, as until stop 35, charted them uniformly and folded the
  * surface.  Why 0.75π (a margin of
@@ -199,7 +198,6 @@
  * (0.7π and below: fitted files miss their tolerance, fans of nearly straight sectors ripple). */
 #define EV_CHART_MIN_ANGLE 0.05
 #define EV_CHART_MAX_ANGLE (0.75 * Q2N_PI)
-#define EV_CHART_CAP_PASSES 8
 
 /* Widest sector a fan's chart gives a face whose own shape allows a wide corner (a parallelogram
  * keeps its angle: sector_cap in ev_derivatives.c): 9 degrees short of the straight angle, so
