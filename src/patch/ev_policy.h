@@ -188,14 +188,14 @@
  * unless its face's own shape keeps the wider corner regular (sector_cap, up to EV_CHART_WIDE_MAX)
  * (else the two faces at an edge would not lie on its two sides; the excess goes to the sectors
  * below their caps, in proportion).  Why 0.05: a sector of 3 degrees has hardly a usable direction
- * pair; on split triangulated lips with 1.3-2.8-degree needle corners a floor of 0.05 came out as smooth as one
- * of 0.01 or 0.001 or smoother (oscillation 3.5 against 4.2 on one; docs/extraordinary.md, "Charts"),
- * while calling such fans folded, as until stop 35, charted them uniformly and folded the
- * surface.  Why 0.75π (a margin of
- * 45 degrees to the straight angle): a face nearly a triangle at the vertex gets a patch corner
- * that stays regular; swept 0.6π-0.97π (docs/extraordinary.md "Why the policy values"), wider caps
- * give such corners near-degenerate Jacobians and ripples, narrower ones distort the other sectors
- * (0.7π and below: fitted files miss their tolerance, fans of nearly straight sectors ripple). */
+ * pair; on split triangulated lips with 1.3-2.8-degree needle corners a floor of 0.05 came out as
+ * smooth as one of 0.01 or 0.001 or smoother (oscillation 3.5 against 4.2 on one;
+ * docs/extraordinary.md, "Charts"), while calling such fans folded, as until stop 35, charted them
+ * uniformly and folded the surface.  Why 0.75π (a margin of 45 degrees to the straight angle): a
+ * face nearly a triangle at the vertex gets a patch corner that stays regular; swept 0.6π-0.97π
+ * (docs/extraordinary.md "Why the policy values"), wider caps give such corners near-degenerate
+ * Jacobians and ripples, narrower ones distort the other sectors (0.7π and below: fitted files miss
+ * their tolerance, fans of nearly straight sectors ripple). */
 #define EV_CHART_MIN_ANGLE 0.05
 #define EV_CHART_MAX_ANGLE (0.75 * Q2N_PI)
 
