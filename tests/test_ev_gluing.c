@@ -210,6 +210,19 @@ static void border_exact(q2n_mesh *m)
     q2n_mesh_free(m);
 }
 
+/* Shared mesh `path` in G1 mode (G1 patches) through the model, glued by polynomials or, with smooth,
+ * by the smoothsteps; 1 when built. */
+static int build_model_g1(const char *path, int subdivide, int smooth, q2n_model **m, q2n_error *err)
+{
+    q2n_model_options o = {0};
+    o.method = Q2N_SURFACE_AUGMENTED;
+    o.ev_patch = Q2N_EV_PATCH_G1;
+    o.subdivide = subdivide;
+    o.smooth_gluing = smooth;
+    o.threads = 2;
+    return q2n_model_build(path, &o, m, err) == Q2N_OK;
+}
+
 /* The same on shared meshes whose regions border regular patches, in G1 mode through the model:
  * gismo_octtorus_hole (43 of 54 edges exact before stop 46, G1 4.8e-3 deg) and osd_catmark_pawn
  * (1 140 of 1 164, 8.9e-3 deg; its region around adjacent valence-3 and valence-12 vertices needs 16
@@ -221,11 +234,8 @@ static void border_exact_shared(const char *name)
     const char *path = chk_shared_mesh(name);
     if (!path) return; /* reported by chk_shared_mesh */
     q2n_model *mp = NULL;
-    q2n_model_options o = {0};
-    o.method = Q2N_SURFACE_AUGMENTED;
-    o.ev_patch = Q2N_EV_PATCH_G1;
     q2n_error err = {0, ""};
-    int ok = q2n_model_build(path, &o, &mp, &err) == Q2N_OK;
+    int ok = build_model_g1(path, 0, 0, &mp, &err);
     CHECK(ok, "%s: %s", name, err.message);
     q2n_fit_report r;
     double ang = INFINITY;
@@ -322,16 +332,9 @@ static double jacobian_ratio(const q2n_surface *s, int k)
  * smoothsteps (*ms); 0 when either build failed (said). */
 static int build_model_pair(const char *path, const char *name, int subdivide, q2n_model **mp, q2n_model **ms)
 {
-    q2n_model_options o = {0};
-    o.method = Q2N_SURFACE_AUGMENTED;
-    o.ev_patch = Q2N_EV_PATCH_G1;
-    o.subdivide = subdivide;
-    o.threads = 2;
     q2n_error err = {0, ""};
     *mp = *ms = NULL;
-    int ok = q2n_model_build(path, &o, mp, &err) == Q2N_OK;
-    o.smooth_gluing = 1;
-    ok = ok && q2n_model_build(path, &o, ms, &err) == Q2N_OK;
+    int ok = build_model_g1(path, subdivide, 0, mp, &err) && build_model_g1(path, subdivide, 1, ms, &err);
     CHECK(ok, "%s: %s", name, err.message);
     return ok;
 }

@@ -254,6 +254,12 @@ static void jac_ratios(const fe_build *B, const fe_inputs *in, double *r)
     q2n_par_for(in->nf, in->threads, jac_one, &a);
 }
 
+/* Mark the four corners of face f of m. */
+static void mark_corners(const q2n_mesh *m, int f, char *mark)
+{
+    for (int c = 0; c < 4; c++) mark[m->face_vert[m->face_start[f] + c]] = 1;
+}
+
 /* Faces whose Jacobian ratio r is below EV_POLY_JAC_REL of the reference's rb, their corners marked in
  * mark; -1 out of memory (a ratio of -1). */
 static int sheared(const fe_build *B, const fe_inputs *in, const double *r, const double *rb, char *mark)
@@ -261,10 +267,7 @@ static int sheared(const fe_build *B, const fe_inputs *in, const double *r, cons
     int n = 0;
     for (int i = 0; i < in->nf; i++) {
         if (r[i] < -0.5 || rb[i] < -0.5) return -1;
-        if (r[i] < EV_POLY_JAC_REL * rb[i]) {
-            n++;
-            for (int c = 0; c < 4; c++) mark[B->m->face_vert[B->m->face_start[in->faces[i]] + c]] = 1;
-        }
+        if (r[i] < EV_POLY_JAC_REL * rb[i]) n++, mark_corners(B->m, in->faces[i], mark);
     }
     return n;
 }
@@ -377,8 +380,7 @@ static int near_folds(const fe_build *B, const int *faces, int nf, const fe_ctx 
         if (a.bad[i] < 0) nbad = -1;
         else if (a.bad[i]) {
             nbad++;
-            if (pin)
-                for (int c = 0; c < 4; c++) pin[m->face_vert[m->face_start[faces[i]] + c]] = 1;
+            if (pin) mark_corners(m, faces[i], pin);
         }
     }
     free(a.bad);
