@@ -41,6 +41,9 @@ Meshes (none of them in ../shared/meshes or in tests/meshgen.h):
   plate_50to1        10 x 10 unit cubes 0.02 thick (the G2 patches fold: G1 fallback expected)
   block_2x2x2        2 x 2 x 2 unit cubes, not smoothed: the plainest box cage (osc and E missed:
                      the construction's, by the radial reference of tools/q2n_ripple_bound.py)
+  *_x3               genus2_plate, torus_flips, hull40_tri and pillow stretched 3 x along x:
+                     anisotropic faces and fans (osc missed in G2 mode on all four, pillow_x3 also
+                     size: the construction's, while acc-g1, affine invariant, maps along)
 Time: a few minutes (bumpy400_tri is the long one; --only skips it).
 """
 import argparse
@@ -288,6 +291,12 @@ def meshes():
     out['plate_50to1'] = (V * np.array([1, 1, 0.02]), F, [])
     V, F = voxel_surface([(x, y, z) for x in range(2) for y in range(2) for z in range(2)])
     out['block_2x2x2'] = (V, F, [])
+    # Stretched: the same vertices 3 x longer along x.  An affine map keeps the data's shape (acc-g1,
+    # affine invariant, maps along), while faces and fans turn anisotropic (docs/extraordinary.md,
+    # "Found and not fixed: anisotropic meshes").
+    for name in ('genus2_plate', 'torus_flips', 'hull40_tri', 'pillow'):
+        V, F, extra = out[name]
+        out[name + '_x3'] = (np.asarray(V) * np.array([3.0, 1.0, 1.0]), F, extra)
     return out
 
 
