@@ -425,21 +425,18 @@ int main(void)
     all_polynomial(mg_rim_pyramid(8, 0.5, 1.15));
     /* two rings around a vertex of valence 5, 6 and 8, open: the rim vertices of two faces keep a free q
      * (flat α, β there leave the even-valence vertices of the first ring without the freedom they need) */
-    all_polynomial(mg_polar_star(5, 2, 1));
-    all_polynomial(mg_polar_star(6, 2, 1));
-    all_polynomial(mg_polar_star(8, 2, 1));
+    static const int two_ring_valences[] = {5, 6, 8};
+    for (size_t i = 0; i < sizeof two_ring_valences / sizeof two_ring_valences[0]; i++)
+        all_polynomial(mg_polar_star(two_ring_valences[i], 2, 1));
     /* a valence-7 vertex with its two rings (open: its rim vertices have three faces and more) and a
      * third ring of regular patches around it: the spokes and the first ring's edges, 3 x 7 */
     partly_polynomial(mg_polar_star(7, 3, 1), 21);
     partly_polynomial(mg_polar_star(5, 3, 4), 15);
     /* two rings around a vertex of valence 3, 4, 5, 7, 8, 12 and a third and fourth of regular patches:
      * exactly G1 through the border (some need bumps in β: the valence-8 one nine) */
-    border_exact(mg_polar_star(3, 4, 1));
-    border_exact(mg_polar_star(4, 4, 1.5));
-    border_exact(mg_polar_star(5, 4, 1));
-    border_exact(mg_polar_star(7, 4, 1.5));
-    border_exact(mg_polar_star(8, 4, 1));
-    border_exact(mg_polar_star(12, 4, 1));
+    static const struct { int n; double h; } border_stars[] = {{3, 1}, {4, 1.5}, {5, 1}, {7, 1.5}, {8, 1}, {12, 1}};
+    for (size_t i = 0; i < sizeof border_stars / sizeof border_stars[0]; i++)
+        border_exact(mg_polar_star(border_stars[i].n, 4, border_stars[i].h));
     border_exact_shared("gismo_octtorus_hole.obj");
     border_exact_shared("osd_catmark_pawn.obj");
     border_exact_shared("osd_catmark_helmet.obj");

@@ -399,8 +399,7 @@ static char *border_cross(const q2n_mesh *m, const char *unc)
     char *cross = calloc((size_t)m->nv, 1), *pinned = calloc((size_t)m->nv, 1);
     if (!cross || !pinned) { free(cross); free(pinned); return NULL; }
     for (int f = 0; f < m->nf; f++)
-        if (!unc[f])
-            for (int i = 0; i < 4; i++) pinned[m->face_vert[m->face_start[f] + i]] = 1;
+        if (!unc[f]) mark_corners(m, f, pinned);
     int edges[EV_MAXVAL], other[EV_MAXVAL], faces[EV_MAXVAL];
     for (int v = 0; v < m->nv; v++) {
         if (m->vert_boundary[v] || m->valence[v] != 4 || pinned[v]) continue;
