@@ -939,11 +939,11 @@ int main(void)
         }
         CHECK(tm && q2n_mesh_write_obj(tm, tp, &e) == Q2N_OK, "near-triangle torus: not written");
         q2n_mesh_free(tm);
-        snprintf(args, sizeof args, "sample --grid 2 %s", tp);
+        snprintf(args, sizeof args, "sample --grid 2 --frame off %s", tp); /* built in its isotropic frame it does not fold */
         CHECK(run(args, err, sizeof err, NULL) == 0 && strstr(err, "the surface folds over") &&
                   strstr(err, "the face is nearly a triangle, its edge") && strstr(err, "--limit-points"),
               "near-triangle torus: %s", err);
-        snprintf(args, sizeof args, "sample --grid 2 --limit-points %s", tp);
+        snprintf(args, sizeof args, "sample --grid 2 --frame off --limit-points %s", tp);
         CHECK(run(args, err, sizeof err, NULL) == 0 && !strstr(err, "folds over"), "near-triangle torus, --limit-points: %s", err);
     }
     /* and counted in the fit report, under the construction */

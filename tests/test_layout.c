@@ -323,6 +323,7 @@ static const allowed_literal ALLOWED[] = {
     {"src/patch/ev_harmonize.c", "1e-6 1e-9 1e-300 1e-10", "probe step; Cholesky jitter; division floor"},
     {"src/patch/ev_fair_patch.c", "1e-4 1e-12", "central-difference step; singular 2x2 test"},
     {"src/mesh/fill.c", "1e-12", "singular 2x2 test (two planes parallel to rounding)"},
+    {"src/mesh/frame.c", "1e-300 1e-6 1e-20", "Jacobi stops when the off-diagonals underflow; central-difference step; Gauss-Newton step at rounding"},
     {"src/core/poly.c", "1e-15", "Newton's iteration at rounding"},
     {"src/core/clock.c", "1e-9", "nanoseconds"},
     {"src/cli/main.c", "1e-3 1e-6 1e-9", "unit prefixes"},

@@ -225,6 +225,8 @@ static q2n_model *open_lip(const double *pos, const int *fv, int nf, int tri, in
     o.pair_triangles = pair;
     o.subdivide = subdivide;
     o.threads = 1;
+    o.frame = -1; /* the mesh's own frame: the fold the pairing is for (in its isotropic frame the
+                     subdivided lip does not fold) */
     q2n_model *m = NULL;
     q2n_status st = q2n_open_mesh(LNV, pos, (size_t)nf, sizes, fv, &o, &m, eb, 256);
     CHECK(st == Q2N_OK, "lip (pair %d, subdivide %d): %s", pair, subdivide, eb);

@@ -71,6 +71,7 @@ static q2n_status check_options(const q2n_options *o, char *errbuf, size_t errle
     if (o->fill_ngons < 0 || o->fill_ngons > 1)
         return bad(errbuf, errlen, "invalid fill_ngons %d (expected 0 or 1)", o->fill_ngons);
     if (o->keep_flat < 0 || o->keep_flat > 1) return bad(errbuf, errlen, "invalid keep_flat %d (expected 0 or 1)", o->keep_flat);
+    if (o->frame < -1 || o->frame > 0) return bad(errbuf, errlen, "invalid frame %d (expected 0 auto or -1 off)", o->frame);
     if (o->ev_smooth_gluing < 0 || o->ev_smooth_gluing > 1)
         return bad(errbuf, errlen, "invalid ev_smooth_gluing %d (expected 0 or 1)", o->ev_smooth_gluing);
     if (o->limit_points < -1 || o->limit_points > 1)
@@ -106,6 +107,7 @@ static void model_options(const q2n_options *o, q2n_model_options *mo)
     mo->ev_patch = (int)o->ev_patch;
     mo->ev_method = (int)o->ev_construction;
     mo->keep_flat = o->keep_flat;
+    mo->frame = o->frame;
     mo->smooth_gluing = o->ev_smooth_gluing;
     mo->fold_fallback = o->ev_patch == Q2N_EV_PATCH_DEFAULT && o->continuity != Q2N_CONTINUITY_G2;
     mo->acc_strategy = o->acc_strategy;

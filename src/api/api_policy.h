@@ -39,4 +39,20 @@
  * twice the time, more bending energy: docs/mesh.md). */
 #define Q2N_MODEL_FILL_HINT_SIDES 12
 
+/* The isotropic frame (model.c frame_choice).  A second build in the mesh's isotropic frame only where
+ * the frame's stretch reaches this.  Why 1.25: meshes drawn isotropic get estimates of 1.02-1.21 from
+ * their faces' own shapes (the shared OpenSubdiv and G+Smo meshes with extraordinary vertices and a
+ * round character cage), and there the second build costs its time for surfaces that differ by
+ * their charts' rounding; stretches of 1.3 and more change the ripple by 10 % or more. */
+#define Q2N_MODEL_FRAME_MIN_STRETCH 1.25
+/* Samples per face diagonal of the ripple that chooses between the two builds.  Why 17: the
+ * construction is a polynomial of degree 5-9 per patch, and a bump of its curvature spans a quarter
+ * of a diagonal or more; 17 points see each with 4 samples, at 34 second-derivative evaluations a
+ * face (a few per cent of a build). */
+#define Q2N_MODEL_RIPPLE_SAMPLES 17
+/* Gauss–Legendre points per direction of the bending energy that also decides.  Why 6: the rule is
+ * exact for degree 11 per direction, the curvature of a degree 5-9 patch is smooth enough that the
+ * energies of two builds compare right at a few per cent of their difference, at 36 evaluations a face. */
+#define Q2N_MODEL_ENERGY_RULE 6
+
 #endif

@@ -14,6 +14,7 @@
 #include "core/vec3.h"
 #include "patch/augmented.h"
 #include "patch/extraordinary.h"
+#include "patch/fairness.h"
 
 void q2n_model_free(q2n_model *m)
 {
@@ -25,17 +26,21 @@ void q2n_model_free(q2n_model *m)
     free(m);
 }
 
+/* The augmented surface on m->mesh, or, while m->frame_mesh is set, on that mesh (the same faces in
+ * the isotropic frame) and mapped back by m->frame_Ainv. */
 static q2n_status build_augmented(q2n_model *m, q2n_error *err)
 {
     q2n_augmented_options ao = {m->opt.cls, m->opt.param};
     q2n_extraordinary_options eo = {m->opt.cls, m->opt.param, (q2n_ev_patch_kind)m->opt.ev_patch,
                                     (q2n_ev_method)m->opt.ev_method, m->opt.threads, m->opt.keep_flat,
                                     m->opt.smooth_gluing};
-    q2n_status st = q2n_param_edge_intervals(m->mesh, &m->opt.param, &m->edge_iv, err);
-    if (!st) st = q2n_augmented_build(m->mesh, &ao, m->edge_iv, &m->surface, err);
+    const q2n_mesh *bm = m->frame_mesh ? m->frame_mesh : m->mesh;
+    q2n_status st = q2n_param_edge_intervals(bm, &m->opt.param, &m->edge_iv, err);
+    if (!st) st = q2n_augmented_build(bm, &ao, m->edge_iv, &m->surface, err);
     /* faces at extraordinary vertices: augmented Coons–Gregory patches (§4) */
     if (!st && q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED) > 0)
-        st = q2n_extraordinary_build_stats(m->mesh, &eo, m->edge_iv, m->surface, &m->ev_stats, err);
+        st = q2n_extraordinary_build_stats(bm, &eo, m->edge_iv, m->surface, &m->ev_stats, err);
+    if (!st && m->frame_mesh) q2n_surface_map_linear(m->surface, m->frame_Ainv);
     int regular = m->opt.cls->k >= 2 ? 2 : 1, ev = q2n_ev_patch_order(&eo);
     m->continuity = (q2n_surface_count(m->surface, Q2N_PATCH_COONS_GREGORY) > 0 && ev < regular) ? ev : regular;
     return st;
@@ -253,6 +258,74 @@ static void fold_fallback(q2n_model *m)
     /* no better, or the second build failed: the first surface as it was */
     keep_first(m, &b);
     m->opt.ev_patch = Q2N_EV_PATCH_DEFAULT;
+}
+
+/* The augmented surface with its fallbacks, as q2n_model_construct builds it. */
+static q2n_status build_checked(q2n_model *m, q2n_error *err)
+{
+    q2n_status st = build_augmented(m, err);
+    if (!st) st = scan_patches(m, err);
+    if (!st) gluing_fallback(m);
+    if (!st) fold_fallback(m);
+    return st;
+}
+
+/* The isotropic frame (docs/extraordinary.md): the construction measures lengths and angles, so a
+ * mesh stretched along an axis — a model scaled in one direction — gets charts and fits of faces that
+ * are not the shapes its vertices describe, and ripples or folds where the same mesh built unstretched
+ * and mapped along does not.  Where the mesh's faces are stretched by more than
+ * Q2N_MODEL_FRAME_MIN_STRETCH on the whole (q2n_mesh_isotropic_frame), the surface is built again on
+ * the mesh mapped into its isotropic frame, mapped back (exact: affine maps keep the interpolation,
+ * G1 and G2), and kept only where it is the better surface by issue 11's figures, measured on the
+ * construction (patch/fairness.h): less diagonal ripple, no more bending energy, no more folded
+ * faces, no lower continuity (G2 patches that fold in one frame and not in the other), and, with the
+ * same kind of patches, no fewer edges glued exactly by polynomials (G1 patches).  A mesh whose
+ * faces are long by design (tubes, rims) also gets an estimate; there the comparison decides.  An
+ * error of the second build keeps the first. */
+static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
+{
+    double A[3][3];
+    m->frame_stretch = q2n_mesh_isotropic_frame(m->mesh, A, m->frame_Ainv);
+    if (!(m->frame_stretch >= Q2N_MODEL_FRAME_MIN_STRETCH)) return;
+    q2n_error e1;
+    if (q2n_mesh_mapped(m->mesh, A, &m->frame_mesh, &e1)) return;
+    built b = {m->surface, m->edge_iv, m->ev_stats, m->folded, m->folded_face, m->continuity, {0}};
+    memcpy(b.warning, m->warning, sizeof b.warning);
+    int first_ev_patch = m->opt.ev_patch, first_gluing = m->opt.smooth_gluing, first_g2 = m->g2_folded;
+    int nw = m->nwarnings;
+    m->surface = NULL;
+    m->edge_iv = NULL;
+    m->warning[0] = 0;
+    m->g2_folded = 0;
+    m->opt.ev_patch = ev_patch;
+    m->opt.smooth_gluing = smooth_gluing;
+    q2n_status st = build_checked(m, &e1);
+    q2n_mesh_free(m->frame_mesh);
+    m->frame_mesh = NULL;
+    q2n_fairness f0 = q2n_surface_fairness(b.surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads);
+    q2n_fairness f1 = {INFINITY, INFINITY};
+    if (!st) f1 = q2n_surface_fairness(m->surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads);
+    m->frame_ripple[0] = f0.ripple, m->frame_ripple[1] = f1.ripple;
+    m->frame_energy[0] = f0.energy, m->frame_energy[1] = f1.energy;
+    int same_patches = m->opt.ev_patch == first_ev_patch; /* the fallbacks took the same turns */
+    if (!st && f1.ripple < f0.ripple && f1.energy <= f0.energy && m->folded <= b.folded && m->continuity >= b.continuity &&
+        (!same_patches || m->ev_stats.polynomial_edges >= b.ev_stats.polynomial_edges)) {
+        keep_second(&b);
+        m->frame_used = 1;
+        if (!m->note[0])
+            snprintf(m->note, sizeof m->note, "built in the mesh's isotropic frame (its faces stretched %.3g : 1 on the whole) "
+                     "and mapped back: diagonal ripple %.4g -> %.4g, bending energy %.4g -> %.4g against its own frame "
+                     "(--frame off builds there)", m->frame_stretch, f0.ripple, f1.ripple, f0.energy, f1.energy);
+        /* the first build's warnings (its fallbacks') go with it */
+        memmove(m->warnings[nw0], m->warnings[nw], (size_t)(m->nwarnings - nw) * sizeof m->warnings[0]);
+        m->nwarnings -= nw - nw0;
+        return;
+    }
+    keep_first(m, &b);
+    m->nwarnings = nw; /* the second build's warnings go with it */
+    m->opt.ev_patch = first_ev_patch;
+    m->opt.smooth_gluing = first_gluing;
+    m->g2_folded = first_g2;
 }
 
 /* Where the mesh is flat, does the surface stay flat?  A warning with the remedy when it leaves the
@@ -478,10 +551,11 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     m->t_read += q2n_now() - t0;
     t0 = q2n_now();
     if (!st) q2n_progress_emit(&m->opt.progress, "build", NULL, 0, m->mesh->nf);
-    if (!st) st = m->opt.method == Q2N_SURFACE_AUGMENTED ? build_augmented(m, err) : build_acc(m, err);
-    if (!st) st = scan_patches(m, err);
-    if (!st) gluing_fallback(m);
-    if (!st) fold_fallback(m);
+    int ev_patch = m->opt.ev_patch, smooth_gluing = m->opt.smooth_gluing, nw = m->nwarnings;
+    int aug = m->opt.method == Q2N_SURFACE_AUGMENTED;
+    if (!st) st = aug ? build_checked(m, err) : build_acc(m, err);
+    if (!st && !aug) st = scan_patches(m, err);
+    if (!st && aug && m->opt.frame >= 0) frame_choice(m, ev_patch, smooth_gluing, nw);
     for (int k = 0; k < 2; k++) { /* a failure is often the split faces' (needles, bow-ties) */
         const char *h = hint[k];
         size_t l = st ? strlen(err->message) : 0;
@@ -634,6 +708,12 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.triangles_left = m->tri_left;
     m->fit.filled_faces = m->filled;
     m->fit.fill_quads = m->fill_quads;
+    m->fit.frame_stretch = m->frame_stretch;
+    m->fit.frame_used = m->frame_used;
+    m->fit.frame_ripple[0] = m->frame_ripple[0];
+    m->fit.frame_ripple[1] = m->frame_ripple[1];
+    m->fit.frame_energy[0] = m->frame_energy[0];
+    m->fit.frame_energy[1] = m->frame_energy[1];
     m->fit.folded_face = m->folded_face;
     if (!st && m->g2_folded && !m->fit.note[0]) /* the report says so as well as the warning (-q hides that) */
         snprintf(m->fit.note, sizeof m->fit.note,

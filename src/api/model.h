@@ -38,6 +38,9 @@ typedef struct q2n_model_options {
     int fold_fallback;            /* augmented, default patches (G2): where they fold over, G1 patches at the
                                      extraordinary vertices instead if those fold on fewer faces (the public
                                      API sets it unless ev_patch is given or continuity is G2) */
+    int frame;                    /* augmented: 0 (default) builds in the mesh's isotropic frame too where the
+                                     mesh is stretched and keeps the build that ripples less; -1 never
+                                     (--frame off; docs/extraordinary.md, "The isotropic frame") */
     int threads;                  /* worker threads of the construction (0: 1; results do not depend on it) */
     q2n_acc_strategy acc_strategy;
     int subdivide;                /* Catmull–Clark steps before building */
@@ -93,6 +96,12 @@ typedef struct q2n_model {
     double moved_rel;          /* --limit-points: largest vertex move / bbox diagonal (0: none) */
     q2n_extraordinary_stats ev_stats; /* the extraordinary regions' build (--keep-flat's vertices) */
     int g2_folded;             /* opt.fold_fallback taken: the faces the G2 patches folded on (0: not taken) */
+    q2n_mesh *frame_mesh;      /* while building in the isotropic frame: the mesh mapped into it */
+    double frame_Ainv[3][3];   /* the map back out of it */
+    double frame_stretch;      /* the isotropic frame's stretch (condition number; 1: none, 0: not estimated) */
+    int frame_used;            /* the surface was built in the isotropic frame and mapped back */
+    double frame_ripple[2];    /* the diagonal ripple of the builds in the mesh's and in the isotropic frame */
+    double frame_energy[2];    /* their bending energy */
 } q2n_model;
 
 /* Read (any mesh format, q2n_mesh_read) and move into the internal frame, then construct:

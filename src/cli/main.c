@@ -68,6 +68,11 @@ static void usage(FILE *f)
           "                        one plane), the fair construction keeps the surface in that\n"
           "                        plane exactly (flat panels stay flat; the bends beside them\n"
           "                        get tighter)\n"
+          "      --frame F         auto (default): where the mesh's faces are stretched on the\n"
+          "                        whole (a model scaled along an axis), also build in the frame\n"
+          "                        that makes them isotropic, map back, and keep the build that\n"
+          "                        ripples less (no more bending energy, no more folds); off:\n"
+          "                        build in the mesh's own frame only\n"
           "      --param P         edge parameter intervals: centripetal (default), chordal,\n"
           "                        uniform, mean (ribbon-averaged baseline of the paper)\n"
           "      --alpha A         exponent of |edge|^A for centripetal/mean (default 0.5)\n"
@@ -193,7 +198,7 @@ static int parse_size(const char *s, double *out)
 enum {
     OPT_TESS = 256, OPT_GRID, OPT_CLASS, OPT_PARAM, OPT_ALPHA, OPT_SUBDIV, OPT_SURFACE, OPT_STRAT, OPT_TOL,
     OPT_THREADS, OPT_UNITS, OPT_EVPATCH, OPT_SOLVER, OPT_CONT, OPT_FORMAT, OPT_SCALE, OPT_TOLABS, OPT_ANGLE,
-    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_EVGLUING, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT, OPT_KEEPFLAT, OPT_PAIR, OPT_FILL
+    OPT_CURV, OPT_MAXMEM, OPT_PROGRESS, OPT_EVMETHOD, OPT_EVGLUING, OPT_MAXSPANS, OPT_GLUING, OPT_LIMIT, OPT_NOLIMIT, OPT_KEEPFLAT, OPT_PAIR, OPT_FILL, OPT_FRAME
 };
 
 static const struct option LONGOPTS[] = {
@@ -201,7 +206,7 @@ static const struct option LONGOPTS[] = {
     {"grid", required_argument, 0, OPT_GRID},       {"class", required_argument, 0, OPT_CLASS},
     {"param", required_argument, 0, OPT_PARAM},     {"alpha", required_argument, 0, OPT_ALPHA},
     {"subdivide", required_argument, 0, OPT_SUBDIV}, {"surface", required_argument, 0, OPT_SURFACE},
-    {"keep-flat", no_argument, 0, OPT_KEEPFLAT}, {"pair-triangles", no_argument, 0, OPT_PAIR}, {"fill-ngons", no_argument, 0, OPT_FILL}, {"limit-points", no_argument, 0, OPT_LIMIT},   {"no-limit-points", no_argument, 0, OPT_NOLIMIT},
+    {"keep-flat", no_argument, 0, OPT_KEEPFLAT}, {"frame", required_argument, 0, OPT_FRAME}, {"pair-triangles", no_argument, 0, OPT_PAIR}, {"fill-ngons", no_argument, 0, OPT_FILL}, {"limit-points", no_argument, 0, OPT_LIMIT},   {"no-limit-points", no_argument, 0, OPT_NOLIMIT},
     {"acc-strategy", required_argument, 0, OPT_STRAT}, {"quiet", no_argument, 0, 'q'},
     {"tol", required_argument, 0, OPT_TOL},         {"threads", required_argument, 0, OPT_THREADS},
     {"units", required_argument, 0, OPT_UNITS},     {"ev-patch", required_argument, 0, OPT_EVPATCH},
@@ -244,6 +249,13 @@ static int parse_option(int c, const char *arg, cli_options *o)
     case OPT_PAIR: q->pair_triangles = 1; return 0;
     case OPT_FILL: q->fill_ngons = 1; return 0;
     case OPT_KEEPFLAT: q->keep_flat = 1; return 0;
+    case OPT_FRAME:
+        if (strcmp(arg, "auto") && strcmp(arg, "off")) {
+            fprintf(stderr, "quad2nurbs: --frame: unknown '%s' (expected auto or off)\n", arg);
+            return 2;
+        }
+        q->frame = strcmp(arg, "auto") ? -1 : 0;
+        return 0;
     case OPT_NOLIMIT: q->limit_points = -1; return 0;
     case OPT_THREADS: q->given |= Q2N_GIVEN_THREADS; return parse_int(arg, "--threads", 1, 4096, &q->threads) ? 2 : 0;
     case OPT_MAXSPANS: return parse_int(arg, "--max-spans", 1, 1024, &q->max_spans) ? 2 : 0;

@@ -177,6 +177,18 @@ int q2n_mesh_fill_count(const q2n_mesh *m, int min_sides);
  * interior vertex must be a quad (Q2N_ERR_UNSUPPORTED naming the face otherwise). */
 q2n_status q2n_mesh_limit_points(const q2n_mesh *m, q2n_mesh **out, q2n_error *err);
 
+/* The mesh's isotropic frame (frame.c): the symmetric linear map A of determinant 1 under which the
+ * edges of the faces around each vertex are most nearly isotropic in its tangent plane, in the
+ * least-squares sense over all vertices (docs/extraordinary.md, "The isotropic frame").  A mesh
+ * that is the image of a well-shaped one under a linear map S gets A = S^-1 up to a rotation.
+ * Returns A's condition number (its largest stretch over its smallest; 1 and A = I where the
+ * estimate fails); Ainv its inverse. */
+double q2n_mesh_isotropic_frame(const q2n_mesh *m, double A[3][3], double Ainv[3][3]);
+
+/* A copy of m with every vertex p mapped to A p (validated again: Q2N_ERR_GEOMETRY where the map
+ * makes an edge or a face degenerate). */
+q2n_status q2n_mesh_mapped(const q2n_mesh *m, const double A[3][3], q2n_mesh **out, q2n_error *err);
+
 /* ---- half-edge navigation (all O(1)) ---- */
 static inline int q2n_he_face(const q2n_mesh *m, int h) { return m->he_face[h]; }
 static inline int q2n_he_twin(const q2n_mesh *m, int h) { return m->he_twin[h]; }

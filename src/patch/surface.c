@@ -25,7 +25,37 @@ typedef struct patch {
 struct q2n_surface {
     int n;
     patch *p;
+    int mapped;     /* q2n_surface_map_linear: evaluator outputs go through L (Bézier points already did) */
+    double L[3][3];
 };
+
+/* The n 3-vectors at x through L, in place. */
+static void map_vecs(const double L[3][3], double *x, size_t n)
+{
+    for (size_t q = 0; q < n; q++, x += 3) {
+        double y[3];
+        for (int i = 0; i < 3; i++) y[i] = L[i][0] * x[0] + L[i][1] * x[1] + L[i][2] * x[2];
+        memcpy(x, y, sizeof y);
+    }
+}
+
+/* An evaluator's n output vectors through s's map (positions and derivatives alike). */
+static void map_out(const q2n_surface *s, double *out, size_t n)
+{
+    if (s->mapped) map_vecs(s->L, out, n);
+}
+
+void q2n_surface_map_linear(q2n_surface *s, const double L[3][3])
+{
+    double P[3][3];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            P[i][j] = s->mapped ? L[i][0] * s->L[0][j] + L[i][1] * s->L[1][j] + L[i][2] * s->L[2][j] : L[i][j];
+    memcpy(s->L, P, sizeof P);
+    s->mapped = 1;
+    for (int k = 0; k < s->n; k++) /* Bézier points map exactly, once */
+        if (s->p[k].kind == Q2N_PATCH_BEZIER) map_vecs(L, s->p[k].cp, (size_t)(s->p[k].du + 1) * (s->p[k].dv + 1));
+}
 
 /* ------------------------------------------------------------ the face parametrization */
 
@@ -168,7 +198,7 @@ q2n_status q2n_surface_eval(const q2n_surface *s, int k, double u, double v, int
     switch (p->kind) {
     case Q2N_PATCH_BEZIER: bezier_eval(p, u, v, nder, out); st = Q2N_OK; break;
     case Q2N_PATCH_UNCOVERED: return Q2N_ERR_ARG;
-    default: st = p->eval(p->data, u, v, nder, out);
+    default: st = p->eval(p->data, u, v, nder, out); map_out(s, out, nder == 0 ? 1 : nder == 1 ? 3 : 6);
     }
     return st ? st : all_finite(out, nder == 0 ? 3 : nder == 1 ? 9 : 18);
 }
@@ -181,6 +211,7 @@ q2n_status q2n_surface_eval_grid(const q2n_surface *s, int k, int nu, const doub
     if (p->kind == Q2N_PATCH_UNCOVERED) return Q2N_ERR_ARG;
     if (p->grid) {
         q2n_status st = p->grid(p->data, nu, us, nv, vs, out);
+        map_out(s, out, 3 * (size_t)nu * nv);
         return st ? st : all_finite(out, 9 * (size_t)nu * nv);
     }
     for (int j = 0; j < nv; j++)
@@ -199,6 +230,7 @@ q2n_status q2n_surface_eval_grid_pos(const q2n_surface *s, int k, int nu, const 
     size_t n = (size_t)nu * nv;
     if (p->grid_pos && p->kind != Q2N_PATCH_UNCOVERED) {
         q2n_status st = p->grid_pos(p->data, nu, us, nv, vs, out);
+        map_out(s, out, n);
         return st ? st : all_finite(out, 3 * n);
     }
     double *buf = malloc(9 * sizeof(double) * (n ? n : 1));
@@ -311,7 +343,9 @@ q2n_status q2n_surface_corner_mixed(const q2n_surface *s, int k, int i, int j, d
 {
     if (!s || k < 0 || k >= s->n || (i & ~1) || (j & ~1)) return Q2N_ERR_ARG;
     if (!s->p[k].corner) return Q2N_ERR_UNSUPPORTED;
-    return s->p[k].corner(s->p[k].data, i, j, out);
+    q2n_status st = s->p[k].corner(s->p[k].data, i, j, out);
+    map_out(s, &out[0][0][0][0], 8);
+    return st;
 }
 
 double q2n_surface_project(const q2n_surface *s, int k, const double P[3], int maxit, double *u, double *v)

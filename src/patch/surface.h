@@ -118,6 +118,12 @@ int q2n_surface_first_nonfinite(const double *out, int npoints);
 q2n_status q2n_surface_scan(const q2n_surface *s, int k, int n, const double ref[3], int *folded,
                             double *u, double *v);
 
+/* Map the whole surface by the linear map L, after its producers are done: every evaluation (values
+ * and derivatives, grids, corner partials) comes out as L times the producer's, and Bézier control
+ * points are mapped in place (exact).  Maps compose.  Affine maps keep G1 and G2 across edges,
+ * interpolation, and the sign of a fold (det L > 0). */
+void q2n_surface_map_linear(q2n_surface *s, const double L[3][3]);
+
 /* Bézier patches: set / get degree and control points cp[3*(j*(du+1)+i)], i along u. */
 q2n_status q2n_surface_set_bezier(q2n_surface *s, int k, int du, int dv, const double *cp);
 int q2n_surface_bezier(const q2n_surface *s, int k, int *du, int *dv, const double **cp);
