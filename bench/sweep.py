@@ -42,8 +42,8 @@ Meshes (none of them in ../shared/meshes or in tests/meshgen.h):
   block_2x2x2        2 x 2 x 2 unit cubes, not smoothed: the plainest box cage (osc and E missed:
                      the construction's, by the radial reference of tools/q2n_ripple_bound.py)
   *_x3               genus2_plate, torus_flips, hull40_tri and pillow stretched 3 x along x:
-                     anisotropic faces and fans (osc missed in G2 mode on all four, pillow_x3 also
-                     size: the construction's, while acc-g1, affine invariant, maps along)
+                     anisotropic faces and fans (before stop 51's isotropic frame osc missed in G2
+                     mode on all four, pillow_x3 also size; since, hull40_tri_x3's osc in G2 mode)
 Time: a few minutes (bumpy400_tri is the long one; --only skips it).
 """
 import argparse

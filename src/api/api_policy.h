@@ -40,10 +40,10 @@
 #define Q2N_MODEL_FILL_HINT_SIDES 12
 
 /* The isotropic frame (model.c frame_choice).  A second build in the mesh's isotropic frame only where
- * the frame's stretch reaches this.  Why 1.25: meshes drawn isotropic get estimates of 1.02-1.21 from
- * their faces' own shapes (the shared OpenSubdiv and G+Smo meshes with extraordinary vertices and a
- * round character cage), and there the second build costs its time for surfaces that differ by
- * their charts' rounding; stretches of 1.3 and more change the ripple by 10 % or more. */
+ * the frame's stretch reaches this.  Why 1.25: meshes drawn with near-square faces estimate 1.02-1.21
+ * from their faces' own irregularity, where there is no stretch to undo and a second construction
+ * would cost its time for a surface hardly different; the smallest stretches where the isotropic
+ * frame's build was measured better are 1.3-1.45 (small open and closed sets of unit cubes). */
 #define Q2N_MODEL_FRAME_MIN_STRETCH 1.25
 /* Samples per face diagonal of the ripple that chooses between the two builds.  Why 17: the
  * construction is a polynomial of degree 5-9 per patch, and a bump of its curvature spans a quarter

@@ -84,9 +84,9 @@
 /* The isotropic frame (frame.c).  A vertex whose faces' edges have a moment of determinant below
  * this (trace 1; 0.25 is isotropic) is collinear there and says nothing about a stretch. */
 #define Q2N_FRAME_MIN_DET 1e-6
-/* Weight per vertex of the ridge toward the identity: small against the isotropy equations (their
- * residuals are O(0.1-1) on stretched meshes), it only fixes what they leave free (a flat mesh's
- * normal direction) and the scale. */
+/* Weight per vertex of the ridge on log G (toward the identity): small against the isotropy
+ * equations (their residuals are O(0.1-1) on stretched meshes), it only fixes what they leave free
+ * (a flat mesh's normal direction, which no vertex's tangent plane sees). */
 #define Q2N_FRAME_RIDGE 0.05
 /* Gauss–Newton steps of the estimate at most (it stops earlier once a step is below rounding): a
  * cap against a slow tail, not a tolerance. */
