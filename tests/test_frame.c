@@ -320,11 +320,52 @@ static void test_model(void)
     }
 }
 
+/* Shared meshes scaled along an axis (stop 50's finding): their own frame folds the G2 patches (G1 ones
+ * replace them); built in the isotropic frame, no fold (octtorus_hole: with G2 patches) and far
+ * smoother by tests/fairness.h. */
+static void test_shared_stretched(void)
+{
+    static const struct { const char *file; double s[3], osc_ratio; int g2; } cases[] = {
+        {"gismo_octtorus_hole.obj", {3, 1, 1}, 0.35, 1},      /* measured 0.91 against 3.66 (G1 patches) */
+        {"osd_catmark_gregory_test6.obj", {1, 1, 0.1}, 0.15, 0}, /* 19.9 against 237, G1 patches in both */
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        const char *path = chk_shared_mesh(cases[c].file);
+        if (!path) continue;
+        double S[3][3] = {{cases[c].s[0], 0, 0}, {0, cases[c].s[1], 0}, {0, 0, cases[c].s[2]}};
+        q2n_model *m[2] = {NULL, NULL};
+        fair_figures F[2];
+        for (int off = 0; off < 2; off++) {
+            q2n_mesh *mesh = NULL;
+            q2n_error err;
+            if (q2n_mesh_read(path, &mesh, NULL, &err)) { CHECK(0, "%s: %s", path, err.message); return; }
+            q2n_model_options o;
+            memset(&o, 0, sizeof o);
+            o.frame = off ? -1 : 0;
+            o.fold_fallback = 1; /* the CLI's default */
+            CHECK(q2n_model_build_mesh(mapped(mesh, S), &o, &m[off], &err) == Q2N_OK, "%s: build: %s", cases[c].file, err.message);
+            if (!m[off]) return;
+            fair_measure(m[off]->mesh, m[off]->surface, &F[off]);
+        }
+        CHECK(m[0]->frame_used && m[0]->continuity == (cases[c].g2 ? 2 : 1) && m[0]->folded == 0 && m[1]->g2_folded > 0,
+              "%s scaled %g %g %g: no fold in the isotropic frame (used %d, continuity %d, folded %d; own frame: "
+              "G2 folded on %d faces, G1 patches)", cases[c].file, cases[c].s[0], cases[c].s[1], cases[c].s[2], m[0]->frame_used,
+              m[0]->continuity, m[0]->folded, m[1]->g2_folded);
+        CHECK(F[0].osc_ev_mean < cases[c].osc_ratio * F[1].osc_ev_mean && F[0].E_ev < F[1].E_ev && F[0].jac_min > 0.1,
+              "%s scaled: osc %.4g against %.4g in its own frame, E_ev %.4g against %.4g, jac %.3g", cases[c].file,
+              F[0].osc_ev_mean, F[1].osc_ev_mean, F[0].E_ev, F[1].E_ev, F[0].jac_min);
+        CHECK(corner_gap(m[0]) < 1e-13, "%s scaled: every vertex interpolated (gap %.3g)", cases[c].file, corner_gap(m[0]));
+        q2n_model_free(m[0]);
+        q2n_model_free(m[1]);
+    }
+}
+
 int main(void)
 {
     test_estimate();
     test_surface_map();
     test_fairness_closed_form();
     test_model();
+    test_shared_stretched();
     CHECK_DONE("test_frame");
 }
