@@ -13,6 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "api/api_policy.h"
 #include "api/policy.h"
 #include "fit/fit_policy.h"
 #include "patch/extraordinary.h"
@@ -245,7 +246,13 @@ void q2n_model_estimate(const q2n_model *m, const q2n_plan *plan, q2n_estimate *
     memset(e, 0, sizeof *e);
     long long nf = planned_faces(m);
     double faces = (double)nf, ev = planned_ev_faces(m, planned_steps(m), faces);
-    double build = Q2N_MEM_BASE + faces * Q2N_MEM_BUILD_PER_FACE + ev * Q2N_MEM_BUILD_PER_EV_FACE, peak = build;
+    double build = Q2N_MEM_BASE + faces * Q2N_MEM_BUILD_PER_FACE + ev * Q2N_MEM_BUILD_PER_EV_FACE, peak;
+    if (m->opt.method == Q2N_SURFACE_AUGMENTED && m->opt.frame >= 0) { /* the isotropic frame's second build */
+        double A[3][3], Ai[3][3];
+        if (q2n_mesh_isotropic_frame(m->mesh, A, Ai) >= Q2N_MODEL_FRAME_MIN_STRETCH)
+            build += faces * Q2N_MEM_FRAME_PER_FACE + ev * Q2N_MEM_FRAME_PER_EV_FACE;
+    }
+    peak = build;
     e->faces = nf;
     e->peak_stage = "build";
     double cache = faces * Q2N_MEM_FIT_CACHE_PER_FACE;

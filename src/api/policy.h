@@ -21,6 +21,14 @@
  * extraordinary patches (34 KB on the first: ~13 x 13 control points each). */
 #define Q2N_MEM_BUILD_PER_EV_FACE 125e3
 #define Q2N_MEM_FIT_PER_EV_FACE 35e3
+/* The isotropic frame's second build (model.c frame_choice) runs while the first surface is kept:
+ * its patch data, per face and again per extraordinary face.  Measured (maximum resident set of
+ * `sample`, the frame tried against --frame off): 19-20 KB per face on subdivided convex hulls
+ * whose every face is extraordinary, 23 on a 434-face character mesh, 42 MB on a 3064-face one
+ * with a fourth of its faces extraordinary; 12 + 12 KB covers them.  Added where the mesh's
+ * estimated stretch asks for the second build. */
+#define Q2N_MEM_FRAME_PER_FACE 12e3
+#define Q2N_MEM_FRAME_PER_EV_FACE 12e3
 /* The extraordinary regions' extent: faces whose face and this many rings of faces around it (the
  * default class's 6 x 6 vertex grid: 2) reach an extraordinary vertex; on a mesh subdivided twice
  * or more, 9 fine faces per unit of the vertex's valence (the 6 x 6 block around a regular vertex
