@@ -71,8 +71,8 @@ static int vertex_factor(const q2n_mesh *m, int v, double C[3][2])
     int h0 = m->vert_he[v];
     if (h0 < 0) return 0;
     double n[3] = {0, 0, 0}, t1[3], t2[3], M[3] = {0, 0, 0}; /* M: xx, xy, yy */
-    int faces[64], nfc = 0;
-    for (int h = h0; h >= 0 && nfc < 64;) { /* the faces at v: its outgoing half-edges' faces */
+    int faces[Q2N_FRAME_FAN_MAX], nfc = 0;
+    for (int h = h0; h >= 0 && nfc < Q2N_FRAME_FAN_MAX;) { /* the faces at v: its outgoing half-edges' faces */
         faces[nfc++] = m->he_face[h];
         h = q2n_mesh_rotate(m, h);
         if (h == h0) break;
@@ -135,8 +135,8 @@ static const double basis[5][6] = {{0.70710678118654752, -0.70710678118654752, 0
                                    {0, 0, 0, 0, 0.70710678118654752, 0},
                                    {0, 0, 0, 0, 0, 0.70710678118654752}};
 
-/* G = exp(S(x)) (six entries), or with root = 1 its square root exp(S / 2) as a 3 x 3 matrix R and
- * its inverse in Ri (A and A^-1). */
+/* From x: G = exp(S) into G (six entries), A = exp(S / 2) and its inverse into R and Ri, and A's
+ * stretch (its largest eigenvalue over its smallest) into *stretch, each where not NULL. */
 static void g_of(const double x[5], double G[6], double R[3][3], double Ri[3][3], double *stretch)
 {
     double S[3][3] = {{0}}, w[3], E[3][3];

@@ -84,6 +84,9 @@
 /* The isotropic frame (frame.c).  A vertex whose faces' edges have a moment of determinant below
  * this (trace 1; 0.25 is isotropic) is collinear there and says nothing about a stretch. */
 #define Q2N_FRAME_MIN_DET 1e-6
+/* Faces of a vertex's fan that its moment reads at most (a fan beyond it is a polygon's centre after
+ * Catmull–Clark: its first faces say enough about the region's stretch). */
+#define Q2N_FRAME_FAN_MAX 64
 /* Weight per vertex of the ridge on log G (toward the identity): small against the isotropy
  * equations (their residuals are O(0.1-1) on stretched meshes), it only fixes what they leave free
  * (a flat mesh's normal direction, which no vertex's tangent plane sees). */
