@@ -14,6 +14,9 @@
 #include "meshgen.h"
 
 #include "api/model.h"
+#include "param/param.h"
+#include "patch/augmented.h"
+#include "patch/extraordinary.h"
 #include "core/vec3.h"
 #include "mesh/mesh.h"
 #include "patch/fairness.h"
@@ -358,6 +361,73 @@ static void test_shared_stretched(void)
         q2n_model_free(m[0]);
         q2n_model_free(m[1]);
     }
+    /* the helmet 8 x along x in G1 mode: built in the isotropic frame its dome gets rougher (the
+     * regular patches), but its extraordinary regions smoother, so only their vertex charts are
+     * measured there */
+    const char *path = chk_shared_mesh("osd_catmark_helmet.obj");
+    if (path) {
+        double S[3][3] = {{8, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+        q2n_model *m[2] = {NULL, NULL};
+        fair_figures F[2];
+        for (int off = 0; off < 2; off++) {
+            q2n_mesh *mesh = NULL;
+            q2n_error err;
+            if (q2n_mesh_read(path, &mesh, NULL, &err)) { CHECK(0, "%s: %s", path, err.message); return; }
+            q2n_model_options o;
+            memset(&o, 0, sizeof o);
+            o.frame = off ? -1 : 0;
+            o.ev_patch = Q2N_EV_PATCH_G1;
+            CHECK(q2n_model_build_mesh(mapped(mesh, S), &o, &m[off], &err) == Q2N_OK, "helmet 8 x: build: %s", err.message);
+            if (!m[off]) return;
+            fair_measure(m[off]->mesh, m[off]->surface, &F[off]);
+        }
+        CHECK(m[0]->frame_used == 2 && m[0]->frame_ripple[1] > m[0]->frame_ripple[0] && m[0]->frame_ripple[2] < m[0]->frame_ripple[0],
+              "helmet 8 x, G1: the vertex charts of the isotropic frame (used %d, ripple %.5g, %.5g, %.5g)", m[0]->frame_used,
+              m[0]->frame_ripple[0], m[0]->frame_ripple[1], m[0]->frame_ripple[2]);
+        CHECK(F[0].osc_ev_mean < 0.85 * F[1].osc_ev_mean && F[0].E_ev < F[1].E_ev && F[0].E_reg <= F[1].E_reg * (1 + 1e-9) &&
+                  m[0]->ev_stats.polynomial_edges >= m[1]->ev_stats.polynomial_edges,
+              "helmet 8 x, G1: osc %.4g against %.4g, E_ev %.4g against %.4g, E_reg %.4g against %.4g, polynomial edges %d "
+              "against %d", F[0].osc_ev_mean, F[1].osc_ev_mean, F[0].E_ev, F[1].E_ev, F[0].E_reg, F[1].E_reg,
+              m[0]->ev_stats.polynomial_edges, m[1]->ev_stats.polynomial_edges);
+        CHECK(corner_gap(m[0]) < 1e-13, "helmet 8 x: every vertex interpolated (gap %.3g)", corner_gap(m[0]));
+        q2n_model_free(m[0]);
+        q2n_model_free(m[1]);
+    }
+}
+
+/* A chart mesh that is the mesh itself (the identity map) gives the surface bit for bit. */
+static void test_chart_identity(void)
+{
+    static const int pinch[2] = {5, 40};
+    double I[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int k = 1; k <= 2; k++) {
+        q2n_mesh *m = mg_torus_pinched(12, 8, 3, 1, pinch, 2), *cm = NULL;
+        q2n_surface *s[2] = {NULL, NULL};
+        q2n_error err;
+        CHECK(q2n_mesh_mapped(m, I, &cm, &err) == Q2N_OK, "identity map");
+        for (int c = 0; c < 2; c++) {
+            q2n_augmented_options ao = {NULL, {0}};
+            q2n_extraordinary_options eo = {NULL, {0}, k == 1 ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_FAIR, 1, 0, 0,
+                                            c ? cm : NULL};
+            double *iv = NULL;
+            CHECK(q2n_param_edge_intervals(m, &ao.param, &iv, &err) == Q2N_OK && q2n_augmented_build(m, &ao, iv, &s[c], &err) == Q2N_OK &&
+                      q2n_extraordinary_build(m, &eo, iv, s[c], &err) == Q2N_OK,
+                  "build: %s", err.message);
+            free(iv);
+        }
+        int same = s[0] && s[1];
+        for (int f = 0; same && f < m->nf; f++) {
+            double e0[18], e1[18];
+            q2n_surface_eval(s[0], f, 0.3, 0.8, 2, e0);
+            q2n_surface_eval(s[1], f, 0.3, 0.8, 2, e1);
+            same = memcmp(e0, e1, sizeof e0) == 0;
+        }
+        CHECK(same, "G%d: charts measured on an identical chart mesh give the same surface", k);
+        q2n_surface_free(s[0]);
+        q2n_surface_free(s[1]);
+        q2n_mesh_free(cm);
+        q2n_mesh_free(m);
+    }
 }
 
 int main(void)
@@ -367,5 +437,6 @@ int main(void)
     test_fairness_closed_form();
     test_model();
     test_shared_stretched();
+    test_chart_identity();
     CHECK_DONE("test_frame");
 }

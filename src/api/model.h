@@ -97,11 +97,14 @@ typedef struct q2n_model {
     q2n_extraordinary_stats ev_stats; /* the extraordinary regions' build (--keep-flat's vertices) */
     int g2_folded;             /* opt.fold_fallback taken: the faces the G2 patches folded on (0: not taken) */
     q2n_mesh *frame_mesh;      /* while building in the isotropic frame: the mesh mapped into it */
-    double frame_Ainv[3][3];   /* the map back out of it */
+    const q2n_mesh *frame_charts; /* while building with the vertex charts of the isotropic frame: that mesh */
+    double frame_Ainv[3][3];   /* the map back out of the frame */
     double frame_stretch;      /* the isotropic frame's stretch (condition number; 1: none, 0: not estimated) */
-    int frame_used;            /* the surface was built in the isotropic frame and mapped back */
-    double frame_ripple[2];    /* the diagonal ripple of the builds in the mesh's and in the isotropic frame */
-    double frame_energy[2];    /* their bending energy */
+    int frame_used;            /* 0: the mesh's own frame; 1: built in the isotropic frame and mapped back;
+                                  2: the vertex charts measured in it */
+    double frame_ripple[3];    /* the diagonal ripple of the builds: own frame, isotropic frame, charts
+                                  only (0: not built) */
+    double frame_energy[3];    /* their bending energy */
 } q2n_model;
 
 /* Read (any mesh format, q2n_mesh_read) and move into the internal frame, then construct:

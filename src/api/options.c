@@ -247,7 +247,7 @@ void q2n_model_estimate(const q2n_model *m, const q2n_plan *plan, q2n_estimate *
     long long nf = planned_faces(m);
     double faces = (double)nf, ev = planned_ev_faces(m, planned_steps(m), faces);
     double build = Q2N_MEM_BASE + faces * Q2N_MEM_BUILD_PER_FACE + ev * Q2N_MEM_BUILD_PER_EV_FACE, peak;
-    if (m->opt.method == Q2N_SURFACE_AUGMENTED && m->opt.frame >= 0) { /* the isotropic frame's second build */
+    if (m->opt.method == Q2N_SURFACE_AUGMENTED && m->opt.frame >= 0 && ev > 0) { /* the isotropic frame's second build */
         double A[3][3], Ai[3][3];
         if (q2n_mesh_isotropic_frame(m->mesh, A, Ai) >= Q2N_MODEL_FRAME_MIN_STRETCH)
             build += faces * Q2N_MEM_FRAME_PER_FACE + ev * Q2N_MEM_FRAME_PER_EV_FACE;

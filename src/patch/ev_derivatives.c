@@ -417,6 +417,19 @@ static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, i
     return 1;
 }
 
+/* The fan of v on m, charted on cm (m under a linear map: the isotropic frame) where not NULL: the
+ * angles and distances of cm's fan place the neighbours and far corners (X, Xq), while the edge
+ * vectors the jet is fitted to (f, q) stay m's. */
+static int fan_chart(const q2n_mesh *m, const q2n_mesh *cm, const double *iv, int v, int quarter, int cross, fan *F)
+{
+    if (!cm) return fan_gather(m, iv, v, quarter, cross, F);
+    fan C;
+    if (!fan_gather(cm, iv, v, quarter, cross, &C) || !fan_gather(m, iv, v, quarter, cross, F)) return 0;
+    memcpy(F->X, C.X, sizeof C.X);
+    memcpy(F->Xq, C.Xq, sizeof C.Xq);
+    return 1;
+}
+
 /* J1: the linear map X_k -> f_k in the least-squares sense, weights 1/|X_k|^2 (relative errors,
  * so short and long edges count alike).  In the fair construction a fan of one face (a corner of
  * the mesh's boundary) fits its far corner too, like a third neighbour: its two edges alone would
@@ -502,11 +515,12 @@ static void fit_tangential_second(const fan *F, ev_vjet *J)
 
 /* Least-squares local polynomial at v (Appendix B, adapted; see the file comment); quarter: as
  * fan_gather. */
-static int jet_from_fit(const q2n_mesh *m, const double *iv, int v, ev_vjet *J, double (*dir)[2], int quarter, int cross)
+static int jet_from_fit(const q2n_mesh *m, const q2n_mesh *cm, const double *iv, int v, ev_vjet *J, double (*dir)[2], int quarter,
+                        int cross)
 {
     fan F;
     double nj[3];
-    if (!fan_gather(m, iv, v, quarter, cross, &F) || !fit_first(&F, J) || !q2n_ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
+    if (!fan_chart(m, cm, iv, v, quarter, cross, &F) || !fit_first(&F, J) || !q2n_ev_jet_normal(J, nj) || !fit_normal_second(&F, nj, J))
         return 0;
     fit_tangential_second(&F, J);
     for (int k = 0; k < F.n; k++) {
@@ -609,7 +623,7 @@ static int jet_from_sections(const q2n_mesh *m, const double *iv, const q2n_spli
     return 1;
 }
 
-q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
+q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_mesh *chart_mesh, const q2n_surface *s, const double *iv,
                               const q2n_spline_class *cls, int sections, const char *cross, ev_vjet *jets,
                               double (*dir)[2], q2n_error *err)
 {
@@ -637,7 +651,7 @@ q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const dou
      * else Appendix B */
     for (int v = 0; v < m->nv; v++) {
         if (!need[v] || jets[v].source) continue;
-        if (!(sections && jet_from_sections(m, iv, cls, v, &jets[v], dir)) && !jet_from_fit(m, iv, v, &jets[v], dir, sections, cross && cross[v])) {
+        if (!(sections && jet_from_sections(m, iv, cls, v, &jets[v], dir)) && !jet_from_fit(m, chart_mesh, iv, v, &jets[v], dir, sections, cross && cross[v])) {
             free(need);
             char where[300], of[48];
             q2n_mesh_vertex_where(m, v, where, sizeof where);

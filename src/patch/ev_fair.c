@@ -415,7 +415,7 @@ static char *border_cross(const q2n_mesh *m, const char *unc)
     return cross;
 }
 
-q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int keep_flat, int poly_gluing, int threads, ev_fair_stats *stats, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
@@ -457,7 +457,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv
         goto done;
     }
     B.cross = cross;
-    if ((st = q2n_ev_vertex_jets(m, s, iv, cls, 0, cross, vj, dir, err))) goto done;
+    if ((st = q2n_ev_vertex_jets(m, chart_mesh, s, iv, cls, 0, cross, vj, dir, err))) goto done;
 
     /* jets: initial values (the local estimates; orders 3, 4 zero) and unknowns */
     for (int v = 0; v < m->nv; v++) {

@@ -23,10 +23,11 @@ typedef struct ev_fair_stats {
 } ev_fair_stats;
 
 /* Give every uncovered face of s a fair patch of continuity order K (1: G1, 2: G2).  iv: the
- * edge intervals the regular patches were built with; keep_flat: vertices whose fan is flat
- * (EV_FLAT_REL) keep the surface in its plane exactly; threads: workers for the energy assembly
- * (the result does not depend on it); stats may be NULL. */
-q2n_status q2n_ev_fair_build(const q2n_mesh *m, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
+ * edge intervals the regular patches were built with; chart_mesh: m under a linear map, on which
+ * the vertex charts are measured (NULL: m); keep_flat: vertices whose fan is flat (EV_FLAT_REL)
+ * keep the surface in its plane exactly; threads: workers for the energy assembly (the result does
+ * not depend on it); stats may be NULL. */
+q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int keep_flat, int poly_gluing, int threads, ev_fair_stats *stats, q2n_error *err);
 
 #endif

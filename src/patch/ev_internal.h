@@ -68,8 +68,9 @@ typedef struct ev_edge {
  * (end 0: origin of edge_he[e]).  jets[v].source == 0 for vertices not needed.  sections: valence-4
  * interior vertices without a regular patch take the class's section curves and quarter-turn
  * directions (seed 003 §4.3; the paper's construction), else the fan's own chart like every other
- * vertex without a regular patch (the fair construction). */
-q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_surface *s, const double *iv,
+ * vertex without a regular patch (the fair construction), measured on chart_mesh where not NULL (m
+ * under a linear map: the same fans, other angles and lengths). */
+q2n_status q2n_ev_vertex_jets(const q2n_mesh *m, const q2n_mesh *chart_mesh, const q2n_surface *s, const double *iv,
                               const q2n_spline_class *cls, int sections, const char *cross, ev_vjet *jets,
                               double (*dir)[2], q2n_error *err);
 void q2n_ev_jet_d1(const ev_vjet *J, const double u[2], double out[3]);

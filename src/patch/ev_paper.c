@@ -112,7 +112,7 @@ q2n_status q2n_ev_paper_build(const q2n_mesh *m, q2n_surface *s, const double *i
         goto done;
     }
     for (int f = 0; f < m->nf; f++) unc[f] = q2n_surface_kind(s, f) == Q2N_PATCH_UNCOVERED;
-    if ((st = q2n_ev_vertex_jets(m, s, iv, cls, 1, NULL, jets, dir, err))) goto done;
+    if ((st = q2n_ev_vertex_jets(m, NULL, s, iv, cls, 1, NULL, jets, dir, err))) goto done;
 
     /* curve network: every edge of an uncovered face not shared with a regular patch */
     for (int f = 0; f < m->nf && !st; f++) {

@@ -38,6 +38,9 @@ typedef struct q2n_extraordinary_options {
     int keep_flat;               /* fair construction: flat fans stay flat (ev_fair.h); 0: no */
     int smooth_gluing;           /* fair construction, G1 patches: keep the smoothstep gluing everywhere
                                     (0: polynomial gluing where it holds, ev_fair_gluing.c) */
+    const q2n_mesh *chart_mesh;  /* fair construction: the same mesh under a linear map (its isotropic
+                                    frame, mesh.h); the vertex charts are measured on it instead (NULL:
+                                    on the mesh itself; docs/extraordinary.md, "The isotropic frame") */
 } q2n_extraordinary_options;
 
 /* Parse "fair" / "paper"; returns 0 on success. */

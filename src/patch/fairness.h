@@ -10,6 +10,7 @@
 typedef struct q2n_fairness {
     double ripple;  /* sum over the covered patches' two diagonals of osc (below) */
     double energy;  /* bending energy, the integral of k1^2 + k2^2 over the covered patches */
+    double ripple_ev; /* the ripple of the extraordinary regions' patches (Q2N_PATCH_COONS_GREGORY) */
 } q2n_fairness;
 
 /* Along each diagonal of each covered patch ((t, t) and (t, 1 - t), n >= 3 samples), with H the
