@@ -227,11 +227,13 @@ typedef struct q2n_options {
                                       hold: those patches are bi-quintic polynomials, fitted with one
                                       span and exactly G1] (docs/extraordinary.md, "Polynomial gluing
                                       of G1 patches") */
-    int frame;                     /* augmented: where the mesh's faces are stretched on the whole (a model
-                                      scaled along an axis), the surface is also built in the mesh's
-                                      isotropic frame and mapped back, and the build kept that ripples
-                                      less without more bending energy or folds: 0 [auto], -1 never
-                                      (--frame off; docs/extraordinary.md, "The isotropic frame") */
+    int frame;                     /* augmented: where a mesh with extraordinary vertices has its faces
+                                      stretched on the whole (a model scaled along an axis), the surface
+                                      is also built in the mesh's isotropic frame and mapped back (or
+                                      with only the extraordinary regions' vertex charts measured there),
+                                      and the build kept that ripples less without more bending energy
+                                      or folds: 0 [auto], -1 never (--frame off; docs/extraordinary.md,
+                                      "The isotropic frame") */
     q2n_acc_strategy acc_strategy; /* acc-g1 [cs-s] */
     int subdivide;                 /* Catmull–Clark steps before building, 0..6 [0] */
     int limit_points;              /* every vertex (after subdivide) moved to its Catmull–Clark limit
