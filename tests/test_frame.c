@@ -323,6 +323,30 @@ static void test_model(void)
     }
 }
 
+/* A shared mesh scaled by the diagonal s, built with the isotropic frame (m[0]) and without (m[1]),
+ * measured by tests/fairness.h; 0 when the mesh is absent (skipped, said) or a build failed. */
+static int build_scaled(const char *file, const double s[3], int ev_patch, q2n_model *m[2], fair_figures F[2])
+{
+    const char *path = chk_shared_mesh(file);
+    m[0] = m[1] = NULL;
+    if (!path) return 0;
+    double S[3][3] = {{s[0], 0, 0}, {0, s[1], 0}, {0, 0, s[2]}};
+    for (int off = 0; off < 2; off++) {
+        q2n_mesh *mesh = NULL;
+        q2n_error err;
+        if (q2n_mesh_read(path, &mesh, NULL, &err)) { CHECK(0, "%s: %s", path, err.message); return 0; }
+        q2n_model_options o;
+        memset(&o, 0, sizeof o);
+        o.frame = off ? -1 : 0;
+        o.ev_patch = ev_patch;
+        o.fold_fallback = !ev_patch; /* the CLI's default */
+        CHECK(q2n_model_build_mesh(mapped(mesh, S), &o, &m[off], &err) == Q2N_OK, "%s: build: %s", file, err.message);
+        if (!m[off]) return 0;
+        fair_measure(m[off]->mesh, m[off]->surface, &F[off]);
+    }
+    return 1;
+}
+
 /* Shared meshes scaled along an axis (stop 50's finding): their own frame folds the G2 patches (G1 ones
  * replace them); built in the isotropic frame, no fold (octtorus_hole: with G2 patches) and far
  * smoother by tests/fairness.h. */
@@ -333,23 +357,9 @@ static void test_shared_stretched(void)
         {"osd_catmark_gregory_test6.obj", {1, 1, 0.1}, 0.15, 0}, /* 19.9 against 237, G1 patches in both */
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        const char *path = chk_shared_mesh(cases[c].file);
-        if (!path) continue;
-        double S[3][3] = {{cases[c].s[0], 0, 0}, {0, cases[c].s[1], 0}, {0, 0, cases[c].s[2]}};
-        q2n_model *m[2] = {NULL, NULL};
+        q2n_model *m[2];
         fair_figures F[2];
-        for (int off = 0; off < 2; off++) {
-            q2n_mesh *mesh = NULL;
-            q2n_error err;
-            if (q2n_mesh_read(path, &mesh, NULL, &err)) { CHECK(0, "%s: %s", path, err.message); return; }
-            q2n_model_options o;
-            memset(&o, 0, sizeof o);
-            o.frame = off ? -1 : 0;
-            o.fold_fallback = 1; /* the CLI's default */
-            CHECK(q2n_model_build_mesh(mapped(mesh, S), &o, &m[off], &err) == Q2N_OK, "%s: build: %s", cases[c].file, err.message);
-            if (!m[off]) return;
-            fair_measure(m[off]->mesh, m[off]->surface, &F[off]);
-        }
+        if (!build_scaled(cases[c].file, cases[c].s, 0, m, F)) { q2n_model_free(m[0]); q2n_model_free(m[1]); continue; }
         CHECK(m[0]->frame_used && m[0]->continuity == (cases[c].g2 ? 2 : 1) && m[0]->folded == 0 && m[1]->g2_folded > 0,
               "%s scaled %g %g %g: no fold in the isotropic frame (used %d, continuity %d, folded %d; own frame: "
               "G2 folded on %d faces, G1 patches)", cases[c].file, cases[c].s[0], cases[c].s[1], cases[c].s[2], m[0]->frame_used,
@@ -364,23 +374,10 @@ static void test_shared_stretched(void)
     /* the helmet 8 x along x in G1 mode: built in the isotropic frame its dome gets rougher (the
      * regular patches), but its extraordinary regions smoother, so only their vertex charts are
      * measured there */
-    const char *path = chk_shared_mesh("osd_catmark_helmet.obj");
-    if (path) {
-        double S[3][3] = {{8, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-        q2n_model *m[2] = {NULL, NULL};
-        fair_figures F[2];
-        for (int off = 0; off < 2; off++) {
-            q2n_mesh *mesh = NULL;
-            q2n_error err;
-            if (q2n_mesh_read(path, &mesh, NULL, &err)) { CHECK(0, "%s: %s", path, err.message); return; }
-            q2n_model_options o;
-            memset(&o, 0, sizeof o);
-            o.frame = off ? -1 : 0;
-            o.ev_patch = Q2N_EV_PATCH_G1;
-            CHECK(q2n_model_build_mesh(mapped(mesh, S), &o, &m[off], &err) == Q2N_OK, "helmet 8 x: build: %s", err.message);
-            if (!m[off]) return;
-            fair_measure(m[off]->mesh, m[off]->surface, &F[off]);
-        }
+    static const double s8[3] = {8, 1, 1};
+    q2n_model *m[2];
+    fair_figures F[2];
+    if (build_scaled("osd_catmark_helmet.obj", s8, Q2N_EV_PATCH_G1, m, F)) {
         CHECK(m[0]->frame_used == 2 && m[0]->frame_ripple[1] > m[0]->frame_ripple[0] && m[0]->frame_ripple[2] < m[0]->frame_ripple[0],
               "helmet 8 x, G1: the vertex charts of the isotropic frame (used %d, ripple %.5g, %.5g, %.5g)", m[0]->frame_used,
               m[0]->frame_ripple[0], m[0]->frame_ripple[1], m[0]->frame_ripple[2]);
@@ -390,9 +387,9 @@ static void test_shared_stretched(void)
               "against %d", F[0].osc_ev_mean, F[1].osc_ev_mean, F[0].E_ev, F[1].E_ev, F[0].E_reg, F[1].E_reg,
               m[0]->ev_stats.polynomial_edges, m[1]->ev_stats.polynomial_edges);
         CHECK(corner_gap(m[0]) < 1e-13, "helmet 8 x: every vertex interpolated (gap %.3g)", corner_gap(m[0]));
-        q2n_model_free(m[0]);
-        q2n_model_free(m[1]);
     }
+    q2n_model_free(m[0]);
+    q2n_model_free(m[1]);
 }
 
 /* A chart mesh that is the mesh itself (the identity map) gives the surface bit for bit. */

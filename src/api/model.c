@@ -174,12 +174,17 @@ typedef struct built {
     char warning[sizeof ((q2n_model *)0)->warning];
 } built;
 
-/* Set m's surface aside into *b and build the augmented surface again with m's (changed) options,
- * then scan it; the status of the second build. */
-static q2n_status rebuild(q2n_model *m, built *b)
+/* Set m's surface aside into *b (set_aside), and (rebuild) build the augmented surface again with
+ * m's (changed) options, then scan it; the status of the second build. */
+static void set_aside(const q2n_model *m, built *b)
 {
     *b = (built){m->surface, m->edge_iv, m->ev_stats, m->folded, m->folded_face, m->continuity, {0}};
     memcpy(b->warning, m->warning, sizeof b->warning);
+}
+
+static q2n_status rebuild(q2n_model *m, built *b)
+{
+    set_aside(m, b);
     m->surface = NULL;
     m->edge_iv = NULL;
     m->warning[0] = 0;
@@ -335,17 +340,16 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
     q2n_error e1;
     q2n_mesh *fm = NULL;
     if (q2n_mesh_mapped(m->mesh, A, &fm, &e1)) return;
-    frame_trial T = {{m->surface, m->edge_iv, m->ev_stats, m->folded, m->folded_face, m->continuity, {0}}, {0, 0, 0},
-                     m->opt.ev_patch, m->opt.smooth_gluing, m->g2_folded, nw0, m->nwarnings};
-    memcpy(T.b.warning, m->warning, sizeof T.b.warning);
+    frame_trial T = {.ev_patch = m->opt.ev_patch, .gluing = m->opt.smooth_gluing, .g2_folded = m->g2_folded, .nw0 = nw0,
+                     .nw = m->nwarnings};
+    set_aside(m, &T.b);
     T.f0 = q2n_surface_fairness(T.b.surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads);
     q2n_fairness f1, f2 = {0, 0, 0};
     m->frame_mesh = fm; /* the whole construction in the frame */
     m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f1) ? 1 : 0;
     m->frame_mesh = NULL;
     if (!m->frame_used && f1.ripple_ev < T.f0.ripple_ev) { /* the charts alone in the frame */
-        T.b = (built){m->surface, m->edge_iv, m->ev_stats, m->folded, m->folded_face, m->continuity, {0}};
-        memcpy(T.b.warning, m->warning, sizeof T.b.warning);
+        set_aside(m, &T.b);
         m->frame_charts = fm;
         m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f2) ? 2 : 0;
         m->frame_charts = NULL;
