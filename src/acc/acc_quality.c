@@ -11,6 +11,7 @@
 #include "acc/acc_policy.h"
 #include "core/poly.h"
 #include "core/vec3.h"
+#include "patch/fairness.h"
 
 
 
@@ -24,19 +25,9 @@ static q2n_status eval_geo(const q2n_surface *s, int k, double u, double v, diff
     double e[Q2N_EVAL_MAX];
     q2n_status st = q2n_surface_eval(s, k, u, v, 2, e);
     if (st != Q2N_OK) return st;
-    const double *Su = e + Q2N_EV_U, *Sv = e + Q2N_EV_V;
-    double n[3];
-    q2n_v3_cross(n, Su, Sv);
-    double len = q2n_v3_norm(n);
-    if (!(len > 0)) len = 1e-300;
-    q2n_v3_scale(g->n, 1.0 / len, n);
-    double E = q2n_v3_dot(Su, Su), F = q2n_v3_dot(Su, Sv), G = q2n_v3_dot(Sv, Sv);
-    double L = q2n_v3_dot(e + Q2N_EV_UU, g->n), M = q2n_v3_dot(e + Q2N_EV_UV, g->n),
-           N = q2n_v3_dot(e + Q2N_EV_VV, g->n);
-    double det = E * G - F * F;
-    if (!(det > 0)) det = 1e-300;
-    g->K = (L * N - M * M) / det;
-    g->H = (E * N - 2 * F * M + G * L) / (2 * det);
+    double len = q2n_curvatures(e, &g->H, &g->K); /* NAN where the normal vanishes: no jump counted */
+    q2n_v3_cross(g->n, e + Q2N_EV_U, e + Q2N_EV_V);
+    q2n_v3_scale(g->n, 1.0 / (len > 0 ? len : 1e-300), g->n);
     return Q2N_OK;
 }
 
