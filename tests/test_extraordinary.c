@@ -66,6 +66,9 @@ typedef struct mstats {
     int kface, kevface;
     int ndegen;       /* Coons–Gregory patches where Su, Sv get within 3° of parallel (fold or near fold) */
     int wiggles;      /* sign changes of the normal curvature along the mid-lines of those patches */
+    int nrim;         /* boundary vertices of two faces, one of them extraordinary (rim below) */
+    double rim, rimk; /* there: the angle between the two faces' boundary tangents (rad), and the jump
+                         of the boundary curve's curvature vector relative to its size (or 1/diag) */
 } mstats;
 
 /* The construction every run uses: the fair one (default) or the paper's (--ev-construction paper). */
@@ -138,6 +141,38 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
             }
         }
     }
+    /* the rim at a boundary vertex of two faces: the two faces' boundary curves continue each other
+     * (one tangent direction, and in G2 mode one curvature vector), as they do between regular
+     * patches — the mesh's boundary there is a smooth curve, as for Catmull–Clark's boundary rule;
+     * only a vertex of one face is a corner */
+    int *inc = malloc(sizeof(int) * (size_t)m->nv);
+    for (int v = 0; inc && v < m->nv; v++) inc[v] = -1;
+    for (int h = 0; inc && h < m->nh; h++)
+        if (m->he_twin[h] < 0) inc[m->face_vert[4 * m->he_face[h] + (h - 4 * m->he_face[h] + 1) % 4]] = h;
+    for (int h = 0; inc && h < m->nh; h++) {
+        int v = m->face_vert[h], hb = inc[v];
+        if (m->he_twin[h] >= 0 || m->vert_nfaces[v] != 2 || hb < 0) continue;
+        int fa = m->he_face[h], fb = m->he_face[hb];
+        if (q2n_surface_kind(S, fa) == Q2N_PATCH_AUGMENTED && q2n_surface_kind(S, fb) == Q2N_PATCH_AUGMENTED) continue;
+        double ea[Q2N_EVAL_MAX], eb[Q2N_EVAL_MAX], Da[6][3], Db[6][3], u, v2, ka[3], kb[3], x[3];
+        q2n_side_uv(h - 4 * fa, 0, 0, &u, &v2);
+        q2n_surface_eval(S, fa, u, v2, 2, ea);
+        q2n_side_derivs(h - 4 * fa, 2, ea, Da);
+        q2n_side_uv(hb - 4 * fb, 1, 0, &u, &v2);
+        q2n_surface_eval(S, fb, u, v2, 2, eb);
+        q2n_side_derivs(hb - 4 * fb, 2, eb, Db);
+        q2n_v3_cross(x, Da[1], Db[1]);
+        st->rim = fmax(st->rim, atan2(q2n_v3_norm(x), q2n_v3_dot(Da[1], Db[1])));
+        for (int w = 0; w < 2; w++) { /* curvature vector (S'' - (S'' . T) T) / |S'|^2 */
+            double (*D)[3] = w ? Db : Da, *k = w ? kb : ka, l2 = q2n_v3_dot(D[1], D[1]), t = q2n_v3_dot(D[3], D[1]) / l2;
+            for (int c = 0; c < 3; c++) k[c] = (D[3][c] - t * D[1][c]) / l2;
+        }
+        double dk[3];
+        q2n_v3_sub(dk, ka, kb);
+        st->rimk = fmax(st->rimk, q2n_v3_norm(dk) / fmax(fmax(q2n_v3_norm(ka), q2n_v3_norm(kb)), 1 / diag));
+        st->nrim++;
+    }
+    free(inc);
     /* largest principal curvature over the extraordinary patches and where */
     for (int f = 0; f < m->nf; f++) {
         for (int a = 0; a < 7; a++)
@@ -241,6 +276,9 @@ static void check_stats(const char *label, const mstats *st, int g2)
     CHECK(st->interp <= 1e-12, "%s: vertex interpolation %.3g", label, st->interp);
     CHECK(st->njump <= 1e-8, "%s: normal jump %.3g rad", label, st->njump);
     if (g2) CHECK(st->cjump <= 1e-6, "%s: curvature jump %.3g", label, st->cjump);
+    CHECK(st->rim <= 1e-8, "%s: the rim turns by %.3g rad at a boundary vertex of two faces (%d such vertices)", label,
+          st->rim, st->nrim);
+    if (g2) CHECK(st->rimk <= 1e-6, "%s: the rim's curvature jumps by %.3g at a boundary vertex of two faces", label, st->rimk);
     CHECK(st->fd <= 1e-5, "%s: finite differences %.3g", label, st->fd);
     CHECK(st->grid <= 1e-14, "%s: grid vs point evaluation %.3g", label, st->grid);
     char cj[32];

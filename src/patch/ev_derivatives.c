@@ -15,9 +15,10 @@
  *   - otherwise it is a least-squares local polynomial in the spirit of Appendix B, eq. (B.3):
  *     the fan is mapped onto the plane with angles η_k proportional to the spatial angles ζ_k
  *     between consecutive edges (as (B.3) does with the angles between its tangent estimates;
- *     summing to 2π inside, π on the boundary, π/2 at a corner; η_k = kπ/2 at boundary vertices
- *     with at most two faces, and at valence-4 interior vertices in the paper's construction, so
- *     that section curves through them stay C2), each neighbour at its spatial distance
+ *     summing to 2π inside, π on the boundary from two faces up (a smooth rim, fan_span), the
+ *     face's own angle at a corner of one face; η_k = kπ/2 at boundary vertices with at most two
+ *     faces, and at valence-4 interior vertices in the paper's construction, so that section curves
+ *     through them stay C2), each neighbour at its spatial distance
  *     |p_k - p0| (the r of (B.3); so J1·u_k is close to the edge's speed |p_k - p0|/d_k in its
  *     local variable, whatever the ratio of the edge lengths): the discrete exponential map of the
  *     fan, which keeps the fan's own angles up to one factor.  Angles measured after projecting
@@ -123,14 +124,17 @@ int q2n_ev_vertex_fan(const q2n_mesh *m, int v, int maxn, int *edges, int *other
 }
 
 /* Total angle the fan of v spans in the parameter plane: a full turn inside (the fan closes), a
- * half turn at an extraordinary boundary vertex (three faces or more); 0 where the fan keeps its
- * own total — a boundary vertex of one or two faces, which the fair construction charts by its
- * spatial angles (fan_gather): nothing closes there, and the discrete exponential map leaves the
- * angles as they are. */
+ * half turn on the boundary from two faces up — its two boundary edges then leave v in opposite
+ * directions, so the rim runs through v smoothly (G1, and G2 with one jet), as it does through a
+ * boundary vertex of two regular patches and under Catmull–Clark's boundary rule; 0 where the fan
+ * keeps its own total — a corner of the mesh's boundary (one face), charted by its spatial angle
+ * (fan_gather).  Until stop 52 a vertex of two faces kept its spatial total too, and the rim turned
+ * there by the faces' own angles (up to 140 degrees on open pyramids, 19 on a disc of two rings
+ * around a valence-10 vertex: a polygon where the regular construction draws a smooth curve). */
 static double fan_span(const q2n_mesh *m, int v, int nfan)
 {
     if (!m->vert_boundary[v]) return 2 * Q2N_PI;
-    return nfan <= 2 ? 0 : Q2N_PI;
+    return nfan <= 1 ? 0 : Q2N_PI;
 }
 
 /* ------------------------------------------------------------ jets */
@@ -362,9 +366,10 @@ static void fan_angles(const q2n_mesh *m, int v, const fan *F, int wide, int cro
  * interior vertices — opposite edges then sharing their length so that section lines through v
  * stay C2 — each neighbour at its distance from v.  0 when the fan has no normal (area-weighted;
  * a fan of one face takes that face's, which a straight corner has too).  Why the fair
- * construction charts boundary vertices of one or two faces by their own angles (stop 39): quarter
- * turns drew a one-face corner of 172 degrees as a right angle, and a hexagonal pyramid whose rim
- * has such corners rippled (docs/extraordinary.md, "Charts"). */
+ * construction charts boundary vertices of one or two faces by their own angles (stop 39; a vertex of
+ * two faces scaled to a half turn since stop 52, fan_span): quarter turns drew a one-face corner of
+ * 172 degrees as a right angle, and a hexagonal pyramid whose rim has such corners rippled
+ * (docs/extraordinary.md, "Charts"). */
 static int fan_gather(const q2n_mesh *m, const double *iv, int v, int quarter, int cross, fan *F)
 {
     F->n = q2n_ev_vertex_fan(m, v, EV_MAXVAL, F->edges, F->other, F->faces);

@@ -52,7 +52,8 @@
  * chord's middle (α linear) and zero slopes, under the equations as constraints (a quadratic penalty
  * with iterative refinement, CHOLMOD).  An edge whose q misses the sign of α's ends (its
  * Bernstein coefficients of one sign keep α from vanishing, and a vanishing α folds the derived face)
- * becomes a free-slope cubic and the solve is repeated; a component whose equations fail is solved
+ * first makes its component take a bump in β at that edge, where one may go (bump_ok, within
+ * EV_POLY_SIGN_ROUNDS), else it becomes a free-slope cubic, and the solve is repeated; a component whose equations fail is solved
  * again as above (free q at two-face boundary vertices, then those pinned); what still fails keeps the
  * smoothsteps everywhere in the component. */
 #include <math.h>
@@ -191,6 +192,8 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                                     keeps free slopes: its component's equations needed them */
     double *kq = calloc(n4, sizeof(double)); /* border sides: q (α's value at the regular corner) */
     char *bumped = calloc(n4, 1); /* derived side between two cross-charted vertices with a bump in β */
+    char *cand = calloc((size_t)m->nv, 1); /* per component: a side that may still take a bump */
+    int *qsv = malloc(sizeof(int) * (size_t)m->nv); /* per component: a vertex of an edge whose q has the wrong sign */
     int *bix = malloc(sizeof(int) * n4), *nbump = calloc((size_t)m->nv, sizeof(int));
     int *bend = malloc(sizeof(int) * n4);                 /* this pass's border_end of each side */
     int *best = malloc(sizeof(int) * (size_t)m->nv);      /* per failed component: its chosen side */
@@ -201,7 +204,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
     q2n_status st = Q2N_OK;
     *poly_edges = *border_edges = 0;
-    if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !bix || !nbump || !bend || !best || !score || !rix || !qix || !six || !comp || !R || !x || !x0) {
+    if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !cand || !qsv || !bix || !nbump || !bend || !best || !score || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
         goto done;
     }
@@ -315,12 +318,25 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                     }
                 }
             if (n > 0 && (st = pg_solve(n, R, nrow, x0, x, err))) goto done;
+            /* a q of the wrong sign: while its component may still take a bump (below), the bump comes
+             * first, placed at that edge (qsv); else the edge becomes a cubic */
             int more = 0;
+            memset(cand, 0, (size_t)m->nv);
+            for (int k = 0; k < 4 * nf; k++) {
+                const fe_side *S = &X[k / 4].side[k % 4];
+                int v0 = fv(m, faces[k / 4], S->c0), v1 = fv(m, faces[k / 4], S->c1);
+                if (qix[k] >= 0 && !bumped[k] && bump_ok(B, S, v0, v1)) cand[comp[qix[k]]] = 1;
+            }
+            for (int v = 0; v < m->nv; v++) qsv[v] = -1;
             for (int i = 0; i < nf; i++)
                 for (int sd = 0; sd < 4; sd++) {
-                    int k = 4 * i + sd, qi = qix[k];
-                    if (qi < 0) continue;
-                    if (!q_keeps_sign(&X[i].side[sd], x[qi])) cubic[k] = 1, more = 1;
+                    int k = 4 * i + sd, qi = qix[k], c = qi >= 0 ? comp[qi] : 0;
+                    if (qi < 0 || q_keeps_sign(&X[i].side[sd], x[qi])) continue;
+                    if (cand[c] && nbump[c] < EV_POLY_BUMPS && rev < EV_POLY_SIGN_ROUNDS) {
+                        if (qsv[c] < 0) qsv[c] = fv(m, faces[i], X[i].side[sd].c0);
+                        continue;
+                    }
+                    cubic[k] = 1, more = 1;
                 }
             for (int k = 0; k < 4 * nf; k++)
                 if (bend[k] >= 0 && !q_keeps_sign(&X[k / 4].side[k % 4], kq[k])) knoff[k] = 1, more = 1;
@@ -354,7 +370,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             const fe_side *S = &X[k / 4].side[k % 4];
             int v0 = fv(m, faces[k / 4], S->c0), v1 = fv(m, faces[k / 4], S->c1), c = uf_find(uf, v0);
             if (worst[c] < 0 || nbump[c] >= EV_POLY_BUMPS || bumped[k] || qix[k] < 0 || !bump_ok(B, S, v0, v1)) continue;
-            int vw = R[worst[c]].v;
+            int vw = qsv[c] >= 0 ? qsv[c] : R[worst[c]].v;
             double sc;
             if (v0 == vw || v1 == vw) {
                 const double *u = v0 == vw ? S->u0 : S->u1;
@@ -476,6 +492,8 @@ done:
     free(knoff);
     free(kq);
     free(bumped);
+    free(cand);
+    free(qsv);
     free(bix);
     free(nbump);
     free(bend);

@@ -39,7 +39,7 @@
 #define EV_FAIR_RIDGE_LOW 1e-3
 #define EV_FAIR_RIDGE_HIGH 1e-6
 
-/* G2 patches: at a corner of the mesh's boundary (a vertex of one face) the jet's second order is
+/* At a corner of the mesh's boundary (a vertex of one face) the jet's second order is
  * held towards its local estimate by EV_FAIR_RIDGE_CORNER, and its orders 3 and 4 at zero (the
  * fold guard's EV_FOLD_HOLD).  Only that face's corner sees them, and with the ridges above the
  * energy bought a smoother face with a curvature spike at the corner (|H| x diagonal up to 78
@@ -48,8 +48,11 @@
  * fitted; geometric means against 1e-3, the rest of the ridge as above): 0.1 ripple 0.86 x
  * (better on 16, worse on 8: three-sided pyramids), Jacobian ratio 1.12 x, energy 1.00 x, largest
  * |H| 0.92 x; 1 and 100: ripple 0.90 / 0.92 x, energy 1.02 / 1.06 x (a flat star's 4 x at 100);
- * orders 3 and 4 alone: ripple 0.96 x but the spike stronger (121).  G1 patches have no such
- * spike and keep the ridges above (0.1 there: that mesh's ripple 0.50 -> 0.88). */
+ * orders 3 and 4 alone: ripple 0.96 x but the spike stronger (121).  G1 patches kept the ridges
+ * above until stop 52 (0.1 there: that mesh's ripple 0.50 -> 0.88).  Since the rim runs smoothly
+ * through vertices of two faces (ev_derivatives.c fan_span) the corners between them take the rim's
+ * turn, and G1 patches hold them too: 45 pyramids and shared open meshes in G1 mode 0.80 x the
+ * ripple (better on 32, worse on 10; one shared mesh 1.75 -> 0.98, another 0.49 -> 0.63). */
 #define EV_FAIR_RIDGE_CORNER 0.1
 
 /* --keep-flat (ev_fair.c fan_flat): a vertex whose fan — every corner of every face around it, two
@@ -148,6 +151,13 @@
  * guard (ev_fair.c) then kept the old gluing there anyway. */
 #define EV_POLY_REVERT_ROUNDS 24
 #define EV_POLY_BUMPS 24
+/* Of those rounds, the first ones in which an edge whose q misses the sign of α's ends takes a bump in
+ * its component (placed at that edge) instead of becoming a cubic with free slopes (least squares in
+ * the fit).  A cost bound that also keeps rounds for failing equations: the rounds are counted over
+ * all components at once, and when sign bumps could take all 24, a 732-face subdivided shared mesh
+ * kept 53 edges more in least squares (stop 52: with half of them, 3; a shared torus with a hole
+ * exact again, a subdivided one 21 edges more). */
+#define EV_POLY_SIGN_ROUNDS 12
 
 /* Two sides of a corner "agree" when their mixed derivatives differ by less than this fraction of
  * the corner's first- and mixed-derivative scale (rounding of the regular patches' jets); beyond
