@@ -21,6 +21,9 @@ An importer nobody here wrote checks what quad2nurbs exported:
           max over the directions T, d and (T + d)/sqrt2 of |k_A - k_B|, divided by the largest
           |k| of both sides in those directions (at least 1/diagonal);
     each with the worst sample's location;
+  * the rim (the free edges): at every vertex where free edges of two different faces meet, how far
+    the boundary turns (rim.max_turn_deg: 0 where it runs on smoothly, as quad2nurbs draws it through
+    every boundary vertex of two faces or more; corners of one face are counted apart);
   * with --mesh: the distance of every mesh vertex to the imported shape.
 The diagonal of the relative figures (bbox_diag, and the source it came from, diag_source) is the
 mesh's bounding box with --mesh, else the shape's; --report REPORT.json takes quad2nurbs' own (the
@@ -226,6 +229,39 @@ def edge_faces(shape):
     return [emap[k] for k in order]
 
 
+def rim_audit(edges):
+    """The boundary's turns: at every vertex where two free edges of different faces meet (a
+    boundary vertex of two faces or more, through which quad2nurbs draws the rim smoothly), the angle
+    between the one edge's tangent and the other's continuation, degrees (0: the rim is G1 there).
+    Vertices whose two free edges belong to one face (corners of the mesh's boundary) are counted
+    apart: there the rim keeps the face's corner."""
+    ends = {}
+    for e, fl in edges:
+        if len(fl) != 1:
+            continue
+        t0, t1 = e.FirstParameter, e.LastParameter
+        p0, p1 = e.valueAt(t0), e.valueAt(t1)
+        for v in e.Vertexes:
+            first = (v.Point - p0).Length <= (v.Point - p1).Length
+            t = e.tangentAt(t0 if first else t1)
+            d = vec(t) if first else [-c for c in vec(t)]
+            ends.setdefault(v.hashCode(), (v, []))[1].append((fl[0], d))
+    worst, at, n, corners = 0.0, None, 0, 0
+    for v, lst in ends.values():
+        if len(lst) != 2:
+            continue
+        if lst[0][0] == lst[1][0]:
+            corners += 1
+            continue
+        a, b = lst[0][1], lst[1][1]
+        c = max(-1.0, min(1.0, dot(a, b) / (norm(a) * norm(b))))
+        turn = 180.0 - math.degrees(math.acos(c))
+        n += 1
+        if turn > worst or at is None:
+            worst, at = turn, vec(v.Point)
+    return {'vertices': n, 'max_turn_deg': worst, 'worst_at': at, 'corners': corners}
+
+
 def edge_sample_params(edge, nsamp):
     """Sample parameters on this edge: nsamp points at (i + 0.5)/nsamp of its range, or (nsamp == 0)
     the fit's rule: in every knot span of the edge curve, the midpoints between its 4 samples per
@@ -404,6 +440,7 @@ def audit_shape(Part, shape, path, mesh=None, nsamp=0, flat=100.0, per_edge=True
     out['g2_max_rel'] = worst['g2_rel'][0]
     out['g2_max_rel_radii'] = g2_radii
     out['worst'] = {k: {'value': v[0], 'edge': v[1], 'point': v[2]} for k, v in worst.items()}
+    out['rim'] = rim_audit(edges)
     if verts is not None:
         dmax, imax = 0.0, -1
         boxes = box_array(f.BoundBox for f in faces)
