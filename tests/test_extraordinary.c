@@ -8,6 +8,9 @@
  *  - across every interior edge, at 9 points, the normal jump computed from the analytic first
  *    derivatives of the two patches (<= 1e-8 rad) and, in G2 mode, the jump of the normal
  *    curvature in three tangent directions (<= 1e-6 of the larger principal curvature);
+ *  - at every boundary vertex of two faces next to an extraordinary patch, the rim: the two faces'
+ *    boundary tangents parallel (<= 1e-8 rad) and, in G2 mode, one curvature vector (<= 1e-6
+ *    relative), as between regular patches (stop 51's code turned it by the faces' angles);
  *  - on every all-quad mesh of ../shared/meshes (crane_spot_control_mesh and osd_catmark_rook
  *    after one Catmull–Clark step) and on procedural corner cases: valence 3 next to valence 8,
  *    boundary vertices of valence 4..7, a three-face mesh, a single extraordinary vertex with its
