@@ -254,8 +254,8 @@ def rim_audit(edges):
             corners += 1
             continue
         a, b = lst[0][1], lst[1][1]
-        c = max(-1.0, min(1.0, dot(a, b) / (norm(a) * norm(b))))
-        turn = 180.0 - math.degrees(math.acos(c))
+        x = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+        turn = 180.0 - math.degrees(math.atan2(norm(x), dot(a, b)))  # atan2: exact near 180
         n += 1
         if turn > worst or at is None:
             worst, at = turn, vec(v.Point)

@@ -53,9 +53,9 @@
  * with iterative refinement, CHOLMOD).  An edge whose q misses the sign of α's ends (its
  * Bernstein coefficients of one sign keep α from vanishing, and a vanishing α folds the derived face)
  * first makes its component take a bump in β at that edge, where one may go (bump_ok, within
- * EV_POLY_SIGN_ROUNDS), else it becomes a free-slope cubic, and the solve is repeated; a component whose equations fail is solved
- * again as above (free q at two-face boundary vertices, then those pinned); what still fails keeps the
- * smoothsteps everywhere in the component. */
+ * EV_POLY_SIGN_ROUNDS), else it becomes a free-slope cubic, and the solve is repeated; a component
+ * whose equations fail is solved again as above (free q at two-face boundary vertices, then those
+ * pinned); what still fails keeps the smoothsteps everywhere in the component. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
