@@ -10,7 +10,8 @@
  *   - G2: two tangent cylinders of radii 1 and 2 give |1/R1 - 1/R2| = 0.5, (R2-R1)/(R1+R2) = 1/3 and,
  *     in the fit report's measure (jump over the largest curvature), 0.5;
  *   - the rational torus' volume 2 pi^2 R r^2 and the mesh vertices lying on it (distance ~ 0);
- *   - tools/q2n_compare.py accepts a matching report and rejects wrong ones.
+ *   - tools/q2n_compare.py accepts a matching report and rejects wrong ones (faces, G1, the rim, the
+ *     diagonal).
  * Skips (with a message) when FreeCAD's Python modules are not installed. */
 #include "check.h"
 #include "iges/export.h"
@@ -275,6 +276,15 @@ static void cases(int pass)
     if (pass) CHECK(run_compare(chk_scratch("export_fc_torus_rat.step.json"),
                       "{\"report\": {\"faces\": 16, \"g0_max_rel\": 0.0, \"g1_max_deg\": 0.5, \"g2_max_rel\": 0.0}}") == 1,
           "compare: disagreeing G1 rejected");
+    /* the rim (a closed torus has none: the audit's turn is 0) */
+    if (pass) CHECK(run_compare(chk_scratch("export_fc_torus_rat.step.json"),
+                      "{\"faces\": 16, \"g0_max_rel\": 0.0, \"g1_max_deg\": 0.0, \"g2_max_rel\": 0.0, "
+                      "\"rim\": {\"vertices\": 0, \"max_turn_deg\": 0.0}}") == 0,
+          "compare: matching rim accepted");
+    if (pass) CHECK(run_compare(chk_scratch("export_fc_torus_rat.step.json"),
+                      "{\"faces\": 16, \"g0_max_rel\": 0.0, \"g1_max_deg\": 0.0, \"g2_max_rel\": 0.0, "
+                      "\"rim\": {\"vertices\": 4, \"max_turn_deg\": 5.0}}") == 1,
+          "compare: disagreeing rim rejected");
     /* ... and relative figures over two different diagonals are a disagreement of their own (stop 43:
      * after --subdivide the report's diagonal is the subdivided mesh's, an audit given the input mesh
      * took the input's, and G2's 1/diagonal floor made the two differ by 3 % on a coarse hull) */

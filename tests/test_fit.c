@@ -18,6 +18,7 @@
 #include "fit/fit_policy.h"
 #include "fit/fit_state.h"
 #include "core/dense.h"
+#include "core/vec3.h"
 #include "mesh/mesh.h"
 #include "patch/surface.h"
 
@@ -778,6 +779,35 @@ static void span_cap(void)
 }
 
 /* Errors: uncovered patches, wrong sizes, targets out of reach (model still returned). */
+/* The report's rim (q2n_fit_report_rim) against a closed form: two bilinear quads side by side whose
+ * shared boundary vertex (1, 0.2) turns the rim by 2 atan(0.2); the other vertex of two faces is
+ * straight, the four corners of one face are not counted. */
+static void rim_report(void)
+{
+    static const double pos[] = {0, 0, 0, 1, 0.2, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0};
+    static const int fs[] = {0, 4, 8}, fvv[] = {0, 1, 4, 3, 1, 2, 5, 4};
+    q2n_mesh *m = NULL;
+    q2n_error err = {0, ""};
+    CHECK(q2n_mesh_from_arrays(6, pos, 2, fs, fvv, "rim", &m, &err) == Q2N_OK, "rim mesh: %s", err.message);
+    if (!m) return;
+    double kn[4] = {0, 0, 1, 1}, cp[2][12];
+    q2n_bspline_surface P[2];
+    for (int k = 0; k < 2; k++) { /* corners v0, v1, v3, v2 (u fastest) */
+        static const int order[4] = {0, 1, 3, 2};
+        for (int i = 0; i < 4; i++) memcpy(cp[k] + 3 * i, pos + 3 * fvv[4 * k + order[i]], 3 * sizeof(double));
+        P[k] = (q2n_bspline_surface){1, 1, 2, 2, kn, kn, cp[k], NULL};
+    }
+    q2n_nurbs_model md = {2, P, m, 1e-5, NULL};
+    q2n_fit_report rep;
+    memset(&rep, 0, sizeof rep);
+    q2n_fit_report_rim(&md, NULL, &rep);
+    double want = 2 * atan(0.2) * 180 / Q2N_PI;
+    printf("rim of two bilinear quads: %d vertices, turn %.15g deg (closed form %.15g)\n", rep.rim_vertices, rep.rim_max_deg, want);
+    CHECK(rep.rim_vertices == 2 && fabs(rep.rim_max_deg - want) <= 1e-12, "rim: %d vertices, %.15g deg, want 2 and %.15g",
+          rep.rim_vertices, rep.rim_max_deg, want);
+    q2n_mesh_free(m);
+}
+
 static void errors_and_report(void)
 {
     q2n_mesh *mesh;
@@ -837,6 +867,7 @@ int main(void)
     determinism();
     non_interpolating();
     errors_and_report();
+    rim_report();
     run_case("torus 8x6 G1 1e-5", 0, 8, 6, 1.0, 1e-5, 1, Q2N_FIT_SOLVER_CERES);
     run_case("torus 8x6 G1 1e-6", 0, 8, 6, 1.0, 1e-6, 1, Q2N_FIT_SOLVER_CERES);
     run_case("graph 6x4 G1 1e-5", 1, 6, 4, 1.0, 1e-5, 1, Q2N_FIT_SOLVER_CERES);

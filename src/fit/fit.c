@@ -386,6 +386,7 @@ static void report_totals(fit_ctx *c, const q2n_nurbs_model *md)
         if (E->g1c > rep->g1_construction_deg) rep->g1_construction_deg = E->g1c;
         if (E->g2c > rep->g2_construction_rel) rep->g2_construction_rel = E->g2c;
     }
+    q2n_fit_report_rim(md, c->s, rep);
     q2n_fit_report_sizes(md, rep);
 }
 

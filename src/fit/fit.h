@@ -76,6 +76,10 @@ typedef struct q2n_fit_report {
     double g1_max_deg;         /* max normal-angle jump across interior edges (fitted) */
     double g2_max_rel;         /* max normal-curvature jump / local curvature (fitted) */
     double g1_construction_deg, g2_construction_rel;  /* the same on the construction itself */
+    int rim_vertices;              /* boundary vertices where boundary edges of two faces meet */
+    double rim_max_deg, rim_construction_deg; /* there: the largest angle between the two faces' boundary
+                                      tangents (the rim's turn; 0 where it runs on smoothly), fitted and
+                                      on the construction */
     int folded_faces, folded_face; /* faces whose construction folds over, the first (-1: none); set by
                                       the caller that scanned it (q2n_model_fit), else 0 and -1 */
     double vertices_moved_rel;     /* largest distance the mesh's vertices were moved before the

@@ -290,6 +290,7 @@ q2n_status q2n_fit_measure_model(const q2n_nurbs_model *model, const q2n_surface
         rep->g1_construction_deg = g1c;
         rep->g2_construction_rel = g2c;
     }
+    q2n_fit_report_rim(model, s, rep);
     return Q2N_OK;
 }
 
@@ -342,6 +343,53 @@ q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, i
     return st;
 }
 
+
+/* Angle (degrees) between two directions, by atan2 (exact near 0). */
+static double angle_deg(const double a[3], const double b[3])
+{
+    double x[3];
+    q2n_v3_cross(x, a, b);
+    return atan2(q2n_v3_norm(x), q2n_v3_dot(a, b)) * (180.0 / Q2N_PI);
+}
+
+/* The tangent of patch k's side i at its parameter t (0: the side's first corner), fitted (p) or on
+ * the construction (s). */
+static void side_tangent(const q2n_bspline_surface *p, const q2n_surface *s, int k, int i, double t, double T[3])
+{
+    double u, v, e[Q2N_EVAL_MAX], D[6][3];
+    q2n_side_uv(i, t, 0, &u, &v);
+    if (p) q2n_bspline_eval(p, u, v, e, e + 3, e + 6);
+    else q2n_surface_eval(s, k, u, v, 1, e);
+    q2n_side_derivs(i, 1, e, D);
+    memcpy(T, D[1], sizeof D[1]);
+}
+
+void q2n_fit_report_rim(const q2n_nurbs_model *md, const q2n_surface *s, q2n_fit_report *rep)
+{
+    const q2n_mesh *m = md->mesh;
+    rep->rim_vertices = 0;
+    rep->rim_max_deg = rep->rim_construction_deg = 0;
+    int *inc = malloc(sizeof(int) * (size_t)(m->nv ? m->nv : 1)); /* the boundary half-edge ending at v */
+    if (!inc) return;
+    for (int v = 0; v < m->nv; v++) inc[v] = -1;
+    for (int h = 0; h < m->nh; h++)
+        if (m->he_twin[h] < 0) inc[q2n_he_origin(m, q2n_he_next(m, h))] = h;
+    for (int h = 0; h < m->nh; h++) {
+        int v = q2n_he_origin(m, h), hb = inc[v];
+        if (m->he_twin[h] >= 0 || hb < 0 || m->he_face[hb] == m->he_face[h]) continue; /* a corner of one face */
+        int fa = m->he_face[h], fb = m->he_face[hb], ia = h - m->face_start[fa], ib = hb - m->face_start[fb];
+        double a[3], b[3];
+        side_tangent(&md->patches[fa], NULL, fa, ia, 0, a);
+        side_tangent(&md->patches[fb], NULL, fb, ib, 1, b);
+        rep->rim_vertices++;
+        rep->rim_max_deg = fmax(rep->rim_max_deg, angle_deg(a, b));
+        if (!s) continue;
+        side_tangent(NULL, s, fa, ia, 0, a);
+        side_tangent(NULL, s, fb, ib, 1, b);
+        rep->rim_construction_deg = fmax(rep->rim_construction_deg, angle_deg(a, b));
+    }
+    free(inc);
+}
 
 static int cmp_int(const void *a, const void *b) { return *(const int *)a - *(const int *)b; }
 
