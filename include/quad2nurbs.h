@@ -376,6 +376,10 @@ typedef struct q2n_report {
     double unit_mm;            /* millimetres per model unit (1, 25.4, 10, 1000, 304.8) */
     char construction_note[256]; /* what the construction did by itself (e.g. Catmull–Clark steps
                                     of the ACC path on a mesh with triangles), or "" */
+    int rim_vertices;          /* the fit: boundary vertices where boundary edges of two faces meet */
+    double rim_max_deg;        /* there: the largest angle between the two faces' boundary tangents
+                                  (how far the open edge turns; 0 where it runs on smoothly, as the
+                                  augmented surface draws it), on the fitted patches */
 } q2n_report;
 q2n_status q2n_get_report(const q2n_model *m, q2n_report *out);
 

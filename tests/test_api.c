@@ -115,6 +115,31 @@ static long read_all(const char *path, char **out)
 
 /* The same torus from arrays and from its OBJ file: identical samples and STEP bytes (with
  * SOURCE_DATE_EPOCH); face_sizes NULL means quads. */
+/* The rim in the report: a one-ring of five quads around a raised vertex of valence 5 (every face
+ * at the extraordinary vertex, five rim vertices of two faces, five corners of one face): the open
+ * edge runs on smoothly through the rim vertices, up to rounding. */
+static void test_rim_report(void)
+{
+    double pos[3 * 11];
+    int fv[20];
+    pos[0] = pos[1] = 0, pos[2] = 0.5;
+    for (int k = 0; k < 10; k++) { /* rim: vertices 1 + 2j at radius 1, 2 + 2j between at 1.1 */
+        double a = 2 * 3.14159265358979323846 * k / 10, r = k % 2 ? 1.1 : 1;
+        pos[3 * (1 + k)] = r * cos(a), pos[3 * (1 + k) + 1] = r * sin(a), pos[3 * (1 + k) + 2] = 0.1 * (k % 3);
+    }
+    for (int j = 0; j < 5; j++)
+        fv[4 * j] = 0, fv[4 * j + 1] = 1 + 2 * j, fv[4 * j + 2] = 2 + 2 * j, fv[4 * j + 3] = 1 + (2 * j + 2) % 10;
+    char err[512];
+    q2n_model *m = NULL;
+    CHECK(q2n_open_mesh(11, pos, 5, NULL, fv, NULL, &m, err, sizeof err) == Q2N_OK, "open the one-ring: %s", err);
+    if (!m) return;
+    q2n_report r;
+    CHECK(q2n_fit(m, err, sizeof err) == Q2N_OK, "fit the one-ring: %s", err);
+    CHECK(q2n_get_report(m, &r) == Q2N_OK && r.rim_vertices == 5 && r.rim_max_deg <= 1e-6,
+          "one-ring: %d rim vertices, the rim turns by %.3g deg", r.rim_vertices, r.rim_max_deg);
+    q2n_close(m);
+}
+
 static void test_arrays_match_file(void)
 {
     static obj_arrays a;
@@ -447,6 +472,7 @@ int main(void)
 {
     test_status_and_choices();
     test_arrays_match_file();
+    test_rim_report();
     test_bad_arrays();
     test_fitted_result();
     test_fits_in_sequence();

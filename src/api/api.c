@@ -389,6 +389,8 @@ q2n_status q2n_get_report(const q2n_model *m, q2n_report *r)
     r->cp_total = f->cp_total;
     r->step_bytes = f->step_bytes;
     r->iges_bytes = f->iges_bytes;
+    r->rim_vertices = f->rim_vertices;
+    r->rim_max_deg = f->rim_max_deg;
     return Q2N_OK;
 }
 
