@@ -19,6 +19,8 @@ reference meets is the construction's, not the data's):
   fold  jac below 0.1                                                     (issue 11)
   osc   osc above max(0.3, 1.5 x acc-g1's)                                (issue 11)
   E     E_ev above 3 x acc-g1's                                           (issue 11)
+  rim   the open edge turns by more than 1e-6 deg where boundary edges of two faces meet (the
+        report's rim.max_turn_deg; stop 52: the rim runs on smoothly there)
 With --base, every row of BIN is followed by BIN0's on the same input (before/after).
 --random N adds N meshes of each random family (--seed S, default 2026): convex hulls of 20-300
 points, manifold sets of 4-13 unit cubes, open disks around a vertex of valence 3-20, and rhombic
@@ -415,7 +417,8 @@ def run(binary, mesh, extra, mode_args, stem, fair):
         j = json.load(open(rep))
         r.update(kb=j['file_bytes']['step'] / 1024.0 / j['faces'], sp='%d/%d' % (j['spans_per_patch']['median'], j['spans_per_patch']['max']),
                  tol=j['tol_met'], g1=j['g1_max_deg'], g2=j['g2_max_rel'] if j['continuity'] == 'G2' else None,
-                 exact='%d/%d' % (j['g1_edges'].get('within_rounding', 0), j['interior_edges']), note=j.get('note', ''))
+                 exact='%d/%d' % (j['g1_edges'].get('within_rounding', 0), j['interior_edges']), note=j.get('note', ''),
+                 rim=j.get('rim', {}).get('max_turn_deg'))
     if fair and p.returncode == 0 and os.path.exists(step):
         f = subprocess.run(['/usr/bin/python3', FAIRNESS, step, '--mesh', mesh, '--no-per-face'], capture_output=True, text=True)
         try:
@@ -449,6 +452,8 @@ def flags(mode, r, acc):
         out.append('size')
     if r.get('jac') is not None and r['jac'] < 0.1:
         out.append('fold')
+    if mode != 'acc' and r.get('rim') is not None and r['rim'] > 1e-6:
+        out.append('rim')  # the open edge turns where boundary edges of two faces meet (stop 52)
     if mode != 'acc' and acc and r.get('osc') is not None and acc.get('osc') is not None:
         if r['osc'] > max(0.3, 1.5 * acc['osc']):
             out.append('osc')
