@@ -380,6 +380,8 @@ typedef struct q2n_report {
     double rim_max_deg;        /* there: the largest angle between the two faces' boundary tangents
                                   (how far the open edge turns; 0 where it runs on smoothly, as the
                                   augmented surface draws it), on the fitted patches */
+    double rim_curvature_jump_rel; /* there: the largest jump of the boundary curves' curvature vector over
+                                  the larger one (at least 1/diag): 0 up to rounding in G2 mode */
 } q2n_report;
 q2n_status q2n_get_report(const q2n_model *m, q2n_report *out);
 

@@ -135,8 +135,9 @@ static void test_rim_report(void)
     if (!m) return;
     q2n_report r;
     CHECK(q2n_fit(m, err, sizeof err) == Q2N_OK, "fit the one-ring: %s", err);
-    CHECK(q2n_get_report(m, &r) == Q2N_OK && r.rim_vertices == 5 && r.rim_max_deg <= 1e-6,
-          "one-ring: %d rim vertices, the rim turns by %.3g deg", r.rim_vertices, r.rim_max_deg);
+    CHECK(q2n_get_report(m, &r) == Q2N_OK && r.rim_vertices == 5 && r.rim_max_deg <= 1e-6 && r.rim_curvature_jump_rel <= 1e-6,
+          "one-ring: %d rim vertices, the rim turns by %.3g deg, its curvature jumps by %.3g", r.rim_vertices, r.rim_max_deg,
+          r.rim_curvature_jump_rel);
     q2n_close(m);
 }
 

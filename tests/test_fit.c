@@ -805,6 +805,7 @@ static void rim_report(void)
     printf("rim of two bilinear quads: %d vertices, turn %.15g deg (closed form %.15g)\n", rep.rim_vertices, rep.rim_max_deg, want);
     CHECK(rep.rim_vertices == 2 && fabs(rep.rim_max_deg - want) <= 1e-12, "rim: %d vertices, %.15g deg, want 2 and %.15g",
           rep.rim_vertices, rep.rim_max_deg, want);
+    CHECK(rep.rim_curv_rel == 0, "rim of straight edges: curvature jump %.3g", rep.rim_curv_rel);
     q2n_mesh_free(m);
 }
 

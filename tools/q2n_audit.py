@@ -23,7 +23,8 @@ An importer nobody here wrote checks what quad2nurbs exported:
     each with the worst sample's location;
   * the rim (the free edges): at every vertex where free edges of two different faces meet, how far
     the boundary turns (rim.max_turn_deg: 0 where it runs on smoothly, as quad2nurbs draws it through
-    every boundary vertex of two faces or more; corners of one face are counted apart);
+    every boundary vertex of two faces or more; corners of one face are counted apart) and how much
+    its curvature vector jumps there (rim.curvature_jump_rel, over the larger, at least 1/diagonal);
   * with --mesh: the distance of every mesh vertex to the imported shape.
 The diagonal of the relative figures (bbox_diag, and the source it came from, diag_source) is the
 mesh's bounding box with --mesh, else the shape's; --report REPORT.json takes quad2nurbs' own (the
@@ -229,12 +230,13 @@ def edge_faces(shape):
     return [emap[k] for k in order]
 
 
-def rim_audit(edges):
+def rim_audit(edges, diag):
     """The boundary's turns: at every vertex where two free edges of different faces meet (a
     boundary vertex of two faces or more, through which quad2nurbs draws the rim smoothly), the angle
-    between the one edge's tangent and the other's continuation, degrees (0: the rim is G1 there).
-    Vertices whose two free edges belong to one face (corners of the mesh's boundary) are counted
-    apart: there the rim keeps the face's corner."""
+    between the one edge's tangent and the other's continuation, degrees (0: the rim is G1 there), and
+    the jump of the two edge curves' curvature vectors (c'' - (c''.t) t/|t|^2)/|t|^2 over the larger
+    one, at least 1/diag (0: G2 there).  Vertices whose two free edges belong to one face (corners of
+    the mesh's boundary) are counted apart: there the rim keeps the face's corner."""
     ends = {}
     for e, fl in edges:
         if len(fl) != 1:
@@ -243,10 +245,13 @@ def rim_audit(edges):
         p0, p1 = e.valueAt(t0), e.valueAt(t1)
         for v in e.Vertexes:
             first = (v.Point - p0).Length <= (v.Point - p1).Length
-            t = e.tangentAt(t0 if first else t1)
-            d = vec(t) if first else [-c for c in vec(t)]
-            ends.setdefault(v.hashCode(), (v, []))[1].append((fl[0], d))
-    worst, at, n, corners = 0.0, None, 0, 0
+            t = t0 if first else t1
+            d1, d2 = vec(e.derivative1At(t)), vec(e.derivative2At(t))
+            l2 = dot(d1, d1)
+            k = [(d2[i] - dot(d2, d1) / l2 * d1[i]) / l2 for i in range(3)] if l2 > 0 else [0.0] * 3
+            d = d1 if first else [-c for c in d1]
+            ends.setdefault(v.hashCode(), (v, []))[1].append((fl[0], d, k))
+    worst, at, kworst, n, corners = 0.0, None, 0.0, 0, 0
     for v, lst in ends.values():
         if len(lst) != 2:
             continue
@@ -256,10 +261,13 @@ def rim_audit(edges):
         a, b = lst[0][1], lst[1][1]
         x = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
         turn = 180.0 - math.degrees(math.atan2(norm(x), dot(a, b)))  # atan2: exact near 180
+        ka, kb = lst[0][2], lst[1][2]
+        kj = norm(sub(ka, kb)) / max(norm(ka), norm(kb), 1.0 / diag if diag > 0 else 0.0, 1e-300)
         n += 1
+        kworst = max(kworst, kj)
         if turn > worst or at is None:
             worst, at = turn, vec(v.Point)
-    return {'vertices': n, 'max_turn_deg': worst, 'worst_at': at, 'corners': corners}
+    return {'vertices': n, 'max_turn_deg': worst, 'curvature_jump_rel': kworst, 'worst_at': at, 'corners': corners}
 
 
 def edge_sample_params(edge, nsamp):
@@ -440,7 +448,7 @@ def audit_shape(Part, shape, path, mesh=None, nsamp=0, flat=100.0, per_edge=True
     out['g2_max_rel'] = worst['g2_rel'][0]
     out['g2_max_rel_radii'] = g2_radii
     out['worst'] = {k: {'value': v[0], 'edge': v[1], 'point': v[2]} for k, v in worst.items()}
-    out['rim'] = rim_audit(edges)
+    out['rim'] = rim_audit(edges, diag)
     if verts is not None:
         dmax, imax = 0.0, -1
         boxes = box_array(f.BoundBox for f in faces)

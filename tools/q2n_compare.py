@@ -3,12 +3,12 @@
 own report JSON and fail on disagreement.
 
 Fields compared (names fixed by the fit issue's report): faces (exactly), g0_max_rel, g1_max_deg,
-g2_max_rel, and the rim's largest turn where boundary edges of two faces meet (rim.max_turn_deg in
-both).  Two maxima sampled at possibly different points agree when
+g2_max_rel, and the rim's largest turn and curvature jump where boundary edges of two faces meet
+(rim.max_turn_deg, rim.curvature_jump_rel in both).  Two maxima sampled at possibly different points agree when
     |audit - report| <= max(ABS, REL * max(|audit|, |report|))
 with ABS/REL per field (defaults: g0 1e-9 / 0.01, g1 1e-4 deg / 0.01, g2 1e-4 / 0.01, rim 1e-4 deg /
-0.01; override with --tol-g0 ABS,REL etc.).  Optional targets (--target-g0/-g1/-g2/-rim) are upper
-bounds the audit's figures must also meet.  The report's fields are looked up at its top level, then in nested
+0.01, rimk 1e-4 / 0.01; override with --tol-g0 ABS,REL etc.).  Optional targets
+(--target-g0/-g1/-g2/-rim/-rimk) are upper bounds the audit's figures must also meet.  The report's fields are looked up at its top level, then in nested
 objects (first match).  A field missing from the report is listed and skipped unless --strict.
 The audit samples the report's own points by default (4 per knot span of each edge), where the two agree
 to ~1e-6 relative (the report prints 6 digits): hence the tight defaults.  Audits run with other
@@ -22,8 +22,9 @@ import json
 import sys
 
 FIELDS = [('g0_max_rel', (1e-9, 0.01)), ('g1_max_deg', (1e-4, 0.01)), ('g2_max_rel', (1e-4, 0.01)),
-          ('max_turn_deg', (1e-4, 0.01))]
-OPTION = {'g0_max_rel': 'g0', 'g1_max_deg': 'g1', 'g2_max_rel': 'g2', 'max_turn_deg': 'rim'}
+          ('max_turn_deg', (1e-4, 0.01)), ('curvature_jump_rel', (1e-4, 0.01))]
+OPTION = {'g0_max_rel': 'g0', 'g1_max_deg': 'g1', 'g2_max_rel': 'g2', 'max_turn_deg': 'rim',
+          'curvature_jump_rel': 'rimk'}
 
 
 def find_field(obj, name):

@@ -391,6 +391,7 @@ q2n_status q2n_get_report(const q2n_model *m, q2n_report *r)
     r->iges_bytes = f->iges_bytes;
     r->rim_vertices = f->rim_vertices;
     r->rim_max_deg = f->rim_max_deg;
+    r->rim_curvature_jump_rel = f->rim_curv_rel;
     return Q2N_OK;
 }
 

@@ -80,6 +80,8 @@ typedef struct q2n_fit_report {
     double rim_max_deg, rim_construction_deg; /* there: the largest angle between the two faces' boundary
                                       tangents (the rim's turn; 0 where it runs on smoothly), fitted and
                                       on the construction */
+    double rim_curv_rel, rim_construction_curv_rel; /* and the largest jump of the boundary curves' curvature
+                                      vector, over the larger one (at least 1/diag) */
     int folded_faces, folded_face; /* faces whose construction folds over, the first (-1: none); set by
                                       the caller that scanned it (q2n_model_fit), else 0 and -1 */
     double vertices_moved_rel;     /* largest distance the mesh's vertices were moved before the

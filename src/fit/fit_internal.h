@@ -122,9 +122,10 @@ q2n_status q2n_fit_scan_construction(const q2n_surface *s, int k, int n, double 
 /* Control points per face (min, median, max) and spans per patch of a model into rep. */
 void q2n_fit_report_sizes(const q2n_nurbs_model *md, q2n_fit_report *rep);
 
-/* The rim into rep (rim_vertices, rim_max_deg, rim_construction_deg): at every boundary vertex where
- * boundary edges of two faces meet, the angle between the one face's boundary tangent and the
- * other's, on the fitted model and on the construction s (NULL: not measured). */
+/* The rim into rep (rim_vertices, rim_max_deg, rim_curv_rel and the construction's): at every boundary
+ * vertex where boundary edges of two faces meet, the angle between the one face's boundary tangent and
+ * the other's, and the jump of the boundary curves' curvature vector, on the fitted model (polynomial
+ * patches) and on the construction s (NULL: not measured). */
 void q2n_fit_report_rim(const q2n_nurbs_model *md, const q2n_surface *s, q2n_fit_report *rep);
 
 /* ---- exact conversion (fit_bezier.c) ---- */

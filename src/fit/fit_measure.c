@@ -352,23 +352,55 @@ static double angle_deg(const double a[3], const double b[3])
     return atan2(q2n_v3_norm(x), q2n_v3_dot(a, b)) * (180.0 / Q2N_PI);
 }
 
-/* The tangent of patch k's side i at its parameter t (0: the side's first corner), fitted (p) or on
- * the construction (s). */
-static void side_tangent(const q2n_bspline_surface *p, const q2n_surface *s, int k, int i, double t, double T[3])
+/* A polynomial B-spline surface of any degree with derivatives up to order 2 (q2n_surface_eval's
+ * layout; the weights, which the fit never writes, are not read). */
+static void poly_eval2(const q2n_bspline_surface *p, double u, double v, double *out)
+{
+    double Bu[3 * (Q2N_BSPLINE_MAX_DEG + 1)], Bv[3 * (Q2N_BSPLINE_MAX_DEG + 1)];
+    int su = q2n_bspline_span(p->ncp_u, p->deg_u, p->knots_u, u), sv = q2n_bspline_span(p->ncp_v, p->deg_v, p->knots_v, v);
+    int nu = p->deg_u + 1, nv = p->deg_v + 1;
+    q2n_bspline_basis(su, p->deg_u, p->knots_u, u, 2, Bu);
+    q2n_bspline_basis(sv, p->deg_v, p->knots_v, v, 2, Bv);
+    memset(out, 0, 18 * sizeof *out);
+    for (int b = 0; b < nv; b++)
+        for (int a = 0; a < nu; a++) {
+            const double *P = p->cp + 3 * ((size_t)(sv - p->deg_v + b) * (size_t)p->ncp_u + (size_t)(su - p->deg_u + a));
+            for (int o = 0; o < 6; o++) {
+                double w = Bu[q2n_eval_order[o][0] * nu + a] * Bv[q2n_eval_order[o][1] * nv + b];
+                for (int c = 0; c < 3; c++) out[3 * o + c] += w * P[c];
+            }
+        }
+}
+
+/* The tangent T of patch k's side i at its parameter t (0: the side's first corner) and the side's
+ * curvature vector K there, (S'' - (S'' . T) T / |T|^2) / |T|^2, fitted (p) or on the construction (s). */
+static void side_tangent(const q2n_bspline_surface *p, const q2n_surface *s, int k, int i, double t, double T[3],
+                         double K[3])
 {
     double u, v, e[Q2N_EVAL_MAX], D[6][3];
     q2n_side_uv(i, t, 0, &u, &v);
-    if (p) q2n_bspline_eval(p, u, v, e, e + 3, e + 6);
-    else q2n_surface_eval(s, k, u, v, 1, e);
-    q2n_side_derivs(i, 1, e, D);
+    if (p) poly_eval2(p, u, v, e);
+    else q2n_surface_eval(s, k, u, v, 2, e);
+    q2n_side_derivs(i, 2, e, D);
     memcpy(T, D[1], sizeof D[1]);
+    double l2 = q2n_v3_dot(T, T), a = l2 > 0 ? q2n_v3_dot(D[3], T) / l2 : 0;
+    for (int c = 0; c < 3; c++) K[c] = l2 > 0 ? (D[3][c] - a * T[c]) / l2 : 0;
+}
+
+/* |Ka - Kb| over the larger of |Ka|, |Kb| and 1/diag (the fit report's G2 floor). */
+static double curvature_jump(const double Ka[3], const double Kb[3], double diag)
+{
+    double d[3];
+    q2n_v3_sub(d, Ka, Kb);
+    return q2n_v3_norm(d) / fmax(fmax(q2n_v3_norm(Ka), q2n_v3_norm(Kb)), 1 / diag);
 }
 
 void q2n_fit_report_rim(const q2n_nurbs_model *md, const q2n_surface *s, q2n_fit_report *rep)
 {
     const q2n_mesh *m = md->mesh;
+    double diag = q2n_mesh_bbox_diag(m);
     rep->rim_vertices = 0;
-    rep->rim_max_deg = rep->rim_construction_deg = 0;
+    rep->rim_max_deg = rep->rim_construction_deg = rep->rim_curv_rel = rep->rim_construction_curv_rel = 0;
     int *inc = malloc(sizeof(int) * (size_t)(m->nv ? m->nv : 1)); /* the boundary half-edge ending at v */
     if (!inc) return;
     for (int v = 0; v < m->nv; v++) inc[v] = -1;
@@ -378,15 +410,17 @@ void q2n_fit_report_rim(const q2n_nurbs_model *md, const q2n_surface *s, q2n_fit
         int v = q2n_he_origin(m, h), hb = inc[v];
         if (m->he_twin[h] >= 0 || hb < 0 || m->he_face[hb] == m->he_face[h]) continue; /* a corner of one face */
         int fa = m->he_face[h], fb = m->he_face[hb], ia = h - m->face_start[fa], ib = hb - m->face_start[fb];
-        double a[3], b[3];
-        side_tangent(&md->patches[fa], NULL, fa, ia, 0, a);
-        side_tangent(&md->patches[fb], NULL, fb, ib, 1, b);
+        double a[3], b[3], ka[3], kb[3];
+        side_tangent(&md->patches[fa], NULL, fa, ia, 0, a, ka);
+        side_tangent(&md->patches[fb], NULL, fb, ib, 1, b, kb);
         rep->rim_vertices++;
         rep->rim_max_deg = fmax(rep->rim_max_deg, angle_deg(a, b));
+        rep->rim_curv_rel = fmax(rep->rim_curv_rel, curvature_jump(ka, kb, diag));
         if (!s) continue;
-        side_tangent(NULL, s, fa, ia, 0, a);
-        side_tangent(NULL, s, fb, ib, 1, b);
+        side_tangent(NULL, s, fa, ia, 0, a, ka);
+        side_tangent(NULL, s, fb, ib, 1, b, kb);
         rep->rim_construction_deg = fmax(rep->rim_construction_deg, angle_deg(a, b));
+        rep->rim_construction_curv_rel = fmax(rep->rim_construction_curv_rel, curvature_jump(ka, kb, diag));
     }
     free(inc);
 }

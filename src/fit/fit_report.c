@@ -63,8 +63,9 @@ static void write_json(const q2n_fit_report *r, const char *units, FILE *f)
             r->max_dev_rel, r->rms_dev_rel, r->vertex_dev_max_rel);
     fprintf(f, "  \"g0_max_rel\": %.6g,\n  \"g1_max_deg\": %.6g,\n  \"g2_max_rel\": %.6g,\n",
             r->g0_max_rel, r->g1_max_deg, r->g2_max_rel);
-    fprintf(f, "  \"rim\": {\"vertices\": %d, \"max_turn_deg\": %.6g, \"construction_max_turn_deg\": %.6g},\n",
-            r->rim_vertices, r->rim_max_deg, r->rim_construction_deg);
+    fprintf(f, "  \"rim\": {\"vertices\": %d, \"max_turn_deg\": %.6g, \"curvature_jump_rel\": %.6g, "
+               "\"construction_max_turn_deg\": %.6g, \"construction_curvature_jump_rel\": %.6g},\n",
+            r->rim_vertices, r->rim_max_deg, r->rim_curv_rel, r->rim_construction_deg, r->rim_construction_curv_rel);
     fprintf(f, "  \"construction\": {\"g1_max_deg\": %.6g, \"g2_max_rel\": %.6g, \"folded_faces\": %d, "
                "\"first_folded_face\": %d, \"vertices_moved_max_rel\": %.6g, \"flat_vertices\": %d, "
                "\"polynomial_edges\": %d, \"g2_folded_faces\": %d, \"paired_quads\": %d, \"triangles_left\": %d, \"filled_faces\": %d, "
