@@ -7,7 +7,7 @@
  *   mesh boundary (times 2 per step), no non-manifold edge, G0 <= 1e-9 x diagonal, the audit's
  *   G0/G1/G2 equal to the report's (compare exit 0), G1 <= 0.01 deg for the G1/G2 methods on
  *   meshes where they promise it, G2 <= 0.01 and mesh vertices on the surface for the augmented
- *   G2 fits (default class D5C2P2S4); the G1 mode (--class D3C1P2S4) is held to G1 only; on open
+ *   G2 fits (default class D5C2P4S6); the G1 mode (--class D3C1P2S4) is held to G1 only; on open
  *   meshes the augmented surface's rim turns by at most 1e-6 deg where free edges of two faces meet,
  *   and in G2 mode its curvature vector jumps there by at most 1e-6 relative.
  * Skips when FreeCAD or the executable is missing; a mesh absent from the shared meshes is skipped
@@ -19,7 +19,7 @@
 
 typedef struct pl_case {
     const char *mesh, *method;
-    const char *cls; /* --class for the augmented surface (NULL: default D5C2P2S4, the G2 mode) */
+    const char *cls; /* --class for the augmented surface (NULL: default D5C2P4S6, the G2 mode) */
     int iges;        /* also audit the IGES file */
     int g1_target;   /* assert G1 <= 0.01 deg */
     int g2_target;   /* assert G2 <= 0.01 (fit report's measure) and vertices on the surface */
