@@ -344,42 +344,15 @@ q2n_status q2n_fit_measure(const q2n_nurbs_model *model, const q2n_surface *s, i
 }
 
 
-/* Angle (degrees) between two directions, by atan2 (exact near 0). */
-static double angle_deg(const double a[3], const double b[3])
-{
-    double x[3];
-    q2n_v3_cross(x, a, b);
-    return atan2(q2n_v3_norm(x), q2n_v3_dot(a, b)) * (180.0 / Q2N_PI);
-}
-
-/* A polynomial B-spline surface of any degree with derivatives up to order 2 (q2n_surface_eval's
- * layout; the weights, which the fit never writes, are not read). */
-static void poly_eval2(const q2n_bspline_surface *p, double u, double v, double *out)
-{
-    double Bu[3 * (Q2N_BSPLINE_MAX_DEG + 1)], Bv[3 * (Q2N_BSPLINE_MAX_DEG + 1)];
-    int su = q2n_bspline_span(p->ncp_u, p->deg_u, p->knots_u, u), sv = q2n_bspline_span(p->ncp_v, p->deg_v, p->knots_v, v);
-    int nu = p->deg_u + 1, nv = p->deg_v + 1;
-    q2n_bspline_basis(su, p->deg_u, p->knots_u, u, 2, Bu);
-    q2n_bspline_basis(sv, p->deg_v, p->knots_v, v, 2, Bv);
-    memset(out, 0, 18 * sizeof *out);
-    for (int b = 0; b < nv; b++)
-        for (int a = 0; a < nu; a++) {
-            const double *P = p->cp + 3 * ((size_t)(sv - p->deg_v + b) * (size_t)p->ncp_u + (size_t)(su - p->deg_u + a));
-            for (int o = 0; o < 6; o++) {
-                double w = Bu[q2n_eval_order[o][0] * nu + a] * Bv[q2n_eval_order[o][1] * nv + b];
-                for (int c = 0; c < 3; c++) out[3 * o + c] += w * P[c];
-            }
-        }
-}
-
 /* The tangent T of patch k's side i at its parameter t (0: the side's first corner) and the side's
- * curvature vector K there, (S'' - (S'' . T) T / |T|^2) / |T|^2, fitted (p) or on the construction (s). */
+ * curvature vector K there, (S'' - (S'' . T) T / |T|^2) / |T|^2, fitted (p: the fit's polynomial
+ * patches, as the measurement above reads them) or on the construction (s). */
 static void side_tangent(const q2n_bspline_surface *p, const q2n_surface *s, int k, int i, double t, double T[3],
                          double K[3])
 {
     double u, v, e[Q2N_EVAL_MAX], D[6][3];
     q2n_side_uv(i, t, 0, &u, &v);
-    if (p) poly_eval2(p, u, v, e);
+    if (p) q2n_fit_surface_eval(p, u, v, 2, e);
     else q2n_surface_eval(s, k, u, v, 2, e);
     q2n_side_derivs(i, 2, e, D);
     memcpy(T, D[1], sizeof D[1]);
@@ -414,12 +387,12 @@ void q2n_fit_report_rim(const q2n_nurbs_model *md, const q2n_surface *s, q2n_fit
         side_tangent(&md->patches[fa], NULL, fa, ia, 0, a, ka);
         side_tangent(&md->patches[fb], NULL, fb, ib, 1, b, kb);
         rep->rim_vertices++;
-        rep->rim_max_deg = fmax(rep->rim_max_deg, angle_deg(a, b));
+        rep->rim_max_deg = fmax(rep->rim_max_deg, q2n_v3_angle(a, b) * (180.0 / Q2N_PI));
         rep->rim_curv_rel = fmax(rep->rim_curv_rel, curvature_jump(ka, kb, diag));
         if (!s) continue;
         side_tangent(NULL, s, fa, ia, 0, a, ka);
         side_tangent(NULL, s, fb, ib, 1, b, kb);
-        rep->rim_construction_deg = fmax(rep->rim_construction_deg, angle_deg(a, b));
+        rep->rim_construction_deg = fmax(rep->rim_construction_deg, q2n_v3_angle(a, b) * (180.0 / Q2N_PI));
         rep->rim_construction_curv_rel = fmax(rep->rim_construction_curv_rel, curvature_jump(ka, kb, diag));
     }
     free(inc);

@@ -192,7 +192,7 @@ static q2n_status construct(fe_build *B, const fe_inputs *in, int poly, const ch
             if (B->var[i] >= 0) {
                 /* a corner of the mesh's boundary (one face) keeps its curvature near its local
                  * estimate and its orders 3 and 4 at zero (ev_policy.h, EV_FAIR_RIDGE_CORNER) */
-                int v = i / EV_JS, sl = i % EV_JS, corner = B->K >= 1 && m->vert_boundary[v] && m->vert_nfaces[v] == 1;
+                int v = i / EV_JS, sl = i % EV_JS, corner = m->vert_boundary[v] && m->vert_nfaces[v] == 1;
                 B->ridge[B->var[i]] = sl < EV_SLOT(2, 0) ? RIDGE_LOW
                                       : sl <= EV_SLOT(2, 2) ? (corner ? RIDGE_CORNER : RIDGE_LOW)
                                       : corner ? RIDGE_HELD : RIDGE_HIGH;

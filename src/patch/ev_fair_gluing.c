@@ -330,8 +330,9 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             for (int v = 0; v < m->nv; v++) qsv[v] = -1;
             for (int i = 0; i < nf; i++)
                 for (int sd = 0; sd < 4; sd++) {
-                    int k = 4 * i + sd, qi = qix[k], c = qi >= 0 ? comp[qi] : 0;
+                    int k = 4 * i + sd, qi = qix[k];
                     if (qi < 0 || q_keeps_sign(&X[i].side[sd], x[qi])) continue;
+                    int c = comp[qi];
                     if (cand[c] && nbump[c] < EV_POLY_BUMPS && rev < EV_POLY_SIGN_ROUNDS) {
                         if (qsv[c] < 0) qsv[c] = fv(m, faces[i], X[i].side[sd].c0);
                         continue;
