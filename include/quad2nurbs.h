@@ -230,7 +230,8 @@ typedef struct q2n_options {
     int frame;                     /* augmented: where a mesh with extraordinary vertices has its faces
                                       stretched on the whole (a model scaled along an axis), the surface
                                       is also built in the mesh's isotropic frame and mapped back (or
-                                      with only the extraordinary regions' vertex charts measured there),
+                                      only its extraordinary regions, against the mesh's own regular
+                                      patches, or with only their vertex charts measured there),
                                       and the build kept that ripples less without more bending energy
                                       or folds: 0 [auto], -1 never (--frame off; docs/extraordinary.md,
                                       "The isotropic frame") */

@@ -28,7 +28,9 @@ void q2n_model_free(q2n_model *m)
 
 /* The augmented surface on m->mesh, or, while m->frame_mesh is set, on that mesh (the same faces in
  * the isotropic frame) and mapped back by m->frame_Ainv; while m->frame_charts is set, on m->mesh
- * with the vertex charts of the extraordinary regions measured on it. */
+ * with the vertex charts of the extraordinary regions measured on it; while m->frame_regions is set,
+ * the regular patches of m->mesh (its intervals) mapped by m->frame_A, the extraordinary regions built
+ * on m->frame_regions (the mesh in that frame) against them, and all mapped back. */
 static q2n_status build_augmented(q2n_model *m, q2n_error *err)
 {
     q2n_augmented_options ao = {m->opt.cls, m->opt.param};
@@ -39,10 +41,13 @@ static q2n_status build_augmented(q2n_model *m, q2n_error *err)
     const q2n_mesh *bm = m->frame_mesh ? m->frame_mesh : m->mesh;
     q2n_status st = q2n_param_edge_intervals(bm, &m->opt.param, &m->edge_iv, err);
     if (!st) st = q2n_augmented_build(bm, &ao, m->edge_iv, &m->surface, err);
+    /* the extraordinary regions in the frame: the mesh's own regular patches (its intervals) seen there */
+    if (!st && m->frame_regions) q2n_augmented_map_points(m->surface, m->frame_A);
     /* faces at extraordinary vertices: augmented Coons–Gregory patches (§4) */
     if (!st && q2n_surface_count(m->surface, Q2N_PATCH_UNCOVERED) > 0)
-        st = q2n_extraordinary_build_stats(bm, &eo, m->edge_iv, m->surface, &m->ev_stats, err);
-    if (!st && m->frame_mesh) q2n_surface_map_linear(m->surface, m->frame_Ainv);
+        st = q2n_extraordinary_build_stats(m->frame_regions ? m->frame_regions : bm, &eo, m->edge_iv, m->surface,
+                                           &m->ev_stats, err);
+    if (!st && (m->frame_mesh || m->frame_regions)) q2n_surface_map_linear(m->surface, m->frame_Ainv);
     int regular = m->opt.cls->k >= 2 ? 2 : 1, ev = q2n_ev_patch_order(&eo);
     m->continuity = (q2n_surface_count(m->surface, Q2N_PATCH_COONS_GREGORY) > 0 && ev < regular) ? ev : regular;
     return st;
@@ -285,7 +290,9 @@ static q2n_status build_checked(q2n_model *m, q2n_error *err)
  * the mesh mapped into its isotropic frame and mapped back (exact: affine maps keep the
  * interpolation, G1 and G2); where that build is not kept but its extraordinary regions ripple less
  * (the regular patches, built from the mesh alone, are what got worse), once more with only the
- * extraordinary regions' vertex charts measured in that frame.  A build is kept only where it is
+ * extraordinary regions built in that frame — against the mesh's own regular patches mapped into it,
+ * which a linear map carries exactly (they are linear in their points for given intervals) —, and
+ * where that is not kept either, with only their vertex charts measured there.  A build is kept only where it is
  * the better surface by issue 11's figures, measured on the construction (patch/fairness.h): less
  * diagonal ripple, no more bending energy, no more folded faces, no lower continuity (G2 patches
  * that fold in one frame and not in the other), and, with the same kind of patches, no fewer edges
@@ -344,10 +351,20 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
                      .nw = m->nwarnings};
     set_aside(m, &T.b);
     T.f0 = q2n_surface_fairness(T.b.surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads);
-    q2n_fairness f1, f2 = {0, 0, 0};
+    q2n_fairness f1, f2 = {0, 0, 0}, f3 = {0, 0, 0};
     m->frame_mesh = fm; /* the whole construction in the frame */
     m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f1) ? 1 : 0;
     m->frame_mesh = NULL;
+    /* the extraordinary regions in the frame, against the mesh's own regular patches: with none (every
+     * face extraordinary) that is the build in the frame again (the same figures to 6 digits where the
+     * shared meshes reach it), so it is not tried */
+    if (!m->frame_used && f1.ripple_ev < T.f0.ripple_ev && q2n_surface_count(m->surface, Q2N_PATCH_AUGMENTED) > 0) {
+        set_aside(m, &T.b);
+        memcpy(m->frame_A, A, sizeof m->frame_A);
+        m->frame_regions = fm;
+        m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f3) ? 3 : 0;
+        m->frame_regions = NULL;
+    }
     if (!m->frame_used && f1.ripple_ev < T.f0.ripple_ev) { /* the charts alone in the frame */
         set_aside(m, &T.b);
         m->frame_charts = fm;
@@ -355,14 +372,16 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
         m->frame_charts = NULL;
     }
     q2n_mesh_free(fm);
-    q2n_fairness *fk = m->frame_used == 2 ? &f2 : &f1;
-    m->frame_ripple[0] = T.f0.ripple, m->frame_ripple[1] = f1.ripple, m->frame_ripple[2] = f2.ripple;
-    m->frame_energy[0] = T.f0.energy, m->frame_energy[1] = f1.energy, m->frame_energy[2] = f2.energy;
+    q2n_fairness *fk = m->frame_used == 3 ? &f3 : m->frame_used == 2 ? &f2 : &f1;
+    m->frame_ripple[0] = T.f0.ripple, m->frame_ripple[1] = f1.ripple, m->frame_ripple[2] = f2.ripple, m->frame_ripple[3] = f3.ripple;
+    m->frame_energy[0] = T.f0.energy, m->frame_energy[1] = f1.energy, m->frame_energy[2] = f2.energy, m->frame_energy[3] = f3.energy;
+    static const char *how[4] = {"", "in the mesh's isotropic frame", "with the vertex charts of the mesh's isotropic frame",
+                                 "with its extraordinary regions in the mesh's isotropic frame"};
     if (m->frame_used && !m->note[0])
-        snprintf(m->note, sizeof m->note, "built %s the mesh's isotropic frame (its faces stretched %.3g : 1 on the whole)%s: "
+        snprintf(m->note, sizeof m->note, "built %s (its faces stretched %.3g : 1 on the whole)%s: "
                  "diagonal ripple %.4g -> %.4g, bending energy %.4g -> %.4g against its own frame (--frame off builds there)",
-                 m->frame_used == 1 ? "in" : "with the vertex charts of", m->frame_stretch,
-                 m->frame_used == 1 ? " and mapped back" : "", T.f0.ripple, fk->ripple, T.f0.energy, fk->energy);
+                 how[m->frame_used], m->frame_stretch, m->frame_used == 2 ? "" : " and mapped back", T.f0.ripple, fk->ripple,
+                 T.f0.energy, fk->energy);
 }
 
 /* Where the mesh is flat, does the surface stay flat?  A warning with the remedy when it leaves the

@@ -98,13 +98,16 @@ typedef struct q2n_model {
     int g2_folded;             /* opt.fold_fallback taken: the faces the G2 patches folded on (0: not taken) */
     q2n_mesh *frame_mesh;      /* while building in the isotropic frame: the mesh mapped into it */
     const q2n_mesh *frame_charts; /* while building with the vertex charts of the isotropic frame: that mesh */
+    const q2n_mesh *frame_regions; /* while building the extraordinary regions in the isotropic frame: that mesh */
+    double frame_A[3][3];      /* the map into the frame */
     double frame_Ainv[3][3];   /* the map back out of the frame */
     double frame_stretch;      /* the isotropic frame's stretch (condition number; 1: none, 0: not estimated) */
     int frame_used;            /* 0: the mesh's own frame; 1: built in the isotropic frame and mapped back;
-                                  2: the vertex charts measured in it */
-    double frame_ripple[3];    /* the diagonal ripple of the builds: own frame, isotropic frame, charts
-                                  only (0: not built) */
-    double frame_energy[3];    /* their bending energy */
+                                  2: the vertex charts measured in it; 3: the extraordinary regions built in
+                                  it (the regular patches the mesh's own), mapped back */
+    double frame_ripple[4];    /* the diagonal ripple of the builds: own frame, isotropic frame, charts
+                                  only, regions (0: not built) */
+    double frame_energy[4];    /* their bending energy */
 } q2n_model;
 
 /* Read (any mesh format, q2n_mesh_read) and move into the internal frame, then construct:

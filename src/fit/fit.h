@@ -97,11 +97,12 @@ typedef struct q2n_fit_report {
                                       left unpaired; set by the caller, else 0 */
     int filled_faces, fill_quads;  /* --fill-ngons: faces filled with quads, quads made; set by the caller, else 0 */
     double frame_stretch;          /* the mesh's isotropic frame: its stretch (0: not estimated), which build
-                                      was kept (0 own frame, 1 built in it, 2 its vertex charts), and the
-                                      diagonal ripple and bending energy of the builds in that order (0: not
-                                      built); set by the caller, else 0 */
+                                      was kept (0 own frame, 1 built in it, 2 its vertex charts, 3 the
+                                      extraordinary regions built in it), and the diagonal ripple and
+                                      bending energy of the builds in that order (0: not built); set by the
+                                      caller, else 0 */
     int frame_used;
-    double frame_ripple[3], frame_energy[3];
+    double frame_ripple[4], frame_energy[4];
     double t_sample, t_build, t_solve, t_measure, t_total;  /* seconds per stage */
     long step_bytes, iges_bytes;   /* sizes of the CAD files written from this fit (0: none; set by the writer's caller) */
     int solver, threads;        /* threads: the number used */

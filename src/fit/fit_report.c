@@ -38,7 +38,7 @@ static double fin(double x) { return isfinite(x) ? x : -1; }
 
 static void write_json(const q2n_fit_report *r, const char *units, FILE *f)
 {
-    static const char *frame_names[] = {"own", "isotropic", "isotropic_charts"};
+    static const char *frame_names[] = {"own", "isotropic", "isotropic_charts", "isotropic_regions"};
     static const char *solvers[] = {"ceres_per_block", "ceres_sparse_normal_cholesky", "lapack_qr_per_block"};
     fprintf(f, "{\n  \"stage\": \"fit\",\n  \"faces\": %d,\n  \"edges\": %d,\n  \"interior_edges\": %d,\n",
             r->faces, r->edges, r->interior_edges);
@@ -69,13 +69,13 @@ static void write_json(const q2n_fit_report *r, const char *units, FILE *f)
     fprintf(f, "  \"construction\": {\"g1_max_deg\": %.6g, \"g2_max_rel\": %.6g, \"folded_faces\": %d, "
                "\"first_folded_face\": %d, \"vertices_moved_max_rel\": %.6g, \"flat_vertices\": %d, "
                "\"polynomial_edges\": %d, \"g2_folded_faces\": %d, \"paired_quads\": %d, \"triangles_left\": %d, \"filled_faces\": %d, "
-               "\"fill_quads\": %d, \"frame\": {\"stretch\": %.6g, \"used\": \"%s\", \"ripple\": [%.6g, %.6g, %.6g], "
-               "\"energy\": [%.6g, %.6g, %.6g]}},\n",
+               "\"fill_quads\": %d, \"frame\": {\"stretch\": %.6g, \"used\": \"%s\", \"ripple\": [%.6g, %.6g, %.6g, %.6g], "
+               "\"energy\": [%.6g, %.6g, %.6g, %.6g]}},\n",
             r->g1_construction_deg, r->g2_construction_rel, r->folded_faces, r->folded_faces > 0 ? r->folded_face : -1,
             r->vertices_moved_rel, r->flat_vertices, r->polynomial_edges, r->g2_folded_faces, r->paired_quads, r->triangles_left,
-            r->filled_faces, r->fill_quads, r->frame_stretch, frame_names[r->frame_used >= 0 && r->frame_used <= 2 ? r->frame_used : 0],
-            fin(r->frame_ripple[0]), fin(r->frame_ripple[1]), fin(r->frame_ripple[2]), fin(r->frame_energy[0]),
-            fin(r->frame_energy[1]), fin(r->frame_energy[2]));
+            r->filled_faces, r->fill_quads, r->frame_stretch, frame_names[r->frame_used >= 0 && r->frame_used <= 3 ? r->frame_used : 0],
+            fin(r->frame_ripple[0]), fin(r->frame_ripple[1]), fin(r->frame_ripple[2]), fin(r->frame_ripple[3]),
+            fin(r->frame_energy[0]), fin(r->frame_energy[1]), fin(r->frame_energy[2]), fin(r->frame_energy[3]));
     fprintf(f, "  \"solver\": \"%s\",\n  \"threads\": %d,\n",
             solvers[r->solver >= 0 && r->solver <= 2 ? r->solver : 0], r->threads);
     fprintf(f, "  \"timings_s\": {\"sample\": %.6f, \"build\": %.6f, \"solve\": %.6f, \"measure\": %.6f, "

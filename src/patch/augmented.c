@@ -284,6 +284,22 @@ int q2n_augmented_patch_get(const q2n_surface *s, int f, q2n_augmented_patch *ou
     return 1;
 }
 
+void q2n_augmented_map_points(q2n_surface *s, const double L[3][3])
+{
+    const aug_pool *done = NULL; /* one build's patches share one pool: map each pool once */
+    for (int k = 0; k < q2n_surface_npatches(s); k++) {
+        if (q2n_surface_kind(s, k) != Q2N_PATCH_AUGMENTED) continue;
+        aug_stored *a = q2n_surface_patch_data_mut(s, k);
+        if (!a || a->pool == done) continue;
+        for (int q = 0; q < a->pool->n; q++) {
+            double *x = a->pool->pts + 3 * (size_t)q, y[3];
+            for (int i = 0; i < 3; i++) y[i] = L[i][0] * x[0] + L[i][1] * x[1] + L[i][2] * x[2];
+            memcpy(x, y, sizeof y);
+        }
+        done = a->pool;
+    }
+}
+
 /* ---------------------------------------------------------------- evaluation */
 
 /* Evaluations along a patch side keep one parameter fixed (v = 0 on side 0, ...), so the same

@@ -44,6 +44,13 @@ int q2n_augmented_setup(const q2n_mesh *m, int f, const q2n_spline_class *cls,
  * returns 0 when face f has no augmented patch. */
 int q2n_augmented_patch_get(const q2n_surface *s, int f, q2n_augmented_patch *out);
 
+/* Every augmented patch of s mapped by the linear map L: their grid points (the mesh's vertices and
+ * the extrapolated ones) go through L, their intervals stay.  A patch is linear in its points for
+ * given intervals (eq. 10), so each becomes L times the patch it was, exactly up to rounding: the
+ * regular patches of the mesh, intervals and all, as seen in another frame (the model's
+ * extraordinary regions built in the isotropic frame, api/model.c). */
+void q2n_augmented_map_points(q2n_surface *s, const double L[3][3]);
+
 /* Coefficients C_ri (jets in x) of the direction functions of class cls at x, from the end
  * intervals d0[i], d1[i] (i < w - 1) blended by eq. (8a): C has cls->nb * w jets. */
 void q2n_augmented_coeffs(const q2n_spline_class *cls, int w, const double *d0, const double *d1, double x,

@@ -315,6 +315,11 @@ const void *q2n_surface_patch_data(const q2n_surface *s, int k)
     return (k >= 0 && k < s->n) ? s->p[k].data : NULL;
 }
 
+void *q2n_surface_patch_data_mut(q2n_surface *s, int k)
+{
+    return (k >= 0 && k < s->n) ? s->p[k].data : NULL;
+}
+
 q2n_status q2n_surface_set_patch_grid(q2n_surface *s, int k, q2n_patch_grid_fn grid)
 {
     if (k < 0 || k >= s->n || s->p[k].kind == Q2N_PATCH_UNCOVERED || s->p[k].kind == Q2N_PATCH_BEZIER)

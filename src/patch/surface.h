@@ -134,6 +134,8 @@ typedef q2n_status (*q2n_patch_eval_fn)(const void *data, double u, double v, in
 q2n_status q2n_surface_set_patch(q2n_surface *s, int k, q2n_patch_kind kind, void *data,
                                  q2n_patch_eval_fn eval, void (*free_data)(void *));
 const void *q2n_surface_patch_data(const q2n_surface *s, int k);
+/* The same data for its producer to change in place (q2n_augmented_map_points). */
+void *q2n_surface_patch_data_mut(q2n_surface *s, int k);
 /* Optional fast path for q2n_surface_eval_grid (same output layout). */
 typedef q2n_status (*q2n_patch_grid_fn)(const void *data, int nu, const double *us, int nv,
                                         const double *vs, double *out);
