@@ -329,27 +329,43 @@ static void test_model(void)
     }
 }
 
-/* A shared mesh scaled by the diagonal s, built with the isotropic frame (m[0]) and without (m[1]),
- * measured by tests/fairness.h; 0 when the mesh is absent (skipped, said) or a build failed. */
+/* The mesh (taken over) built with the isotropic frame (m[0], on a copy) and without (m[1]), with the
+ * CLI's defaults for ev_patch (G1 patches where G2 ones fold unless ev_patch is given), measured by
+ * tests/fairness.h; 0 when a build failed. */
+static int build_both(q2n_mesh *mesh, int ev_patch, q2n_model *m[2], fair_figures F[2])
+{
+    static const double I[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    char name[sizeof mesh->name];
+    snprintf(name, sizeof name, "%s", mesh->name); /* the build takes the mesh over */
+    m[0] = m[1] = NULL;
+    for (int off = 0; off < 2; off++) {
+        q2n_mesh *own = off ? mesh : NULL;
+        q2n_error err;
+        if (!off && q2n_mesh_mapped(mesh, I, &own, &err)) { CHECK(0, "copy: %s", err.message); q2n_mesh_free(mesh); return 0; }
+        q2n_model_options o;
+        memset(&o, 0, sizeof o);
+        o.frame = off ? -1 : 0;
+        o.ev_patch = ev_patch;
+        o.fold_fallback = !ev_patch; /* the CLI's default */
+        CHECK(q2n_model_build_mesh(own, &o, &m[off], &err) == Q2N_OK, "%s: build: %s", name, err.message);
+        if (!m[off]) { if (!off) q2n_mesh_free(mesh); return 0; }
+        fair_measure(m[off]->mesh, m[off]->surface, &F[off]);
+    }
+    return 1;
+}
+
+/* A shared mesh scaled by the diagonal s, through build_both; 0 when the mesh is absent (skipped,
+ * said) or a build failed. */
 static int build_scaled(const char *file, const double s[3], int ev_patch, q2n_model *m[2], fair_figures F[2])
 {
     const char *path = chk_shared_mesh(file);
     m[0] = m[1] = NULL;
     if (!path) return 0;
     double S[3][3] = {{s[0], 0, 0}, {0, s[1], 0}, {0, 0, s[2]}};
-    for (int off = 0; off < 2; off++) {
-        q2n_mesh *mesh = NULL;
-        q2n_error err;
-        if (q2n_mesh_read(path, &mesh, NULL, &err)) { CHECK(0, "%s: %s", path, err.message); return 0; }
-        q2n_model_options o;
-        memset(&o, 0, sizeof o);
-        o.frame = off ? -1 : 0;
-        o.ev_patch = ev_patch;
-        o.fold_fallback = !ev_patch; /* the CLI's default */
-        CHECK(q2n_model_build_mesh(mapped(mesh, S), &o, &m[off], &err) == Q2N_OK, "%s: build: %s", file, err.message);
-        if (!m[off]) return 0;
-        fair_measure(m[off]->mesh, m[off]->surface, &F[off]);
-    }
+    q2n_mesh *mesh = NULL;
+    q2n_error err;
+    if (q2n_mesh_read(path, &mesh, NULL, &err)) { CHECK(0, "%s: %s", path, err.message); return 0; }
+    if (!build_both(mapped(mesh, S), ev_patch, m, F)) return 0;
     return 1;
 }
 
@@ -585,18 +601,7 @@ static void test_generated_regions(void)
     for (int g = 0; g < 2; g++) {
         q2n_model *m[2] = {NULL, NULL};
         fair_figures F[2];
-        for (int off = 0; off < 2; off++) {
-            q2n_model_options o;
-            memset(&o, 0, sizeof o);
-            o.frame = off ? -1 : 0;
-            o.ev_patch = g ? Q2N_EV_PATCH_G1 : 0;
-            o.fold_fallback = !g;
-            q2n_error err;
-            CHECK(q2n_model_build_mesh(mapped(mg_torus_pinched(16, 10, 3, 1, pinch, 2), S), &o, &m[off], &err) == Q2N_OK,
-                  "build: %s", err.message);
-            if (m[off]) fair_measure(m[off]->mesh, m[off]->surface, &F[off]);
-        }
-        if (m[0] && m[1]) {
+        if (build_both(mapped(mg_torus_pinched(16, 10, 3, 1, pinch, 2), S), g ? Q2N_EV_PATCH_G1 : 0, m, F)) {
             double g1, g2, reg = 0;
             edge_continuity(m[0]->mesh, m[0]->surface, &g1, &g2);
             for (int k = 0; k < m[0]->mesh->nf; k++) {

@@ -292,8 +292,8 @@ static q2n_status build_checked(q2n_model *m, q2n_error *err)
  * (the regular patches, built from the mesh alone, are what got worse), once more with only the
  * extraordinary regions built in that frame — against the mesh's own regular patches mapped into it,
  * which a linear map carries exactly (they are linear in their points for given intervals) —, and
- * where that is not kept either, with only their vertex charts measured there.  A build is kept only where it is
- * the better surface by issue 11's figures, measured on the construction (patch/fairness.h): less
+ * where that is not kept either, with only their vertex charts measured there.  A build is kept only
+ * where it is the better surface by issue 11's figures, measured on the construction (patch/fairness.h): less
  * diagonal ripple, no more bending energy, no more folded faces, no lower continuity (G2 patches
  * that fold in one frame and not in the other), and, with the same kind of patches, no fewer edges
  * glued exactly by polynomials (G1 patches).  A mesh whose faces are long by design (tubes, rims)

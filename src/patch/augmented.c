@@ -232,6 +232,7 @@ typedef struct aug_pool {
     double *pts;
     int n, cap;
     long refs;                      /* patches that use it: the last one frees it */
+    int mapped;                     /* q2n_augmented_map_points: already through this map */
 } aug_pool;
 
 typedef struct aug_stored {
@@ -286,18 +287,21 @@ int q2n_augmented_patch_get(const q2n_surface *s, int f, q2n_augmented_patch *ou
 
 void q2n_augmented_map_points(q2n_surface *s, const double L[3][3])
 {
-    const aug_pool *done = NULL; /* one build's patches share one pool: map each pool once */
-    for (int k = 0; k < q2n_surface_npatches(s); k++) {
-        if (q2n_surface_kind(s, k) != Q2N_PATCH_AUGMENTED) continue;
-        aug_stored *a = q2n_surface_patch_data_mut(s, k);
-        if (!a || a->pool == done) continue;
-        for (int q = 0; q < a->pool->n; q++) {
-            double *x = a->pool->pts + 3 * (size_t)q, y[3];
-            for (int i = 0; i < 3; i++) y[i] = L[i][0] * x[0] + L[i][1] * x[1] + L[i][2] * x[2];
-            memcpy(x, y, sizeof y);
+    /* patches share their build's point pool: each pool is mapped once */
+    for (int pass = 0; pass < 2; pass++)
+        for (int k = 0; k < q2n_surface_npatches(s); k++) {
+            if (q2n_surface_kind(s, k) != Q2N_PATCH_AUGMENTED) continue;
+            aug_stored *a = q2n_surface_patch_data_mut(s, k);
+            if (!a) continue;
+            if (!pass) { a->pool->mapped = 0; continue; }
+            if (a->pool->mapped) continue;
+            for (int q = 0; q < a->pool->n; q++) {
+                double *x = a->pool->pts + 3 * (size_t)q, y[3];
+                for (int i = 0; i < 3; i++) y[i] = L[i][0] * x[0] + L[i][1] * x[1] + L[i][2] * x[2];
+                memcpy(x, y, sizeof y);
+            }
+            a->pool->mapped = 1;
         }
-        done = a->pool;
-    }
 }
 
 /* ---------------------------------------------------------------- evaluation */
