@@ -346,7 +346,7 @@ static void keep_flat(void)
                 int ok;
                 if (mi == 0) {
                     q2n_param_options po = {0};
-                    q2n_extraordinary_options xo = {NULL, po, g ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2, kf, 0};
+                    q2n_extraordinary_options xo = {NULL, po, g ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2, kf, 0, NULL};
                     ok = regular_stage(box, &iv, &s, &err) && q2n_extraordinary_build(box, &xo, iv, s, &err) == Q2N_OK;
                 } else {
                     q2n_model_options o;
