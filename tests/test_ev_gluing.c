@@ -450,9 +450,6 @@ int main(void)
     all_polynomial(mg_rim_pyramid(5, 0.5, 1.15));
     all_polynomial(mg_rim_pyramid(7, 1.5, 0.9));
     all_polynomial(mg_rim_pyramid(8, 0.5, 1.15));
-    /* open fans whose flat rim ends forced a q of the wrong sign (stop 52's half-turn rim charts): the
-     * rim vertices take a free q first (4 of its 25 edges were least squares before) */
-    all_polynomial(mg_dart_fan());
     /* two rings around a vertex of valence 5, 6 and 8, open: the rim vertices of two faces keep a free q
      * (flat α, β there leave the even-valence vertices of the first ring without the freedom they need) */
     static const int two_ring_valences[] = {5, 6, 8};

@@ -53,9 +53,7 @@
  * with iterative refinement, CHOLMOD).  An edge whose q misses the sign of α's ends (its
  * Bernstein coefficients of one sign keep α from vanishing, and a vanishing α folds the derived face)
  * first makes its component take a bump in β at that edge, where one may go (bump_ok, within
- * EV_POLY_SIGN_ROUNDS), else — in a component with edges flat at boundary vertices of two faces — a
- * free q on those edges (the round sequence below, since stop 53), else it becomes a free-slope cubic,
- * and the solve is repeated; a component
+ * EV_POLY_SIGN_ROUNDS), else it becomes a free-slope cubic, and the solve is repeated; a component
  * whose equations fail is solved again as above (free q at two-face boundary vertices, then those
  * pinned); what still fails keeps the smoothsteps everywhere in the component. */
 #include <math.h>
@@ -195,7 +193,6 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     double *kq = calloc(n4, sizeof(double)); /* border sides: q (α's value at the regular corner) */
     char *bumped = calloc(n4, 1); /* derived side between two cross-charted vertices with a bump in β */
     char *cand = calloc((size_t)m->nv, 1); /* per component: a side that may still take a bump */
-    char *cvabs = calloc((size_t)m->nv, 1); /* per component: an edge flat at a boundary vertex of two faces */
     int *qsv = malloc(sizeof(int) * (size_t)m->nv); /* per component: a vertex of an edge whose q has the wrong sign */
     int *bix = malloc(sizeof(int) * n4), *nbump = calloc((size_t)m->nv, sizeof(int));
     int *bend = malloc(sizeof(int) * n4);                 /* this pass's border_end of each side */
@@ -207,7 +204,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
     q2n_status st = Q2N_OK;
     *poly_edges = *border_edges = 0;
-    if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !cand || !cvabs || !qsv || !bix || !nbump || !bend || !best || !score || !rix || !qix || !six || !comp || !R || !x || !x0) {
+    if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !cand || !qsv || !bix || !nbump || !bend || !best || !score || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
         goto done;
     }
@@ -330,15 +327,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 int v0 = fv(m, faces[k / 4], S->c0), v1 = fv(m, faces[k / 4], S->c1);
                 if (qix[k] >= 0 && !bumped[k] && bump_ok(B, S, v0, v1)) cand[comp[qix[k]]] = 1;
             }
-            for (int v = 0; v < m->nv; v++) qsv[v] = -1, cvabs[v] = 0;
-            for (int i = 0; i < nf; i++) /* components with an edge flat at such a vertex */
-                for (int sd = 0; sd < 4; sd++) {
-                    const fe_side *S = &X[i].side[sd];
-                    if (S->kind != 0) continue;
-                    int v0 = fv(m, faces[i], S->c0), v1 = fv(m, faces[i], S->c1);
-                    if (VFREE(v0) && vabs[v1] && !vfq[v1]) cvabs[uf_find(uf, v0)] = 1;
-                    if (VFREE(v1) && vabs[v0] && !vfq[v0]) cvabs[uf_find(uf, v1)] = 1;
-                }
+            for (int v = 0; v < m->nv; v++) qsv[v] = -1;
             for (int i = 0; i < nf; i++)
                 for (int sd = 0; sd < 4; sd++) {
                     int k = 4 * i + sd, qi = qix[k];
@@ -348,11 +337,6 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                         if (qsv[c] < 0) qsv[c] = fv(m, faces[i], X[i].side[sd].c0);
                         continue;
                     }
-                    /* in round 0 a component whose edges are flat at boundary vertices of two faces first
-                     * takes a free q there (the round sequence below) before its edge becomes a cubic: the
-                     * flat ends' known slopes are what forced this q (since stop 52 those vertices' charts
-                     * span a half turn, β vanishing there) */
-                    if (round == 0 && cvabs[c]) continue;
                     cubic[k] = 1, more = 1;
                 }
             for (int k = 0; k < 4 * nf; k++)
@@ -510,7 +494,6 @@ done:
     free(kq);
     free(bumped);
     free(cand);
-    free(cvabs);
     free(qsv);
     free(bix);
     free(nbump);
