@@ -338,43 +338,40 @@ static int frame_try(q2n_model *m, frame_trial *T, int ev_patch, int smooth_glui
 
 static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
 {
-    double A[3][3];
     /* not on a mesh without extraordinary regions: its regular patches hardly move with the frame (a
      * torus of rectangles 0.797 -> 0.784 per diagonal), and a second build would double its time */
     if (q2n_surface_count(m->surface, Q2N_PATCH_COONS_GREGORY) == 0) return;
-    m->frame_stretch = q2n_mesh_isotropic_frame(m->mesh, A, m->frame_Ainv);
+    m->frame_stretch = q2n_mesh_isotropic_frame(m->mesh, m->frame_A, m->frame_Ainv);
     if (!(m->frame_stretch >= Q2N_MODEL_FRAME_MIN_STRETCH)) return;
     q2n_error e1;
     q2n_mesh *fm = NULL;
-    if (q2n_mesh_mapped(m->mesh, A, &fm, &e1)) return;
+    if (q2n_mesh_mapped(m->mesh, m->frame_A, &fm, &e1)) return;
     frame_trial T = {.ev_patch = m->opt.ev_patch, .gluing = m->opt.smooth_gluing, .g2_folded = m->g2_folded, .nw0 = nw0,
                      .nw = m->nwarnings};
     set_aside(m, &T.b);
     T.f0 = q2n_surface_fairness(T.b.surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads);
-    q2n_fairness f1, f2 = {0, 0, 0}, f3 = {0, 0, 0};
+    q2n_fairness f[4] = {T.f0, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}}; /* by frame_used: own, isotropic, charts, regions */
     m->frame_mesh = fm; /* the whole construction in the frame */
-    m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f1) ? 1 : 0;
+    m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f[1]) ? 1 : 0;
     m->frame_mesh = NULL;
     /* the extraordinary regions in the frame, against the mesh's own regular patches: with none (every
      * face extraordinary) that is the build in the frame again (the same figures to 6 digits where the
      * shared meshes reach it), so it is not tried */
-    if (!m->frame_used && f1.ripple_ev < T.f0.ripple_ev && q2n_surface_count(m->surface, Q2N_PATCH_AUGMENTED) > 0) {
+    if (!m->frame_used && f[1].ripple_ev < T.f0.ripple_ev && q2n_surface_count(m->surface, Q2N_PATCH_AUGMENTED) > 0) {
         set_aside(m, &T.b);
-        memcpy(m->frame_A, A, sizeof m->frame_A);
         m->frame_regions = fm;
-        m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f3) ? 3 : 0;
+        m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f[3]) ? 3 : 0;
         m->frame_regions = NULL;
     }
-    if (!m->frame_used && f1.ripple_ev < T.f0.ripple_ev) { /* the charts alone in the frame */
+    if (!m->frame_used && f[1].ripple_ev < T.f0.ripple_ev) { /* the charts alone in the frame */
         set_aside(m, &T.b);
         m->frame_charts = fm;
-        m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f2) ? 2 : 0;
+        m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f[2]) ? 2 : 0;
         m->frame_charts = NULL;
     }
     q2n_mesh_free(fm);
-    q2n_fairness *fk = m->frame_used == 3 ? &f3 : m->frame_used == 2 ? &f2 : &f1;
-    m->frame_ripple[0] = T.f0.ripple, m->frame_ripple[1] = f1.ripple, m->frame_ripple[2] = f2.ripple, m->frame_ripple[3] = f3.ripple;
-    m->frame_energy[0] = T.f0.energy, m->frame_energy[1] = f1.energy, m->frame_energy[2] = f2.energy, m->frame_energy[3] = f3.energy;
+    const q2n_fairness *fk = &f[m->frame_used];
+    for (int i = 0; i < 4; i++) m->frame_ripple[i] = f[i].ripple, m->frame_energy[i] = f[i].energy;
     static const char *how[4] = {"", "in the mesh's isotropic frame", "with the vertex charts of the mesh's isotropic frame",
                                  "with its extraordinary regions in the mesh's isotropic frame"};
     if (m->frame_used && !m->note[0])

@@ -128,6 +128,14 @@ static int bump_ok(const fe_build *B, const fe_side *S, int v0, int v1)
     return z0 && z1 ? 1 : z0 ? 2 : z1 ? 3 : 0; /* fe_side.quartic: γ drops its second derivative where β vanishes */
 }
 
+/* May derived side k (face faces[k / 4], side k % 4) still take a bump in β: glued by a quadratic α
+ * (its q an unknown, qix), not bumped yet, and between cross-charted ends (bump_ok)? */
+static int bump_candidate(const fe_build *B, const int *faces, const fe_ctx *X, int k, const int *qix, const char *bumped)
+{
+    const fe_side *S = &X[k / 4].side[k % 4];
+    return qix[k] >= 0 && !bumped[k] && bump_ok(B, S, fv(B->m, faces[k / 4], S->c0), fv(B->m, faces[k / 4], S->c1));
+}
+
 static double row_residual(const pg_row *R, const double *x)
 {
     double r = R->b;
@@ -322,11 +330,8 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
              * first, placed at that edge (qsv); else the edge becomes a cubic */
             int more = 0;
             memset(cand, 0, (size_t)m->nv);
-            for (int k = 0; k < 4 * nf; k++) {
-                const fe_side *S = &X[k / 4].side[k % 4];
-                int v0 = fv(m, faces[k / 4], S->c0), v1 = fv(m, faces[k / 4], S->c1);
-                if (qix[k] >= 0 && !bumped[k] && bump_ok(B, S, v0, v1)) cand[comp[qix[k]]] = 1;
-            }
+            for (int k = 0; k < 4 * nf; k++)
+                if (bump_candidate(B, faces, X, k, qix, bumped)) cand[comp[qix[k]]] = 1;
             for (int v = 0; v < m->nv; v++) qsv[v] = -1;
             for (int i = 0; i < nf; i++)
                 for (int sd = 0; sd < 4; sd++) {
@@ -370,7 +375,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
         for (int k = 0; k < 4 * nf; k++) {
             const fe_side *S = &X[k / 4].side[k % 4];
             int v0 = fv(m, faces[k / 4], S->c0), v1 = fv(m, faces[k / 4], S->c1), c = uf_find(uf, v0);
-            if (worst[c] < 0 || nbump[c] >= EV_POLY_BUMPS || bumped[k] || qix[k] < 0 || !bump_ok(B, S, v0, v1)) continue;
+            if (worst[c] < 0 || nbump[c] >= EV_POLY_BUMPS || !bump_candidate(B, faces, X, k, qix, bumped)) continue;
             int vw = qsv[c] >= 0 ? qsv[c] : R[worst[c]].v;
             double sc;
             if (v0 == vw || v1 == vw) {
