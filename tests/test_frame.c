@@ -592,8 +592,9 @@ static void test_regions_build(void)
 
 /* The same on a generated mesh (a plain clone tests it too): a torus with two quads collapsed (two
  * pairs of valence-3 and valence-5 vertices amid regular patches) stretched 3 x along its axis
- * (measured: 0.156 per EV diagonal against 0.188 in its own frame in G2 mode, 0.153 against 0.206
- * in G1 mode).  Its regular patches are the own frame's to rounding. */
+ * (measured: in G2 mode the regions' build, 0.156 per EV diagonal against 0.188 in its own frame; in
+ * G1 mode the charts' build, 0.165 against 0.206, which the regions' build, 0.153 but bending more,
+ * does not beat).  Its regular patches are the own frame's to rounding. */
 static void test_generated_regions(void)
 {
     static const int pinch[2] = {5, 40};
@@ -611,11 +612,16 @@ static void test_generated_regions(void)
                 q2n_surface_eval(m[1]->surface, k, 0.3, 0.6, 1, e1);
                 for (int c = 0; c < 9; c++) reg = fmax(reg, fabs(e0[c] - e1[c]) / (1 + fabs(e1[c])));
             }
-            printf("pinched torus 3 x along its axis, G%d: used %d, osc %.4g against %.4g, E_ev %.4g against %.4g\n", g ? 1 : 2,
+            printf("pinched torus 3 x along its axis, G%d: kept %d, osc %.4g against %.4g, E_ev %.4g against %.4g\n", g ? 1 : 2,
                    m[0]->frame_used, F[0].osc_ev_mean, F[1].osc_ev_mean, F[0].E_ev, F[1].E_ev);
-            CHECK(m[0]->frame_used == 3 && F[0].osc_ev_mean < 0.9 * F[1].osc_ev_mean && F[0].jac_min > 0.1,
-                  "pinched torus 3 x, G%d: the regions in the isotropic frame (used %d), osc %.4g against %.4g, jac %.3g", g ? 1 : 2,
-                  m[0]->frame_used, F[0].osc_ev_mean, F[1].osc_ev_mean, F[0].jac_min);
+            /* G2: the charts' build not kept, the regions' is; G1: the charts' build is kept, and the regions'
+             * (tried, less ripple) does not beat it on all counts (more bending energy), so it stays */
+            const double *rp = m[0]->frame_ripple, *en = m[0]->frame_energy;
+            int rule = g ? m[0]->frame_used == 2 && rp[3] > 0 && !(rp[3] < rp[2] && en[3] <= en[2]) : m[0]->frame_used == 3;
+            CHECK(rule && F[0].osc_ev_mean < 0.9 * F[1].osc_ev_mean && F[0].jac_min > 0.1,
+                  "pinched torus 3 x, G%d: kept build %d (ripple own/charts/regions %.5g %.5g %.5g, energy %.5g %.5g %.5g), osc %.4g "
+                  "against %.4g, jac %.3g", g ? 1 : 2, m[0]->frame_used, rp[0], rp[2], rp[3], en[0], en[2], en[3], F[0].osc_ev_mean,
+                  F[1].osc_ev_mean, F[0].jac_min);
             CHECK(reg < 1e-13 && corner_gap(m[0]) < 1e-13 && g1 < 1e-8 && (g || g2 < 1e-6),
                   "pinched torus 3 x: regular patches the own frame's (%.3g), gap %.3g, G1 %.3g rad, G2 %.3g", reg,
                   corner_gap(m[0]), g1, g2);

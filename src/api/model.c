@@ -290,16 +290,17 @@ static q2n_status build_checked(q2n_model *m, q2n_error *err)
  * the mesh mapped into its isotropic frame and mapped back (exact: affine maps keep the
  * interpolation, G1 and G2); where that build is not kept but its extraordinary regions ripple less
  * (the regular patches, built from the mesh alone, are what got worse), once more with only the
- * extraordinary regions built in that frame — against the mesh's own regular patches mapped into it,
- * which a linear map carries exactly (they are linear in their points for given intervals) —, and
- * where that is not kept either, with only their vertex charts measured there.  A build is kept only
+ * extraordinary regions' vertex charts measured in that frame, and once more with those regions built
+ * in that frame — against the mesh's own regular patches mapped into it, which a linear map carries
+ * exactly (they are linear in their points for given intervals) —, kept where it beats the best build
+ * so far (the charts' where that was kept).  A build is kept only
  * where it is the better surface by issue 11's figures, measured on the construction (patch/fairness.h): less
  * diagonal ripple, no more bending energy, no more folded faces, no lower continuity (G2 patches
  * that fold in one frame and not in the other), and, with the same kind of patches, no fewer edges
  * glued exactly by polynomials (G1 patches).  A mesh whose faces are long by design (tubes, rims)
  * also gets an estimate; there the comparison decides.  A build that fails keeps the first. */
 typedef struct frame_trial {
-    built b;              /* the first build, set aside */
+    built b;              /* the build to beat (the first, or the best kept since), set aside */
     q2n_fairness f0;      /* its figures */
     int ev_patch, gluing, g2_folded, nw0, nw;
 } frame_trial;
@@ -336,6 +337,17 @@ static int frame_try(q2n_model *m, frame_trial *T, int ev_patch, int smooth_glui
     return 0;
 }
 
+/* A build frame_try kept becomes the one later tries must beat: its figures and its state (the
+ * options its fallbacks took, its warnings). */
+static void frame_rebase(const q2n_model *m, frame_trial *T, const q2n_fairness *f)
+{
+    T->f0 = *f;
+    T->ev_patch = m->opt.ev_patch;
+    T->gluing = m->opt.smooth_gluing;
+    T->g2_folded = m->g2_folded;
+    T->nw = m->nwarnings;
+}
+
 static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
 {
     /* not on a mesh without extraordinary regions: its regular patches hardly move with the frame (a
@@ -354,20 +366,22 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
     m->frame_mesh = fm; /* the whole construction in the frame */
     m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f[1]) ? 1 : 0;
     m->frame_mesh = NULL;
-    /* the extraordinary regions in the frame, against the mesh's own regular patches: with none (every
-     * face extraordinary) that is the build in the frame again (the same figures to 6 digits where the
-     * shared meshes reach it), so it is not tried */
-    if (!m->frame_used && f[1].ripple_ev < T.f0.ripple_ev && q2n_surface_count(m->surface, Q2N_PATCH_AUGMENTED) > 0) {
-        set_aside(m, &T.b);
-        m->frame_regions = fm;
-        m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f[3]) ? 3 : 0;
-        m->frame_regions = NULL;
-    }
-    if (!m->frame_used && f[1].ripple_ev < T.f0.ripple_ev) { /* the charts alone in the frame */
+    if (!m->frame_used && f[1].ripple_ev < f[0].ripple_ev) { /* the charts alone in the frame */
         set_aside(m, &T.b);
         m->frame_charts = fm;
         m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f[2]) ? 2 : 0;
         m->frame_charts = NULL;
+        if (m->frame_used) frame_rebase(m, &T, &f[2]);
+    }
+    /* the extraordinary regions in the frame, against the mesh's own regular patches, kept where they
+     * beat the best build so far (the charts' build where that was kept) on all counts: with no regular
+     * patch (every face extraordinary) this is the build in the frame again (the same figures to 6
+     * digits where the shared meshes reach it), so it is not tried */
+    if (m->frame_used != 1 && f[1].ripple_ev < f[0].ripple_ev && q2n_surface_count(m->surface, Q2N_PATCH_AUGMENTED) > 0) {
+        set_aside(m, &T.b);
+        m->frame_regions = fm;
+        if (frame_try(m, &T, ev_patch, smooth_gluing, &f[3])) m->frame_used = 3;
+        m->frame_regions = NULL;
     }
     q2n_mesh_free(fm);
     const q2n_fairness *fk = &f[m->frame_used];
@@ -377,8 +391,8 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
     if (m->frame_used && !m->note[0])
         snprintf(m->note, sizeof m->note, "built %s (its faces stretched %.3g : 1 on the whole)%s: "
                  "diagonal ripple %.4g -> %.4g, bending energy %.4g -> %.4g against its own frame (--frame off builds there)",
-                 how[m->frame_used], m->frame_stretch, m->frame_used == 2 ? "" : " and mapped back", T.f0.ripple, fk->ripple,
-                 T.f0.energy, fk->energy);
+                 how[m->frame_used], m->frame_stretch, m->frame_used == 2 ? "" : " and mapped back", f[0].ripple, fk->ripple,
+                 f[0].energy, fk->energy);
 }
 
 /* Where the mesh is flat, does the surface stay flat?  A warning with the remedy when it leaves the
