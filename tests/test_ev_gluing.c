@@ -1,6 +1,6 @@
-/* test_ev_gluing.c — polynomial gluing of the fair construction's G1 patches (ev_fair_gluing.c,
- * docs/extraordinary.md "Polynomial gluing of G1 patches"), against references that know nothing
- * of it:
+/* test_ev_gluing.c — polynomial gluing of the fair construction's G1 and G2 patches (ev_fair_gluing.c, ev_fair_gluing2.c,
+ * docs/extraordinary.md "Polynomial gluing of G1 patches", "... of G2 patches"), against references
+ * that know nothing of it:
  *   - corners: no corner of any patch needs a Gregory blend (the two sides' mixed derivatives agree
  *     to EV_FAIR_COMPAT_REL), so the twist corrections solve their equations;
  *   - degree: where every edge of a mesh is glued by polynomials, every patch is a bi-quintic
@@ -11,7 +11,9 @@
  *     sampling (the smoothsteps: least squares, 1e-4..1e-2 degrees, 16 spans and more);
  *   - regions bordering regular patches: the edges between free vertices still take the gluing;
  *   - fairness: on closed meshes glued by polynomials everywhere the surface ripples less along the
- *     faces' diagonals than with the smoothsteps, with no more bending energy (tests/fairness.h).
+ *     faces' diagonals than with the smoothsteps, with no more bending energy (tests/fairness.h);
+ *   - G2 patches (stop 54): no Gregory corner, G1 and G2 across every edge down to 1e-3 from the
+ *     corners (where sides that disagree at a corner would show), less ripple than the smoothsteps.
  * The meshes are generated here (tests/meshgen.h): closed ones whose every face touches an
  * extraordinary vertex, and open and mixed ones. */
 #include <math.h>
@@ -21,6 +23,7 @@
 
 #include "api/model.h"
 #include "check.h"
+#include "core/vec3.h"
 #include "fit/fit.h"
 #include "fairness.h"
 #include "fit_check.h"
@@ -28,11 +31,20 @@
 #include "param/param.h"
 #include "patch/augmented.h"
 #include "patch/ev_fair.h"
+#include "patch/fairness.h"
 #include "patch/surface.h"
 #include "spline/spline.h"
 
-/* Edge intervals, the regular patches, and the fair G1 construction (poly: polynomial gluing). */
-static q2n_surface *build(const q2n_mesh *m, int poly, ev_fair_stats *st)
+/* measured (stop 54): 0.27, 0.83, 0.90 of the smoothsteps' ripple */
+#define G2_RATIO_ICOSA 0.4
+#define G2_RATIO_ICOSA_NOISY 0.9
+#define G2_RATIO_TRIAC 0.95
+
+/* Edge intervals, the regular patches, and the fair construction with patches of order K (poly:
+ * polynomial gluing). */
+static q2n_surface *build_k(const q2n_mesh *m, int K, int poly, ev_fair_stats *st);
+static q2n_surface *build(const q2n_mesh *m, int poly, ev_fair_stats *st) { return build_k(m, 1, poly, st); }
+static q2n_surface *build_k(const q2n_mesh *m, int K, int poly, ev_fair_stats *st)
 {
     q2n_param_options po = {0};
     q2n_augmented_options ao = {NULL, po};
@@ -40,7 +52,7 @@ static q2n_surface *build(const q2n_mesh *m, int poly, ev_fair_stats *st)
     double *iv = NULL;
     q2n_surface *s = NULL;
     int ok = q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK && q2n_augmented_build(m, &ao, iv, &s, &err) == Q2N_OK &&
-             q2n_ev_fair_build(m, NULL, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), 1, 0, poly, 2, st, &err) == Q2N_OK;
+             q2n_ev_fair_build(m, NULL, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), K, 0, poly, 2, st, &err) == Q2N_OK;
     CHECK(ok, "%s: build: %s", m->name, err.message);
     free(iv);
     if (!ok) {
@@ -438,6 +450,86 @@ static void gluing_fairness(q2n_mesh *m, double ratio)
     q2n_mesh_free(m);
 }
 
+/* Normal-angle jump (radians) and mean-curvature jump (relative to 1 + |H|) across every interior edge,
+ * at points down to 1e-3 of the edge from its corners, where sides that disagree at a corner would
+ * show (the Coons patch then interpolates neither side's data there). */
+static void edge_jumps(const q2n_mesh *m, const q2n_surface *s, double *g1, double *g2)
+{
+    static const double xs[] = {1e-3, 1e-2, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.99, 0.999};
+    *g1 = *g2 = 0;
+    for (int h = 0; h < m->nh; h++) {
+        int t = m->he_twin[h];
+        if (t < h) continue;
+        int f = m->he_face[h], g = m->he_face[t], i = h - m->face_start[f], j = t - m->face_start[g];
+        for (size_t q = 0; q < sizeof xs / sizeof xs[0]; q++) {
+            double uv[2][2], e[2][18], n[2][3], H[2], K;
+            q2n_side_uv(i, xs[q], 0, &uv[0][0], &uv[0][1]);
+            q2n_side_uv(j, 1 - xs[q], 0, &uv[1][0], &uv[1][1]);
+            for (int sd = 0; sd < 2; sd++) {
+                q2n_surface_eval(s, sd ? g : f, uv[sd][0], uv[sd][1], 2, e[sd]);
+                q2n_v3_cross(n[sd], e[sd] + Q2N_EV_U, e[sd] + Q2N_EV_V);
+                q2n_curvatures(e[sd], &H[sd], &K);
+            }
+            *g1 = fmax(*g1, q2n_v3_angle(n[0], n[1]));
+            *g2 = fmax(*g2, fabs(H[0] - H[1]) / (1 + fabs(H[0])));
+        }
+    }
+}
+
+/* G2 patches glued by polynomials (ev_fair_gluing2.c, docs/extraordinary.md "Polynomial gluing of G2
+ * patches"), on a mesh whose every face touches an extraordinary vertex: every edge takes the gluing
+ * (want 1) or some do (want 0), no corner keeps a Gregory blend (both sides agree to EV_FAIR_COMPAT_REL
+ * up to order (2, 2)), the surface is G1 and G2 across every edge down to 1e-3 from the corners, and it
+ * differs from the smoothsteps' (the gluing acted).  The mesh is freed. */
+static void g2_polynomial(q2n_mesh *m, int want_all)
+{
+    if (!m) { CHECK(0, "mesh"); return; }
+    ev_fair_stats st[2];
+    q2n_surface *s[2] = {build_k(m, 2, 1, &st[0]), build_k(m, 2, 0, &st[1])};
+    if (s[0] && s[1]) {
+        int ne = interior_edges(m);
+        double g1, g2, e0[18], e1[18];
+        edge_jumps(m, s[0], &g1, &g2);
+        q2n_surface_eval(s[0], 0, 0.3, 0.6, 2, e0);
+        q2n_surface_eval(s[1], 0, 0.3, 0.6, 2, e1);
+        printf("%s, G2 patches: %d of %d edges polynomial, %d Gregory corners (mismatch %.2g), G1 %.2g rad, G2 %.2g\n", m->name,
+               st[0].polynomial_edges, ne, st[0].gregory_corners, st[0].corner_mismatch_max, g1, g2);
+        CHECK(want_all ? st[0].polynomial_edges == ne : st[0].polynomial_edges > 0,
+              "%s, G2 patches: %d of %d edges glued by polynomials", m->name, st[0].polynomial_edges, ne);
+        CHECK(st[0].gregory_corners == 0 && st[0].corner_mismatch_max <= 1e-9, "%s, G2 patches: %d Gregory corners (mismatch %.3g)",
+              m->name, st[0].gregory_corners, st[0].corner_mismatch_max);
+        CHECK(g1 <= 1e-8 && g2 <= 1e-6, "%s, G2 patches glued by polynomials: G1 %.3g rad, G2 %.3g across the edges", m->name, g1, g2);
+        CHECK(st[1].polynomial_edges == 0 && q2n_v3_dist(e0, e1) > 1e-6, "%s, G2 patches: the smoothsteps' surface differs (%.3g)",
+              m->name, q2n_v3_dist(e0, e1));
+    }
+    q2n_surface_free(s[0]);
+    q2n_surface_free(s[1]);
+    q2n_mesh_free(m);
+}
+
+/* The G2 gluing's fairness (stop 54): on closed meshes whose every face touches an extraordinary vertex
+ * the G2 surface glued by polynomials ripples less along the faces' diagonals than glued by the
+ * smoothsteps, with at most 1 % more bending energy (tests/fairness.h).  The mesh is freed. */
+static void g2_fairness(q2n_mesh *m, double ratio)
+{
+    if (!m) { CHECK(0, "mesh"); return; }
+    ev_fair_stats st[2];
+    q2n_surface *s[2] = {build_k(m, 2, 1, &st[0]), build_k(m, 2, 0, &st[1])};
+    if (s[0] && s[1]) {
+        fair_figures F[2];
+        fair_measure(m, s[0], &F[0]);
+        fair_measure(m, s[1], &F[1]);
+        printf("%s, G2 patches: polynomials osc %.4g E_ev %.4g jac %.3g, smoothsteps %.4g %.4g %.3g\n", m->name, F[0].osc_ev_mean,
+               F[0].E_ev, F[0].jac_min, F[1].osc_ev_mean, F[1].E_ev, F[1].jac_min);
+        CHECK(F[0].osc_ev_mean < ratio * F[1].osc_ev_mean && F[0].E_ev <= F[1].E_ev * 1.01 && F[0].jac_min > 0.1,
+              "%s, G2 patches: glued by polynomials the surface ripples %.4g per EV diagonal (bending %.4g, Jacobian %.3g), with the "
+              "smoothsteps %.4g (%.4g)", m->name, F[0].osc_ev_mean, F[0].E_ev, F[0].jac_min, F[1].osc_ev_mean, F[1].E_ev);
+    }
+    q2n_surface_free(s[0]);
+    q2n_surface_free(s[1]);
+    q2n_mesh_free(m);
+}
+
 int main(void)
 {
     /* closed, every face at an extraordinary vertex (valences 3, 4, 5 / 3, 4) */
@@ -479,6 +571,17 @@ int main(void)
         static const double sc[3] = {2, 1, 0.5};
         gluing_fairness(mg_tri_to_quad(12, ico, 20, mg_icosa_tri, 1, sc, 0.03, 11, "icosahedron on a 2:1:0.5 ellipsoid"), 0.7);
     }
+    /* G2 patches glued by polynomials: closed meshes whose every face touches an extraordinary vertex
+     * (valences 3-5; 3, 4 on an ellipsoid; 3, 5 and 4 on a stretched rhombic polyhedron), and regions
+     * around one vertex of valence 5 and 7 bordering regular quads (some edges) */
+    g2_polynomial(mg_icosa_quad(0.05, 3), 1);
+    g2_polynomial(mg_octa_quad(3, 1, 0.5), 1);
+    g2_polynomial(mg_triacontahedron(2, 1, 0.5, 1), 1);
+    g2_polynomial(mg_polar_star(5, 3, 1), 0);
+    g2_polynomial(mg_polar_star(7, 3, 1), 0);
+    g2_fairness(mg_icosa_quad(0, 1), G2_RATIO_ICOSA);
+    g2_fairness(mg_icosa_quad(0.05, 3), G2_RATIO_ICOSA_NOISY);
+    g2_fairness(mg_triacontahedron(2, 1, 0.5, 1), G2_RATIO_TRIAC);
     fold_fallback();
     pinned_cycles(mg_torus(8, 6, 3, 1, 0, 1, 1));
     pinned_cycles(mg_torus(10, 8, 3, 1, 0.15, 1, 7));

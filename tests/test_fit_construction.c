@@ -246,9 +246,11 @@ int main(void)
     if (run(&cube, 1e-5, &r5)) CHECK(r5.cp_total <= 545, "cube, G1 patches: %ld control points (522 expected)", r5.cp_total);
     /* after a local continuity round that did not lower its miss, an edge splits the spans that round
      * left coarser (its knots uniform again), not every span: the valence-8 carpet 5680 control points
-     * before the local rule, 5566 with every span split after it, 5418 so */
+     * before the local rule, 5566 with every span split after it, 5418 so; 5188 at stop 53, 5613 since
+     * its G2 patches are glued by polynomials (stop 54: one patch beside the valence-8 vertex takes 483
+     * control points, 196 before — docs/extraordinary.md, "Polynomial gluing of G2 patches") */
     const fit_case c8 = {"gismo_ev_valence8_carpet.obj", 0, 0, 0, 0};
-    if (run(&c8, 1e-5, &r5)) CHECK(r5.cp_total <= 5500, "valence-8 carpet: %ld control points (5188 expected)", r5.cp_total);
+    if (run(&c8, 1e-5, &r5)) CHECK(r5.cp_total <= 5900, "valence-8 carpet: %ld control points (5613 expected)", r5.cp_total);
     /* near the span cap local continuity splits wait (Q2N_FIT_CONT_LOCAL_ROOM): graded knots there
      * spent the span budget the continuity targets needed — at --max-spans 8 the valence-5 carpet
      * met them before the local rule (G1 0.004 deg) and missed G1 with local splits up to the cap
@@ -265,9 +267,12 @@ int main(void)
      * systems are consistent and the speeds are smaller than with one speed per edge (measured:
      * octtorus_hole 13 -> 25 exact edges; tent, every edge exact either way, 1190 -> 973 control points).
      * octtorus_hole in its own frame: in its isotropic frame, the default, the construction's
-     * intervals differ and 12 of its edges glue by a scale (docs/extraordinary.md, "The isotropic frame") */
+     * intervals differ and 12 of its edges glue by a scale (docs/extraordinary.md, "The isotropic frame").
+     * Since stop 54 its G2 patches are glued by polynomials: five edges inside its extraordinary region
+     * whose smoothsteps were constant (the same α at both ends, β zero) take a quadratic α and are least
+     * squares in the fit, 25 -> 20 (the file 13.5 -> 9.9 KB per face all the same) */
     const fit_case oh = {"gismo_octtorus_hole.obj", 0, 0, 0, 0, -1}, tent = {"osd_catmark_tent.obj", 0, 0, 0, 0};
-    if (run(&oh, 1e-5, &r5)) CHECK(r5.g1_exact_edges >= 25, "octtorus_hole: %d exact edges (25 expected)", r5.g1_exact_edges);
+    if (run(&oh, 1e-5, &r5)) CHECK(r5.g1_exact_edges >= 20, "octtorus_hole: %d exact edges (20 expected)", r5.g1_exact_edges);
     if (run(&tent, 1e-5, &r5))
         CHECK(r5.g1_exact_edges == r5.interior_edges && r5.cp_total <= 1050, "tent: %d of %d edges exact, %ld control points (973 expected)",
               r5.g1_exact_edges, r5.interior_edges, r5.cp_total);

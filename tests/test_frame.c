@@ -317,9 +317,13 @@ static void test_model(void)
                   "%s: smoother than in the mesh's frame (osc %.4g against %.4g, E %.4g against %.4g, jac %.3g)", what,
                   F[0].osc_ev_mean, F[1].osc_ev_mean, F[0].E_ev, F[1].E_ev, F[0].jac_min);
         } else if (c == 2) {
-            CHECK(m[0]->frame_stretch > 2.5 && !m[0]->frame_used && m[0]->frame_ripple[1] > m[0]->frame_ripple[0] && same,
-                  "%s: built in both frames, the mesh's kept (stretch %.4g, ripple %.5g against %.5g)", what,
-                  m[0]->frame_stretch, m[0]->frame_ripple[0], m[0]->frame_ripple[1]);
+            /* the isotropic build is not better on all counts: until stop 53 it rippled more, since the G2
+             * patches are glued by polynomials (stop 54) it ripples less but bends more */
+            CHECK(m[0]->frame_stretch > 2.5 && !m[0]->frame_used &&
+                      (m[0]->frame_ripple[1] > m[0]->frame_ripple[0] || m[0]->frame_energy[1] > m[0]->frame_energy[0]) && same,
+                  "%s: built in both frames, the mesh's kept (stretch %.4g, ripple %.5g against %.5g, energy %.5g against %.5g)",
+                  what, m[0]->frame_stretch, m[0]->frame_ripple[0], m[0]->frame_ripple[1], m[0]->frame_energy[0],
+                  m[0]->frame_energy[1]);
         } else {
             CHECK(m[0]->frame_stretch < 1.05 && !m[0]->frame_used && m[0]->frame_ripple[1] == 0 && same,
                   "%s: isotropic, built once, as with --frame off (stretch %.4g)", what, m[0]->frame_stretch);
@@ -369,20 +373,25 @@ static int build_scaled(const char *file, const double s[3], int ev_patch, q2n_m
     return 1;
 }
 
-/* Shared meshes scaled along an axis (stop 50's finding): their own frame folds the G2 patches (G1 ones
- * replace them); built in the isotropic frame, no fold (octtorus_hole: with G2 patches) and far
- * smoother by tests/fairness.h. */
+/* Shared meshes scaled along an axis (stop 50's finding): their own frame folded the G2 patches (G1 ones
+ * replaced them); built in the isotropic frame, no fold, G2 patches, and far smoother by
+ * tests/fairness.h.  Since the G2 patches are glued by polynomials (stop 54) octtorus_hole's own frame
+ * keeps its G2 patches too (no fold), and gregory_test6's isotropic frame keeps G2 patches (before: G1
+ * patches in both frames). */
 static void test_shared_stretched(void)
 {
-    static const struct { const char *file; double s[3], osc_ratio; int g2; } cases[] = {
-        {"gismo_octtorus_hole.obj", {3, 1, 1}, 0.35, 1},      /* measured 0.91 against 3.66 (G1 patches) */
-        {"osd_catmark_gregory_test6.obj", {1, 1, 0.1}, 0.15, 0}, /* 19.9 against 237, G1 patches in both */
+    static const struct { const char *file; double s[3], osc_ratio; int own_fold; } cases[] = {
+        {"gismo_octtorus_hole.obj", {3, 1, 1}, 0.35, 0},      /* measured 0.91 against 3.66 (G1 patches) at stop 53 */
+        {"osd_catmark_gregory_test6.obj", {1, 1, 0.1}, 0.15, 1}, /* 19.9 against 237 at stop 53 */
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         q2n_model *m[2];
         fair_figures F[2];
         if (!build_scaled(cases[c].file, cases[c].s, 0, m, F)) { q2n_model_free(m[0]); q2n_model_free(m[1]); continue; }
-        CHECK(m[0]->frame_used && m[0]->continuity == (cases[c].g2 ? 2 : 1) && m[0]->folded == 0 && m[1]->g2_folded > 0,
+        printf("%s scaled %g %g %g: osc %.4g against %.4g in its own frame, E_ev %.4g against %.4g, jac %.3g; own frame G2 folded on %d\n",
+               cases[c].file, cases[c].s[0], cases[c].s[1], cases[c].s[2], F[0].osc_ev_mean, F[1].osc_ev_mean, F[0].E_ev, F[1].E_ev,
+               F[0].jac_min, m[1]->g2_folded);
+        CHECK(m[0]->frame_used && m[0]->continuity == 2 && m[0]->folded == 0 && (m[1]->g2_folded > 0) == cases[c].own_fold,
               "%s scaled %g %g %g: no fold in the isotropic frame (used %d, continuity %d, folded %d; own frame: "
               "G2 folded on %d faces, G1 patches)", cases[c].file, cases[c].s[0], cases[c].s[1], cases[c].s[2], m[0]->frame_used,
               m[0]->continuity, m[0]->folded, m[1]->g2_folded);

@@ -151,6 +151,38 @@ typedef struct fe_inputs {
     ev_fair_stats *stats;
 } fe_inputs;
 
+/* The polynomial gluing (ev_fair_gluing.c; for G2 patches also ev_fair_gluing2.c, whose vertices that
+ * fail are pinned and the gluing solved again, at most EV_POLY2_PIN_ROUNDS times; what fails after
+ * that keeps the smoothsteps everywhere). */
+static q2n_status glue(fe_build *B, const fe_inputs *in, const char *pin, fe_run *R, q2n_error *err)
+{
+    const q2n_mesh *m = B->m;
+    fe_ctx *X = in->X;
+    int nf = in->nf;
+    if (B->K < 2) return q2n_ev_fair_poly_gluing(B, in->faces, nf, X, pin, &R->poly_edges, &R->border_edges, err);
+    char *pin2 = calloc((size_t)m->nv, 1), *fail = calloc((size_t)m->nv, 1);
+    q2n_status st = Q2N_OK;
+    if (!pin2 || !fail) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
+    if (pin) memcpy(pin2, pin, (size_t)m->nv);
+    for (int round = 0;; round++) {
+        if ((st = q2n_ev_fair_poly_gluing(B, in->faces, nf, X, pin2, &R->poly_edges, &R->border_edges, err))) break;
+        int nfail = 0;
+        memset(fail, 0, (size_t)m->nv);
+        if ((st = q2n_ev_fair_poly_gluing2(B, in->faces, nf, X, fail, &nfail, err))) break;
+        if (nfail == 0) break;
+        for (int i = 0; i < nf; i++)
+            for (int sd = 0; sd < 4; sd++)
+                if (X[i].side[sd].kind == 0) fe_side_smooth(&X[i].side[sd]);
+        R->poly_edges = R->border_edges = 0;
+        if (round >= EV_POLY2_PIN_ROUNDS) break;
+        for (int v = 0; v < m->nv; v++) pin2[v] |= fail[v];
+    }
+done:
+    free(pin2);
+    free(fail);
+    return st;
+}
+
 /* One construction from the local estimates: the sides' gluing (smoothsteps; with poly, polynomial
  * where the corner equations allow it, the vertices marked in pin kept out), the Gregory corners and
  * the energy solve.  With flat fans (keep_flat): their jets' orders 1 and 2 are the local
@@ -175,7 +207,7 @@ static q2n_status construct(fe_build *B, const fe_inputs *in, int poly, const ch
             if (X[i].side[sd].kind == 0) fe_side_smooth(&X[i].side[sd]);
     assign_unknowns(B, vj, nf, NULL, nflat ? flat : NULL);
     B->flat = NULL;
-    if (poly && (st = q2n_ev_fair_poly_gluing(B, faces, nf, X, pin, &R->poly_edges, &R->border_edges, err))) return st;
+    if (poly && (st = glue(B, in, pin, R, err))) return st;
     mark_gregory(B, faces, nf, X, in->CP, in->stats);
     for (int stage = 0; stage < (nflat ? 2 : 1); stage++) {
         if (stage == 1) {
@@ -340,7 +372,8 @@ out:
 }
 
 /* Faces whose Jacobian ratio (q2n_ev_fair_jacobian_ratio) the polynomial gluing takes below
- * EV_POLY_JAC_REL of what the smoothsteps give with the same jets and bubbles; their corners are
+ * EV_POLY_JAC_REL of what the smoothsteps give with the same jets and bubbles (G2 patches: or below
+ * EV_POLY2_JAC_FLOOR where the smoothsteps give at least that); their corners are
  * marked in pin (NULL: only counted).  -1 out of memory.  The smoothsteps' ratio is at most 1 (a
  * minimum over a median), so it is evaluated only where the gluing's is below EV_POLY_JAC_REL. */
 typedef struct nf_arg {
@@ -366,7 +399,9 @@ static void near_fold_one(void *arg, int i)
     for (int sd = 0; sd < 4; sd++)
         if (Xs.side[sd].kind == 0) fe_side_smooth(&Xs.side[sd]);
     double rs = q2n_ev_fair_jacobian_ratio(a->B, i, a->faces[i], &Xs, &a->CP[i]);
-    a->bad[i] = rs < -0.5 ? -1 : rp < EV_POLY_JAC_REL * rs;
+    /* G2 patches: also where the gluing takes the face below the fold target that the smoothsteps keep */
+    int floor = a->B->K >= 2 && rp < EV_POLY2_JAC_FLOOR && rs >= EV_POLY2_JAC_FLOOR;
+    a->bad[i] = rs < -0.5 ? -1 : rp < EV_POLY_JAC_REL * rs || floor;
 }
 
 static int near_folds(const fe_build *B, const int *faces, int nf, const fe_ctx *X, const cp_patch *CP, int threads, char *pin)
@@ -514,7 +549,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_
      * smoothsteps' (same jets) get their corners pinned (out of the gluing) and the construction is
      * repeated, kept when fewer faces are left so; and where the solve leaves faces folded over, the
      * smoothsteps are tried and kept when they fold on fewer faces. */
-    int poly = K == 1 && poly_gluing;
+    int poly = poly_gluing;
     fe_run R = {0};
     const fe_inputs in = {vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat,
                           threads, stats};

@@ -144,9 +144,10 @@ static double row_residual(const pg_row *R, const double *x)
     return r;
 }
 
-/* min |x - x0|² subject to the rows, as the penalty problem (W² AᵀA + I) x = W² Aᵀ b + x0 refined:
- * each refinement solves for the rows' residuals again, which removes the penalty's bias. */
-static q2n_status pg_solve(int n, const pg_row *R, int nrow, const double *x0, double *x, q2n_error *err)
+/* min Σ D_k (x_k - x0_k)² subject to the rows, as the penalty problem (W² AᵀA + D) x = W² Aᵀ b + D x0
+ * refined: each refinement solves for the rows' residuals again, which removes the penalty's bias.
+ * D: per unknown, NULL for ones. */
+static q2n_status pg_solve(int n, const pg_row *R, int nrow, const double *x0, const double *D, double *x, q2n_error *err)
 {
     const double W2 = EV_POLY_PENALTY * EV_POLY_PENALTY;
     long cap = (long)PG_NZ * PG_NZ * nrow + n, nt = 0;
@@ -160,7 +161,7 @@ static q2n_status pg_solve(int n, const pg_row *R, int nrow, const double *x0, d
             for (int q = 0; q < PG_NZ; q++)
                 if (R[k].ix[p] >= 0 && R[k].ix[q] >= 0 && R[k].ix[p] <= R[k].ix[q])
                     ti[nt] = R[k].ix[p], tj[nt] = R[k].ix[q], tv[nt++] = W2 * R[k].co[p] * R[k].co[q];
-    for (int k = 0; k < n; k++) ti[nt] = tj[nt] = k, tv[nt++] = 1;
+    for (int k = 0; k < n; k++) ti[nt] = tj[nt] = k, tv[nt++] = D ? D[k] : 1;
     memcpy(x, x0, sizeof(double) * (size_t)n);
     q2n_sparse_spd *S = NULL;
     if ((st = q2n_sparse_spd_from_triplets(n, nt, ti, tj, tv, &S, err))) goto done;
@@ -182,6 +183,74 @@ done:
     free(tv);
     free(rhs);
     free(dx);
+    return st;
+}
+
+/* min Σ D_k (x_k - x0_k)² subject to the rows, exactly: x = x0 + D⁻¹ Aᵀ λ with (A D⁻¹ Aᵀ) λ = b - A x0
+ * (the rows' normal equations; EV_POLY_DUAL_REG on the diagonal for rows that depend on each other),
+ * refined.  Its error is rounding times the rows' own conditioning, where the penalty form's is
+ * rounding times the penalty's square (1e10): the G2 gluing's twists must not move by more than
+ * rounding when the mesh does (test_extraordinary, test_robust: scaled and translated cubes). */
+static q2n_status pg_solve_exact(int n, const pg_row *R, int nrow, const double *x0, const double *D, double *x, q2n_error *err)
+{
+    q2n_status st = Q2N_OK;
+    int *cnt = calloc((size_t)n + 1, sizeof(int)), *rows = malloc(sizeof(int) * ((size_t)PG_NZ * nrow + 1));
+    int *pos = malloc(sizeof(int) * ((size_t)PG_NZ * nrow + 1));
+    long cap = 0;
+    for (int k = 0; k < nrow; k++)
+        for (int p = 0; p < PG_NZ; p++)
+            if (R[k].ix[p] >= 0 && cnt) cnt[R[k].ix[p] + 1]++;
+    for (int j = 0; cnt && j < n; j++) cnt[j + 1] += cnt[j];
+    for (int j = 0; cnt && j < n; j++) {
+        long c = cnt[j + 1] - cnt[j];
+        cap += c * (c + 1) / 2;
+    }
+    cap += nrow;
+    int *ti = malloc(sizeof(int) * (size_t)cap), *tj = malloc(sizeof(int) * (size_t)cap);
+    double *tv = malloc(sizeof(double) * (size_t)cap), *rhs = malloc(sizeof(double) * ((size_t)nrow + 1));
+    double *lam = malloc(sizeof(double) * ((size_t)nrow + 1));
+    if (!cnt || !rows || !pos || !ti || !tj || !tv || !rhs || !lam) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
+    {
+        int *fill = malloc(sizeof(int) * ((size_t)n + 1));
+        if (!fill) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
+        memcpy(fill, cnt, sizeof(int) * (size_t)n);
+        for (int k = 0; k < nrow; k++)
+            for (int p = 0; p < PG_NZ; p++)
+                if (R[k].ix[p] >= 0) rows[fill[R[k].ix[p]]] = k, pos[fill[R[k].ix[p]]++] = p;
+        free(fill);
+    }
+    long nt = 0;
+    double dmax = 0;
+    for (int j = 0; j < n; j++)
+        for (int a = cnt[j]; a < cnt[j + 1]; a++)
+            for (int b = a; b < cnt[j + 1]; b++) {
+                int k = rows[a], l = rows[b];
+                double v = R[k].co[pos[a]] * R[l].co[pos[b]] / D[j];
+                ti[nt] = k < l ? k : l, tj[nt] = k < l ? l : k, tv[nt++] = v;
+                if (k == l) dmax = fmax(dmax, v);
+            }
+    for (int k = 0; k < nrow; k++) ti[nt] = tj[nt] = k, tv[nt++] = EV_POLY_DUAL_REG * (dmax > 0 ? dmax : 1);
+    memcpy(x, x0, sizeof(double) * (size_t)n);
+    q2n_sparse_spd *S = NULL;
+    if ((st = q2n_sparse_spd_from_triplets(nrow, nt, ti, tj, tv, &S, err))) goto done;
+    for (int it = 0; it < EV_POLY_DUAL_REFINE && !st; it++) {
+        for (int k = 0; k < nrow; k++) rhs[k] = row_residual(&R[k], x);
+        st = it ? q2n_sparse_spd_resolve(S, 1, rhs, lam, err) : q2n_sparse_spd_factor_solve(S, 1, rhs, lam, err);
+        if (!st)
+            for (int k = 0; k < nrow; k++)
+                for (int p = 0; p < PG_NZ; p++)
+                    if (R[k].ix[p] >= 0) x[R[k].ix[p]] += R[k].co[p] * lam[k] / D[R[k].ix[p]];
+    }
+    q2n_sparse_spd_free(S);
+done:
+    free(cnt);
+    free(rows);
+    free(pos);
+    free(ti);
+    free(tj);
+    free(tv);
+    free(rhs);
+    free(lam);
     return st;
 }
 
@@ -210,8 +279,17 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     int *comp = malloc(sizeof(int) * (8 * n4 + 1));
     pg_row *R = malloc(sizeof(pg_row) * 2 * n4);
     double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
+    double *D = B->K >= 2 ? malloc(sizeof(double) * (8 * n4 + 1)) : NULL, hmean = 0;
     q2n_status st = Q2N_OK;
     *poly_edges = *border_edges = 0;
+    if (B->K >= 2 && !D) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
+    {
+        int ns = 0;
+        for (int i = 0; i < nf; i++)
+            for (int sd = 0; sd < 4; sd++)
+                if (X[i].side[sd].kind == 0) hmean += X[i].side[sd].d * hypot(X[i].side[sd].u0[0], X[i].side[sd].u0[1]), ns++;
+        hmean = ns > 0 && hmean > 0 ? hmean / ns : 1;
+    }
     if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !cand || !qsv || !bix || !nbump || !bend || !best || !score || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
         goto done;
@@ -228,7 +306,8 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             if (X[i].side[c].kind != 0 || X[i].side[(c + 3) & 3].kind != 0) vpin[v] = 2;
             else if (!vpin[v] && m->vert_boundary[v] && m->vert_nfaces[v] < EV_POLY_BOUNDARY_FACES) vpin[v] = 1;
         }
-    for (int v = 0; v < m->nv; v++) vabs[v] = vin[v] && vpin[v] != 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 2;
+    /* G2 patches: no absorbing boundary vertices (their quartic γ is a G1 device); they stay pinned */
+    for (int v = 0; v < m->nv; v++) vabs[v] = B->K == 1 && vin[v] && vpin[v] != 2 && m->vert_boundary[v] && m->vert_nfaces[v] == 2;
     for (int v = 0; pin && v < m->nv; v++) /* kept out by the caller (the construction's near-fold guard) */
         if (pin[v] && vin[v]) vpin[v] = 3, vabs[v] = 0;
 #define VFREE(v) (vin[v] && !vpin[v])
@@ -325,7 +404,16 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                         }
                     }
                 }
-            if (n > 0 && (st = pg_solve(n, R, nrow, x0, x, err))) goto done;
+            /* G2 patches: the twists weighed in units of the mean edge vector d u in the charts (the rows
+             * are homogeneous in chart units, q and the slopes are ratios), so that the solution scales
+             * with the mesh (test_extraordinary's scaled cubes); G1 patches keep the unit weights they
+             * were measured with */
+            if (D) {
+                for (int k = 0; k < n; k++) D[k] = 1;
+                for (int k = 0; k < nr; k++) D[k] = 1 / (hmean * hmean);
+            }
+            if (n > 0 && nrow > 0 && (st = D ? pg_solve_exact(n, R, nrow, x0, D, x, err) : pg_solve(n, R, nrow, x0, NULL, x, err))) goto done;
+            if (n > 0 && nrow == 0) memcpy(x, x0, sizeof(double) * (size_t)n);
             /* a q of the wrong sign: while its component may still take a bump (below), the bump comes
              * first, placed at that edge (qsv); else the edge becomes a cubic */
             int more = 0;
@@ -486,6 +574,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
         }
 #undef VFREE
 done:
+    free(D);
     free(fidx);
     free(uf);
     free(worst);

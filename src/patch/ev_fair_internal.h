@@ -8,6 +8,8 @@
 #ifndef Q2N_PATCH_EV_FAIR_INTERNAL_H
 #define Q2N_PATCH_EV_FAIR_INTERNAL_H
 
+#include <string.h>
+
 #include "patch/coons_patch.h"
 #include "patch/ev_fair.h"
 #include "patch/ev_jet4.h"
@@ -40,6 +42,11 @@ typedef struct fe_side {
                             second derivative at the end where β does not vanish (1: at neither, both
                             matched in least squares; 2: at end 1 only; 3: at end 0 only); 0: none */
     double bump;         /* G1, derived side with a quartic γ: β gains bump s (1 - s) */
+    double cm[2][3][2];  /* G2 polynomial gluing (ev_fair_gluing2.c): the base face's corner-map terms at the two
+                            ends beyond the twist, chart vectors of a² b, a b², a² b² (a: from the end along this
+                            side, b: across into the base face) */
+    double tg[2][2][3];  /* G2, derived side: the G2 relation's tangential terms A (times χ_F) and B (times γ_t),
+                            [A or B][end][derivative 0..2 in s]: quintic Hermite interpolants */
 } fe_side;
 
 /* A constructed side with the smoothsteps' gluing: no polynomial gluing, slopes, flat end, borrowed
@@ -50,6 +57,17 @@ static inline void fe_side_smooth(fe_side *S)
     S->flat_end = S->absorb_side[0] = S->absorb_side[1] = -1;
     S->absorb_end[0] = S->absorb_end[1] = 0;
     for (int e = 0; e < 2; e++) S->sl[0][e] = S->sl[1][e] = S->rc[e][0] = S->rc[e][1] = 0;
+    memset(S->cm, 0, sizeof S->cm);
+    memset(S->tg, 0, sizeof S->tg);
+}
+
+/* Does side S carry G2 polynomial gluing's corner terms or tangential G2 terms (ev_fair_gluing2.c)? */
+static inline int fe_side_g2(const fe_side *S)
+{
+    const double *c = &S->cm[0][0][0], *t = &S->tg[0][0][0];
+    for (int k = 0; k < 12; k++)
+        if (c[k] != 0 || t[k] != 0) return 1;
+    return 0;
 }
 
 /* Does constructed side S carry anything of ev_fair_gluing.c's (what fe_side_smooth clears)? */
@@ -58,7 +76,7 @@ static inline int fe_side_glued(const fe_side *S)
     if (S->kind != 0) return 0;
     int g = S->poly || S->quartic || S->flat_end >= 0 || S->absorb_side[0] >= 0 || S->absorb_side[1] >= 0;
     for (int e = 0; e < 2; e++) g |= S->sl[0][e] != 0 || S->sl[1][e] != 0 || S->rc[e][0] != 0 || S->rc[e][1] != 0;
-    return g;
+    return g || fe_side_g2(S);
 }
 
 /* Side context of one patch (the Coons patch's ctx); lanes: fe_lanes, its constructed sides' fields
@@ -155,6 +173,20 @@ void q2n_ev_fair_eval_free(void *d);
  * vertices kept out, as the corners of regular patches are. */
 q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, const char *pin, int *poly_edges,
                                    int *border_edges, q2n_error *err);
+
+/* ------------------------------------------------------------ ev_fair_gluing2.c */
+
+/* G2 patches (K = 2) glued by polynomials: after q2n_ev_fair_poly_gluing (the twists), the corner-map
+ * terms of orders (2, 1), (1, 2), (2, 2) of every face corner and the G2 relation's tangential terms of
+ * every derived side, so that both sides of every corner agree to order (2, 2) (fe_side.cm, tg).
+ * fail (per vertex, may be NULL) marks vertices whose equations did not hold (their corners keep
+ * what they had: the caller pins them and builds again); *nfail counts them. */
+q2n_status q2n_ev_fair_poly_gluing2(const fe_build *B, const int *faces, int nf, fe_ctx *X, char *fail, int *nfail,
+                                    q2n_error *err);
+
+/* The Taylor coefficients, about end e of derived side S in the distance a from that end, of α̃(a) and
+ * B(a) (∂b S_G = α̃ ∂b S_F + B ∂a S_F, a = s or 1 - s): al[0..2], bt[0..2] (ev_fair_patch.c). */
+void q2n_ev_fair_glue_taylor(int K, const fe_side *S, int e, double al[3], double bt[3]);
 
 /* ------------------------------------------------------------ ev_fair_solve.c */
 

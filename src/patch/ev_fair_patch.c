@@ -24,12 +24,50 @@ typedef struct fe_ends {
 #define FE_END_SIZE(W) ((size_t)3 * 2 * 5 * (W))
 
 
+/* End data of a G2 side with polynomial gluing's corner terms (ev_fair_gluing2.c): the jet composed with
+ * the base face's corner map at each end, φ(a, b) = a d u + b e_w w + a b r + a² b c21 + a b² c12 + a² b² c22
+ * (a from the end along the side, b across into the base face): the a^j b^p coefficient times j! p!, with
+ * (-1)^j at end 1 (d/ds = -d/da there). */
+static void side_ends_map(int K, const fe_side *S, const double *T0, const double *T1, fe_ends *E)
+{
+    int Kc = 2 * K, W = E->W;
+    static const double fact[5] = {1, 1, 2, 6, 24};
+    for (int e = 0; e < 2; e++) {
+        double phi[EV_MA][EV_MB][2], M[EV_JS][EV_MA][EV_MB];
+        const double *u = e ? S->u1 : S->u0, *w = e ? S->w1 : S->w0, *T = e ? T1 : T0;
+        memset(phi, 0, sizeof phi);
+        for (int c = 0; c < 2; c++) {
+            phi[1][0][c] = S->d * u[c];
+            phi[0][1][c] = S->ew[e] * w[c];
+            phi[1][1][c] = S->rc[e][c];
+            phi[2][1][c] = S->cm[e][0][c];
+            phi[1][2][c] = S->cm[e][1][c];
+            phi[2][2][c] = S->cm[e][2][c];
+        }
+        ev_jet_map_table((const double (*)[EV_MB][2])phi, M);
+        for (int p = 0; p <= K; p++)
+            for (int j = 0; j <= Kc - p; j++) {
+                double *o = FE_END(E, p, e, j), f = fact[j] * fact[p] * ((e && (j & 1)) ? -1 : 1);
+                for (int sl = 0; sl < EV_JS; sl++) {
+                    double g = f * M[sl][j][p];
+                    if (g == 0) continue;
+                    const double *Ts = T + (size_t)sl * W;
+                    for (int l = 0; l < W; l++) o[l] += g * Ts[l];
+                }
+            }
+    }
+}
+
 /* End data of side S: d^j s T_(j+p)[u^j, w^p] at both ends, j <= 2K - p, p <= K (s: the cross-edge
  * interval to the power p). */
 static void side_ends(int K, const fe_side *S, const double *T0, const double *T1, fe_ends *E)
 {
     int Kc = 2 * K, W = E->W;
     memset(E->e, 0, sizeof(double) * FE_END_SIZE(W));
+    if (K >= 2 && fe_side_glued(S)) {
+        side_ends_map(K, S, T0, T1, E);
+        return;
+    }
     for (int p = 0; p <= K; p++) {
         double s0 = p == 0 ? 1 : p == 1 ? S->ew[0] : S->ew[0] * S->ew[0];
         double s1 = p == 0 ? 1 : p == 1 ? S->ew[1] : S->ew[1] * S->ew[1];
@@ -134,6 +172,18 @@ static void quartic_sym_taylor(const fe_ends *E, int e, int W, double *out)
     }
 }
 
+/* The quintic Hermite interpolant with values, slopes and second derivatives v[e][0..2] at s = e, about
+ * end e (6 coefficients): G2 gluing functions (ev_fair_gluing2.c). */
+static void quintic_taylor(const double v0[3], const double v1[3], int e, double *out)
+{
+    double c[6];
+    for (int k = 0; k < 6; k++) {
+        c[k] = 0;
+        for (int j = 0; j < 3; j++) c[k] += v0[j] * q2n_hermite_coef[1][j][0][k] + v1[j] * q2n_hermite_coef[1][j][1][k];
+    }
+    about_end(6, c, e, out);
+}
+
 /* α or β flat at end f (value v_f there, v_o at the other end), about end e: v_f + (v_o - v_f) τ², τ the
  * distance from end f. */
 static void flat_quadratic(double v0, double v1, int f, int e, double *out)
@@ -196,6 +246,11 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
         } else if (K == 1 && (S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0)) {
             cubic_taylor(S->al[0], S->al[1], S->sl[0][0], S->sl[0][1], e, al);
             cubic_taylor(S->be[0], S->be[1], S->sl[1][0], S->sl[1][1], e, be);
+        } else if (K == 2 && (S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0)) {
+            const double va[2][3] = {{S->al[0], S->sl[0][0], 0}, {S->al[1], S->sl[0][1], 0}};
+            const double vb[2][3] = {{S->be[0], S->sl[1][0], 0}, {S->be[1], S->sl[1][1], 0}};
+            quintic_taylor(va[0], va[1], e, al);
+            quintic_taylor(vb[0], vb[1], e, be);
         } else {
             smooth_taylor(K, S->al[0], S->al[1], e, al);
             smooth_taylor(K, S->be[0], S->be[1], e, be);
@@ -218,7 +273,41 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
         conv_add(a2, 2 * ns, x, nx, 0, W, 1, FE_TC(T, 2, e, 0));
         conv_add(ab, 2 * ns, c, nc, 1, W, 1, FE_TC(T, 2, e, 0));
         conv_add(b2, 2 * ns, g, ng, 2, W, 1, FE_TC(T, 2, e, 0));
+        if (fe_side_g2(S)) { /* the G2 relation's tangential terms: + A χ_F + B γ_t */
+            double ta[6], tb[6];
+            quintic_taylor(S->tg[0][0], S->tg[0][1], e, ta);
+            quintic_taylor(S->tg[1][0], S->tg[1][1], e, tb);
+            conv_add(ta, 5, c, nc, 0, W, 1, FE_TC(T, 2, e, 0));
+            conv_add(tb, 5, g, ng, 1, W, 1, FE_TC(T, 2, e, 0));
+        }
     }
+}
+
+void q2n_ev_fair_glue_taylor(int K, const fe_side *S, int e, double al[3], double bt[3])
+{
+    double a[3], b[3]; /* α, β and their first two s-derivatives at end e */
+    double a0 = S->al[0], a1 = S->al[1], b0 = S->be[0], b1 = S->be[1];
+    a[0] = e ? a1 : a0, b[0] = e ? b1 : b0;
+    if (S->poly) {
+        double q = S->q;
+        a[1] = e ? 2 * (a1 - q) : 2 * (q - a0), a[2] = 2 * (a0 - 2 * q + a1);
+        b[1] = b1 - b0 + (e ? -S->bump : S->bump), b[2] = -2 * S->bump;
+    } else if (S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0) {
+        a[1] = S->sl[0][e], b[1] = S->sl[1][e];
+        if (K == 1) { /* the cubic Hermite interpolants' second derivatives */
+            double da = a1 - a0, db = b1 - b0;
+            a[2] = e ? -6 * da + 2 * S->sl[0][0] + 4 * S->sl[0][1] : 6 * da - 4 * S->sl[0][0] - 2 * S->sl[0][1];
+            b[2] = e ? -6 * db + 2 * S->sl[1][0] + 4 * S->sl[1][1] : 6 * db - 4 * S->sl[1][0] - 2 * S->sl[1][1];
+        } else {
+            a[2] = b[2] = 0;
+        }
+    } else {
+        a[1] = a[2] = b[1] = b[2] = 0;
+    }
+    /* in a = s (end 0) or a = 1 - s (end 1); B(a) = β(a) at end 0 and -β(1 - a) at end 1 (∂s = -∂a there) */
+    double sg = e ? -1 : 1;
+    al[0] = a[0], al[1] = sg * a[1], al[2] = 0.5 * a[2];
+    bt[0] = sg * b[0], bt[1] = b[1], bt[2] = sg * 0.5 * b[2];
 }
 
 /* The runs of lanes where some coefficient of T is nonzero: a side's fields involve the fixed lanes

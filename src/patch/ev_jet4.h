@@ -20,6 +20,8 @@
 #ifndef Q2N_PATCH_EV_JET4_H
 #define Q2N_PATCH_EV_JET4_H
 
+#include <string.h>
+
 #include "core/poly.h"
 
 #define EV_JS 15                                /* jet slots, orders 0..4 */
@@ -51,6 +53,47 @@ static inline void ev_jet_contract(const double *T, int W, int p, const double a
         n *= s;
         for (int l = 0; l < W; l++) out[l] += n * Ts[l];
     }
+}
+
+/* Bivariate polynomials in (a, b) truncated at a^4 and b^2: the jet composed with a polynomial corner
+ * map (ev_fair_gluing2.c).  c[i][j] is the coefficient of a^i b^j. */
+#define EV_MA 5
+#define EV_MB 3
+static inline void ev_bp_mul(const double A[EV_MA][EV_MB], const double B[EV_MA][EV_MB], double C[EV_MA][EV_MB])
+{
+    double R[EV_MA][EV_MB] = {{0}};
+    for (int i1 = 0; i1 < EV_MA; i1++)
+        for (int j1 = 0; j1 < EV_MB; j1++) {
+            if (A[i1][j1] == 0) continue;
+            for (int i2 = 0; i1 + i2 < EV_MA; i2++)
+                for (int j2 = 0; j1 + j2 < EV_MB; j2++) R[i1 + i2][j1 + j2] += A[i1][j1] * B[i2][j2];
+        }
+    for (int i = 0; i < EV_MA; i++)
+        for (int j = 0; j < EV_MB; j++) C[i][j] = R[i][j];
+}
+
+/* M[slot(k, l)][i][j]: the coefficient of a^i b^j in x^(k-l) y^l / ((k-l)! l!), (x, y) = φ(a, b) =
+ * Σ phi[i][j] a^i b^j with phi[0][0] = 0 (a corner map in the vertex's chart), truncated at a^4, b^2:
+ * the jet P composed with φ is Σ_slot M[slot] T[slot] (the chain rule for every derivative at once). */
+static inline void ev_jet_map_table(const double phi[EV_MA][EV_MB][2], double M[EV_JS][EV_MA][EV_MB])
+{
+    double pw[2][5][EV_MA][EV_MB];
+    for (int c = 0; c < 2; c++) {
+        memset(pw[c][0], 0, sizeof pw[c][0]);
+        pw[c][0][0][0] = 1;
+        for (int i = 0; i < EV_MA; i++)
+            for (int j = 0; j < EV_MB; j++) pw[c][1][i][j] = phi[i][j][c];
+        for (int k = 2; k <= 4; k++) ev_bp_mul(pw[c][k - 1], pw[c][1], pw[c][k]);
+    }
+    static const double fact[5] = {1, 1, 2, 6, 24};
+    for (int k = 0; k <= 4; k++)
+        for (int l = 0; l <= k; l++) {
+            double (*m)[EV_MB] = M[EV_SLOT(k, l)];
+            ev_bp_mul(pw[0][k - l], pw[1][l], m);
+            double f = 1 / (fact[k - l] * fact[l]);
+            for (int i = 0; i < EV_MA; i++)
+                for (int j = 0; j < EV_MB; j++) m[i][j] *= f;
+        }
 }
 
 #endif

@@ -133,6 +133,11 @@
  * toward a fold (measured: 0.031 against the smoothsteps' 0.097 on a trapezoid between two valence-3
  * and two valence-5 corners, its bending energy 380 x; the other faces there keep 0.52 of theirs and more). */
 #define EV_POLY_JAC_REL 0.5
+/* G2 patches glued by polynomials: a face the gluing takes below this Jacobian ratio where the
+ * smoothsteps keep it above is nearly folded by the gluing too.  It is issue 11's fold target ("min
+ * jac >= 0.1 on every face"): the twist corrections of the G2 gluing sheared a cube's spike tip face to
+ * 0.081 (the smoothsteps: 0.107), not by half. */
+#define EV_POLY2_JAC_FLOOR 0.1
 /* Neighbourhoods of sheared faces the border guard tries before it drops every flat border edge
  * (ev_fair.c border_shear): a cost bound, each ring is one more construction (the shared meshes that
  * keep flat edges need the first; the guard also stops when a ring does not reduce the shear). */
@@ -158,6 +163,25 @@
  * kept 53 edges more in least squares (stop 52: with half of them, 3; a shared torus with a hole
  * exact again, a subdivided one 21 edges more). */
 #define EV_POLY_SIGN_ROUNDS 12
+
+/* Polynomial gluing of G2 patches, the orders above the twist (ev_fair_gluing2.c): per vertex the
+ * minimum-norm solution of its corner equations by LAPACK's rank-revealing least squares, columns
+ * below EV_POLY2_RCOND of the largest counted dependent (rounding: the equations always have a
+ * solution, ev_fair_gluing2.c's header), and the vertex keeps it when every equation holds to
+ * EV_POLY2_RESIDUAL of its edge vectors' length (rounding is 1e-15 of it; the same bound as the
+ * twists' EV_POLY_RESIDUAL, whose chart units are of order one). */
+#define EV_POLY2_RCOND 1e-12
+#define EV_POLY2_RESIDUAL 1e-12
+/* G2 patches solve the twists' equations exactly, through the rows' normal equations (ev_fair_gluing.c
+ * pg_solve_exact): EV_POLY_DUAL_REG of the largest diagonal entry added to the diagonal keeps rows that
+ * depend on each other (consistent ones, at even valence) from a zero pivot without moving the
+ * solution by more than rounding; EV_POLY_DUAL_REFINE solves in all, the first one and refinements
+ * (the second leaves the rows at rounding, the third changes nothing measurable). */
+#define EV_POLY_DUAL_REG 1e-14
+#define EV_POLY_DUAL_REFINE 3
+/* Rounds in which the vertices whose G2 equations failed are pinned and the gluing is solved again (a
+ * cost bound: each round is one more gluing solve). */
+#define EV_POLY2_PIN_ROUNDS 4
 
 /* Two sides of a corner "agree" when their mixed derivatives differ by less than this fraction of
  * the corner's first- and mixed-derivative scale (rounding of the regular patches' jets); beyond
