@@ -221,12 +221,13 @@ typedef struct q2n_options {
     int keep_flat;                 /* augmented, fair construction: where the mesh is flat around a vertex
                                       (every corner of its faces in one plane) the surface stays in that
                                       plane exactly: 1 yes, 0 [no] (docs/extraordinary.md, "Flat fans") */
-    int ev_smooth_gluing;          /* augmented, fair construction, G1 patches: 1 glues every
-                                      constructed edge by smoothsteps (as before stop 41: least squares
-                                      in the fit); 0 [polynomial gluing wherever its corner equations
-                                      hold: those patches are bi-quintic polynomials, fitted with one
-                                      span and exactly G1] (docs/extraordinary.md, "Polynomial gluing
-                                      of G1 patches") */
+    int ev_smooth_gluing;          /* augmented, fair construction: 1 glues every constructed edge by
+                                      smoothsteps (G1 patches as before stop 41, G2 patches as before
+                                      stop 54: least squares in the fit); 0 [polynomial gluing wherever
+                                      its corner equations hold: G1 patches are then bi-quintic
+                                      polynomials, fitted with one span and exactly G1; G2 patches
+                                      ripple less and fit with fewer spans] (docs/extraordinary.md,
+                                      "Polynomial gluing of G1 patches", "... of G2 patches") */
     int frame;                     /* augmented: where a mesh with extraordinary vertices has its faces
                                       stretched on the whole (a model scaled along an axis), the surface
                                       is also built in the mesh's isotropic frame and mapped back (or

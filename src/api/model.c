@@ -219,7 +219,7 @@ static void keep_first(q2n_model *m, built *b)
     memcpy(m->warning, b->warning, sizeof m->warning);
 }
 
-/* G1 patches glued by polynomials (ev_fair_gluing.c) whose surface folds over: the extraordinary
+/* Patches glued by polynomials (ev_fair_gluing.c; G2 ones also ev_fair_gluing2.c) whose surface folds over: the extraordinary
  * regions are built again with the smoothsteps and kept if they fold on fewer faces.  The gluing's
  * twist corrections are fixed before the energy solve, which the fold guard cannot undo, and on a
  * thin plate they turned four faces over where the smoothsteps turn none (docs/extraordinary.md,
@@ -235,8 +235,9 @@ static void gluing_fallback(q2n_model *m)
         char where[320];
         face_where(m, b.folded_face, where, sizeof where);
         keep_second(&b);
-        q2n_model_warn(m, "%s: G1 patches glued by polynomials fold over there (on %d faces in all); glued by smoothsteps "
-                       "instead (%d faces fold; least squares across their edges in the fit)", where, b.folded, m->folded);
+        q2n_model_warn(m, "%s: G%d patches glued by polynomials fold over there (on %d faces in all); glued by smoothsteps "
+                       "instead (%d faces fold; least squares across their edges in the fit)", where, m->continuity, b.folded,
+                       m->folded);
         return;
     }
     keep_first(m, &b);

@@ -33,8 +33,8 @@ typedef struct q2n_model_options {
     int ev_patch;                 /* augmented: a q2n_ev_patch_kind (0 default: G2 for C2 classes) */
     int ev_method;                /* augmented: a q2n_ev_method (0 default: the fair construction) */
     int keep_flat;                /* augmented, fair construction: flat fans stay flat (q2n_options) */
-    int smooth_gluing;            /* augmented, fair construction, G1 patches: smoothstep gluing everywhere
-                                     (q2n_options.ev_smooth_gluing) */
+    int smooth_gluing;            /* augmented, fair construction, G1 and G2 patches: smoothstep gluing
+                                     everywhere (q2n_options.ev_smooth_gluing) */
     int fold_fallback;            /* augmented, default patches (G2): where they fold over, G1 patches at the
                                      extraordinary vertices instead if those fold on fewer faces (the public
                                      API sets it unless ev_patch is given or continuity is G2) */

@@ -89,7 +89,7 @@ typedef struct q2n_fit_report {
                                       caller, else 0 */
     int flat_vertices;             /* --keep-flat: vertices whose fan the construction kept in its
                                       plane; set by the caller, else 0 */
-    int polynomial_edges;          /* G1 patches: constructed edges glued by polynomials (the fit
+    int polynomial_edges;          /* constructed edges glued by polynomials (G1 patches: the fit
                                       reproduces both sides exactly); set by the caller, else 0 */
     int g2_folded_faces;           /* the construction's G2 patches folded on this many faces and G1 patches
                                       replaced them (q2n_model_options.fold_fallback); set by the caller, else 0 */

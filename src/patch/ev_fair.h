@@ -16,8 +16,8 @@ typedef struct ev_fair_stats {
     int held_vertices;         /* vertices whose jets of order <= 2 the fold guard held at their local estimates */
     int folded_faces;          /* faces still folded after the guard (0 unless it ran out of passes) */
     int shrinks;               /* halvings of the held jets in the kept solution (0: the local estimates themselves) */
-    int polynomial_edges;      /* G1: constructed edges glued by polynomials (ev_fair_gluing.c) */
-    int jac_pinned_faces;      /* G1: faces whose Jacobian the polynomial gluing collapsed: their corners kept out of it */
+    int polynomial_edges;      /* constructed edges glued by polynomials (ev_fair_gluing.c; G2 patches: ev_fair_gluing2.c too) */
+    int jac_pinned_faces;      /* faces whose Jacobian the polynomial gluing collapsed: their corners kept out of it */
     int border_edges;          /* G1: of the polynomial edges, those glued flat at a regular patch's corner */
     int noflat_vertices;       /* G1: cross-charted vertices near sheared faces whose edges gave that up (border guard) */
 } ev_fair_stats;
