@@ -83,6 +83,16 @@ static int corner_of(const q2n_mesh *m, int f, int v)
     return -1;
 }
 
+int q2n_ev_fair_base_side(const fe_build *B, const int *faces, const int *fidx, int i, int sd, int *sdF)
+{
+    const q2n_mesh *m = B->m;
+    int e = m->he_edge[q2n_face_he(m, faces[i], sd)], g = B->base[e], gi = g >= 0 ? fidx[g] : -1;
+    *sdF = -1;
+    for (int t = 0; gi >= 0 && t < 4; t++)
+        if (m->he_edge[q2n_face_he(m, g, t)] == e) *sdF = t;
+    return *sdF >= 0 ? gi : -1;
+}
+
 static int uf_find(int *p, int a)
 {
     while (p[a] != a) a = p[a] = p[p[a]];
@@ -372,7 +382,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 for (int sd = 0; sd < 4; sd++) {
                     const fe_side *S = &X[i].side[sd];
                     if (S->kind != 0 || !S->derived) continue;
-                    int f = faces[i], e = m->he_edge[q2n_face_he(m, f, sd)], g = B->base[e], gi = g >= 0 ? fidx[g] : -1;
+                    int sdF, gi = q2n_ev_fair_base_side(B, faces, fidx, i, sd, &sdF), f = faces[i], g = gi >= 0 ? faces[gi] : -1;
                     if (gi < 0) continue;
                     int k = 4 * i + sd, qi = qix[k];
                     for (int end = 0; end < 2; end++) {

@@ -17,10 +17,11 @@
  * B2 (fe_side.tg): the b² equation fixes A2(0), B2(0) (−2 α̃ B r_F, in the directions w_F and u), and
  * per end the three others
  *     c_G[ij] = (φ_F ∘ ψ)[ij],   ij = 21, 12, 22,
- * are linear in the c's and in A2', B2', A2'', B2''.  These always have a solution (A2' and B2' span
- * the chart in the a b² coefficient, A2'' and B2'' in the a² b² one, and the a² b² coefficient of the base
- * face enters only its own ends' equations), so per vertex the least change from zero is taken
- * (LAPACK's minimum-norm least squares, every unknown in chart units).  The jets enter nowhere: the
+ * are linear in the c's and in A2', B2', A2'', B2''.  The a² b equations involve the c's only; A2' and B2'
+ * span the chart in the a b² coefficient, A2'' and B2'' in the a² b² one, so those equations always hold
+ * whatever the c's.  Per vertex the c's are the least change from zero that meets its a² b equations
+ * (LAPACK's minimum-norm least squares), then each relation's four tangential unknowns meet its a b² and
+ * a² b² equations (a 4 x 4 solve).  The jets enter nowhere: the
  * corner maps are fixed before the energy solve, which sees the patches linear in the jets as before
  * (ev_fair_patch.c side_ends_map composes each jet with its base face's corner map). */
 #include <math.h>
@@ -32,6 +33,14 @@
 #include "patch/ev_policy.h"
 
 static int fv(const q2n_mesh *m, int f, int c) { return m->face_vert[m->face_start[f] + c]; }
+
+/* The corner of face f at vertex v (-1: none). */
+static int corner_at(const q2n_mesh *m, int f, int v)
+{
+    for (int c = 0; c < 4; c++)
+        if (fv(m, f, c) == v) return c;
+    return -1;
+}
 
 /* C = A B for scalar bivariate polynomials truncated at a², b² (c[i][j]: the a^i b^j coefficient). */
 static void bp3_mul(const double A[3][3], const double B[3][3], double C[3][3])
@@ -128,17 +137,11 @@ q2n_status q2n_ev_fair_poly_gluing2(const fe_build *B, const int *faces, int nf,
         for (int sd = 0; sd < 4; sd++) {
             const fe_side *S = &X[i].side[sd];
             if (S->kind != 0 || !S->derived) continue;
-            int f = faces[i], e = m->he_edge[q2n_face_he(m, f, sd)], g = B->base[e], gi = g >= 0 ? fidx[g] : -1;
+            int sdF, gi = q2n_ev_fair_base_side(B, faces, fidx, i, sd, &sdF), f = faces[i], g = gi >= 0 ? faces[gi] : -1;
             if (gi < 0) continue;
-            int sdF = -1;
-            for (int t = 0; t < 4; t++)
-                if (m->he_edge[q2n_face_he(m, g, t)] == e) sdF = t;
-            if (sdF < 0) continue;
             for (int end = 0; end < 2; end++) {
                 g2_rel *R = &rel[nrel];
-                int cG = end ? S->c1 : S->c0, v = fv(m, f, cG), cF = -1;
-                for (int c = 0; c < 4; c++)
-                    if (fv(m, g, c) == v) cF = c;
+                int cG = end ? S->c1 : S->c0, v = fv(m, f, cG), cF = corner_at(m, g, v);
                 if (cF < 0) continue;
                 memset(R, 0, sizeof *R);
                 R->i = i, R->sd = sd, R->end = end;
@@ -155,7 +158,10 @@ q2n_status q2n_ev_fair_poly_gluing2(const fe_build *B, const int *faces, int nf,
                 double rhs[2] = {-2 * R->al[0] * R->bt[0] * S->rc[end][0], -2 * R->al[0] * R->bt[0] * S->rc[end][1]};
                 double a11 = S->ew[end] * w[0], a12 = S->d * u[0], a21 = S->ew[end] * w[1], a22 = S->d * u[1];
                 double det = a11 * a22 - a12 * a21;
-                if (!(fabs(det) > 0)) continue;
+                if (!(fabs(det) > 0)) { /* the edge and the cross edge parallel in the chart: no gluing there */
+                    if (fail && !fail[v]) fail[v] = 1, ++*nfail;
+                    continue;
+                }
                 R->ta0 = (rhs[0] * a22 - a12 * rhs[1]) / det;
                 R->tb0 = (a11 * rhs[1] - a21 * rhs[0]) / det;
                 R->sw = S->ew[end] > 0 ? S->ew[end] : 1;
@@ -283,16 +289,11 @@ q2n_status q2n_ev_fair_poly_gluing2(const fe_build *B, const int *faces, int nf,
         for (int sd = 0; sd < 4; sd++) {
             fe_side *S = &X[i].side[sd];
             if (S->kind != 0) continue;
-            int f = faces[i], e = m->he_edge[q2n_face_he(m, f, sd)], g = B->base[e], gi = g >= 0 ? fidx[g] : -1;
+            int sdF, gi = q2n_ev_fair_base_side(B, faces, fidx, i, sd, &sdF), f = faces[i], g = gi >= 0 ? faces[gi] : -1;
             if (gi < 0) continue;
-            int sdF = -1;
-            for (int t = 0; t < 4; t++)
-                if (m->he_edge[q2n_face_he(m, g, t)] == e) sdF = t;
-            int tF = sdF >= 0 && !q2n_side_along_u(sdF);
+            int tF = !q2n_side_along_u(sdF);
             for (int end = 0; end < 2; end++) {
-                int v = fv(m, f, end ? S->c1 : S->c0), cF = -1;
-                for (int c = 0; c < 4; c++)
-                    if (fv(m, g, c) == v) cF = c;
+                int v = fv(m, f, end ? S->c1 : S->c0), cF = corner_at(m, g, v);
                 if (cF < 0 || (fail && fail[v])) continue;
                 const double *c6 = cm[4 * gi + cF];
                 for (int c = 0; c < 2; c++) {

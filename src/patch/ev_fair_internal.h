@@ -174,6 +174,11 @@ void q2n_ev_fair_eval_free(void *d);
 q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, fe_ctx *X, const char *pin, int *poly_edges,
                                    int *border_edges, q2n_error *err);
 
+/* The base face of constructed side sd of face faces[i] (its edge's base), as an index of the list
+ * (fidx: per mesh face its index, -1 when not listed), and *sdF its side on that edge; -1 when the base
+ * face is not in the list or the side is no constructed one (ev_fair_gluing.c). */
+int q2n_ev_fair_base_side(const fe_build *B, const int *faces, const int *fidx, int i, int sd, int *sdF);
+
 /* ------------------------------------------------------------ ev_fair_gluing2.c */
 
 /* G2 patches (K = 2) glued by polynomials: after q2n_ev_fair_poly_gluing (the twists), the corner-map
