@@ -243,11 +243,12 @@ q2n_status q2n_ev_fair_poly_gluing2(const fe_build *B, const int *faces, int nf,
             }
             memcpy(x, b, sizeof(double) * 6 * (size_t)ns);
             /* 2. per relation, its four tangential unknowns from its (1, 2) and (2, 2) equations */
-            double res = 0;
+            double res = 0, mag = scale;
             for (int k = 0; k < nr && any; k++) {
                 int xr = 6 * ns + 4 * k;
                 double M[16], y[4];
                 rel_residual(&loc[k], x, xr, c0);
+                for (int q = 0; q < 6; q++) mag = fmax(mag, fabs(c0[q]));
                 for (int t = 0; t < 4; t++) {
                     x[xr + t] = 1;
                     rel_residual(&loc[k], x, xr, cx);
@@ -260,8 +261,10 @@ q2n_status q2n_ev_fair_poly_gluing2(const fe_build *B, const int *faces, int nf,
                 rel_residual(&loc[k], x, xr, cx);
                 for (int q = 0; q < 6; q++) res = fmax(res, fabs(cx[q]));
             }
-            /* the equations must hold (relative to the vertex's edge vectors) */
-            if (!(res <= EV_POLY2_RESIDUAL * (scale > 0 ? scale : 1))) {
+            /* the equations must hold, relative to their terms' size (the edge vectors, what the tangential
+             * terms cancel, the unknowns) */
+            for (int q = 0; q < nu; q++) mag = fmax(mag, fabs(x[q]));
+            if (!(res <= EV_POLY2_RESIDUAL * (mag > 0 ? mag : 1))) {
                 if (fail) fail[v] = 1;
                 ++*nfail;
                 memset(x, 0, sizeof(double) * (size_t)nu);
