@@ -289,9 +289,12 @@ static q2n_status build_checked(q2n_model *m, q2n_error *err)
  * and mapped along does not.  Where the mesh's faces are stretched by more than
  * Q2N_MODEL_FRAME_MIN_STRETCH on the whole (q2n_mesh_isotropic_frame), the surface is built again on
  * the mesh mapped into its isotropic frame and mapped back (exact: affine maps keep the
- * interpolation, G1 and G2); where that build is not kept but its extraordinary regions ripple less
- * (the regular patches, built from the mesh alone, are what got worse), once more with only the
- * extraordinary regions' vertex charts measured in that frame, and once more with those regions built
+ * interpolation, G1 and G2); where that build is not kept, once more with only the extraordinary
+ * regions' vertex charts measured in that frame (until stop 54 only where the first build's regions
+ * rippled less: since the G2 patches are glued by polynomials a build in the frame can ripple more on
+ * the whole and its charts still help, a shared mesh stretched 3 x kept the charts' build at stop 53 and
+ * lost it with the gluing), and, where its extraordinary regions ripple less (the regular patches, built
+ * from the mesh alone, are what got worse), once more with those regions built
  * in that frame — against the mesh's own regular patches mapped into it, which a linear map carries
  * exactly (they are linear in their points for given intervals) —, kept where it beats the best build
  * so far (the charts' where that was kept).  A build is kept only
@@ -367,7 +370,7 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
     m->frame_mesh = fm; /* the whole construction in the frame */
     m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f[1]) ? 1 : 0;
     m->frame_mesh = NULL;
-    if (!m->frame_used && f[1].ripple_ev < f[0].ripple_ev) { /* the charts alone in the frame */
+    if (!m->frame_used) { /* the charts alone in the frame */
         set_aside(m, &T.b);
         m->frame_charts = fm;
         m->frame_used = frame_try(m, &T, ev_patch, smooth_gluing, &f[2]) ? 2 : 0;
