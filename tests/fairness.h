@@ -14,7 +14,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/vec3.h"
 #include "mesh/mesh.h"
+#include "patch/fairness.h"
 #include "patch/surface.h"
 
 typedef struct fair_figures {
@@ -146,6 +148,31 @@ static inline void fair_measure(const q2n_mesh *m, const q2n_surface *s, fair_fi
     }
     if (out->ev_lines) out->osc_ev_mean /= out->ev_lines;
     if (out->reg_lines) out->osc_reg_mean /= out->reg_lines;
+}
+
+/* Across every interior edge of s on m, at the nx parameters xs along it (from the first face's
+ * side start): the largest angle between the two sides' normals (rad, *g1) and the largest jump of
+ * the mean curvature relative to 1 + |H| (*g2). */
+static inline void fair_edge_jumps(const q2n_mesh *m, const q2n_surface *s, const double *xs, int nx, double *g1, double *g2)
+{
+    *g1 = *g2 = 0;
+    for (int h = 0; h < m->nh; h++) {
+        int t = m->he_twin[h];
+        if (t < h) continue; /* boundary (-1) or seen from the other side */
+        int f = m->he_face[h], g = m->he_face[t], i = h - m->face_start[f], j = t - m->face_start[g];
+        for (int q = 0; q < nx; q++) {
+            double uv[2][2], e[2][18], n[2][3], H[2], K;
+            q2n_side_uv(i, xs[q], 0, &uv[0][0], &uv[0][1]);
+            q2n_side_uv(j, 1 - xs[q], 0, &uv[1][0], &uv[1][1]);
+            for (int sd = 0; sd < 2; sd++) {
+                q2n_surface_eval(s, sd ? g : f, uv[sd][0], uv[sd][1], 2, e[sd]);
+                q2n_v3_cross(n[sd], e[sd] + Q2N_EV_U, e[sd] + Q2N_EV_V);
+                q2n_curvatures(e[sd], &H[sd], &K);
+            }
+            *g1 = fmax(*g1, q2n_v3_angle(n[0], n[1]));
+            *g2 = fmax(*g2, fabs(H[0] - H[1]) / (1 + fabs(H[0])));
+        }
+    }
 }
 
 #endif

@@ -450,30 +450,13 @@ static void gluing_fairness(q2n_mesh *m, double ratio)
     q2n_mesh_free(m);
 }
 
-/* Normal-angle jump (radians) and mean-curvature jump (relative to 1 + |H|) across every interior edge,
- * at points down to 1e-3 of the edge from its corners, where sides that disagree at a corner would
- * show (the Coons patch then interpolates neither side's data there). */
+/* Normal-angle and mean-curvature jumps across every interior edge (fair_edge_jumps) at points down to
+ * 1e-3 of the edge from its corners, where sides that disagree at a corner would show (the Coons patch
+ * then interpolates neither side's data there). */
 static void edge_jumps(const q2n_mesh *m, const q2n_surface *s, double *g1, double *g2)
 {
     static const double xs[] = {1e-3, 1e-2, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.99, 0.999};
-    *g1 = *g2 = 0;
-    for (int h = 0; h < m->nh; h++) {
-        int t = m->he_twin[h];
-        if (t < h) continue;
-        int f = m->he_face[h], g = m->he_face[t], i = h - m->face_start[f], j = t - m->face_start[g];
-        for (size_t q = 0; q < sizeof xs / sizeof xs[0]; q++) {
-            double uv[2][2], e[2][18], n[2][3], H[2], K;
-            q2n_side_uv(i, xs[q], 0, &uv[0][0], &uv[0][1]);
-            q2n_side_uv(j, 1 - xs[q], 0, &uv[1][0], &uv[1][1]);
-            for (int sd = 0; sd < 2; sd++) {
-                q2n_surface_eval(s, sd ? g : f, uv[sd][0], uv[sd][1], 2, e[sd]);
-                q2n_v3_cross(n[sd], e[sd] + Q2N_EV_U, e[sd] + Q2N_EV_V);
-                q2n_curvatures(e[sd], &H[sd], &K);
-            }
-            *g1 = fmax(*g1, q2n_v3_angle(n[0], n[1]));
-            *g2 = fmax(*g2, fabs(H[0] - H[1]) / (1 + fabs(H[0])));
-        }
-    }
+    fair_edge_jumps(m, s, xs, (int)(sizeof xs / sizeof xs[0]), g1, g2);
 }
 
 /* G2 patches glued by polynomials (ev_fair_gluing2.c, docs/extraordinary.md "Polynomial gluing of G2

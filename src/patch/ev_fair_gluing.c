@@ -154,10 +154,9 @@ static double row_residual(const pg_row *R, const double *x)
     return r;
 }
 
-/* min Σ D_k (x_k - x0_k)² subject to the rows, as the penalty problem (W² AᵀA + D) x = W² Aᵀ b + D x0
- * refined: each refinement solves for the rows' residuals again, which removes the penalty's bias.
- * D: per unknown, NULL for ones. */
-static q2n_status pg_solve(int n, const pg_row *R, int nrow, const double *x0, const double *D, double *x, q2n_error *err)
+/* min |x - x0|² subject to the rows, as the penalty problem (W² AᵀA + I) x = W² Aᵀ b + x0 refined:
+ * each refinement solves for the rows' residuals again, which removes the penalty's bias. */
+static q2n_status pg_solve(int n, const pg_row *R, int nrow, const double *x0, double *x, q2n_error *err)
 {
     const double W2 = EV_POLY_PENALTY * EV_POLY_PENALTY;
     long cap = (long)PG_NZ * PG_NZ * nrow + n, nt = 0;
@@ -171,7 +170,7 @@ static q2n_status pg_solve(int n, const pg_row *R, int nrow, const double *x0, c
             for (int q = 0; q < PG_NZ; q++)
                 if (R[k].ix[p] >= 0 && R[k].ix[q] >= 0 && R[k].ix[p] <= R[k].ix[q])
                     ti[nt] = R[k].ix[p], tj[nt] = R[k].ix[q], tv[nt++] = W2 * R[k].co[p] * R[k].co[q];
-    for (int k = 0; k < n; k++) ti[nt] = tj[nt] = k, tv[nt++] = D ? D[k] : 1;
+    for (int k = 0; k < n; k++) ti[nt] = tj[nt] = k, tv[nt++] = 1;
     memcpy(x, x0, sizeof(double) * (size_t)n);
     q2n_sparse_spd *S = NULL;
     if ((st = q2n_sparse_spd_from_triplets(n, nt, ti, tj, tv, &S, err))) goto done;
@@ -204,6 +203,8 @@ done:
 static q2n_status pg_solve_exact(int n, const pg_row *R, int nrow, const double *x0, const double *D, double *x, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
+    memcpy(x, x0, sizeof(double) * (size_t)n);
+    if (nrow == 0) return st;
     int *cnt = calloc((size_t)n + 1, sizeof(int)), *rows = malloc(sizeof(int) * ((size_t)PG_NZ * nrow + 1));
     int *pos = malloc(sizeof(int) * ((size_t)PG_NZ * nrow + 1));
     long cap = 0;
@@ -240,7 +241,6 @@ static q2n_status pg_solve_exact(int n, const pg_row *R, int nrow, const double 
                 if (k == l) dmax = fmax(dmax, v);
             }
     for (int k = 0; k < nrow; k++) ti[nt] = tj[nt] = k, tv[nt++] = EV_POLY_DUAL_REG * (dmax > 0 ? dmax : 1);
-    memcpy(x, x0, sizeof(double) * (size_t)n);
     q2n_sparse_spd *S = NULL;
     if ((st = q2n_sparse_spd_from_triplets(nrow, nt, ti, tj, tv, &S, err))) goto done;
     for (int it = 0; it < EV_POLY_DUAL_REFINE && !st; it++) {
@@ -293,7 +293,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     q2n_status st = Q2N_OK;
     *poly_edges = *border_edges = 0;
     if (B->K >= 2 && !D) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
-    {
+    if (D) { /* G2 patches: the twists' unit (below) */
         int ns = 0;
         for (int i = 0; i < nf; i++)
             for (int sd = 0; sd < 4; sd++)
@@ -422,8 +422,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                 for (int k = 0; k < n; k++) D[k] = 1;
                 for (int k = 0; k < nr; k++) D[k] = 1 / (hmean * hmean);
             }
-            if (n > 0 && nrow > 0 && (st = D ? pg_solve_exact(n, R, nrow, x0, D, x, err) : pg_solve(n, R, nrow, x0, NULL, x, err))) goto done;
-            if (n > 0 && nrow == 0) memcpy(x, x0, sizeof(double) * (size_t)n);
+            if (n > 0 && (st = D ? pg_solve_exact(n, R, nrow, x0, D, x, err) : pg_solve(n, R, nrow, x0, x, err))) goto done;
             /* a q of the wrong sign: while its component may still take a bump (below), the bump comes
              * first, placed at that edge (qsv); else the edge becomes a cubic */
             int more = 0;

@@ -153,7 +153,7 @@ q2n_status q2n_ev_fair_poly_gluing2(const fe_build *B, const int *faces, int nf,
                     R->F[0][1][c] = S->ew[end] * w[c];
                     R->F[1][1][c] = S->rc[end][c];
                 }
-                q2n_ev_fair_glue_taylor(B->K, S, end, R->al, R->bt);
+                q2n_ev_fair_glue_taylor(S, end, R->al, R->bt);
                 /* the b² coefficient of φ_F ∘ ψ vanishes: ½ A2(0) e_w w + ½ B2(0) d u = -α̃ B r_F */
                 double rhs[2] = {-2 * R->al[0] * R->bt[0] * S->rc[end][0], -2 * R->al[0] * R->bt[0] * S->rc[end][1]};
                 double a11 = S->ew[end] * w[0], a12 = S->d * u[0], a21 = S->ew[end] * w[1], a22 = S->d * u[1];

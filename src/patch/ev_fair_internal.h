@@ -70,13 +70,20 @@ static inline int fe_side_g2(const fe_side *S)
     return 0;
 }
 
+/* Does derived side S glue by α, β with free end slopes (ev_fair_gluing.c: cubic for G1 patches,
+ * quintic with zero second derivatives for G2 ones)? */
+static inline int fe_side_slopes(const fe_side *S)
+{
+    return S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0;
+}
+
 /* Does constructed side S carry anything of ev_fair_gluing.c's (what fe_side_smooth clears)? */
 static inline int fe_side_glued(const fe_side *S)
 {
     if (S->kind != 0) return 0;
     int g = S->poly || S->quartic || S->flat_end >= 0 || S->absorb_side[0] >= 0 || S->absorb_side[1] >= 0;
-    for (int e = 0; e < 2; e++) g |= S->sl[0][e] != 0 || S->sl[1][e] != 0 || S->rc[e][0] != 0 || S->rc[e][1] != 0;
-    return g || fe_side_g2(S);
+    for (int e = 0; e < 2; e++) g |= S->rc[e][0] != 0 || S->rc[e][1] != 0;
+    return g || fe_side_slopes(S) || fe_side_g2(S);
 }
 
 /* Side context of one patch (the Coons patch's ctx); lanes: fe_lanes, its constructed sides' fields
@@ -189,9 +196,10 @@ int q2n_ev_fair_base_side(const fe_build *B, const int *faces, const int *fidx, 
 q2n_status q2n_ev_fair_poly_gluing2(const fe_build *B, const int *faces, int nf, fe_ctx *X, char *fail, int *nfail,
                                     q2n_error *err);
 
-/* The Taylor coefficients, about end e of derived side S in the distance a from that end, of α̃(a) and
- * B(a) (∂b S_G = α̃ ∂b S_F + B ∂a S_F, a = s or 1 - s): al[0..2], bt[0..2] (ev_fair_patch.c). */
-void q2n_ev_fair_glue_taylor(int K, const fe_side *S, int e, double al[3], double bt[3]);
+/* The Taylor coefficients, about end e of derived side S of a G2 patch in the distance a from that end,
+ * of α̃(a) and B(a) (∂b S_G = α̃ ∂b S_F + B ∂a S_F, a = s or 1 - s): al[0..2], bt[0..2] (ev_fair_patch.c,
+ * as side_taylor glues it). */
+void q2n_ev_fair_glue_taylor(const fe_side *S, int e, double al[3], double bt[3]);
 
 /* ------------------------------------------------------------ ev_fair_solve.c */
 

@@ -243,10 +243,10 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
             be[0] = e ? S->be[1] : S->be[0];
             be[1] = S->be[1] - S->be[0] + (e ? -S->bump : S->bump); /* bump s (1 - s): σ - σ² about 0, -σ - σ² about 1 */
             be[2] = -S->bump;
-        } else if (K == 1 && (S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0)) {
+        } else if (K == 1 && fe_side_slopes(S)) {
             cubic_taylor(S->al[0], S->al[1], S->sl[0][0], S->sl[0][1], e, al);
             cubic_taylor(S->be[0], S->be[1], S->sl[1][0], S->sl[1][1], e, be);
-        } else if (K == 2 && (S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0)) {
+        } else if (K == 2 && fe_side_slopes(S)) {
             const double va[2][3] = {{S->al[0], S->sl[0][0], 0}, {S->al[1], S->sl[0][1], 0}};
             const double vb[2][3] = {{S->be[0], S->sl[1][0], 0}, {S->be[1], S->sl[1][1], 0}};
             quintic_taylor(va[0], va[1], e, al);
@@ -283,26 +283,18 @@ static void side_taylor(int K, const fe_side *S, const fe_ends *E, fe_taylor *T)
     }
 }
 
-void q2n_ev_fair_glue_taylor(int K, const fe_side *S, int e, double al[3], double bt[3])
+void q2n_ev_fair_glue_taylor(const fe_side *S, int e, double al[3], double bt[3])
 {
     double a[3], b[3]; /* α, β and their first two s-derivatives at end e */
     double a0 = S->al[0], a1 = S->al[1], b0 = S->be[0], b1 = S->be[1];
     a[0] = e ? a1 : a0, b[0] = e ? b1 : b0;
+    a[1] = a[2] = b[1] = b[2] = 0; /* the smoothsteps: flat to second order */
     if (S->poly) {
         double q = S->q;
         a[1] = e ? 2 * (a1 - q) : 2 * (q - a0), a[2] = 2 * (a0 - 2 * q + a1);
         b[1] = b1 - b0 + (e ? -S->bump : S->bump), b[2] = -2 * S->bump;
-    } else if (S->sl[0][0] != 0 || S->sl[0][1] != 0 || S->sl[1][0] != 0 || S->sl[1][1] != 0) {
+    } else if (fe_side_slopes(S)) { /* quintic: free slope, zero second derivative */
         a[1] = S->sl[0][e], b[1] = S->sl[1][e];
-        if (K == 1) { /* the cubic Hermite interpolants' second derivatives */
-            double da = a1 - a0, db = b1 - b0;
-            a[2] = e ? -6 * da + 2 * S->sl[0][0] + 4 * S->sl[0][1] : 6 * da - 4 * S->sl[0][0] - 2 * S->sl[0][1];
-            b[2] = e ? -6 * db + 2 * S->sl[1][0] + 4 * S->sl[1][1] : 6 * db - 4 * S->sl[1][0] - 2 * S->sl[1][1];
-        } else {
-            a[2] = b[2] = 0;
-        }
-    } else {
-        a[1] = a[2] = b[1] = b[2] = 0;
     }
     /* in a = s (end 0) or a = 1 - s (end 1); B(a) = β(a) at end 0 and -β(1 - a) at end 1 (∂s = -∂a there) */
     double sg = e ? -1 : 1;
