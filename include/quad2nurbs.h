@@ -119,6 +119,16 @@ typedef enum q2n_ev_method {
     Q2N_EV_METHOD_PAPER        /* the paper's Coons–Gregory patches */
 } q2n_ev_method;
 
+/* How the fair construction glues its patches along the edges at extraordinary vertices
+ * (q2n_options.ev_smooth_gluing; docs/extraordinary.md, "Polynomial gluing of G1 patches", "... of G2
+ * patches", "The gluing chosen per region"). */
+typedef enum q2n_ev_gluing {
+    Q2N_EV_GLUING_AUTO = 0,       /* polynomials wherever the corner equations hold; each region of G2
+                                     patches keeps the smoothsteps where they ripple less and bend no more */
+    Q2N_EV_GLUING_SMOOTHSTEP = 1, /* smoothsteps on every edge (least squares in the fit) */
+    Q2N_EV_GLUING_POLYNOMIAL = 2  /* polynomials wherever the corner equations hold, without the choice */
+} q2n_ev_gluing;
+
 /* Masks of the acc-g1 surface: circulant (CS) or direct (NCS) system, symmetric (S) or
  * asymmetric (AS) masks. */
 typedef enum q2n_acc_strategy {
@@ -221,13 +231,16 @@ typedef struct q2n_options {
     int keep_flat;                 /* augmented, fair construction: where the mesh is flat around a vertex
                                       (every corner of its faces in one plane) the surface stays in that
                                       plane exactly: 1 yes, 0 [no] (docs/extraordinary.md, "Flat fans") */
-    int ev_smooth_gluing;          /* augmented, fair construction: 1 glues every constructed edge by
-                                      smoothsteps (G1 patches as before stop 41, G2 patches as before
-                                      stop 54: least squares in the fit); 0 [polynomial gluing wherever
-                                      its corner equations hold: G1 patches are then bi-quintic
-                                      polynomials, fitted with one span and exactly G1; G2 patches
-                                      ripple less and fit with fewer spans] (docs/extraordinary.md,
-                                      "Polynomial gluing of G1 patches", "... of G2 patches") */
+    int ev_smooth_gluing;          /* augmented, fair construction: a q2n_ev_gluing.  1 glues every
+                                      constructed edge by smoothsteps (G1 patches as before stop 41, G2
+                                      patches as before stop 54: least squares in the fit); 2 by
+                                      polynomials wherever their corner equations hold (G1 patches are
+                                      then bi-quintic polynomials, fitted with one span and exactly G1;
+                                      G2 patches ripple less and fit with fewer spans); 0 [the same, and
+                                      each region of G2 patches keeps the smoothsteps where it ripples
+                                      less and bends no more with them] (docs/extraordinary.md,
+                                      "Polynomial gluing of G1 patches", "... of G2 patches", "The gluing
+                                      chosen per region") */
     int frame;                     /* augmented: where a mesh with extraordinary vertices has its faces
                                       stretched on the whole (a model scaled along an axis), the surface
                                       is also built in the mesh's isotropic frame and mapped back (or

@@ -123,7 +123,7 @@ static int regular_stage(const q2n_mesh *m, double **iv, q2n_surface **s, q2n_er
 static int default_build(const q2n_mesh *m, int g1, double **iv, q2n_surface **s, q2n_error *err)
 {
     q2n_param_options po = {0};
-    q2n_extraordinary_options xo = {NULL, po, g1 ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2, 0, 0, NULL};
+    q2n_extraordinary_options xo = {NULL, po, g1 ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2, 0, 0, NULL, NULL};
     return regular_stage(m, iv, s, err) && q2n_extraordinary_build(m, &xo, *iv, *s, err) == Q2N_OK;
 }
 
@@ -141,7 +141,7 @@ static void paper_refusal(int sides, const char *want, const char *want2)
     q2n_surface *s = NULL;
     q2n_error err = {0, ""};
     q2n_param_options po = {0};
-    q2n_extraordinary_options xo = {NULL, po, Q2N_EV_PATCH_G2, Q2N_EV_METHOD_PAPER, 2, 0, 0, NULL};
+    q2n_extraordinary_options xo = {NULL, po, Q2N_EV_PATCH_G2, Q2N_EV_METHOD_PAPER, 2, 0, 0, NULL, NULL};
     int ok = regular_stage(m, &iv, &s, &err) && q2n_extraordinary_build(m, &xo, iv, s, &err) == Q2N_OK;
     CHECK(!ok && strstr(err.message, want) && strstr(err.message, want2) && strstr(err.message, "--ev-construction fair"),
           "paper construction, %d-sided straight pyramid: %s", sides, ok ? "built" : err.message);
@@ -261,7 +261,7 @@ static void fold_guard(const char *label, q2n_mesh *m, int expect_held, int expe
         q2n_error err = {0, ""};
         ev_fair_stats st;
         int ok = regular_stage(m, &iv, &s, &err) &&
-                 q2n_ev_fair_build(m, NULL, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), K, 0, 1, 2, &st, &err) == Q2N_OK;
+                 q2n_ev_fair_build(m, NULL, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), K, 0, 1, NULL, 2, &st, &err) == Q2N_OK;
         CHECK(ok, "%s: build: %s", label, err.message);
         if (ok) {
             printf("fold guard, %s, G%d: %d vertices held, %d faces still folded, %d halvings\n", label, K, st.held_vertices,
@@ -346,7 +346,7 @@ static void keep_flat(void)
                 int ok;
                 if (mi == 0) {
                     q2n_param_options po = {0};
-                    q2n_extraordinary_options xo = {NULL, po, g ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2, kf, 0, NULL};
+                    q2n_extraordinary_options xo = {NULL, po, g ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_DEFAULT, 2, kf, 0, NULL, NULL};
                     ok = regular_stage(box, &iv, &s, &err) && q2n_extraordinary_build(box, &xo, iv, s, &err) == Q2N_OK;
                 } else {
                     q2n_model_options o;

@@ -52,7 +52,7 @@ static q2n_surface *build_k(const q2n_mesh *m, int K, int poly, ev_fair_stats *s
     double *iv = NULL;
     q2n_surface *s = NULL;
     int ok = q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK && q2n_augmented_build(m, &ao, iv, &s, &err) == Q2N_OK &&
-             q2n_ev_fair_build(m, NULL, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), K, 0, poly, 2, st, &err) == Q2N_OK;
+             q2n_ev_fair_build(m, NULL, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), K, 0, poly, NULL, 2, st, &err) == Q2N_OK;
     CHECK(ok, "%s: build: %s", m->name, err.message);
     free(iv);
     if (!ok) {
@@ -303,7 +303,7 @@ static void pinned_cycles(q2n_mesh *m)
     q2n_surface *s = q2n_surface_create(m->nf);
     ev_fair_stats st = {0};
     int ok = s && q2n_param_edge_intervals(m, &po, &iv, &err) == Q2N_OK &&
-             q2n_ev_fair_build(m, NULL, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), 1, 0, 1, 2, &st, &err) == Q2N_OK;
+             q2n_ev_fair_build(m, NULL, s, iv, q2n_spline_class_find(Q2N_SPLINE_CLASS_DEFAULT), 1, 0, 1, NULL, 2, &st, &err) == Q2N_OK;
     CHECK(ok, "%s: build: %s", m->name, err.message);
     if (ok) {
         q2n_fit_report r;

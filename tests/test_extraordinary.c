@@ -85,7 +85,7 @@ static int run_mesh(const char *label, const q2n_mesh *m, const char *clsname, q
     memset(st, 0, sizeof *st);
     st->nf = m->nf;
     q2n_augmented_options aopt = {q2n_spline_class_find(clsname), {pm, -1}};
-    q2n_extraordinary_options xopt = {aopt.cls, aopt.param, kind, g_method, 2, g_keep_flat, 0, NULL};
+    q2n_extraordinary_options xopt = {aopt.cls, aopt.param, kind, g_method, 2, g_keep_flat, 0, NULL, NULL};
     q2n_error err = {0, ""};
     double *iv = NULL;
     q2n_surface *S = NULL;
@@ -633,7 +633,7 @@ static void test_spikes(void)
 static int corner_compat(const char *label, const q2n_mesh *m, int *ncorners)
 {
     q2n_augmented_options ao = {q2n_spline_class_find("D5C2P2S4"), {Q2N_PARAM_CENTRIPETAL, -1}};
-    q2n_extraordinary_options xo = {ao.cls, ao.param, Q2N_EV_PATCH_G2, g_method, 2, 0, 0, NULL};
+    q2n_extraordinary_options xo = {ao.cls, ao.param, Q2N_EV_PATCH_G2, g_method, 2, 0, 0, NULL, NULL};
     q2n_error err = {0, ""};
     double *iv = NULL;
     q2n_surface *S = NULL;

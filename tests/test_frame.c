@@ -454,7 +454,7 @@ static void test_chart_identity(void)
         for (int c = 0; c < 2; c++) {
             q2n_augmented_options ao = {NULL, {0}};
             q2n_extraordinary_options eo = {NULL, {0}, k == 1 ? Q2N_EV_PATCH_G1 : Q2N_EV_PATCH_G2, Q2N_EV_METHOD_FAIR, 1, 0, 0,
-                                            c ? cm : NULL};
+                                            c ? cm : NULL, NULL};
             double *iv = NULL;
             CHECK(q2n_param_edge_intervals(m, &ao.param, &iv, &err) == Q2N_OK && q2n_augmented_build(m, &ao, iv, &s[c], &err) == Q2N_OK &&
                       q2n_extraordinary_build(m, &eo, iv, s[c], &err) == Q2N_OK,

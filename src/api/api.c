@@ -72,8 +72,8 @@ static q2n_status check_options(const q2n_options *o, char *errbuf, size_t errle
         return bad(errbuf, errlen, "invalid fill_ngons %d (expected 0 or 1)", o->fill_ngons);
     if (o->keep_flat < 0 || o->keep_flat > 1) return bad(errbuf, errlen, "invalid keep_flat %d (expected 0 or 1)", o->keep_flat);
     if (o->frame < -1 || o->frame > 0) return bad(errbuf, errlen, "invalid frame %d (expected 0 auto or -1 off)", o->frame);
-    if (o->ev_smooth_gluing < 0 || o->ev_smooth_gluing > 1)
-        return bad(errbuf, errlen, "invalid ev_smooth_gluing %d (expected 0 or 1)", o->ev_smooth_gluing);
+    if (o->ev_smooth_gluing < Q2N_EV_GLUING_AUTO || o->ev_smooth_gluing > Q2N_EV_GLUING_POLYNOMIAL)
+        return bad(errbuf, errlen, "invalid ev_smooth_gluing %d (expected 0, 1 or 2: a q2n_ev_gluing)", o->ev_smooth_gluing);
     if (o->limit_points < -1 || o->limit_points > 1)
         return bad(errbuf, errlen, "invalid limit_points %d (expected -1, 0 or 1)", o->limit_points);
     if (o->scale != 0 && !(o->scale >= Q2N_SCALE_MIN && o->scale <= Q2N_SCALE_MAX))

@@ -36,8 +36,9 @@ static q2n_status build_augmented(q2n_model *m, q2n_error *err)
     q2n_augmented_options ao = {m->opt.cls, m->opt.param};
     q2n_extraordinary_options eo = {m->opt.cls, m->opt.param, (q2n_ev_patch_kind)m->opt.ev_patch,
                                     (q2n_ev_method)m->opt.ev_method, m->opt.threads, m->opt.keep_flat,
-                                    m->opt.smooth_gluing, NULL};
+                                    m->opt.smooth_gluing == Q2N_EV_GLUING_SMOOTHSTEP, NULL, NULL};
     eo.chart_mesh = m->frame_charts;
+    eo.smooth_vertices = m->smooth_v;
     const q2n_mesh *bm = m->frame_mesh ? m->frame_mesh : m->mesh;
     q2n_status st = q2n_param_edge_intervals(bm, &m->opt.param, &m->edge_iv, err);
     if (!st) st = q2n_augmented_build(bm, &ao, m->edge_iv, &m->surface, err);
@@ -226,11 +227,12 @@ static void keep_first(q2n_model *m, built *b)
  * "Polynomial gluing of G1 patches").  An error of the second build keeps the first. */
 static void gluing_fallback(q2n_model *m)
 {
-    if (m->opt.smooth_gluing || m->folded == 0 || m->ev_stats.polynomial_edges == 0) return;
+    if (m->opt.smooth_gluing == Q2N_EV_GLUING_SMOOTHSTEP || m->folded == 0 || m->ev_stats.polynomial_edges == 0) return;
     built b;
-    m->opt.smooth_gluing = 1;
+    int given = m->opt.smooth_gluing;
+    m->opt.smooth_gluing = Q2N_EV_GLUING_SMOOTHSTEP;
     q2n_status st = rebuild(m, &b);
-    m->opt.smooth_gluing = 0;
+    m->opt.smooth_gluing = given;
     if (!st && m->folded < b.folded) {
         char where[320];
         face_where(m, b.folded_face, where, sizeof where);
@@ -397,6 +399,88 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
                  "diagonal ripple %.4g -> %.4g, bending energy %.4g -> %.4g against its own frame (--frame off builds there)",
                  how[m->frame_used], m->frame_stretch, m->frame_used == 2 ? "" : " and mapped back", f[0].ripple, fk->ripple,
                  f[0].energy, fk->energy);
+}
+
+/* The gluing choice (G2 patches, docs/extraordinary.md, "The gluing chosen per region"): the polynomial
+ * gluing ripples less than the smoothsteps on most meshes, but not everywhere (a cube: every edge's β
+ * changes sign between its ends and the twists it forces are twice its edge vectors).  So the
+ * extraordinary regions are built once more with the smoothsteps, in the frame the build kept, and
+ * each region — a set of extraordinary faces joined by their corners, whose patches depend on their own
+ * vertices' jets and on the regular patches around them only — keeps the gluing that is the fairer
+ * there by issue 11's figures on the construction (patch/fairness.h): the smoothsteps where they ripple
+ * less and bend no more.  Where some regions but not all change, a third build glues those by
+ * smoothsteps (their vertices kept out of the polynomial gluing) and the rest as before; it is kept if
+ * it folds on no more faces.  A build that fails keeps the first. */
+static void gluing_choice(q2n_model *m)
+{
+    const q2n_mesh *me = m->mesh;
+    int nf = me->nf, nv = me->nv;
+    if (m->opt.smooth_gluing != Q2N_EV_GLUING_AUTO || m->opt.method != Q2N_SURFACE_AUGMENTED || m->opt.ev_method == Q2N_EV_METHOD_PAPER ||
+        m->continuity != 2 || m->ev_stats.polynomial_edges == 0)
+        return;
+    double (*fa)[2] = malloc(sizeof *fa * (size_t)nf), (*fb)[2] = malloc(sizeof *fb * (size_t)nf);
+    double (*cs)[4] = calloc((size_t)nv, sizeof *cs); /* per region (its root vertex): ripple, energy of both */
+    int *uf = malloc(sizeof(int) * (size_t)nv);
+    char *smooth = calloc((size_t)nv, 1);
+    q2n_mesh *fm = NULL;
+    q2n_error e1;
+    if (!fa || !fb || !cs || !uf || !smooth || (m->frame_used && q2n_mesh_mapped(me, m->frame_A, &fm, &e1))) goto done;
+    q2n_surface_fairness_patches(m->surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads, fa);
+    /* the regions: extraordinary faces joined by their corners */
+    for (int v = 0; v < nv; v++) uf[v] = v;
+    for (int f = 0; f < nf; f++) {
+        if (q2n_surface_kind(m->surface, f) != Q2N_PATCH_COONS_GREGORY) continue;
+        for (int i = me->face_start[f] + 1; i < me->face_start[f + 1]; i++) {
+            int a = me->face_vert[me->face_start[f]], b = me->face_vert[i];
+            while (uf[a] != a) a = uf[a] = uf[uf[a]];
+            while (uf[b] != b) b = uf[b] = uf[uf[b]];
+            if (a != b) uf[a < b ? b : a] = a < b ? a : b;
+        }
+    }
+    /* the smoothsteps' build, in the frame the build kept */
+    built a, b;
+    int used = m->frame_used;
+    m->frame_mesh = used == 1 ? fm : NULL, m->frame_charts = used == 2 ? fm : NULL, m->frame_regions = used == 3 ? fm : NULL;
+    m->opt.smooth_gluing = Q2N_EV_GLUING_SMOOTHSTEP;
+    q2n_status st = rebuild(m, &a);
+    m->opt.smooth_gluing = Q2N_EV_GLUING_AUTO;
+    if (st) { keep_first(m, &a); goto reset; }
+    q2n_surface_fairness_patches(m->surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads, fb);
+    for (int f = 0; f < nf; f++) {
+        if (q2n_surface_kind(m->surface, f) != Q2N_PATCH_COONS_GREGORY) continue;
+        int r = me->face_vert[me->face_start[f]];
+        while (uf[r] != r) r = uf[r];
+        cs[r][0] += fa[f][0], cs[r][1] += fa[f][1], cs[r][2] += fb[f][0], cs[r][3] += fb[f][1];
+    }
+    int nreg = 0, nsm = 0;
+    for (int v = 0; v < nv; v++) {
+        if (uf[v] != v || !(cs[v][0] > 0 || cs[v][1] > 0)) continue;
+        nreg++;
+        if (cs[v][2] < cs[v][0] && cs[v][3] <= cs[v][1]) smooth[v] = 1, nsm++;
+    }
+    for (int v = 0; v < nv; v++) {
+        int r = v;
+        while (uf[r] != r) r = uf[r];
+        smooth[v] = smooth[r];
+    }
+    m->gluing_regions[0] = nreg;
+    if (nsm > 0 && nsm < nreg) { /* the mixed build: the chosen regions' vertices out of the polynomial gluing */
+        m->smooth_v = smooth;
+        st = rebuild(m, &b);
+        keep_second(&b);
+    }
+    if (nsm > 0 && !st && m->folded <= a.folded) {
+        keep_second(&a);
+        m->gluing_regions[1] = nsm;
+    } else {
+        keep_first(m, &a);
+    }
+reset:
+    m->frame_mesh = NULL, m->frame_charts = m->frame_regions = NULL;
+    m->smooth_v = NULL;
+done:
+    q2n_mesh_free(fm);
+    free(fa), free(fb), free(cs), free(uf), free(smooth);
 }
 
 /* Where the mesh is flat, does the surface stay flat?  A warning with the remedy when it leaves the
@@ -627,6 +711,7 @@ q2n_status q2n_model_construct(q2n_model *m, q2n_error *err)
     if (!st) st = aug ? build_checked(m, err) : build_acc(m, err);
     if (!st && !aug) st = scan_patches(m, err);
     if (!st && aug && m->opt.frame >= 0) frame_choice(m, ev_patch, smooth_gluing, nw);
+    if (!st && aug) gluing_choice(m);
     for (int k = 0; k < 2; k++) { /* a failure is often the split faces' (needles, bow-ties) */
         const char *h = hint[k];
         size_t l = st ? strlen(err->message) : 0;
@@ -774,6 +859,7 @@ q2n_status q2n_model_fit(q2n_model *m, const q2n_fit_options *fopt, q2n_error *e
     m->fit.vertices_moved_rel = m->moved_rel;
     m->fit.flat_vertices = m->ev_stats.flat_vertices;
     m->fit.polynomial_edges = m->ev_stats.polynomial_edges;
+    m->fit.gluing_regions = m->gluing_regions[0], m->fit.smoothstep_regions = m->gluing_regions[1];
     m->fit.g2_folded_faces = m->g2_folded;
     m->fit.paired_quads = m->paired;
     m->fit.triangles_left = m->tri_left;

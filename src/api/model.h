@@ -33,8 +33,10 @@ typedef struct q2n_model_options {
     int ev_patch;                 /* augmented: a q2n_ev_patch_kind (0 default: G2 for C2 classes) */
     int ev_method;                /* augmented: a q2n_ev_method (0 default: the fair construction) */
     int keep_flat;                /* augmented, fair construction: flat fans stay flat (q2n_options) */
-    int smooth_gluing;            /* augmented, fair construction, G1 and G2 patches: smoothstep gluing
-                                     everywhere (q2n_options.ev_smooth_gluing) */
+    int smooth_gluing;            /* augmented, fair construction: a q2n_ev_gluing (q2n_options.ev_smooth_gluing):
+                                     0 polynomial gluing, G2 patches' regions given the smoothsteps where
+                                     those are fairer (gluing_choice); 1 smoothsteps everywhere; 2
+                                     polynomial gluing without the choice */
     int fold_fallback;            /* augmented, default patches (G2): where they fold over, G1 patches at the
                                      extraordinary vertices instead if those fold on fewer faces (the public
                                      API sets it unless ev_patch is given or continuity is G2) */
@@ -108,6 +110,10 @@ typedef struct q2n_model {
     double frame_ripple[4];    /* the diagonal ripple of the builds: own frame, isotropic frame, charts
                                   only, regions (0: not built) */
     double frame_energy[4];    /* their bending energy */
+    const char *smooth_v;      /* while building with the gluing choice's regions: per vertex, 1 where the
+                                  polynomial gluing keeps out (q2n_extraordinary_options.smooth_vertices) */
+    int gluing_regions[2];     /* the gluing choice (G2 patches): regions compared, regions given the
+                                  smoothsteps because they are fairer there */
 } q2n_model;
 
 /* Read (any mesh format, q2n_mesh_read) and move into the internal frame, then construct:

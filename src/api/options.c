@@ -44,14 +44,6 @@ static int fit_continuity(const q2n_model_options *mo, const q2n_fit_options *fo
     return cls && cls->k >= 2 && mo->ev_patch != Q2N_EV_PATCH_G1 ? 2 : 1;
 }
 
-/* The order of the extraordinary patches the model options ask for (1: G1, 2: G2; the fold fallback
- * may still build G1 ones where G2 ones fold). */
-static int ev_order(const q2n_model_options *mo)
-{
-    q2n_extraordinary_options eo = {.cls = mo->cls, .param = mo->param, .ev_patch = (q2n_ev_patch_kind)mo->ev_patch};
-    return q2n_ev_patch_order(&eo);
-}
-
 int q2n_options_warnings(const q2n_model_options *mo, const q2n_fit_options *fo, unsigned set, const q2n_plan *plan,
                          char (*msgs)[160], int max)
 {
@@ -67,11 +59,10 @@ int q2n_options_warnings(const q2n_model_options *mo, const q2n_fit_options *fo,
         warn(&w, "--keep-flat is ignored with %s%s (it conditions the fair construction only)",
              mo->method != Q2N_SURFACE_AUGMENTED ? "--surface " : "--ev-construction paper",
              mo->method != Q2N_SURFACE_AUGMENTED ? meth : "");
-    if (mo->smooth_gluing && (mo->method != Q2N_SURFACE_AUGMENTED || mo->ev_method == Q2N_EV_METHOD_PAPER ||
-                              ev_order(mo) != 1))
-        warn(&w, "--ev-gluing smoothstep is ignored%s%s (polynomial gluing is made for the fair construction's G1 "
-                 "patches only)", mo->method != Q2N_SURFACE_AUGMENTED ? " with --surface " : "",
-             mo->method != Q2N_SURFACE_AUGMENTED ? meth : mo->ev_method == Q2N_EV_METHOD_PAPER ? " with --ev-construction paper" : " with G2 patches");
+    if (mo->smooth_gluing && (mo->method != Q2N_SURFACE_AUGMENTED || mo->ev_method == Q2N_EV_METHOD_PAPER))
+        warn(&w, "--ev-gluing is ignored with %s%s (the gluing is the fair construction's)",
+             mo->method != Q2N_SURFACE_AUGMENTED ? "--surface " : "--ev-construction paper",
+             mo->method != Q2N_SURFACE_AUGMENTED ? meth : "");
     if (mo->limit_points && mo->method != Q2N_SURFACE_AUGMENTED)
         warn(&w, "%s is ignored with --surface %s (its patches approximate the Catmull-Clark limit from the control "
                  "mesh itself)", mo->limit_points > 0 ? "--limit-points" : "--no-limit-points", meth);

@@ -59,11 +59,13 @@ static void usage(FILE *f)
           "                        biquintic Coons-Gregory) or g1 (bicubic; default for C1 classes)\n"
           "      --ev-construction M  extraordinary regions: fair (default: one jet per vertex,\n"
           "                        bending-energy solve) or paper (Coons-Gregory of the paper)\n"
-          "      --ev-gluing G     patches of the fair construction: polynomial (default: their\n"
-          "                        edges glued by polynomials wherever the corners allow it; G1\n"
-          "                        patches are then bi-quintic and the fit exactly G1 with one\n"
-          "                        span, G2 patches ripple less and fit with fewer spans) or\n"
-          "                        smoothstep (every edge as before: least squares in the fit)\n"
+          "      --ev-gluing G     patches of the fair construction: auto (default: their edges\n"
+          "                        glued by polynomials wherever the corners allow it; G1 patches\n"
+          "                        are then bi-quintic and the fit exactly G1 with one span, G2\n"
+          "                        patches ripple less and fit with fewer spans; a region of G2\n"
+          "                        patches keeps the smoothsteps where they ripple less and bend\n"
+          "                        no more), polynomial (no such choice) or smoothstep (every\n"
+          "                        edge as before: least squares in the fit)\n"
           "      --keep-flat       where the mesh is flat around a vertex (its faces' corners in\n"
           "                        one plane), the fair construction keeps the surface in that\n"
           "                        plane exactly (flat panels stay flat; the bends beside them\n"
@@ -266,11 +268,13 @@ static int parse_option(int c, const char *arg, cli_options *o)
         q->gluing = (q2n_gluing)v;
         return 0;
     case OPT_EVGLUING:
-        if (strcmp(arg, "polynomial") && strcmp(arg, "smoothstep")) {
-            fprintf(stderr, "quad2nurbs: --ev-gluing: unknown '%s' (expected polynomial or smoothstep)\n", arg);
+        if (strcmp(arg, "auto") && strcmp(arg, "polynomial") && strcmp(arg, "smoothstep")) {
+            fprintf(stderr, "quad2nurbs: --ev-gluing: unknown '%s' (expected auto, polynomial or smoothstep)\n", arg);
             return 2;
         }
-        q->ev_smooth_gluing = !strcmp(arg, "smoothstep");
+        q->ev_smooth_gluing = !strcmp(arg, "smoothstep")   ? Q2N_EV_GLUING_SMOOTHSTEP
+                              : !strcmp(arg, "polynomial") ? Q2N_EV_GLUING_POLYNOMIAL
+                                                           : Q2N_EV_GLUING_AUTO;
         return 0;
     case OPT_EVMETHOD:
         if (parse_choice(Q2N_CHOICE_EV_CONSTRUCTION, "--ev-construction", arg, &v)) return 2;

@@ -91,6 +91,10 @@ typedef struct q2n_fit_report {
                                       plane; set by the caller, else 0 */
     int polynomial_edges;          /* constructed edges glued by polynomials (G1 patches: the fit
                                       reproduces both sides exactly); set by the caller, else 0 */
+    int gluing_regions, smoothstep_regions; /* the gluing choice (G2 patches): extraordinary regions
+                                      compared, and those glued by smoothsteps because they are fairer
+                                      so (docs/extraordinary.md, "The gluing chosen per region"); set by
+                                      the caller, else 0 */
     int g2_folded_faces;           /* the construction's G2 patches folded on this many faces and G1 patches
                                       replaced them (q2n_model_options.fold_fallback); set by the caller, else 0 */
     int paired_quads, triangles_left; /* --pair-triangles: quads made of two input triangles, triangles

@@ -68,11 +68,11 @@ static void write_json(const q2n_fit_report *r, const char *units, FILE *f)
             r->rim_vertices, r->rim_max_deg, r->rim_curv_rel, r->rim_construction_deg, r->rim_construction_curv_rel);
     fprintf(f, "  \"construction\": {\"g1_max_deg\": %.6g, \"g2_max_rel\": %.6g, \"folded_faces\": %d, "
                "\"first_folded_face\": %d, \"vertices_moved_max_rel\": %.6g, \"flat_vertices\": %d, "
-               "\"polynomial_edges\": %d, \"g2_folded_faces\": %d, \"paired_quads\": %d, \"triangles_left\": %d, \"filled_faces\": %d, "
+               "\"polynomial_edges\": %d, \"gluing_regions\": %d, \"smoothstep_regions\": %d, \"g2_folded_faces\": %d, \"paired_quads\": %d, \"triangles_left\": %d, \"filled_faces\": %d, "
                "\"fill_quads\": %d, \"frame\": {\"stretch\": %.6g, \"used\": \"%s\", \"ripple\": [%.6g, %.6g, %.6g, %.6g], "
                "\"energy\": [%.6g, %.6g, %.6g, %.6g]}},\n",
             r->g1_construction_deg, r->g2_construction_rel, r->folded_faces, r->folded_faces > 0 ? r->folded_face : -1,
-            r->vertices_moved_rel, r->flat_vertices, r->polynomial_edges, r->g2_folded_faces, r->paired_quads, r->triangles_left,
+            r->vertices_moved_rel, r->flat_vertices, r->polynomial_edges, r->gluing_regions, r->smoothstep_regions, r->g2_folded_faces, r->paired_quads, r->triangles_left,
             r->filled_faces, r->fill_quads, r->frame_stretch, frame_names[r->frame_used >= 0 && r->frame_used <= 3 ? r->frame_used : 0],
             fin(r->frame_ripple[0]), fin(r->frame_ripple[1]), fin(r->frame_ripple[2]), fin(r->frame_ripple[3]),
             fin(r->frame_energy[0]), fin(r->frame_energy[1]), fin(r->frame_energy[2]), fin(r->frame_energy[3]));

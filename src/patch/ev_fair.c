@@ -451,7 +451,7 @@ static char *border_cross(const q2n_mesh *m, const char *unc)
 }
 
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
-                         int keep_flat, int poly_gluing, int threads, ev_fair_stats *stats, q2n_error *err)
+                         int keep_flat, int poly_gluing, const char *smooth_v, int threads, ev_fair_stats *stats, q2n_error *err)
 {
     q2n_status st = Q2N_OK;
     fe_build B = {0};
@@ -554,12 +554,13 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_
     const fe_inputs in = {vj, faces, nf, X, CP, (const double (*)[EV_JS][3])jet0, flat, (const double (*)[3])flatn, nflat,
                           threads, stats};
     B.border_flat = cross != NULL;
-    if ((st = construct(&B, &in, poly, NULL, &R, err))) goto done;
+    if ((st = construct(&B, &in, poly, smooth_v, &R, err))) goto done;
     if (R.border_edges > 0 && (st = border_shear(&B, &in, &R, &S0, err))) goto done;
     if (poly && R.poly_edges > 0) {
         if (!(gpin = calloc((size_t)m->nv, 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
         int nbad = near_folds(&B, faces, nf, X, CP, threads, gpin);
         if (nbad < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+        for (int v = 0; smooth_v && v < m->nv; v++) gpin[v] |= smooth_v[v];
         if (nbad > 0) {
             int folds0 = R.folds;
             if (!state_save(&S0, &B, &in, &R)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }

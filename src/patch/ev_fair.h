@@ -26,8 +26,9 @@ typedef struct ev_fair_stats {
  * edge intervals the regular patches were built with; chart_mesh: m under a linear map, on which
  * the vertex charts are measured (NULL: m); keep_flat: vertices whose fan is flat (EV_FLAT_REL)
  * keep the surface in its plane exactly; threads: workers for the energy assembly (the result does
- * not depend on it); stats may be NULL. */
+ * not depend on it); smooth_v: per vertex of m, 1 where the polynomial gluing keeps out (its edges keep
+ * the smoothsteps; NULL: none); stats may be NULL. */
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
-                         int keep_flat, int poly_gluing, int threads, ev_fair_stats *stats, q2n_error *err);
+                         int keep_flat, int poly_gluing, const char *smooth_v, int threads, ev_fair_stats *stats, q2n_error *err);
 
 #endif

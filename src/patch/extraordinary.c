@@ -80,7 +80,8 @@ q2n_status q2n_extraordinary_build_stats(const q2n_mesh *m, const q2n_extraordin
     if (opt->method == Q2N_EV_METHOD_PAPER) st = q2n_ev_paper_build(m, s, iv, cls, K, err);
     else {
         ev_fair_stats fs;
-        st = q2n_ev_fair_build(m, opt->chart_mesh, s, iv, cls, K, opt->keep_flat, !opt->smooth_gluing, opt->threads, &fs, err);
+        st = q2n_ev_fair_build(m, opt->chart_mesh, s, iv, cls, K, opt->keep_flat, !opt->smooth_gluing, opt->smooth_vertices,
+                               opt->threads, &fs, err);
         if (!st && stats) stats->flat_vertices = fs.flat_vertices, stats->polynomial_edges = fs.polynomial_edges,
                            stats->guard_faces = fs.jac_pinned_faces, stats->gregory_corners = fs.gregory_corners,
                            stats->border_edges = fs.border_edges, stats->noflat_vertices = fs.noflat_vertices;

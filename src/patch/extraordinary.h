@@ -41,6 +41,9 @@ typedef struct q2n_extraordinary_options {
     const q2n_mesh *chart_mesh;  /* fair construction: the same mesh under a linear map (its isotropic
                                     frame, mesh.h); the vertex charts are measured on it instead (NULL:
                                     on the mesh itself; docs/extraordinary.md, "The isotropic frame") */
+    const char *smooth_vertices; /* fair construction: per mesh vertex, 1 where the polynomial gluing
+                                    keeps out (the edges there keep the smoothsteps; NULL: none): the
+                                    regions the model's gluing choice gave the smoothsteps (api/model.c) */
 } q2n_extraordinary_options;
 
 /* Parse "fair" / "paper"; returns 0 on success. */

@@ -63,19 +63,25 @@ static void patch_fairness(void *arg, int k)
         }
 }
 
+void q2n_surface_fairness_patches(const q2n_surface *s, int n, int q, int threads, double (*out)[2])
+{
+    job J = {s, n < 3 ? 3 : n, q < 1 ? 1 : q > 32 ? 32 : q, {0}, {0}, out};
+    q2n_gauss_legendre01(J.q, J.x, J.w);
+    q2n_par_for(q2n_surface_npatches(s), threads, patch_fairness, &J);
+}
+
 q2n_fairness q2n_surface_fairness(const q2n_surface *s, int n, int q, int threads)
 {
     q2n_fairness f = {INFINITY, INFINITY, INFINITY};
     int np = q2n_surface_npatches(s);
-    job J = {s, n < 3 ? 3 : n, q < 1 ? 1 : q > 32 ? 32 : q, {0}, {0}, malloc((np > 0 ? (size_t)np : 1) * sizeof *J.out)};
-    if (!J.out) return f;
-    q2n_gauss_legendre01(J.q, J.x, J.w);
-    q2n_par_for(np, threads, patch_fairness, &J);
+    double (*out)[2] = malloc((np > 0 ? (size_t)np : 1) * sizeof *out);
+    if (!out) return f;
+    q2n_surface_fairness_patches(s, n, q, threads, out);
     f.ripple = f.energy = f.ripple_ev = 0;
     for (int k = 0; k < np; k++) {
-        f.ripple += J.out[k][0], f.energy += J.out[k][1];
-        if (q2n_surface_kind(s, k) == Q2N_PATCH_COONS_GREGORY) f.ripple_ev += J.out[k][0];
+        f.ripple += out[k][0], f.energy += out[k][1];
+        if (q2n_surface_kind(s, k) == Q2N_PATCH_COONS_GREGORY) f.ripple_ev += out[k][0];
     }
-    free(J.out);
+    free(out);
     return f;
 }

@@ -22,6 +22,10 @@ typedef struct q2n_fairness {
  * or a normal vanishes (a fold's cusp).  Results do not depend on threads. */
 q2n_fairness q2n_surface_fairness(const q2n_surface *s, int n, int q, int threads);
 
+/* The same per patch: out[k][0] patch k's ripple (both diagonals), out[k][1] its energy (0, 0 for an
+ * uncovered patch). */
+void q2n_surface_fairness_patches(const q2n_surface *s, int n, int q, int threads, double (*out)[2]);
+
 /* Mean and Gaussian curvature from S_u, S_v, S_uu, S_uv, S_vv (the q2n_surface_eval layout at
  * nder = 2) and the area element |S_u x S_v|; 0 (and H = K = NAN) where S_u x S_v vanishes. */
 double q2n_curvatures(const double *e, double *H, double *K);
