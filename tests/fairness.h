@@ -87,7 +87,11 @@ static inline double fair_bilinear_jac(const q2n_mesh *m, int f)
     return J[0] / fmax(0.5 * (J[71] + J[72]), 1e-300);
 }
 
-static inline void fair_measure(const q2n_mesh *m, const q2n_surface *s, fair_figures *out)
+static inline void fair_measure_range(const q2n_mesh *m, const q2n_surface *s, int f0, int f1, fair_figures *out);
+static inline void fair_measure(const q2n_mesh *m, const q2n_surface *s, fair_figures *out) { fair_measure_range(m, s, 0, m->nf, out); }
+
+/* The same over faces f0 <= f < f1 only. */
+static inline void fair_measure_range(const q2n_mesh *m, const q2n_surface *s, int f0, int f1, fair_figures *out)
 {
     static const double gx[12] = {0.009219682876640378, 0.04794137181476255, 0.11504866290284765, 0.20634102285669127,
                                   0.31608425050090994, 0.43738329574426554, 0.5626167042557344, 0.6839157494990901,
@@ -98,7 +102,7 @@ static inline void fair_measure(const q2n_mesh *m, const q2n_surface *s, fair_fi
     memset(out, 0, sizeof *out);
     out->jac_min = out->jac_rel = INFINITY;
     out->jac_face = out->jac_rel_face = -1;
-    for (int f = 0; f < m->nf; f++) {
+    for (int f = f0; f < f1; f++) {
         int ev = 0;
         for (int i = 0; i < 4; i++) ev |= fair_is_ev(m, m->face_vert[m->face_start[f] + i]);
         out->ev_faces += ev;

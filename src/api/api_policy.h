@@ -54,5 +54,13 @@
  * exact for degree 11 per direction, the curvature of a degree 5-9 patch is smooth enough that the
  * energies of two builds compare right at a few per cent of their difference, at 36 evaluations a face. */
 #define Q2N_MODEL_ENERGY_RULE 6
+/* The gluing choice (model.c gluing_choice): a region's smoothsteps must ripple less than its polynomial
+ * gluing by more than this fraction, and bend no more up to it.  Why 1e-3: the 6-point rule's own error
+ * is up to 8e-4 of a region's energy (a cube's G2 patches, against 24 points); a capped five-sided
+ * cylinder, whose two caps are mirror images, had one cap's smoothsteps 1.1e-4 above and the other's
+ * 0.7e-4 below, and a strict comparison glued its caps differently; a region the polynomial gluing
+ * leaves as it is (no edge of it glued so) differs from the smoothsteps' by rounding, which a strict
+ * comparison of ripples took for a difference (a 50 : 1 plate). */
+#define Q2N_MODEL_GLUING_TIE 1e-3
 
 #endif

@@ -411,6 +411,13 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
  * less and bend no more.  Where some regions but not all change, a third build glues those by
  * smoothsteps (their vertices kept out of the polynomial gluing) and the rest as before; it is kept if
  * it folds on no more faces.  A build that fails keeps the first. */
+/* Does a build of ripple r and energy e beat one of r0, e0: less ripple, and no more energy, both beyond
+ * what the figures' quadrature can tell (Q2N_MODEL_GLUING_TIE)? */
+static int fairer(double r, double e, double r0, double e0)
+{
+    return r < r0 * (1 - Q2N_MODEL_GLUING_TIE) && e <= e0 * (1 + Q2N_MODEL_GLUING_TIE);
+}
+
 static void gluing_choice(q2n_model *m)
 {
     const q2n_mesh *me = m->mesh;
@@ -446,17 +453,19 @@ static void gluing_choice(q2n_model *m)
     m->opt.smooth_gluing = Q2N_EV_GLUING_AUTO;
     if (st) { keep_first(m, &a); goto reset; }
     q2n_surface_fairness_patches(m->surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads, fb);
+    double tot[2] = {0, 0};
     for (int f = 0; f < nf; f++) {
         if (q2n_surface_kind(m->surface, f) != Q2N_PATCH_COONS_GREGORY) continue;
         int r = me->face_vert[me->face_start[f]];
         while (uf[r] != r) r = uf[r];
         cs[r][0] += fa[f][0], cs[r][1] += fa[f][1], cs[r][2] += fb[f][0], cs[r][3] += fb[f][1];
+        tot[0] += fa[f][0], tot[1] += fa[f][1];
     }
     int nreg = 0, nsm = 0;
     for (int v = 0; v < nv; v++) {
         if (uf[v] != v || !(cs[v][0] > 0 || cs[v][1] > 0)) continue;
         nreg++;
-        if (cs[v][2] < cs[v][0] && cs[v][3] <= cs[v][1]) smooth[v] = 1, nsm++;
+        if (fairer(cs[v][2], cs[v][3], cs[v][0], cs[v][1])) smooth[v] = 1, nsm++;
     }
     for (int v = 0; v < nv; v++) {
         int r = v;
@@ -464,12 +473,21 @@ static void gluing_choice(q2n_model *m)
         smooth[v] = smooth[r];
     }
     m->gluing_regions[0] = nreg;
-    if (nsm > 0 && nsm < nreg) { /* the mixed build: the chosen regions' vertices out of the polynomial gluing */
+    double fc[2] = {0, 0}; /* the candidate's extraordinary regions, against the first build's (tot) */
+    if (nsm > 0 && nsm < nreg) { /* the mixed build: the chosen regions' vertices out of the polynomial gluing (the
+                                    smoothsteps' build dropped first: two surfaces at a time, as the frame choice) */
+        set_aside(m, &b);
+        keep_second(&b);
+        m->surface = NULL, m->edge_iv = NULL;
         m->smooth_v = smooth;
         st = rebuild(m, &b);
-        keep_second(&b);
+        if (!st) q2n_surface_fairness_patches(m->surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads, fb);
     }
-    if (nsm > 0 && !st && m->folded <= a.folded) {
+    for (int f = 0; !st && nsm > 0 && f < nf; f++)
+        if (q2n_surface_kind(m->surface, f) == Q2N_PATCH_COONS_GREGORY) fc[0] += fb[f][0], fc[1] += fb[f][1];
+    /* the regions' jets are solved apart, but the construction's near-fold guard decides on the whole
+     * mesh: the mixed build is kept where it is the fairer on the whole too */
+    if (nsm > 0 && !st && m->folded <= a.folded && fairer(fc[0], fc[1], tot[0], tot[1])) {
         keep_second(&a);
         m->gluing_regions[1] = nsm;
     } else {

@@ -289,16 +289,28 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     int *comp = malloc(sizeof(int) * (8 * n4 + 1));
     pg_row *R = malloc(sizeof(pg_row) * 2 * n4);
     double *x = malloc(sizeof(double) * (8 * n4 + 1)), *x0 = malloc(sizeof(double) * (8 * n4 + 1));
-    double *D = B->K >= 2 ? malloc(sizeof(double) * (8 * n4 + 1)) : NULL, hmean = 0;
+    double *D = B->K >= 2 ? malloc(sizeof(double) * (8 * n4 + 1)) : NULL;
+    /* G2 patches: per region Σ |d u| and the count of sides (2 nv), then per face its region's mean (nf) */
+    double *hreg = B->K >= 2 ? calloc(2 * (size_t)m->nv + (size_t)nf + 1, sizeof(double)) : NULL, *hface = hreg ? hreg + 2 * m->nv : NULL;
     q2n_status st = Q2N_OK;
     *poly_edges = *border_edges = 0;
-    if (B->K >= 2 && !D) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
-    if (D) { /* G2 patches: the twists' unit (below) */
-        int ns = 0;
+    if (B->K >= 2 && (!D || !hreg || !uf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
+    if (D) { /* G2 patches: the twists' unit (below), per region of faces joined by their corners (whose
+              * equations and jets are apart from the other regions') */
+        for (int v = 0; v < m->nv; v++) uf[v] = v;
+        for (int i = 0; i < nf; i++)
+            for (int c = 1; c < 4; c++) {
+                int a = uf_find(uf, fv(m, faces[i], 0)), b = uf_find(uf, fv(m, faces[i], c));
+                if (a != b) uf[a < b ? b : a] = a < b ? a : b;
+            }
         for (int i = 0; i < nf; i++)
             for (int sd = 0; sd < 4; sd++)
-                if (X[i].side[sd].kind == 0) hmean += X[i].side[sd].d * hypot(X[i].side[sd].u0[0], X[i].side[sd].u0[1]), ns++;
-        hmean = ns > 0 && hmean > 0 ? hmean / ns : 1;
+                if (X[i].side[sd].kind == 0) {
+                    int r = uf_find(uf, fv(m, faces[i], 0));
+                    hreg[2 * r] += X[i].side[sd].d * hypot(X[i].side[sd].u0[0], X[i].side[sd].u0[1]), hreg[2 * r + 1]++;
+                }
+        for (int v = 0; v < m->nv; v++) hreg[2 * v] = hreg[2 * v + 1] > 0 && hreg[2 * v] > 0 ? hreg[2 * v] / hreg[2 * v + 1] : 1;
+        for (int i = 0; i < nf; i++) hface[i] = hreg[2 * uf_find(uf, fv(m, faces[i], 0))];
     }
     if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !cand || !qsv || !bix || !nbump || !bend || !best || !score || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
@@ -414,13 +426,16 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
                         }
                     }
                 }
-            /* G2 patches: the twists weighed in units of the mean edge vector d u in the charts (the rows
-             * are homogeneous in chart units, q and the slopes are ratios), so that the solution scales
-             * with the mesh (test_extraordinary's scaled cubes); G1 patches keep the unit weights they
-             * were measured with */
+            /* G2 patches: the twists weighed in units of their region's mean edge vector d u in the
+             * charts (the rows are homogeneous in chart units, q and the slopes are ratios), so that the
+             * solution scales with the mesh (test_extraordinary's scaled cubes) and a region's does not
+             * depend on the others' (until stop 55 one mean over every region); G1 patches keep the unit
+             * weights they were measured with */
             if (D) {
                 for (int k = 0; k < n; k++) D[k] = 1;
-                for (int k = 0; k < nr; k++) D[k] = 1 / (hmean * hmean);
+                for (int i = 0; i < nf; i++)
+                    for (int c = 0; c < 4; c++)
+                        if (rix[4 * i + c] >= 0) D[rix[4 * i + c]] = D[rix[4 * i + c] + 1] = 1 / (hface[i] * hface[i]);
             }
             if (n > 0 && (st = D ? pg_solve_exact(n, R, nrow, x0, D, x, err) : pg_solve(n, R, nrow, x0, x, err))) goto done;
             /* a q of the wrong sign: while its component may still take a bump (below), the bump comes
@@ -584,6 +599,7 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
 #undef VFREE
 done:
     free(D);
+    free(hreg);
     free(fidx);
     free(uf);
     free(worst);

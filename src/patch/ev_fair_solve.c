@@ -453,9 +453,56 @@ static void put_solution(fe_build *B, int nfaces, const double *X)
         for (int b = 0; b < CP_NBUB; b++) memcpy(B->bub[fi][b], X + 3 * (B->bvar[fi] + b), 3 * sizeof(double));
 }
 
+/* Per region of the faces (joined by their corners: the faces whose jets are solved together, apart
+ * from the others' but for this), the median of the values v: med[fi] for each face. */
+typedef struct reg_val {
+    int root;
+    double v;
+} reg_val;
+
+static int cmp_reg_val(const void *a, const void *b)
+{
+    const reg_val *x = a, *y = b;
+    return x->root != y->root ? (x->root < y->root ? -1 : 1) : (x->v < y->v ? -1 : x->v > y->v ? 1 : 0);
+}
+
+static int region_medians(const q2n_mesh *m, const int *faces, int nfaces, const double *v, double *med)
+{
+    int *uf = malloc(sizeof(int) * (size_t)(m->nv > 0 ? m->nv : 1));
+    reg_val *rv = malloc(sizeof(reg_val) * (size_t)(nfaces > 0 ? nfaces : 1));
+    if (!uf || !rv) { free(uf), free(rv); return -1; }
+    for (int i = 0; i < m->nv; i++) uf[i] = i;
+    for (int fi = 0; fi < nfaces; fi++) {
+        const int *fv = m->face_vert + m->face_start[faces[fi]];
+        for (int c = 1; c < 4; c++) {
+            int a = fv[0], b = fv[c];
+            while (uf[a] != a) a = uf[a] = uf[uf[a]];
+            while (uf[b] != b) b = uf[b] = uf[uf[b]];
+            if (a != b) uf[a < b ? b : a] = a < b ? a : b;
+        }
+    }
+    for (int fi = 0; fi < nfaces; fi++) {
+        int r = m->face_vert[m->face_start[faces[fi]]];
+        while (uf[r] != r) r = uf[r];
+        rv[fi] = (reg_val){r, v[fi]};
+    }
+    qsort(rv, (size_t)nfaces, sizeof *rv, cmp_reg_val);
+    for (int a = 0, b; a < nfaces; a = b) {
+        for (b = a; b < nfaces && rv[b].root == rv[a].root; b++) {}
+        uf[rv[a].root] = -1 - (a + (b - a) / 2); /* the region's median, by its root */
+    }
+    for (int fi = 0; fi < nfaces; fi++) {
+        int r = m->face_vert[m->face_start[faces[fi]]];
+        while (uf[r] >= 0 && uf[r] != r) r = uf[r];
+        med[fi] = rv[-1 - uf[r]].v;
+    }
+    free(uf), free(rv);
+    return 0;
+}
+
 /* A bending-only pass, the variation weights ω_F from its result, then the full pass (X: the
  * solution; v3, srt: nfaces doubles of work space). */
-static q2n_status energy_passes(const fe_build *B, fe_sys *Y, int nfaces, const fe_form *F, double *v3, double *srt,
+static q2n_status energy_passes(const fe_build *B, fe_sys *Y, const int *faces, int nfaces, const fe_form *F, double *v3, double *srt,
                                 const double *x0, double *X, q2n_error *err)
 {
     q2n_status st = fair_pass(B, Y, nfaces, F, NULL, 0, x0, X, err);
@@ -469,11 +516,13 @@ static q2n_status energy_passes(const fe_build *B, fe_sys *Y, int nfaces, const 
             for (int k = i; k < f->nl; k++)
                 e += (k == i ? 1 : 2) * f->K[1][pk(f->nl, i, k)] * q2n_v3_dot(xi, X + 3 * f->loc[k]);
         }
-        v3[fi] = srt[fi] = e;
+        v3[fi] = e;
     }
-    qsort(srt, (size_t)nfaces, sizeof *srt, cmp_dbl);
-    double cap = EV_FAIR_VAR_OUTLIER * srt[nfaces / 2];
-    for (int fi = 0; fi < nfaces; fi++) v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
+    if (region_medians(B->m, faces, nfaces, v3, srt)) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)");
+    for (int fi = 0; fi < nfaces; fi++) {
+        double cap = EV_FAIR_VAR_OUTLIER * srt[fi];
+        v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
+    }
     return fair_pass(B, Y, nfaces, F, v3, EV_FAIR_W3, x0, X, err);
 }
 
@@ -540,7 +589,7 @@ typedef struct fe_solve {
  * corners of faces that fold); *folded: their number. */
 static q2n_status solve_scan(fe_solve *S, const double *x0, double *X, int *folded, q2n_error *err)
 {
-    q2n_status st = energy_passes(S->B, S->Y, S->nfaces, S->F, S->v3, S->srt, x0, X, err);
+    q2n_status st = energy_passes(S->B, S->Y, S->faces, S->nfaces, S->F, S->v3, S->srt, x0, X, err);
     if (st) return st;
     put_solution(S->B, S->nfaces, X);
     *folded = fold_scan(S->B, S->faces, S->nfaces, S->P, S->FX, S->threads, S->held, &S->nheld);
