@@ -428,22 +428,14 @@ static void gluing_choice(q2n_model *m)
     double (*fa)[2] = malloc(sizeof *fa * (size_t)nf), (*fb)[2] = malloc(sizeof *fb * (size_t)nf);
     double (*cs)[4] = calloc((size_t)nv, sizeof *cs); /* per region (its root vertex): ripple, energy of both */
     int *uf = malloc(sizeof(int) * (size_t)nv);
-    char *smooth = calloc((size_t)nv, 1);
+    char *smooth = calloc((size_t)nv, 1), *evf = calloc((size_t)nf + 1, 1);
     q2n_mesh *fm = NULL;
     q2n_error e1;
-    if (!fa || !fb || !cs || !uf || !smooth || (m->frame_used && q2n_mesh_mapped(me, m->frame_A, &fm, &e1))) goto done;
+    if (!fa || !fb || !cs || !uf || !smooth || !evf || (m->frame_used && q2n_mesh_mapped(me, m->frame_A, &fm, &e1))) goto done;
     q2n_surface_fairness_patches(m->surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads, fa);
     /* the regions: extraordinary faces joined by their corners */
-    for (int v = 0; v < nv; v++) uf[v] = v;
-    for (int f = 0; f < nf; f++) {
-        if (q2n_surface_kind(m->surface, f) != Q2N_PATCH_COONS_GREGORY) continue;
-        for (int i = me->face_start[f] + 1; i < me->face_start[f + 1]; i++) {
-            int a = me->face_vert[me->face_start[f]], b = me->face_vert[i];
-            while (uf[a] != a) a = uf[a] = uf[uf[a]];
-            while (uf[b] != b) b = uf[b] = uf[uf[b]];
-            if (a != b) uf[a < b ? b : a] = a < b ? a : b;
-        }
-    }
+    for (int f = 0; f < nf; f++) evf[f] = q2n_surface_kind(m->surface, f) == Q2N_PATCH_COONS_GREGORY;
+    q2n_mesh_corner_regions(me, evf, uf);
     /* the smoothsteps' build, in the frame the build kept */
     built a, b;
     int used = m->frame_used;
@@ -456,8 +448,7 @@ static void gluing_choice(q2n_model *m)
     double tot[2] = {0, 0};
     for (int f = 0; f < nf; f++) {
         if (q2n_surface_kind(m->surface, f) != Q2N_PATCH_COONS_GREGORY) continue;
-        int r = me->face_vert[me->face_start[f]];
-        while (uf[r] != r) r = uf[r];
+        int r = uf[me->face_vert[me->face_start[f]]];
         cs[r][0] += fa[f][0], cs[r][1] += fa[f][1], cs[r][2] += fb[f][0], cs[r][3] += fb[f][1];
         tot[0] += fa[f][0], tot[1] += fa[f][1];
     }
@@ -467,11 +458,7 @@ static void gluing_choice(q2n_model *m)
         nreg++;
         if (fairer(cs[v][2], cs[v][3], cs[v][0], cs[v][1])) smooth[v] = 1, nsm++;
     }
-    for (int v = 0; v < nv; v++) {
-        int r = v;
-        while (uf[r] != r) r = uf[r];
-        smooth[v] = smooth[r];
-    }
+    for (int v = 0; v < nv; v++) smooth[v] = smooth[uf[v]];
     m->gluing_regions[0] = nreg;
     double fc[2] = {0, 0}; /* the candidate's extraordinary regions, against the first build's (tot) */
     if (nsm > 0 && nsm < nreg) { /* the mixed build: the chosen regions' vertices out of the polynomial gluing (the
@@ -498,7 +485,7 @@ reset:
     m->smooth_v = NULL;
 done:
     q2n_mesh_free(fm);
-    free(fa), free(fb), free(cs), free(uf), free(smooth);
+    free(fa), free(fb), free(cs), free(uf), free(smooth), free(evf);
 }
 
 /* Where the mesh is flat, does the surface stay flat?  A warning with the remedy when it leaves the

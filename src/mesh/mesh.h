@@ -189,6 +189,12 @@ double q2n_mesh_isotropic_frame(const q2n_mesh *m, double A[3][3], double Ainv[3
  * makes an edge or a face degenerate). */
 q2n_status q2n_mesh_mapped(const q2n_mesh *m, const double A[3][3], q2n_mesh **out, q2n_error *err);
 
+/* The regions of a set of faces (in_set[f] != 0) joined by their corners: root[v] (nv ints) the
+ * smallest vertex of the region whose faces vertex v is a corner of, v itself where it is a corner of
+ * none.  The extraordinary regions' construction solves each region apart (patch/ev_fair*.c) and the
+ * model chooses their gluing per region (api/model.c). */
+void q2n_mesh_corner_regions(const q2n_mesh *m, const char *in_set, int *root);
+
 /* ---- half-edge navigation (all O(1)) ---- */
 static inline int q2n_he_face(const q2n_mesh *m, int h) { return m->he_face[h]; }
 static inline int q2n_he_twin(const q2n_mesh *m, int h) { return m->he_twin[h]; }

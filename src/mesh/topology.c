@@ -752,3 +752,14 @@ q2n_status q2n_mesh_ribbons(const q2n_mesh *m, int **ribbon, int *nribbons, q2n_
     *nribbons = n;
     return Q2N_OK;
 }
+
+void q2n_mesh_corner_regions(const q2n_mesh *m, const char *in_set, int *root)
+{
+    for (int v = 0; v < m->nv; v++) root[v] = v;
+    for (int f = 0; f < m->nf; f++) {
+        if (!in_set[f]) continue;
+        const int *fv = m->face_vert + m->face_start[f];
+        for (int i = 1; i < q2n_face_size(m, f); i++) uf_union(root, fv[0], fv[i]);
+    }
+    for (int v = 0; v < m->nv; v++) root[v] = uf_find(root, v); /* the smallest vertex: union keeps it */
+}

@@ -297,20 +297,19 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     if (B->K >= 2 && (!D || !hreg || !uf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
     if (D) { /* G2 patches: the twists' unit (below), per region of faces joined by their corners (whose
               * equations and jets are apart from the other regions') */
-        for (int v = 0; v < m->nv; v++) uf[v] = v;
-        for (int i = 0; i < nf; i++)
-            for (int c = 1; c < 4; c++) {
-                int a = uf_find(uf, fv(m, faces[i], 0)), b = uf_find(uf, fv(m, faces[i], c));
-                if (a != b) uf[a < b ? b : a] = a < b ? a : b;
-            }
+        char *in = calloc((size_t)m->nf + 1, 1);
+        if (!in) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
+        for (int i = 0; i < nf; i++) in[faces[i]] = 1;
+        q2n_mesh_corner_regions(m, in, uf);
+        free(in);
         for (int i = 0; i < nf; i++)
             for (int sd = 0; sd < 4; sd++)
                 if (X[i].side[sd].kind == 0) {
-                    int r = uf_find(uf, fv(m, faces[i], 0));
+                    int r = uf[fv(m, faces[i], 0)];
                     hreg[2 * r] += X[i].side[sd].d * hypot(X[i].side[sd].u0[0], X[i].side[sd].u0[1]), hreg[2 * r + 1]++;
                 }
         for (int v = 0; v < m->nv; v++) hreg[2 * v] = hreg[2 * v + 1] > 0 && hreg[2 * v] > 0 ? hreg[2 * v] / hreg[2 * v + 1] : 1;
-        for (int i = 0; i < nf; i++) hface[i] = hreg[2 * uf_find(uf, fv(m, faces[i], 0))];
+        for (int i = 0; i < nf; i++) hface[i] = hreg[2 * uf[fv(m, faces[i], 0)]];
     }
     if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !cand || !qsv || !bix || !nbump || !bend || !best || !score || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");

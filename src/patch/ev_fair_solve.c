@@ -468,35 +468,20 @@ static int cmp_reg_val(const void *a, const void *b)
 
 static int region_medians(const q2n_mesh *m, const int *faces, int nfaces, const double *v, double *med)
 {
-    int *uf = malloc(sizeof(int) * (size_t)(m->nv > 0 ? m->nv : 1));
+    int *root = malloc(sizeof(int) * (size_t)(m->nv > 0 ? m->nv : 1)), *mid = malloc(sizeof(int) * (size_t)(m->nv > 0 ? m->nv : 1));
+    char *in = calloc((size_t)m->nf + 1, 1);
     reg_val *rv = malloc(sizeof(reg_val) * (size_t)(nfaces > 0 ? nfaces : 1));
-    if (!uf || !rv) { free(uf), free(rv); return -1; }
-    for (int i = 0; i < m->nv; i++) uf[i] = i;
-    for (int fi = 0; fi < nfaces; fi++) {
-        const int *fv = m->face_vert + m->face_start[faces[fi]];
-        for (int c = 1; c < 4; c++) {
-            int a = fv[0], b = fv[c];
-            while (uf[a] != a) a = uf[a] = uf[uf[a]];
-            while (uf[b] != b) b = uf[b] = uf[uf[b]];
-            if (a != b) uf[a < b ? b : a] = a < b ? a : b;
-        }
-    }
-    for (int fi = 0; fi < nfaces; fi++) {
-        int r = m->face_vert[m->face_start[faces[fi]]];
-        while (uf[r] != r) r = uf[r];
-        rv[fi] = (reg_val){r, v[fi]};
-    }
+    if (!root || !mid || !in || !rv) { free(root), free(mid), free(in), free(rv); return -1; }
+    for (int fi = 0; fi < nfaces; fi++) in[faces[fi]] = 1;
+    q2n_mesh_corner_regions(m, in, root);
+    for (int fi = 0; fi < nfaces; fi++) rv[fi] = (reg_val){root[m->face_vert[m->face_start[faces[fi]]]], v[fi]};
     qsort(rv, (size_t)nfaces, sizeof *rv, cmp_reg_val);
     for (int a = 0, b; a < nfaces; a = b) {
         for (b = a; b < nfaces && rv[b].root == rv[a].root; b++) {}
-        uf[rv[a].root] = -1 - (a + (b - a) / 2); /* the region's median, by its root */
+        mid[rv[a].root] = a + (b - a) / 2; /* the region's median, by its root */
     }
-    for (int fi = 0; fi < nfaces; fi++) {
-        int r = m->face_vert[m->face_start[faces[fi]]];
-        while (uf[r] >= 0 && uf[r] != r) r = uf[r];
-        med[fi] = rv[-1 - uf[r]].v;
-    }
-    free(uf), free(rv);
+    for (int fi = 0; fi < nfaces; fi++) med[fi] = rv[mid[root[m->face_vert[m->face_start[faces[fi]]]]]].v;
+    free(root), free(mid), free(in), free(rv);
     return 0;
 }
 
