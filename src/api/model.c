@@ -401,6 +401,13 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
                  f[0].energy, fk->energy);
 }
 
+/* Does a build of ripple r and energy e beat one of r0, e0: less ripple, and no more energy, both beyond
+ * what the figures' quadrature can tell (Q2N_MODEL_GLUING_TIE)? */
+static int fairer(double r, double e, double r0, double e0)
+{
+    return r < r0 * (1 - Q2N_MODEL_GLUING_TIE) && e <= e0 * (1 + Q2N_MODEL_GLUING_TIE);
+}
+
 /* The gluing choice (G2 patches, docs/extraordinary.md, "The gluing chosen per region"): the polynomial
  * gluing ripples less than the smoothsteps on most meshes, but not everywhere (a cube: every edge's β
  * changes sign between its ends and the twists it forces are twice its edge vectors).  So the
@@ -409,15 +416,9 @@ static void frame_choice(q2n_model *m, int ev_patch, int smooth_gluing, int nw0)
  * vertices' jets and on the regular patches around them only — keeps the gluing that is the fairer
  * there by issue 11's figures on the construction (patch/fairness.h): the smoothsteps where they ripple
  * less and bend no more.  Where some regions but not all change, a third build glues those by
- * smoothsteps (their vertices kept out of the polynomial gluing) and the rest as before; it is kept if
- * it folds on no more faces.  A build that fails keeps the first. */
-/* Does a build of ripple r and energy e beat one of r0, e0: less ripple, and no more energy, both beyond
- * what the figures' quadrature can tell (Q2N_MODEL_GLUING_TIE)? */
-static int fairer(double r, double e, double r0, double e0)
-{
-    return r < r0 * (1 - Q2N_MODEL_GLUING_TIE) && e <= e0 * (1 + Q2N_MODEL_GLUING_TIE);
-}
-
+ * smoothsteps (their vertices kept out of the polynomial gluing) and the rest as before.  The build with
+ * smoothsteps is kept if it folds on no more faces and is the fairer on the whole as well (the
+ * construction's near-fold guard decides on the whole mesh).  A build that fails keeps the first. */
 static void gluing_choice(q2n_model *m)
 {
     const q2n_mesh *me = m->mesh;
