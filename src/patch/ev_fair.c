@@ -478,8 +478,10 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_
     B.base = malloc((size_t)m->ne * sizeof *B.base);
     B.bvar = malloc((size_t)m->nf * sizeof *B.bvar);
     B.bub = calloc((size_t)m->nf, sizeof *B.bub);
+    B.region = malloc((size_t)m->nv * sizeof *B.region);
     if (stats) memset(stats, 0, sizeof *stats);
-    if (!vj || !dir || !unc || !faces || !jet0 || !flat || !flatn || !X || !CP || !B.jet || !B.var || !B.base || !B.bvar || !B.bub) {
+    if (!vj || !dir || !unc || !faces || !jet0 || !flat || !flatn || !X || !CP || !B.jet || !B.var || !B.base || !B.bvar || !B.bub ||
+        !B.region) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair extraordinary construction)");
         goto done;
     }
@@ -487,6 +489,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_
     B.unc = unc;
     for (int f = 0; f < m->nf; f++)
         if ((unc[f] = q2n_surface_kind(s, f) == Q2N_PATCH_UNCOVERED)) faces[nf++] = f;
+    q2n_mesh_corner_regions(m, unc, B.region);
     if (K == 1 && poly_gluing && !(cross = border_cross(m, unc))) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair extraordinary construction)");
         goto done;
@@ -614,6 +617,7 @@ done:
     free(B.jet);
     free(B.var);
     free(B.base);
+    free(B.region);
     free(B.bvar);
     free(B.bub);
     free(B.ridge);

@@ -93,6 +93,13 @@ int q2n_ev_fair_base_side(const fe_build *B, const int *faces, const int *fidx, 
     return *sdF >= 0 ? gi : -1;
 }
 
+int q2n_ev_fair_derived_base(const fe_build *B, const int *faces, const int *fidx, const fe_ctx *X, int i, int sd, int *sdF)
+{
+    const fe_side *S = &X[i].side[sd];
+    *sdF = -1;
+    return S->kind == 0 && S->derived ? q2n_ev_fair_base_side(B, faces, fidx, i, sd, sdF) : -1;
+}
+
 static int uf_find(int *p, int a)
 {
     while (p[a] != a) a = p[a] = p[p[a]];
@@ -294,22 +301,17 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
     double *hreg = B->K >= 2 ? calloc(2 * (size_t)m->nv + (size_t)nf + 1, sizeof(double)) : NULL, *hface = hreg ? hreg + 2 * m->nv : NULL;
     q2n_status st = Q2N_OK;
     *poly_edges = *border_edges = 0;
-    if (B->K >= 2 && (!D || !hreg || !uf)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
+    if (B->K >= 2 && (!D || !hreg)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
     if (D) { /* G2 patches: the twists' unit (below), per region of faces joined by their corners (whose
               * equations and jets are apart from the other regions') */
-        char *in = calloc((size_t)m->nf + 1, 1);
-        if (!in) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)"); goto done; }
-        for (int i = 0; i < nf; i++) in[faces[i]] = 1;
-        q2n_mesh_corner_regions(m, in, uf);
-        free(in);
         for (int i = 0; i < nf; i++)
             for (int sd = 0; sd < 4; sd++)
                 if (X[i].side[sd].kind == 0) {
-                    int r = uf[fv(m, faces[i], 0)];
+                    int r = B->region[fv(m, faces[i], 0)];
                     hreg[2 * r] += X[i].side[sd].d * hypot(X[i].side[sd].u0[0], X[i].side[sd].u0[1]), hreg[2 * r + 1]++;
                 }
         for (int v = 0; v < m->nv; v++) hreg[2 * v] = hreg[2 * v + 1] > 0 && hreg[2 * v] > 0 ? hreg[2 * v] / hreg[2 * v + 1] : 1;
-        for (int i = 0; i < nf; i++) hface[i] = hreg[2 * uf[fv(m, faces[i], 0)]];
+        for (int i = 0; i < nf; i++) hface[i] = hreg[2 * B->region[fv(m, faces[i], 0)]];
     }
     if (!fidx || !uf || !worst || !vin || !vpin || !cbad || !vabs || !vfq || !cubic || !knoff || !kq || !bumped || !cand || !qsv || !bix || !nbump || !bend || !best || !score || !rix || !qix || !six || !comp || !R || !x || !x0) {
         st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (polynomial gluing)");
@@ -392,9 +394,9 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
             for (int i = 0; i < nf; i++)
                 for (int sd = 0; sd < 4; sd++) {
                     const fe_side *S = &X[i].side[sd];
-                    if (S->kind != 0 || !S->derived) continue;
-                    int sdF, gi = q2n_ev_fair_base_side(B, faces, fidx, i, sd, &sdF), f = faces[i], g = gi >= 0 ? faces[gi] : -1;
+                    int sdF, gi = q2n_ev_fair_derived_base(B, faces, fidx, X, i, sd, &sdF);
                     if (gi < 0) continue;
+                    int f = faces[i], g = faces[gi];
                     int k = 4 * i + sd, qi = qix[k];
                     for (int end = 0; end < 2; end++) {
                         int c = end ? S->c1 : S->c0, v = fv(m, f, c);

@@ -42,24 +42,13 @@ static int corner_at(const q2n_mesh *m, int f, int v)
     return -1;
 }
 
-/* C = A B for scalar bivariate polynomials truncated at a², b² (c[i][j]: the a^i b^j coefficient). */
-static void bp3_mul(const double A[3][3], const double B[3][3], double C[3][3])
-{
-    double R[3][3] = {{0}};
-    for (int i1 = 0; i1 < 3; i1++)
-        for (int j1 = 0; j1 < 3; j1++)
-            if (A[i1][j1] != 0)
-                for (int i2 = 0; i1 + i2 < 3; i2++)
-                    for (int j2 = 0; j1 + j2 < 3; j2++) R[i1 + i2][j1 + j2] += A[i1][j1] * B[i2][j2];
-    memcpy(C, R, sizeof R);
-}
-
 /* G = F ∘ ψ truncated at a², b², F a chart-valued corner map (F[0][0] = 0), ψ from the Taylor
- * coefficients of α̃, B, A2, B2 about a = 0. */
+ * coefficients of α̃, B, A2, B2 about a = 0 (the products through ev_jet4.h's, whose terms beyond a² are
+ * left out). */
 static void compose(const double F[3][3][2], const double al[3], const double bt[3], const double ta[3], const double tb[3],
                     double G[3][3][2])
 {
-    double ap[3][3][3], bp[3][3][3]; /* powers 0..2 of a' and b' */
+    double ap[3][EV_MA][EV_MB], bp[3][EV_MA][EV_MB]; /* powers 0..2 of a' and b' */
     memset(ap, 0, sizeof ap);
     memset(bp, 0, sizeof bp);
     ap[0][0][0] = bp[0][0][0] = 1;
@@ -70,14 +59,14 @@ static void compose(const double F[3][3][2], const double al[3], const double bt
         bp[1][i][1] += al[i];
         bp[1][i][2] += 0.5 * ta[i];
     }
-    bp3_mul(ap[1], ap[1], ap[2]);
-    bp3_mul(bp[1], bp[1], bp[2]);
+    ev_bp_mul((const double (*)[EV_MB])ap[1], (const double (*)[EV_MB])ap[1], ap[2]);
+    ev_bp_mul((const double (*)[EV_MB])bp[1], (const double (*)[EV_MB])bp[1], bp[2]);
     memset(G, 0, sizeof(double) * 18);
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
             if (F[i][j][0] == 0 && F[i][j][1] == 0) continue;
-            double P[3][3];
-            bp3_mul(ap[i], bp[j], P);
+            double P[EV_MA][EV_MB];
+            ev_bp_mul((const double (*)[EV_MB])ap[i], (const double (*)[EV_MB])bp[j], P);
             for (int k = 0; k < 3; k++)
                 for (int l = 0; l < 3; l++)
                     for (int c = 0; c < 2; c++) G[k][l][c] += P[k][l] * F[i][j][c];
@@ -136,9 +125,9 @@ q2n_status q2n_ev_fair_poly_gluing2(const fe_build *B, const int *faces, int nf,
     for (int i = 0; i < nf; i++)
         for (int sd = 0; sd < 4; sd++) {
             const fe_side *S = &X[i].side[sd];
-            if (S->kind != 0 || !S->derived) continue;
-            int sdF, gi = q2n_ev_fair_base_side(B, faces, fidx, i, sd, &sdF), f = faces[i], g = gi >= 0 ? faces[gi] : -1;
+            int sdF, gi = q2n_ev_fair_derived_base(B, faces, fidx, X, i, sd, &sdF);
             if (gi < 0) continue;
+            int f = faces[i], g = faces[gi];
             for (int end = 0; end < 2; end++) {
                 g2_rel *R = &rel[nrel];
                 int cG = end ? S->c1 : S->c0, v = fv(m, f, cG), cF = corner_at(m, g, v);

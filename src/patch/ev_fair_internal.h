@@ -133,6 +133,9 @@ typedef struct fe_build {
     const char *unc;
     int K, kb;
     int *base;                  /* per edge: base face (-1 when not constructed) */
+    int *region;                /* per vertex: its region, the smallest vertex of the listed faces joined
+                                   by their corners that it is a corner of (q2n_mesh_corner_regions): each
+                                   region's jets are solved apart from the others' */
     double (*jet)[EV_JS][3];    /* per vertex: current jet values */
     int *var;                   /* per vertex and slot: unknown index or -1 (fixed) */
     int *bvar;                  /* per face of the list: first of its CP_NBUB bubble unknowns */
@@ -185,6 +188,8 @@ q2n_status q2n_ev_fair_poly_gluing(const fe_build *B, const int *faces, int nf, 
  * (fidx: per mesh face its index, -1 when not listed), and *sdF its side on that edge; -1 when the base
  * face is not in the list or the side is no constructed one (ev_fair_gluing.c). */
 int q2n_ev_fair_base_side(const fe_build *B, const int *faces, const int *fidx, int i, int sd, int *sdF);
+/* The same for a derived side only (its base face the other face on its edge): -1 for a base side too. */
+int q2n_ev_fair_derived_base(const fe_build *B, const int *faces, const int *fidx, const fe_ctx *X, int i, int sd, int *sdF);
 
 /* ------------------------------------------------------------ ev_fair_gluing2.c */
 

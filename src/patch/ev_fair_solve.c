@@ -453,8 +453,7 @@ static void put_solution(fe_build *B, int nfaces, const double *X)
         for (int b = 0; b < CP_NBUB; b++) memcpy(B->bub[fi][b], X + 3 * (B->bvar[fi] + b), 3 * sizeof(double));
 }
 
-/* Per region of the faces (joined by their corners: the faces whose jets are solved together, apart
- * from the others' but for this), the median of the values v: med[fi] for each face. */
+/* Per region of the listed faces (fe_build.region), the median of the values v: med[fi] for each face. */
 typedef struct reg_val {
     int root;
     double v;
@@ -466,14 +465,13 @@ static int cmp_reg_val(const void *a, const void *b)
     return x->root != y->root ? (x->root < y->root ? -1 : 1) : (x->v < y->v ? -1 : x->v > y->v ? 1 : 0);
 }
 
-static int region_medians(const q2n_mesh *m, const int *faces, int nfaces, const double *v, double *med)
+static int region_medians(const fe_build *B, const int *faces, int nfaces, const double *v, double *med)
 {
-    int *root = malloc(sizeof(int) * (size_t)(m->nv > 0 ? m->nv : 1)), *mid = malloc(sizeof(int) * (size_t)(m->nv > 0 ? m->nv : 1));
-    char *in = calloc((size_t)m->nf + 1, 1);
+    const q2n_mesh *m = B->m;
+    const int *root = B->region;
+    int *mid = malloc(sizeof(int) * (size_t)(m->nv > 0 ? m->nv : 1));
     reg_val *rv = malloc(sizeof(reg_val) * (size_t)(nfaces > 0 ? nfaces : 1));
-    if (!root || !mid || !in || !rv) { free(root), free(mid), free(in), free(rv); return -1; }
-    for (int fi = 0; fi < nfaces; fi++) in[faces[fi]] = 1;
-    q2n_mesh_corner_regions(m, in, root);
+    if (!mid || !rv) { free(mid), free(rv); return -1; }
     for (int fi = 0; fi < nfaces; fi++) rv[fi] = (reg_val){root[m->face_vert[m->face_start[faces[fi]]]], v[fi]};
     qsort(rv, (size_t)nfaces, sizeof *rv, cmp_reg_val);
     for (int a = 0, b; a < nfaces; a = b) {
@@ -481,7 +479,7 @@ static int region_medians(const q2n_mesh *m, const int *faces, int nfaces, const
         mid[rv[a].root] = a + (b - a) / 2; /* the region's median, by its root */
     }
     for (int fi = 0; fi < nfaces; fi++) med[fi] = rv[mid[root[m->face_vert[m->face_start[faces[fi]]]]]].v;
-    free(root), free(mid), free(in), free(rv);
+    free(mid), free(rv);
     return 0;
 }
 
@@ -503,7 +501,7 @@ static q2n_status energy_passes(const fe_build *B, fe_sys *Y, const int *faces, 
         }
         v3[fi] = e;
     }
-    if (region_medians(B->m, faces, nfaces, v3, srt)) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)");
+    if (region_medians(B, faces, nfaces, v3, srt)) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)");
     for (int fi = 0; fi < nfaces; fi++) {
         double cap = EV_FAIR_VAR_OUTLIER * srt[fi];
         v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
