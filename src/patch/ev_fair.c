@@ -450,6 +450,38 @@ static char *border_cross(const q2n_mesh *m, const char *unc)
     return cross;
 }
 
+/* The faces that fold in the current construction, kept out of the gluing in the next one: with
+ * regions 0, every vertex of a face that has a corner of a folded face goes into pin (the folded faces
+ * and the ring of faces around them), the number of folded faces returned; with regions 1, pin
+ * becomes pin_used's vertices (the construction's own) and every vertex of a region (B->region) with
+ * a folded face, the number of vertices of listed faces left out of pin returned.  -1 out of memory. */
+static int pin_folds(const fe_build *B, const fe_inputs *in, char *pin, const char *pin_used, int regions)
+{
+    const q2n_mesh *m = B->m;
+    int nf = in->nf;
+    signed char *r = malloc((size_t)(nf ? nf : 1));
+    char *hit = calloc((size_t)m->nv, 1);
+    int n = r && hit ? q2n_ev_fair_folded(B, in->faces, nf, in->CP, in->X, in->threads, r) : -1;
+    for (int i = 0; i < nf && n >= 0; i++)
+        if (r[i]) {
+            if (regions) hit[B->region[m->face_vert[m->face_start[in->faces[i]]]]] = 1;
+            else mark_corners(m, in->faces[i], hit);
+        }
+    if (n >= 0 && regions) {
+        for (int v = 0; v < m->nv; v++) pin[v] = (pin_used && pin_used[v]) || hit[B->region[v]];
+        n = 0;
+        for (int i = 0; i < nf; i++)
+            for (int c = 0; c < 4; c++) n += !pin[m->face_vert[m->face_start[in->faces[i]] + c]];
+    }
+    for (int i = 0; i < nf && n > 0 && !regions; i++) {
+        int near = 0;
+        for (int c = 0; c < 4; c++) near |= hit[m->face_vert[m->face_start[in->faces[i]] + c]];
+        if (near) mark_corners(m, in->faces[i], pin);
+    }
+    free(r), free(hit);
+    return n;
+}
+
 q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_surface *s, const double *iv, const q2n_spline_class *cls, int K,
                          int keep_flat, int poly_gluing, const char *smooth_v, int threads, ev_fair_stats *stats, q2n_error *err)
 {
@@ -559,6 +591,7 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_
     B.border_flat = cross != NULL;
     if ((st = construct(&B, &in, poly, smooth_v, &R, err))) goto done;
     if (R.border_edges > 0 && (st = border_shear(&B, &in, &R, &S0, err))) goto done;
+    const char *pin_used = smooth_v; /* the vertices the kept construction kept out of the gluing */
     if (poly && R.poly_edges > 0) {
         if (!(gpin = calloc((size_t)m->nv, 1))) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
         int nbad = near_folds(&B, faces, nf, X, CP, threads, gpin);
@@ -573,13 +606,31 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_
             if (!(nbad2 >= 0 && nbad2 < nbad && R.folds <= folds0)) { /* the guard did not help */
                 state_restore(&S0, &B, &in, &R);
                 if (stats) stats->jac_pinned_faces = 0;
+            } else {
+                pin_used = gpin;
             }
         }
-        if (R.folds > 0 && R.poly_edges > 0) { /* the smoothsteps where they fold on fewer faces */
+        if (R.folds > 0 && R.poly_edges > 0) {
+            /* where faces fold: first their neighbourhoods out of the gluing, growing while each round
+             * folds on fewer faces (at most EV_POLY_FOLD_ROUNDS), kept where none is left; then the
+             * smoothsteps in the regions that still fold (regions are solved apart), then everywhere,
+             * each kept where it folds on fewer faces than the gluing did */
             int folds0 = R.folds;
             if (!state_save(&S0, &B, &in, &R)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
-            if ((st = construct(&B, &in, 0, NULL, &R, err))) goto done;
-            if (!(R.folds < folds0)) state_restore(&S0, &B, &in, &R);
+            for (int v = 0; v < m->nv; v++) gpin[v] = pin_used && pin_used[v];
+            for (int round = 0, prev = folds0; round < EV_POLY_FOLD_ROUNDS && R.folds > 0 && R.poly_edges > 0; round++) {
+                if (pin_folds(&B, &in, gpin, NULL, 0) < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+                if ((st = construct(&B, &in, 1, gpin, &R, err))) goto done;
+                if (!(R.folds < prev)) break;
+                prev = R.folds;
+            }
+            if (R.folds > 0) { /* back to the gluing's construction, its folded regions with the smoothsteps */
+                state_restore(&S0, &B, &in, &R);
+                int left = pin_folds(&B, &in, gpin, pin_used, 1);
+                if (left < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+                if ((st = construct(&B, &in, left > 0, left > 0 ? gpin : NULL, &R, err))) goto done;
+                if (!(R.folds < folds0)) state_restore(&S0, &B, &in, &R);
+            }
         }
     }
     int poly_edges = R.poly_edges, held = R.held, folds = R.folds, shrinks = R.shrinks;

@@ -211,6 +211,11 @@ void q2n_ev_fair_glue_taylor(const fe_side *S, int e, double al[3], double bt[3]
 /* Smallest |S_u x S_v| of patch i (context FX) on a grid, over its median (near 0: nearly folded). */
 double q2n_ev_fair_jacobian_ratio(const fe_build *B, int i, int f, const fe_ctx *FX, const cp_patch *P);
 
+/* The faces of the list whose patches fold over (r[i] 1, else 0); their number, -1 out of memory or
+ * where one cannot be evaluated. */
+int q2n_ev_fair_folded(const fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX, int threads,
+                       signed char *r);
+
 /* The energy solve over the nfaces faces of the list (their patches P, contexts FX): the jets'
  * and bubbles' values in B become the minimiser, with the fold guard; *held_vertices, *folds_left
  * and *shrinks describe the result (docs/extraordinary.md, "The fair construction", 5). */

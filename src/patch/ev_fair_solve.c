@@ -523,22 +523,34 @@ static void fold_one(void *arg, int fi)
     a->r[fi] = (signed char)patch_folds(a->B, fi, a->faces[fi], &a->FX[fi], &a->P[fi]);
 }
 
-/* The folded faces of the current solution (patch_folds, on `threads` workers); the corners of
- * each that are not held yet are held from now on (their jets of orders 1 and 2 get the
- * EV_FOLD_HOLD ridge), counted in *held_vertices.  Returns the number of folded faces, -1 out of
- * memory. */
+/* The faces of the list whose patches fold in the current solution (patch_folds, on `threads`
+ * workers): r[i] 1 or 0 per face of the list; the number folded, -1 when one cannot be evaluated
+ * or out of memory. */
+int q2n_ev_fair_folded(const fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX, int threads,
+                       signed char *r)
+{
+    fold_arg a = {B, faces, P, FX, r};
+    q2n_par_for(nfaces, threads, fold_one, &a);
+    int folded = 0;
+    for (int fi = 0; fi < nfaces; fi++) {
+        if (r[fi] < 0) return -1;
+        folded += r[fi];
+    }
+    return folded;
+}
+
+/* The folded faces of the current solution (q2n_ev_fair_folded); the corners of each that are not
+ * held yet are held from now on (their jets of orders 1 and 2 get the EV_FOLD_HOLD ridge), counted
+ * in *held_vertices.  Returns the number of folded faces, -1 out of memory. */
 static int fold_scan(fe_build *B, const int *faces, int nfaces, const cp_patch *P, const fe_ctx *FX, int threads,
                      char *held, int *held_vertices)
 {
     const q2n_mesh *m = B->m;
-    fold_arg a = {B, faces, P, FX, malloc((size_t)nfaces)};
-    if (!a.r) return -1;
-    q2n_par_for(nfaces, threads, fold_one, &a);
-    int folded = 0;
-    for (int fi = 0; fi < nfaces; fi++) {
-        if (a.r[fi] < 0) { folded = -1; break; }
-        if (!a.r[fi]) continue;
-        folded++;
+    signed char *r = malloc((size_t)(nfaces ? nfaces : 1));
+    if (!r) return -1;
+    int folded = q2n_ev_fair_folded(B, faces, nfaces, P, FX, threads, r);
+    for (int fi = 0; fi < nfaces && folded > 0; fi++) {
+        if (!r[fi]) continue;
         for (int c = 0; c < 4; c++) {
             int v = m->face_vert[m->face_start[faces[fi]] + c];
             if (held[v]) continue;
@@ -548,7 +560,7 @@ static int fold_scan(fe_build *B, const int *faces, int nfaces, const cp_patch *
                 if (B->var[v * EV_JS + k] >= 0) B->ridge[B->var[v * EV_JS + k]] = RIDGE_HELD;
         }
     }
-    free(a.r);
+    free(r);
     return folded;
 }
 
