@@ -528,25 +528,31 @@ static q2n_mesh *cube_alone(void)
     return mg_finish(8, pos, 6, fs, fvv, "cube");
 }
 
+/* Two shells in one mesh: b moved by shift along x after a's vertices and faces (both freed); NULL if
+ * either is. */
+static q2n_mesh *shells(q2n_mesh *a, q2n_mesh *b, double shift, const char *name)
+{
+    if (!a || !b) { q2n_mesh_free(a), q2n_mesh_free(b); return NULL; }
+    int nv = a->nv + b->nv, nf = a->nf + b->nf, na = a->face_start[a->nf], nfv = na + b->face_start[b->nf];
+    double *pos = malloc(sizeof(double) * 3 * (size_t)nv);
+    int *fs = malloc(sizeof(int) * ((size_t)nf + 1)), *fvv = malloc(sizeof(int) * (size_t)nfv);
+    if (pos && fs && fvv) {
+        for (int v = 0; v < nv; v++)
+            for (int c = 0; c < 3; c++) pos[3 * v + c] = v < a->nv ? q2n_mesh_vpos(a, v)[c] : q2n_mesh_vpos(b, v - a->nv)[c] + (c == 0 ? shift : 0);
+        for (int f = 0; f <= a->nf; f++) fs[f] = a->face_start[f];
+        for (int f = 0; f <= b->nf; f++) fs[a->nf + f] = na + b->face_start[f];
+        for (int i = 0; i < nfv; i++) fvv[i] = i < na ? a->face_vert[i] : a->nv + b->face_vert[i - na];
+    }
+    q2n_mesh_free(a), q2n_mesh_free(b);
+    if (!pos || !fs || !fvv) { free(pos), free(fs), free(fvv); return NULL; }
+    return mg_finish(nv, pos, nf, fs, fvv, name);
+}
+
 /* Two shells in one mesh, far apart: a cube (six quads, eight valence-3 vertices) and the icosahedron
  * split into quads: two extraordinary regions. */
 static q2n_mesh *cube_and_icosahedron(void)
 {
-    q2n_mesh *ic = mg_icosa_quad(0, 1);
-    if (!ic) return NULL;
-    int nv = 8 + ic->nv, nf = 6 + ic->nf, nfv = 24 + ic->face_start[ic->nf];
-    double *pos = malloc(sizeof(double) * 3 * (size_t)nv);
-    int *fs = malloc(sizeof(int) * ((size_t)nf + 1)), *fvv = malloc(sizeof(int) * (size_t)nfv);
-    if (!pos || !fs || !fvv) { free(pos), free(fs), free(fvv), q2n_mesh_free(ic); return NULL; }
-    memcpy(pos, cube_v, sizeof cube_v);
-    for (int v = 0; v < ic->nv; v++)
-        for (int c = 0; c < 3; c++) pos[3 * (8 + v) + c] = q2n_mesh_vpos(ic, v)[c] + (c == 0 ? 5 : 0);
-    for (int f = 0; f < 6; f++) fs[f] = 4 * f;
-    memcpy(fvv, cube_f, sizeof cube_f);
-    for (int f = 0; f <= ic->nf; f++) fs[6 + f] = 24 + ic->face_start[f];
-    for (int i = 0; i < ic->face_start[ic->nf]; i++) fvv[24 + i] = 8 + ic->face_vert[i];
-    q2n_mesh_free(ic);
-    return mg_finish(nv, pos, nf, fs, fvv, "cube and icosahedron");
+    return shells(cube_alone(), mg_icosa_quad(0, 1), 5, "cube and icosahedron");
 }
 
 /* The gluing chosen per region (G2 patches, api/model.c gluing_choice, docs/extraordinary.md "The gluing
@@ -634,6 +640,56 @@ static void gluing_choice(void)
     for (int k = 0; k < 3; k++) q2n_model_free(m[k]);
 }
 
+/* The fold fallback where the faces fold (ev_fair.c, docs/extraordinary.md "Where the gluing folds"):
+ * a plate 100 times thinner than wide beside a quad icosahedron, G2 patches.  Glued by polynomials the
+ * plate folds on 12 faces (the twist corrections of its thin rim) and the smoothsteps fold none; the
+ * icosahedron folds nowhere.  Until stop 56 the construction then took the smoothsteps everywhere, the
+ * icosahedron's too.  Now the folded faces' neighbourhood leaves the gluing and the rest keeps it: no
+ * face folds, the icosahedron keeps every polynomial edge and its patches are those it has alone (its
+ * region is solved apart), the plate's are those of its smoothsteps, and the surface is G1 and G2
+ * across every edge. */
+static void fold_regions(void)
+{
+    q2n_mesh *u = shells(mg_thin_plate(4, 0.01), mg_icosa_quad(0, 1), 5, "thin plate and icosahedron");
+    q2n_mesh *plate = mg_thin_plate(4, 0.01), *ico = mg_icosa_quad(0, 1);
+    CHECK(u && plate && ico, "generators");
+    ev_fair_stats st[4] = {{0}};
+    q2n_surface *s[4] = {NULL, NULL, NULL, NULL}; /* the two shells glued; the icosahedron alone glued; the plate alone, both gluings */
+    if (u && plate && ico)
+        s[0] = build_k(u, 2, 1, &st[0]), s[1] = build_k(ico, 2, 1, &st[1]), s[2] = build_k(plate, 2, 0, &st[2]), s[3] = build_k(plate, 2, 1, &st[3]);
+    if (s[0] && s[1] && s[2] && s[3]) {
+        double dev[2] = {0, 0}, g1, g2;
+        for (int f = 0; f < u->nf; f++)
+            for (int i = 0; i <= 4; i++)
+                for (int j = 0; j <= 4; j++) {
+                    int ic = f >= plate->nf;
+                    double a[3], b[3];
+                    q2n_surface_eval(s[0], f, i / 4.0, j / 4.0, 0, a);
+                    q2n_surface_eval(s[ic ? 1 : 2], ic ? f - plate->nf : f, i / 4.0, j / 4.0, 0, b);
+                    if (ic) a[0] -= 5;
+                    dev[ic] = fmax(dev[ic], q2n_v3_dist(a, b));
+                }
+        edge_jumps(u, s[0], &g1, &g2);
+        printf("thin plate 1 x 1 x 0.01 and icosahedron, G2 patches glued by polynomials: %d faces fold, %d polynomial edges "
+               "(the icosahedron alone %d, the plate alone %d); patches from the shells' own: plate %.2g, icosahedron %.2g; G1 %.2g "
+               "rad, G2 %.2g\n",
+               st[0].folded_faces, st[0].polynomial_edges, st[1].polynomial_edges, st[3].polynomial_edges, dev[0], dev[1], g1, g2);
+        /* the premise: alone, the plate gives every edge up (its gluing folds), the icosahedron none */
+        CHECK(st[3].polynomial_edges == 0 && st[3].folded_faces == 0 && st[2].folded_faces == 0 && st[1].folded_faces == 0 &&
+                  st[1].polynomial_edges > 0,
+              "premise: the plate alone glued has %d polynomial edges and %d folded faces (%d by smoothsteps); the icosahedron "
+              "%d (%d polynomial edges)", st[3].polynomial_edges, st[3].folded_faces, st[2].folded_faces, st[1].folded_faces,
+              st[1].polynomial_edges);
+        CHECK(st[0].folded_faces == 0 && st[0].polynomial_edges == st[1].polynomial_edges,
+              "thin plate and icosahedron: %d faces fold, %d polynomial edges (the icosahedron alone %d)", st[0].folded_faces,
+              st[0].polynomial_edges, st[1].polynomial_edges);
+        CHECK(dev[0] <= 1e-12 && dev[1] <= 1e-12, "patches against the shells' own: plate %.3g, icosahedron %.3g", dev[0], dev[1]);
+        CHECK(g1 <= 1e-8 && g2 <= 1e-6, "thin plate and icosahedron: G1 %.3g rad, G2 %.3g across the edges", g1, g2);
+    }
+    for (int k = 0; k < 4; k++) q2n_surface_free(s[k]);
+    q2n_mesh_free(u), q2n_mesh_free(plate), q2n_mesh_free(ico);
+}
+
 int main(void)
 {
     /* closed, every face at an extraordinary vertex (valences 3, 4, 5 / 3, 4) */
@@ -688,6 +744,7 @@ int main(void)
     g2_fairness(mg_triacontahedron(2, 1, 0.5, 1), G2_RATIO_TRIAC);
     gluing_choice();
     fold_fallback();
+    fold_regions();
     pinned_cycles(mg_torus(8, 6, 3, 1, 0, 1, 1));
     pinned_cycles(mg_torus(10, 8, 3, 1, 0.15, 1, 7));
     near_fold_guard();
