@@ -450,35 +450,55 @@ static char *border_cross(const q2n_mesh *m, const char *unc)
     return cross;
 }
 
-/* The faces that fold in the current construction, kept out of the gluing in the next one: with
- * regions 0, every vertex of a face that has a corner of a folded face goes into pin (the folded faces
- * and the ring of faces around them), the number of folded faces returned; with regions 1, pin
- * becomes pin_used's vertices (the construction's own) and every vertex of a region (B->region) with
- * a folded face, the number of vertices of listed faces left out of pin returned.  -1 out of memory. */
-static int pin_folds(const fe_build *B, const fe_inputs *in, char *pin, const char *pin_used, int regions)
+/* The faces of the list that fold in the current construction (q2n_ev_fair_folded), their corners
+ * marked in hit (m->nv, zeroed) — or with regions, the roots (B->region) of their regions.  The number
+ * of folded faces, -1 out of memory. */
+static int folded_marks(const fe_build *B, const fe_inputs *in, int regions, char *hit)
 {
     const q2n_mesh *m = B->m;
-    int nf = in->nf;
-    signed char *r = malloc((size_t)(nf ? nf : 1));
-    char *hit = calloc((size_t)m->nv, 1);
-    int n = r && hit ? q2n_ev_fair_folded(B, in->faces, nf, in->CP, in->X, in->threads, r) : -1;
-    for (int i = 0; i < nf && n >= 0; i++)
+    signed char *r = malloc((size_t)(in->nf ? in->nf : 1));
+    int n = r ? q2n_ev_fair_folded(B, in->faces, in->nf, in->CP, in->X, in->threads, r) : -1;
+    for (int i = 0; i < in->nf && n > 0; i++)
         if (r[i]) {
             if (regions) hit[B->region[m->face_vert[m->face_start[in->faces[i]]]]] = 1;
             else mark_corners(m, in->faces[i], hit);
         }
-    if (n >= 0 && regions) {
-        for (int v = 0; v < m->nv; v++) pin[v] = (pin_used && pin_used[v]) || hit[B->region[v]];
-        n = 0;
-        for (int i = 0; i < nf; i++)
-            for (int c = 0; c < 4; c++) n += !pin[m->face_vert[m->face_start[in->faces[i]] + c]];
-    }
-    for (int i = 0; i < nf && n > 0 && !regions; i++) {
+    free(r);
+    return n;
+}
+
+/* The folded faces and the ring of faces around them kept out of the gluing in the next construction:
+ * every vertex of a face that has a corner of a folded face goes into pin.  The number of folded
+ * faces, -1 out of memory. */
+static int pin_fold_rings(const fe_build *B, const fe_inputs *in, char *pin)
+{
+    const q2n_mesh *m = B->m;
+    char *hit = calloc((size_t)m->nv, 1);
+    int n = hit ? folded_marks(B, in, 0, hit) : -1;
+    for (int i = 0; i < in->nf && n > 0; i++) {
         int near = 0;
         for (int c = 0; c < 4; c++) near |= hit[m->face_vert[m->face_start[in->faces[i]] + c]];
         if (near) mark_corners(m, in->faces[i], pin);
     }
-    free(r), free(hit);
+    free(hit);
+    return n;
+}
+
+/* The regions (B->region) with a folded face kept out of the gluing in the next construction: pin
+ * becomes used's vertices (the construction's own; NULL: none) and every vertex of those regions.  The
+ * number of corners of listed faces left out of pin (0: no region is left glued), -1 out of memory. */
+static int pin_fold_regions(const fe_build *B, const fe_inputs *in, const char *used, char *pin)
+{
+    const q2n_mesh *m = B->m;
+    char *hit = calloc((size_t)m->nv, 1);
+    int n = hit ? folded_marks(B, in, 1, hit) : -1;
+    if (n >= 0) {
+        for (int v = 0; v < m->nv; v++) pin[v] = (used && used[v]) || hit[B->region[v]];
+        n = 0;
+        for (int i = 0; i < in->nf; i++)
+            for (int c = 0; c < 4; c++) n += !pin[m->face_vert[m->face_start[in->faces[i]] + c]];
+    }
+    free(hit);
     return n;
 }
 
@@ -612,21 +632,21 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_
         }
         if (R.folds > 0 && R.poly_edges > 0) {
             /* where faces fold: first their neighbourhoods out of the gluing, growing while each round
-             * folds on fewer faces (at most EV_POLY_FOLD_ROUNDS), kept where none is left; then the
-             * smoothsteps in the regions that still fold (regions are solved apart), then everywhere,
-             * each kept where it folds on fewer faces than the gluing did */
+             * folds on fewer faces (at most EV_POLY_FOLD_ROUNDS), kept where none is left; else the
+             * smoothsteps in the regions that fold (regions are solved apart; everywhere when no
+             * region is left glued), kept where it folds on fewer faces than the gluing did */
             int folds0 = R.folds;
             if (!state_save(&S0, &B, &in, &R)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
             for (int v = 0; v < m->nv; v++) gpin[v] = pin_used && pin_used[v];
             for (int round = 0, prev = folds0; round < EV_POLY_FOLD_ROUNDS && R.folds > 0 && R.poly_edges > 0; round++) {
-                if (pin_folds(&B, &in, gpin, NULL, 0) < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+                if (pin_fold_rings(&B, &in, gpin) < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
                 if ((st = construct(&B, &in, 1, gpin, &R, err))) goto done;
                 if (!(R.folds < prev)) break;
                 prev = R.folds;
             }
             if (R.folds > 0) { /* back to the gluing's construction, its folded regions with the smoothsteps */
                 state_restore(&S0, &B, &in, &R);
-                int left = pin_folds(&B, &in, gpin, pin_used, 1);
+                int left = pin_fold_regions(&B, &in, pin_used, gpin);
                 if (left < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
                 if ((st = construct(&B, &in, left > 0, left > 0 ? gpin : NULL, &R, err))) goto done;
                 if (!(R.folds < folds0)) state_restore(&S0, &B, &in, &R);
