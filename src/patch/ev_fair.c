@@ -631,19 +631,15 @@ q2n_status q2n_ev_fair_build(const q2n_mesh *m, const q2n_mesh *chart_mesh, q2n_
             }
         }
         if (R.folds > 0 && R.poly_edges > 0) {
-            /* where faces fold: first their neighbourhoods out of the gluing, growing while each round
-             * folds on fewer faces (at most EV_POLY_FOLD_ROUNDS), kept where none is left; else the
-             * smoothsteps in the regions that fold (regions are solved apart; everywhere when no
-             * region is left glued), kept where it folds on fewer faces than the gluing did */
+            /* where faces fold: first they and the ring of faces around them leave the gluing, kept
+             * where no face is left folded; else the smoothsteps in the regions that fold (regions
+             * are solved apart; everywhere when no region is left glued), kept where that folds on
+             * fewer faces than the gluing did */
             int folds0 = R.folds;
             if (!state_save(&S0, &B, &in, &R)) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory"); goto done; }
             for (int v = 0; v < m->nv; v++) gpin[v] = pin_used && pin_used[v];
-            for (int round = 0, prev = folds0; round < EV_POLY_FOLD_ROUNDS && R.folds > 0 && R.poly_edges > 0; round++) {
-                if (pin_fold_rings(&B, &in, gpin) < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
-                if ((st = construct(&B, &in, 1, gpin, &R, err))) goto done;
-                if (!(R.folds < prev)) break;
-                prev = R.folds;
-            }
+            if (pin_fold_rings(&B, &in, gpin) < 0) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fold check)"); goto done; }
+            if ((st = construct(&B, &in, 1, gpin, &R, err))) goto done;
             if (R.folds > 0) { /* back to the gluing's construction, its folded regions with the smoothsteps */
                 state_restore(&S0, &B, &in, &R);
                 int left = pin_fold_regions(&B, &in, pin_used, gpin);

@@ -133,11 +133,6 @@
  * toward a fold (measured: 0.031 against the smoothsteps' 0.097 on a trapezoid between two valence-3
  * and two valence-5 corners, its bending energy 380 x; the other faces there keep 0.52 of theirs and more). */
 #define EV_POLY_JAC_REL 0.5
-/* Rounds in which the faces still folded after the gluing's fold guards, and the ring of faces around
- * them, have their corners kept out of the gluing (a cost bound: each round is one more construction).
- * The twist corrections fold a face of a thin feature where its neighbours' gluing is sound; the
- * smoothsteps everywhere, which fixed such a fold before, also drop the gluing of every other face. */
-#define EV_POLY_FOLD_ROUNDS 3
 /* G2 patches glued by polynomials: a face the gluing takes below this Jacobian ratio where the
  * smoothsteps keep it above is nearly folded by the gluing too.  It is issue 11's fold target ("min
  * jac >= 0.1 on every face"): the twist corrections of the G2 gluing sheared a cube's spike tip face to
