@@ -690,6 +690,43 @@ static void fold_regions(void)
     q2n_mesh_free(u), q2n_mesh_free(plate), q2n_mesh_free(ico);
 }
 
+/* The same on a shared mesh (G2 patches, the model's defaults): one face of a thin rim folds with the
+ * gluing, and until stop 56 every edge then took the smoothsteps.  Now the ring around that face
+ * leaves the gluing and the rest keeps it: edges glued by polynomials, no folded face, and the faces at
+ * the extraordinary vertices ripple less and bend less than with the smoothsteps everywhere (the
+ * model built with --ev-gluing smoothstep: tests/fairness.h, 129 points per diagonal). */
+static void fold_ring_shared(void)
+{
+    const char *path = chk_shared_mesh("osd_catmark_righthanded.obj");
+    if (!path) return; /* reported by chk_shared_mesh */
+    q2n_model *m[2] = {NULL, NULL};
+    int ok = 1;
+    for (int k = 0; k < 2; k++) {
+        q2n_model_options o = {0};
+        o.method = Q2N_SURFACE_AUGMENTED;
+        o.smooth_gluing = k ? Q2N_EV_GLUING_SMOOTHSTEP : Q2N_EV_GLUING_AUTO;
+        o.threads = 2;
+        q2n_error err = {0, ""};
+        ok &= q2n_model_build(path, &o, &m[k], &err) == Q2N_OK;
+        CHECK(ok, "righthanded, gluing %d: %s", o.smooth_gluing, err.message);
+    }
+    if (ok) {
+        fair_figures F[2];
+        for (int k = 0; k < 2; k++) fair_measure(m[k]->mesh, m[k]->surface, &F[k]);
+        printf("righthanded, G2 patches: %d polynomial edges, %d folded faces; ripple per EV diagonal %.4g (smoothsteps "
+               "everywhere %.4g), E_ev %.4g (%.4g)\n", m[0]->ev_stats.polynomial_edges, m[0]->folded, F[0].osc_ev_mean,
+               F[1].osc_ev_mean, F[0].E_ev, F[1].E_ev);
+        CHECK(m[0]->continuity == 2 && m[0]->ev_stats.polynomial_edges > 0 && m[0]->folded == 0,
+              "righthanded: G%d, %d polynomial edges, %d folded faces", m[0]->continuity, m[0]->ev_stats.polynomial_edges,
+              m[0]->folded);
+        CHECK(F[0].osc_ev_mean < F[1].osc_ev_mean && F[0].E_ev < F[1].E_ev,
+              "righthanded: ripple %.4g against the smoothsteps' %.4g, E_ev %.4g against %.4g", F[0].osc_ev_mean,
+              F[1].osc_ev_mean, F[0].E_ev, F[1].E_ev);
+    }
+    q2n_model_free(m[0]);
+    q2n_model_free(m[1]);
+}
+
 int main(void)
 {
     /* closed, every face at an extraordinary vertex (valences 3, 4, 5 / 3, 4) */
@@ -745,6 +782,7 @@ int main(void)
     gluing_choice();
     fold_fallback();
     fold_regions();
+    fold_ring_shared();
     pinned_cycles(mg_torus(8, 6, 3, 1, 0, 1, 1));
     pinned_cycles(mg_torus(10, 8, 3, 1, 0.15, 1, 7));
     near_fold_guard();
