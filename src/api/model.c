@@ -447,8 +447,8 @@ static void gluing_choice(q2n_model *m)
     if (st) { keep_first(m, &a); goto reset; }
     q2n_surface_fairness_patches(m->surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads, fb);
     double tot[2] = {0, 0};
-    for (int f = 0; f < nf; f++) {
-        if (q2n_surface_kind(m->surface, f) != Q2N_PATCH_COONS_GREGORY) continue;
+    for (int f = 0; f < nf; f++) { /* evf: every build constructs the same faces */
+        if (!evf[f]) continue;
         int r = uf[me->face_vert[me->face_start[f]]];
         cs[r][0] += fa[f][0], cs[r][1] += fa[f][1], cs[r][2] += fb[f][0], cs[r][3] += fb[f][1];
         tot[0] += fa[f][0], tot[1] += fa[f][1];
@@ -472,7 +472,7 @@ static void gluing_choice(q2n_model *m)
         if (!st) q2n_surface_fairness_patches(m->surface, Q2N_MODEL_RIPPLE_SAMPLES, Q2N_MODEL_ENERGY_RULE, m->opt.threads, fb);
     }
     for (int f = 0; !st && nsm > 0 && f < nf; f++)
-        if (q2n_surface_kind(m->surface, f) == Q2N_PATCH_COONS_GREGORY) fc[0] += fb[f][0], fc[1] += fb[f][1];
+        if (evf[f]) fc[0] += fb[f][0], fc[1] += fb[f][1];
     /* the regions' jets are solved apart, but the construction's near-fold guard decides on the whole
      * mesh: the mixed build is kept where it is the fairer on the whole too */
     if (nsm > 0 && !st && m->folded <= a.folded && fairer(fc[0], fc[1], tot[0], tot[1])) {

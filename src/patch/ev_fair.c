@@ -450,19 +450,14 @@ static char *border_cross(const q2n_mesh *m, const char *unc)
     return cross;
 }
 
-/* The faces of the list that fold in the current construction (q2n_ev_fair_folded), their corners
- * marked in hit (m->nv, zeroed) — or with regions, the roots (B->region) of their regions.  The number
- * of folded faces, -1 out of memory. */
-static int folded_marks(const fe_build *B, const fe_inputs *in, int regions, char *hit)
+/* The corners of the faces of the list that fold in the current construction (q2n_ev_fair_folded),
+ * marked 1 in hit (m->nv, zeroed).  The number of folded faces, -1 out of memory. */
+static int folded_corners(const fe_build *B, const fe_inputs *in, char *hit)
 {
-    const q2n_mesh *m = B->m;
     signed char *r = malloc((size_t)(in->nf ? in->nf : 1));
     int n = r ? q2n_ev_fair_folded(B, in->faces, in->nf, in->CP, in->X, in->threads, r) : -1;
     for (int i = 0; i < in->nf && n > 0; i++)
-        if (r[i]) {
-            if (regions) hit[B->region[m->face_vert[m->face_start[in->faces[i]]]]] = 1;
-            else mark_corners(m, in->faces[i], hit);
-        }
+        if (r[i]) mark_corners(B->m, in->faces[i], hit);
     free(r);
     return n;
 }
@@ -474,7 +469,7 @@ static int pin_fold_rings(const fe_build *B, const fe_inputs *in, char *pin)
 {
     const q2n_mesh *m = B->m;
     char *hit = calloc((size_t)m->nv, 1);
-    int n = hit ? folded_marks(B, in, 0, hit) : -1;
+    int n = hit ? folded_corners(B, in, hit) : -1;
     for (int i = 0; i < in->nf && n > 0; i++) {
         int near = 0;
         for (int c = 0; c < 4; c++) near |= hit[m->face_vert[m->face_start[in->faces[i]] + c]];
@@ -491,9 +486,11 @@ static int pin_fold_regions(const fe_build *B, const fe_inputs *in, const char *
 {
     const q2n_mesh *m = B->m;
     char *hit = calloc((size_t)m->nv, 1);
-    int n = hit ? folded_marks(B, in, 1, hit) : -1;
+    int n = hit ? folded_corners(B, in, hit) : -1;
     if (n >= 0) {
-        for (int v = 0; v < m->nv; v++) pin[v] = (used && used[v]) || hit[B->region[v]];
+        for (int v = 0; v < m->nv; v++) /* a folded face's corner marks its region's root (bit 2) */
+            if (hit[v] & 1) hit[B->region[v]] |= 2;
+        for (int v = 0; v < m->nv; v++) pin[v] = (used && used[v]) || (hit[B->region[v]] & 2);
         n = 0;
         for (int i = 0; i < in->nf; i++)
             for (int c = 0; c < 4; c++) n += !pin[m->face_vert[m->face_start[in->faces[i]] + c]];
