@@ -43,6 +43,9 @@ Meshes (none of them in ../shared/meshes or in tests/meshgen.h):
   plate_50to1        10 x 10 unit cubes 0.02 thick (the G2 patches fold: G1 fallback expected)
   block_2x2x2        2 x 2 x 2 unit cubes, not smoothed: the plainest box cage (osc and E missed:
                      the construction's, by the radial reference of tools/q2n_ripple_bound.py)
+  cyl_gridfill       a 16-sided cylinder whose caps are 4 x 4 grids mapped onto the disk (a modeller's
+                     "grid fill"): valence-3 vertices on the rim where a cap face's corner is nearly
+                     straight (osc missed: the construction's, by the radial reference; stop 57)
   *_x3               genus2_plate, torus_flips, hull40_tri and pillow stretched 3 x along x:
                      anisotropic faces and fans (before stop 51's isotropic frame osc missed in G2
                      mode on all four, pillow_x3 also size; since, hull40_tri_x3's osc in G2 mode)
@@ -122,6 +125,39 @@ def cubesphere(n):
                     F.append(q[::-1] if s < 0 else q)
     V = np.array(pts.V, float)
     return V / np.linalg.norm(V, axis=1)[:, None], F
+
+
+def gridfill_cylinder(n, rows, h):
+    """a cylinder of 4 n sides and rows rows of quads, radius 1, height h, closed by two n x n grids mapped
+    onto the disk (the elliptical grid mapping): a modeller's "grid fill" cap, whose four grid corners lie
+    on the rim as vertices of valence 3, where the cap's corner face is nearly straight"""
+    V, F = [], []
+
+    def disk(a, b):
+        return a * np.sqrt(1 - b * b / 2), b * np.sqrt(1 - a * a / 2)
+    rim = ([(i, 0) for i in range(n)] + [(n, j) for j in range(n)] + [(i, n) for i in range(n, 0, -1)] +
+           [(0, j) for j in range(n, 0, -1)])
+    caps = []
+    for z, flip in ((0.0, True), (h, False)):
+        idx = {}
+        for i in range(n + 1):
+            for j in range(n + 1):
+                idx[(i, j)] = len(V)
+                V.append(disk(2 * i / n - 1, 2 * j / n - 1) + (z,))
+        for i in range(n):
+            for j in range(n):
+                q = [idx[(i, j)], idx[(i + 1, j)], idx[(i + 1, j + 1)], idx[(i, j + 1)]]
+                F.append(q[::-1] if flip else q)
+        caps.append(idx)
+    ring = [[caps[0][p] for p in rim]]
+    for k in range(1, rows):
+        ring.append([len(V) + t for t in range(len(rim))])
+        V.extend((V[caps[0][p]][0], V[caps[0][p]][1], h * k / rows) for p in rim)
+    ring.append([caps[1][p] for p in rim])
+    M = len(rim)
+    for k in range(rows):
+        F.extend([ring[k][t], ring[k][(t + 1) % M], ring[k + 1][(t + 1) % M], ring[k + 1][t]] for t in range(M))
+    return np.array(V, float), F
 
 
 def compact(V, F):
@@ -293,6 +329,7 @@ def meshes():
     out['plate_50to1'] = (V * np.array([1, 1, 0.02]), F, [])
     V, F = voxel_surface([(x, y, z) for x in range(2) for y in range(2) for z in range(2)])
     out['block_2x2x2'] = (V, F, [])
+    out['cyl_gridfill'] = gridfill_cylinder(4, 3, 1.5) + ([],)
     # Stretched: the same vertices 3 x longer along x.  An affine map keeps the data's shape (acc-g1,
     # affine invariant, maps along), while faces and fans turn anisotropic (docs/extraordinary.md,
     # "Found and not fixed: anisotropic meshes").
