@@ -588,6 +588,59 @@ static inline q2n_mesh *mg_capped_cylinder(int n, int rows, double h)
     return sub;
 }
 
+/* A cylinder of 4n sides and `rows` rows of quads (radius 1, axis z, height h) closed by two n x n
+ * grids mapped onto the disk by the elliptical grid mapping (a modeller's "grid fill"): each grid's
+ * four corners lie on the rim as vertices of valence 3, where the cap's corner face is a kite whose
+ * corner there is nearly straight (155.7 degrees at n = 4).  bench/sweep.py's cyl_gridfill at n = 4,
+ * rows = 3, h = 1.5. */
+static inline q2n_mesh *mg_gridfill_cylinder(int n, int rows, double h)
+{
+    int g = n + 1, M = 4 * n, nv = 2 * g * g + (rows - 1) * M, nf = 2 * n * n + rows * M, k = 0, q = 0;
+    double *pos = (double *)malloc(3 * (size_t)nv * sizeof *pos);
+    int *fs = (int *)malloc((size_t)(nf + 1) * sizeof *fs), *fv = (int *)malloc(4 * (size_t)nf * sizeof *fv);
+    int *rim = (int *)malloc(2 * (size_t)M * sizeof *rim), *ring = (int *)malloc((size_t)(rows + 1) * M * sizeof *ring);
+    if (!pos || !fs || !fv || !rim || !ring) { free(pos); free(fs); free(fv); free(rim); free(ring); return NULL; }
+    for (int i = 0; i < n; i++) rim[2 * k] = i, rim[2 * k + 1] = 0, k++;      /* the grid's boundary, */
+    for (int j = 0; j < n; j++) rim[2 * k] = n, rim[2 * k + 1] = j, k++;      /* counter-clockwise */
+    for (int i = n; i > 0; i--) rim[2 * k] = i, rim[2 * k + 1] = n, k++;
+    for (int j = n; j > 0; j--) rim[2 * k] = 0, rim[2 * k + 1] = j, k++;
+    for (int c = 0; c < 2; c++) { /* cap c: vertices c g^2 + i g + j, the bottom one facing down */
+        for (int i = 0; i < g; i++)
+            for (int j = 0; j < g; j++) {
+                double a = 2.0 * i / n - 1, b = 2.0 * j / n - 1, *p = pos + 3 * (c * g * g + i * g + j);
+                p[0] = a * sqrt(1 - b * b / 2), p[1] = b * sqrt(1 - a * a / 2), p[2] = c * h;
+            }
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < n; j++) {
+                int v[4] = {c * g * g + i * g + j, c * g * g + (i + 1) * g + j, c * g * g + (i + 1) * g + j + 1, c * g * g + i * g + j + 1};
+                fs[q] = 4 * q;
+                for (int t = 0; t < 4; t++) fv[4 * q + t] = v[c ? t : 3 - t];
+                q++;
+            }
+    }
+    for (int t = 0; t < M; t++) {
+        ring[t] = rim[2 * t] * g + rim[2 * t + 1];
+        ring[rows * M + t] = g * g + ring[t];
+    }
+    for (int r = 1; r < rows; r++)
+        for (int t = 0; t < M; t++) {
+            int v = 2 * g * g + (r - 1) * M + t;
+            ring[r * M + t] = v;
+            pos[3 * v] = pos[3 * ring[t]], pos[3 * v + 1] = pos[3 * ring[t] + 1], pos[3 * v + 2] = h * r / rows;
+        }
+    for (int r = 0; r < rows; r++)
+        for (int t = 0; t < M; t++) {
+            fs[q] = 4 * q;
+            fv[4 * q] = ring[r * M + t], fv[4 * q + 1] = ring[r * M + (t + 1) % M];
+            fv[4 * q + 2] = ring[(r + 1) * M + (t + 1) % M], fv[4 * q + 3] = ring[(r + 1) * M + t];
+            q++;
+        }
+    fs[nf] = 4 * nf;
+    free(rim);
+    free(ring);
+    return mg_finish(nv, pos, nf, fs, fv, "grid-filled cylinder");
+}
+
 /* The pole of a UV sphere whose triangle fan was merged into quads in pairs (a modeller's "triangles
  * to quads"): n kites around a valence-n apex on the unit sphere, each kite's fourth vertex on the
  * first ring between two spoke ends (valence 3, its kite angle pi - pi/n: nearly a triangle), then
