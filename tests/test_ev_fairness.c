@@ -458,9 +458,9 @@ int main(void)
      * sit at kite corners of 156 degrees, and the surface turns over the rim inside those kites instead
      * of at their corner (|H| 27.7 x the diagonal at 0.28 of the kite's diagonal, 11.1 at the corner, 16 at
      * the regular rim vertices beside it).  Issue 11's ripple target is missed where the radial reference
-     * of tools/q2n_ripple_bound.py meets it (0.286 per EV diagonal, E_ev 56.0): measured G2 / G1 0.720 /
-     * 1.047, E_ev 89.7 (acc-g1 0.103 / 38.6: the energy target holds); docs/extraordinary.md, "Found and
-     * not fixed: grid-filled caps".  Bounds: the measured values + 30 %. */
+     * of tools/q2n_ripple_bound.py meets it (0.286 per EV diagonal, E_ev 56.0): measured here G2 / G1
+     * 0.722 / 1.045, E_ev 89.6 in G2 (acc-g1 0.103 / 38.6: the energy target holds); docs/extraordinary.md,
+     * "Found and not fixed: grid-filled caps".  Bounds: the measured values + 30 %. */
     generated("cylinder, 4 x 4 grid-filled caps *", mg_gridfill_cylinder(4, 3, 1.5), 0.94, 1.36, 117);
     /* A tessellated lip, its sliver triangles split (mg_lip): needle quads with 1-3-degree corners
      * around tightly curved fans.  Until stop 35 the charts called such fans folded and spread
