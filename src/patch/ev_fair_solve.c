@@ -453,7 +453,6 @@ static void put_solution(fe_build *B, int nfaces, const double *X)
         for (int b = 0; b < CP_NBUB; b++) memcpy(B->bub[fi][b], X + 3 * (B->bvar[fi] + b), 3 * sizeof(double));
 }
 
-/* Per region of the listed faces (fe_build.region), the median of the values v: med[fi] for each face. */
 typedef struct reg_val {
     int root;
     double v;
@@ -465,6 +464,8 @@ static int cmp_reg_val(const void *a, const void *b)
     return x->root != y->root ? (x->root < y->root ? -1 : 1) : (x->v < y->v ? -1 : x->v > y->v ? 1 : 0);
 }
 
+/* Per region of the listed faces (fe_build.region), the median of the values v: med[fi] for each face;
+ * 0, -1 out of memory. */
 static int region_medians(const fe_build *B, const int *faces, int nfaces, const double *v, double *med)
 {
     const q2n_mesh *m = B->m;
@@ -484,8 +485,8 @@ static int region_medians(const fe_build *B, const int *faces, int nfaces, const
 }
 
 /* A bending-only pass, the variation weights ω_F from its result, then the full pass (X: the
- * solution; v3, srt: nfaces doubles of work space). */
-static q2n_status energy_passes(const fe_build *B, fe_sys *Y, const int *faces, int nfaces, const fe_form *F, double *v3, double *srt,
+ * solution; v3, med: nfaces doubles of work space, med for each face its region's median variation). */
+static q2n_status energy_passes(const fe_build *B, fe_sys *Y, const int *faces, int nfaces, const fe_form *F, double *v3, double *med,
                                 const double *x0, double *X, q2n_error *err)
 {
     q2n_status st = fair_pass(B, Y, nfaces, F, NULL, 0, x0, X, err);
@@ -501,9 +502,9 @@ static q2n_status energy_passes(const fe_build *B, fe_sys *Y, const int *faces, 
         }
         v3[fi] = e;
     }
-    if (region_medians(B, faces, nfaces, v3, srt)) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)");
+    if (region_medians(B, faces, nfaces, v3, med)) return q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)");
     for (int fi = 0; fi < nfaces; fi++) {
-        double cap = EV_FAIR_VAR_OUTLIER * srt[fi];
+        double cap = EV_FAIR_VAR_OUTLIER * med[fi];
         v3[fi] = cap > 0 && v3[fi] > cap ? cap / v3[fi] : 1;
     }
     return fair_pass(B, Y, nfaces, F, v3, EV_FAIR_W3, x0, X, err);
@@ -575,7 +576,7 @@ typedef struct fe_solve {
     const cp_patch *P;
     const fe_ctx *FX;
     int threads;
-    double *v3, *srt; /* nfaces doubles each (energy_passes) */
+    double *v3, *med; /* nfaces doubles each (energy_passes) */
     char *held;       /* per vertex: its jets held by the guard */
     int nheld;        /* vertices held so far */
 } fe_solve;
@@ -584,7 +585,7 @@ typedef struct fe_solve {
  * corners of faces that fold); *folded: their number. */
 static q2n_status solve_scan(fe_solve *S, const double *x0, double *X, int *folded, q2n_error *err)
 {
-    q2n_status st = energy_passes(S->B, S->Y, S->faces, S->nfaces, S->F, S->v3, S->srt, x0, X, err);
+    q2n_status st = energy_passes(S->B, S->Y, S->faces, S->nfaces, S->F, S->v3, S->med, x0, X, err);
     if (st) return st;
     put_solution(S->B, S->nfaces, X);
     *folded = fold_scan(S->B, S->faces, S->nfaces, S->P, S->FX, S->threads, S->held, &S->nheld);
@@ -664,10 +665,10 @@ q2n_status q2n_ev_fair_solve(fe_build *B, const int *faces, int nfaces, const cp
     pthread_t *tid = calloc((size_t)nt, sizeof *tid);
     double *x0 = calloc(3 * (size_t)n, sizeof *x0), *X = calloc(3 * (size_t)n, sizeof *X);
     double *X0 = malloc(3 * (size_t)n * sizeof *X0);
-    double *v3 = malloc((size_t)nfaces * sizeof *v3), *srt = malloc((size_t)nfaces * sizeof *srt);
+    double *v3 = malloc((size_t)nfaces * sizeof *v3), *med = malloc((size_t)nfaces * sizeof *med);
     char *held = calloc((size_t)m->nv, 1);
     int folds0 = 0;
-    if (!F || !jobs || !tid || !x0 || !X || !X0 || !v3 || !srt || !held) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)"); goto done; }
+    if (!F || !jobs || !tid || !x0 || !X || !X0 || !v3 || !med || !held) { st = q2n_error_set(err, Q2N_ERR_NOMEM, "out of memory (fair solve)"); goto done; }
     for (int t = 0; t < nt; t++) {
         jobs[t] = (fe_job){B, faces, nfaces, t, nt, P, F, Q2N_OK};
         if (t > 0 && pthread_create(&tid[t], NULL, form_worker, &jobs[t])) jobs[t].st = Q2N_ERR_NOMEM, tid[t] = 0;
@@ -685,7 +686,7 @@ q2n_status q2n_ev_fair_solve(fe_build *B, const int *faces, int nfaces, const cp
             int x = B->var[v * EV_JS + k];
             if (x >= 0) memcpy(x0 + 3 * x, B->jet[v][k], 3 * sizeof(double));
         }
-    fe_solve S = {B, &Y, F, faces, nfaces, P, FX, threads, v3, srt, held, 0};
+    fe_solve S = {B, &Y, F, faces, nfaces, P, FX, threads, v3, med, held, 0};
     for (int pass = 0;; pass++) {
         int held_before = S.nheld, folded;
         if ((st = solve_scan(&S, x0, X, &folded, err))) goto done;
@@ -718,6 +719,6 @@ done:
     free(x0);
     free(X);
     free(v3);
-    free(srt);
+    free(med);
     return st;
 }
